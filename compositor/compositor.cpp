@@ -1,0 +1,642 @@
+#include "compositor/compositor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "compositor/swapchain_vk.h"
+#include "copy_spv.h"
+#include "foveate_spv.h"
+#include "load_spv.h"
+#include "pyramid_spv.h"
+#include "wrs_spv.h"
+
+namespace wrsfov {
+
+using layers::SubmitError;
+
+std::string_view toString(Method m) { return m == Method::Fov ? "fov" : "wrs"; }
+std::string_view toString(FoveationMode m) {
+    switch (m) {
+    case FoveationMode::None: return "none";
+    case FoveationMode::Mip: return "mip";
+    case FoveationMode::Gauss: return "gauss";
+    }
+    return "?";
+}
+std::string_view toString(ChangeMetric m) {
+    switch (m) {
+    case ChangeMetric::Off: return "off";
+    case ChangeMetric::LStar: return "lstar";
+    case ChangeMetric::DeltaE94: return "de94";
+    }
+    return "?";
+}
+
+namespace {
+
+enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kCopy, kShaderCount };
+enum Binding : uint32_t {
+    kFrame = 0, kColor = 1, kDepth = 2, kMotion = 3, kPyramidBuf = 4, kDepthBuf = 5, kCandidate = 6,
+    kResPrev = 7, kResCur = 8, kOutput = 9, kBindingCount = 10
+};
+// Timestamps: start, after load, after pyramid, after foveate, after wrs.
+constexpr uint32_t kTimestamps = 5;
+constexpr uint32_t kCopyTimestamps = 2;
+
+Error submitError(SubmitError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
+
+uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
+
+void computeBarrier(VkCommandBuffer cb) {
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
+                         nullptr, 0, nullptr);
+}
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+Status checkConfig(const CompositorConfig& c) {
+    auto bad = [](float v, float lo, float hi) { return !std::isfinite(v) || v <= lo || v > hi; };
+    if (bad(c.foveaDeg, 0.0f, 180.0f)) return Error{1, "fovea size must be in (0°, 180°]"};
+    if (bad(c.midPeripheryDeg, 0.0f, 180.0f)) return Error{1, "mid-periphery size must be in (0°, 180°]"};
+    if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return Error{1, "fallback fovea size must be in (0°, 180°]"};
+    if (bad(c.depthTau, 0.0f, 1e6f)) return Error{1, "depth tolerance must be positive and finite"};
+    return {};
+}
+
+}  // namespace
+
+gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::FrameEndInfo& frame, uint32_t width,
+                                 uint32_t height, bool fallback[2]) {
+    gpu::FrameParams p{};
+    const layers::ProjectionLayer& layer = frame.layers.at(0);
+    for (int i = 0; i < 2; ++i) {
+        const layers::ProjectionView& v = layer.views.at(i);
+        gpu::EyeParams& e = p.eye[i];
+        e.fov_tan = glm::vec4(std::tan(v.fov.angleLeft), std::tan(v.fov.angleRight), std::tan(v.fov.angleUp),
+                              std::tan(v.fov.angleDown));
+        const layers::EyeGaze& g = frame.gaze[i];
+        float len = finite3(g.dir) ? glm::length(g.dir) : 0.0f;
+        fallback[i] = !(g.valid && std::isfinite(len) && len > 1e-6f);
+        if (!fallback[i]) {
+            e.gaze = glm::vec4(g.dir / len, config.foveaDeg * 0.5f);
+        } else {
+            // View centre (asymmetric fields of view look off-axis) with the larger fallback fovea.
+            glm::vec3 c((e.fov_tan.x + e.fov_tan.y) * 0.5f, (e.fov_tan.z + e.fov_tan.w) * 0.5f, -1.0f);
+            e.gaze = glm::vec4(glm::normalize(c), config.fallbackFoveaDeg * 0.5f);
+        }
+        bool srgb = v.color.swapchain->info().format == layers::Format::RGBA8_SRGB;
+        e.color_rect = glm::uvec4(v.color.rect.x, v.color.rect.y, srgb ? 1u : 0u, v.color.arrayIndex);
+        if (v.depth) {
+            e.depth_rect = glm::uvec4(v.depth->subImage.rect.x, v.depth->subImage.rect.y, v.depth->reversedZ ? 1u : 0u,
+                                      v.depth->subImage.arrayIndex);
+            e.depth_range = glm::vec4(v.depth->nearZ, v.depth->farZ, 0.0f, 0.0f);
+        }
+        if (v.motion)
+            e.motion_rect =
+                glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
+    }
+    p.size = glm::uvec4(width, height, uint32_t(frame.frameIndex), config.seed);
+    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, 0.0f, 0.0f);
+    return p;
+}
+
+Result<std::unique_ptr<Compositor>> Compositor::create(vk::Context& context, const CompositorConfig& config) {
+    if (Status s = checkConfig(config); !s) return s.error();
+    std::unique_ptr<Compositor> c(new Compositor(context));
+    c->config_ = config;
+    if (Status s = c->init(); !s) return s.error();
+    return c;
+}
+
+Compositor::~Compositor() {
+    if (ctx_.device()) vkDeviceWaitIdle(ctx_.device());
+    if (cmd_) ctx_.freeCommandBuffer(cmd_);
+}
+
+void Compositor::setConfig(const CompositorConfig& config) {
+    pending_ = config;
+    configPending_ = true;
+}
+
+Status Compositor::init() {
+    VkDevice dev = ctx_.device();
+    VkDescriptorSetLayoutBinding b[kBindingCount] = {};
+    auto bind = [&](uint32_t i, VkDescriptorType t, uint32_t count) {
+        b[i].binding = i;
+        b[i].descriptorType = t;
+        b[i].descriptorCount = count;
+        b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    };
+    bind(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1);
+    bind(kColor, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2);
+    bind(kDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2);
+    bind(kMotion, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2);
+    for (uint32_t i : {kPyramidBuf, kDepthBuf, kCandidate, kResPrev, kResCur}) bind(i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1);
+    bind(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1);
+    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    lci.bindingCount = kBindingCount;
+    lci.pBindings = b;
+    VkDescriptorSetLayout sl;
+    VK_CHECK(vkCreateDescriptorSetLayout(dev, &lci, nullptr, &sl));
+    setLayout_ = vk::DescriptorSetLayout(dev, sl);
+
+    VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::LevelPush)};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.setLayoutCount = 1;
+    plci.pSetLayouts = &sl;
+    plci.pushConstantRangeCount = 1;
+    plci.pPushConstantRanges = &pcr;
+    VkPipelineLayout pl;
+    VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
+    pipelineLayout_ = vk::PipelineLayout(dev, pl);
+
+    VkDescriptorSetLayoutBinding cb[2] = {};
+    for (uint32_t i = 0; i < 2; ++i) {
+        cb[i].binding = i;
+        cb[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        cb[i].descriptorCount = 1;
+        cb[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    lci.bindingCount = 2;
+    lci.pBindings = cb;
+    VkDescriptorSetLayout csl;
+    VK_CHECK(vkCreateDescriptorSetLayout(dev, &lci, nullptr, &csl));
+    copySetLayout_ = vk::DescriptorSetLayout(dev, csl);
+    VkPushConstantRange cpcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t)};
+    plci.pSetLayouts = &csl;
+    plci.pPushConstantRanges = &cpcr;
+    VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
+    copyPipelineLayout_ = vk::PipelineLayout(dev, pl);
+
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 12},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 12},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2}};
+    VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dpci.maxSets = 3;
+    dpci.poolSizeCount = 4;
+    dpci.pPoolSizes = sizes;
+    VkDescriptorPool pool;
+    VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
+    descriptorPool_ = vk::DescriptorPool(dev, pool);
+    VkDescriptorSetLayout layouts[3] = {sl, sl, csl};
+    VkDescriptorSet sets[3];
+    VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    dsai.descriptorPool = pool;
+    dsai.descriptorSetCount = 3;
+    dsai.pSetLayouts = layouts;
+    VK_CHECK(vkAllocateDescriptorSets(dev, &dsai, sets));
+    sets_[0] = sets[0];
+    sets_[1] = sets[1];
+    copySet_ = sets[2];
+
+    VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
+    sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    VkSampler s;
+    VK_CHECK(vkCreateSampler(dev, &sci, nullptr, &s));
+    sampler_ = vk::Sampler(dev, s);
+
+    VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qci.queryCount = kTimestamps + kCopyTimestamps;
+    VkQueryPool qp;
+    VK_CHECK(vkCreateQueryPool(dev, &qci, nullptr, &qp));
+    queries_ = vk::QueryPool(dev, qp);
+
+    struct Code {
+        const uint32_t* words;
+        size_t bytes;
+    };
+    const Code code[kShaderCount] = {{load_spv, sizeof(load_spv)},
+                                     {pyramid_spv, sizeof(pyramid_spv)},
+                                     {foveate_spv, sizeof(foveate_spv)},
+                                     {wrs_spv, sizeof(wrs_spv)},
+                                     {copy_spv, sizeof(copy_spv)}};
+    for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
+
+    auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
+    if (!ubo) return ubo.error();
+    ubo_ = std::move(*ubo);
+
+    vk::ImageCreateInfo dci;
+    dci.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    dci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    auto dummy = ctx_.createImage(dci);
+    if (!dummy) return dummy.error();
+    dummy_ = std::move(*dummy);
+    Status st = ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+        VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        ib.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+        ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        ib.image = dummy_.handle();
+        ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &ib);
+        VkClearColorValue zero{};
+        vkCmdClearColorImage(cmd, dummy_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &ib.subresourceRange);
+    });
+    if (!st) return st;
+    cmd_ = ctx_.allocateCommandBuffer();
+    return {};
+}
+
+VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 4> constants) {
+    std::array<uint32_t, 5> key{uint32_t(shader), constants[0], constants[1], constants[2], constants[3]};
+    auto it = pipelines_.find(key);
+    if (it != pipelines_.end()) return it->second.get();
+    VkSpecializationMapEntry entries[4];
+    for (uint32_t i = 0; i < 4; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{4, entries, sizeof(constants), constants.data()};
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = modules_[shader].get();
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = &spec;
+    ci.layout = shader == kCopy ? copyPipelineLayout_.get() : pipelineLayout_.get();
+    VkPipeline p;
+    VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
+    return pipelines_.emplace(key, vk::Pipeline(ctx_.device(), p)).first->second.get();
+}
+
+Status Compositor::resize(uint32_t width, uint32_t height) {
+    vkDeviceWaitIdle(ctx_.device());
+    width_ = height_ = 0;
+    const VkBufferUsageFlags usage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    const uint64_t pixels = uint64_t(width) * height * WRS_EYES;
+    const uint64_t pyramidTexels = uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) * WRS_EYES;
+    auto alloc = [&](vk::Buffer& b, uint64_t bytes) -> Status {
+        b.reset();
+        auto r = ctx_.createBuffer(bytes, usage, false);
+        if (!r) return r.error();
+        b = std::move(*r);
+        return {};
+    };
+    for (auto [buf, bytes] : {std::pair{&pyramid_, pyramidTexels * 16}, std::pair{&zlin_, pixels * 4},
+                              std::pair{&candidate_, pixels * 16}, std::pair{&reservoirs_[0], pixels * 16},
+                              std::pair{&reservoirs_[1], pixels * 16}})
+        if (Status s = alloc(*buf, bytes); !s) return s;
+
+    output_.reset();
+    vk::ImageCreateInfo oci;
+    oci.format = VK_FORMAT_R8G8B8A8_UNORM;
+    oci.width = width;
+    oci.height = height;
+    oci.layers = WRS_EYES;
+    oci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    auto out = ctx_.createImage(oci);
+    if (!out) return out.error();
+    output_ = std::move(*out);
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        ib.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        ib.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+        ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        ib.image = output_.handle();
+        ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, WRS_EYES};
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
+                             0, nullptr, 1, &ib);
+    });
+    if (!s) return s;
+
+    for (uint32_t i = 0; i < 2; ++i) {
+        VkDescriptorBufferInfo bi[6] = {{ubo_.handle(), 0, VK_WHOLE_SIZE},      {pyramid_.handle(), 0, VK_WHOLE_SIZE},
+                                        {zlin_.handle(), 0, VK_WHOLE_SIZE},     {candidate_.handle(), 0, VK_WHOLE_SIZE},
+                                        {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE},
+                                        {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
+        const uint32_t bindings[6] = {kFrame, kPyramidBuf, kDepthBuf, kCandidate, kResPrev, kResCur};
+        VkWriteDescriptorSet w[7] = {};
+        for (int k = 0; k < 6; ++k) {
+            w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+            w[k].dstSet = sets_[i];
+            w[k].dstBinding = bindings[k];
+            w[k].descriptorCount = 1;
+            w[k].descriptorType = k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            w[k].pBufferInfo = &bi[k];
+        }
+        VkDescriptorImageInfo oi{VK_NULL_HANDLE, output_.arrayView(), VK_IMAGE_LAYOUT_GENERAL};
+        w[6].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[6].dstSet = sets_[i];
+        w[6].dstBinding = kOutput;
+        w[6].descriptorCount = 1;
+        w[6].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+        w[6].pImageInfo = &oi;
+        vkUpdateDescriptorSets(ctx_.device(), 7, w, 0, nullptr);
+    }
+    width_ = width;
+    height_ = height;
+    current_ = 0;
+    historyValid_ = false;
+    return {};
+}
+
+Result<std::unique_ptr<layers::Swapchain>> Compositor::createSwapchain(const layers::SwapchainCreateInfo& info) {
+    auto sc = VulkanSwapchain::create(ctx_, this, info);
+    if (!sc) return sc.error();
+    return std::unique_ptr<layers::Swapchain>(std::move(*sc));
+}
+
+Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
+    if (Status s = validator_.validate(frame); !s) return s;
+    const layers::ProjectionLayer& layer = frame.layers[0];
+    auto vkSwapchain = [&](const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); };
+    for (const auto& v : layer.views) {
+        for (const layers::SubImage* s : {&v.color, v.depth ? &v.depth->subImage : nullptr,
+                                          v.motion ? &v.motion->subImage : nullptr}) {
+            if (!s) continue;
+            const VulkanSwapchain* vs = vkSwapchain(*s);
+            if (!vs || vs->owner() != this)
+                return submitError(SubmitError::ForeignSwapchain,
+                                   "a swapchain in the frame was not created by this compositor");
+        }
+    }
+    if (configPending_) {
+        if (Status s = checkConfig(pending_); !s) {
+            configPending_ = false;
+            return s;
+        }
+        if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
+        config_ = pending_;
+        configPending_ = false;
+    }
+
+    const uint32_t w = layer.views[0].color.rect.width, h = layer.views[0].color.rect.height;
+    if (w != width_ || h != height_) {
+        if (Status s = resize(w, h); !s) return submitError(SubmitError::DeviceFailure, s.message());
+    }
+    const bool hasDepth = layer.views[0].depth.has_value();
+    const bool hasMotion = layer.views[0].motion.has_value();
+    const bool wrs = config_.method == Method::Wrs;
+    const bool pyramid = config_.foveation != FoveationMode::None;
+
+    stats_ = FrameStats{};
+    stats_.frameIndex = frame.frameIndex;
+    stats_.usedDepth = hasDepth;
+    stats_.usedMotion = hasMotion && wrs;
+    stats_.historyReset = wrs && !historyValid_;
+    params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
+    std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
+
+    // Per-frame inputs: the last released image of each swapchain.
+    VkDescriptorSet set = sets_[current_];
+    VkDescriptorImageInfo ii[6];
+    for (int eye = 0; eye < 2; ++eye) {
+        const layers::ProjectionView& v = layer.views[eye];
+        auto view = [&](const layers::SubImage& s) {
+            const VulkanSwapchain* vs = vkSwapchain(s);
+            return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
+        };
+        ii[0 + eye] = {sampler_.get(), view(v.color), VK_IMAGE_LAYOUT_GENERAL};
+        ii[2 + eye] = {sampler_.get(), v.depth ? view(v.depth->subImage) : dummy_.layerView(0), VK_IMAGE_LAYOUT_GENERAL};
+        ii[4 + eye] = {sampler_.get(), v.motion ? view(v.motion->subImage) : dummy_.layerView(0),
+                       VK_IMAGE_LAYOUT_GENERAL};
+    }
+    VkWriteDescriptorSet wr[3] = {};
+    for (uint32_t k = 0; k < 3; ++k) {
+        wr[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        wr[k].dstSet = set;
+        wr[k].dstBinding = kColor + k;
+        wr[k].descriptorCount = 2;
+        wr[k].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        wr[k].pImageInfo = &ii[2 * k];
+    }
+    vkUpdateDescriptorSets(ctx_.device(), 3, wr, 0, nullptr);
+
+    VkCommandBuffer cb = cmd_;
+    VK_CHECK(vkResetCommandBuffer(cb, 0));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+    const bool timing = ctx_.timestampPeriodNs() > 0;
+    if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kTimestamps);
+    {
+        // Whatever the application wrote (uploads, its own rendering) and the last frame's
+        // readbacks are done before the passes read or overwrite them.
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_MEMORY_READ_BIT;
+        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
+                             nullptr, 0, nullptr);
+    }
+    if (wrs && !historyValid_) {
+        // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
+        vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
+                             nullptr, 0, nullptr);
+    }
+    auto stamp = [&](uint32_t i) {
+        if (timing) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
+    };
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
+    const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
+    stamp(0);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kLoad, {hasDepth, 0, 0, 0}));
+    vkCmdDispatch(cb, gx, gy, WRS_EYES);
+    computeBarrier(cb);
+    stamp(1);
+    if (pyramid) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kPyramid, {config_.foveation == FoveationMode::Mip ? 1u : 2u, 0, 0, 0}));
+        for (uint32_t level = 1; level < WRS_LEVELS; ++level) {
+            gpu::LevelPush push{level, 0, 0, 0};
+            vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+            glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(w, h), level);
+            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), WRS_EYES);
+            computeBarrier(cb);
+        }
+    }
+    stamp(2);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pipeline(kFoveate, {uint32_t(config_.foveation), wrs ? 0u : 1u, 0, 0}));
+    vkCmdDispatch(cb, gx, gy, WRS_EYES);
+    computeBarrier(cb);
+    stamp(3);
+    if (wrs) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kWrs, {hasMotion, hasDepth, uint32_t(config_.change), config_.bernoulli}));
+        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        computeBarrier(cb);
+    }
+    stamp(4);
+    VK_CHECK(vkEndCommandBuffer(cb));
+
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    vk::Fence fence;
+    {
+        VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VkFence f;
+        VK_CHECK(vkCreateFence(ctx_.device(), &fci, nullptr, &f));
+        fence = vk::Fence(ctx_.device(), f);
+    }
+    VkFence f = fence.get();
+    VkResult r = vkQueueSubmit(ctx_.queue(), 1, &si, f);
+    if (r == VK_SUCCESS) r = vkWaitForFences(ctx_.device(), 1, &f, VK_TRUE, UINT64_MAX);
+    if (r != VK_SUCCESS)
+        return submitError(SubmitError::DeviceFailure,
+                           std::string("the device failed while compositing: ") + vk::resultString(r));
+
+    if (timing) {
+        uint64_t ts[kTimestamps];
+        if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kTimestamps, sizeof(ts), ts, sizeof(uint64_t),
+                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
+            double ms = ctx_.timestampPeriodNs() * 1e-6;
+            stats_.gpu.load = double(ts[1] - ts[0]) * ms;
+            stats_.gpu.pyramid = double(ts[2] - ts[1]) * ms;
+            stats_.gpu.foveate = double(ts[3] - ts[2]) * ms;
+            stats_.gpu.wrs = double(ts[4] - ts[3]) * ms;
+            stats_.gpu.total = double(ts[4] - ts[0]) * ms;
+            stats_.gpu.valid = true;
+        }
+    }
+    if (wrs) {
+        current_ = 1 - current_;
+        historyValid_ = true;
+    } else {
+        historyValid_ = false;  // the reservoirs did not follow this frame
+    }
+    validator_.accept(frame);
+    return {};
+}
+
+Result<HostImage> Compositor::readImageLayer(uint32_t layer) {
+    HostImage out = HostImage::make(layers::Format::RGBA8, width_, height_);
+    auto staging = ctx_.createBuffer(out.data.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    if (!staging) return staging.error();
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
+                             nullptr, 0, nullptr);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, layer, 1};
+        region.imageExtent = {width_, height_, 1};
+        vkCmdCopyImageToBuffer(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                             nullptr);
+    });
+    if (!s) return s.error();
+    std::memcpy(out.data.data(), staging->mapped(), out.data.size());
+    return out;
+}
+
+Result<HostImage> Compositor::readOutput(uint32_t eye) {
+    if (eye >= WRS_EYES || !output_) return Error{1, "no output: eye out of range or no frame composited yet"};
+    return readImageLayer(eye);
+}
+
+Result<std::vector<glm::uvec4>> Compositor::readReservoirs(uint32_t eye) {
+    if (eye >= WRS_EYES || !output_) return Error{1, "no reservoirs: eye out of range or no frame composited yet"};
+    const uint64_t n = uint64_t(width_) * height_;
+    auto staging = ctx_.createBuffer(n * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    if (!staging) return staging.error();
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+        VkBufferCopy region{eye * n * 16, 0, n * 16};
+        vkCmdCopyBuffer(cb, reservoirs_[current_].handle(), staging->handle(), 1, &region);
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                             nullptr);
+    });
+    if (!s) return s.error();
+    std::vector<glm::uvec4> out(n);
+    std::memcpy(out.data(), staging->mapped(), n * 16);
+    return out;
+}
+
+Status Compositor::writeReservoirs(uint32_t eye, const std::vector<glm::uvec4>& packed) {
+    const uint64_t n = uint64_t(width_) * height_;
+    if (eye >= WRS_EYES || !output_ || packed.size() != n)
+        return Error{1, "writeReservoirs needs an eye of a composited frame and width*height reservoirs"};
+    auto staging = ctx_.createBuffer(n * 16, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    if (!staging) return staging.error();
+    std::memcpy(staging->mapped(), packed.data(), n * 16);
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+        mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+        VkBufferCopy region{0, eye * n * 16, n * 16};
+        vkCmdCopyBuffer(cb, staging->handle(), reservoirs_[current_].handle(), 1, &region);
+    });
+    if (!s) return s;
+    historyValid_ = true;
+    return {};
+}
+
+Result<double> Compositor::timeCopyKernel(uint64_t bytes, int repeats) {
+    if (ctx_.timestampPeriodNs() <= 0) return Error{1, "the device cannot write timestamps"};
+    const uint64_t count = std::max<uint64_t>(1, (bytes + 15) / 16);
+    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    auto src = ctx_.createBuffer(count * 16, usage, false);
+    if (!src) return src.error();
+    auto dst = ctx_.createBuffer(count * 16, usage, false);
+    if (!dst) return dst.error();
+    VkDescriptorBufferInfo bi[2] = {{src->handle(), 0, VK_WHOLE_SIZE}, {dst->handle(), 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet w[2] = {};
+    for (uint32_t k = 0; k < 2; ++k) {
+        w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        w[k].dstSet = copySet_;
+        w[k].dstBinding = k;
+        w[k].descriptorCount = 1;
+        w[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        w[k].pBufferInfo = &bi[k];
+    }
+    vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
+    const uint32_t groupsTotal = uint32_t((count + 63) / 64);
+    const uint32_t gx = std::min<uint32_t>(groupsTotal, 65535);
+    const uint32_t gy = (groupsTotal + gx - 1) / gx;
+    const uint32_t n32 = uint32_t(count);
+    std::vector<double> times;
+    for (int i = 0; i < repeats; ++i) {
+        Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+            vkCmdFillBuffer(cb, src->handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);
+            VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+            mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
+                                 nullptr, 0, nullptr);
+            vkCmdResetQueryPool(cb, queries_.get(), kTimestamps, kCopyTimestamps);
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
+            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
+                                    nullptr);
+            vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(n32), &n32);
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), kTimestamps);
+            vkCmdDispatch(cb, gx, gy, 1);
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), kTimestamps + 1);
+        });
+        if (!s) return s.error();
+        uint64_t ts[2];
+        VK_CHECK(vkGetQueryPoolResults(ctx_.device(), queries_.get(), kTimestamps, 2, sizeof(ts), ts, sizeof(uint64_t),
+                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+        times.push_back(double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6);
+    }
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+}
+
+}  // namespace wrsfov

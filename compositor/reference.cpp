@@ -1,0 +1,149 @@
+#include "compositor/reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "shaders/wrs_common.h"
+
+namespace wrsfov {
+
+using namespace gpu;
+
+glm::u8vec4 encodeOutput(glm::vec3 linear) {
+    glm::vec3 s = wrs_linear_to_srgb3(linear);
+    auto q = [](float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    return glm::u8vec4(q(s.x), q(s.y), q(s.z), 255);
+}
+
+void Reference::setHistory(uint32_t eye, std::vector<glm::uvec4> packed) {
+    res_[eye] = std::move(packed);
+    history_ = true;
+}
+
+void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& eyes) {
+    const uvec2 size0(params.size.x, params.size.y);
+    const uint W = size0.x, H = size0.y;
+    const uint frame = params.size.z, seed = params.size.w;
+    const uint mode = uint(config_.foveation);
+    const bool wrs = config_.method == Method::Wrs;
+
+    for (uint eye = 0; eye < 2; ++eye) {
+        const EyeParams& ep = params.eye[eye];
+        const EyeInput& in = eyes[eye];
+        const bool hasDepth = in.depth.has_value();
+        const bool hasMotion = in.motion.has_value();
+
+        // Pass 1: load.
+        std::vector<vec4> pyr(wrs_pyramid_texels(size0));
+        std::vector<float> zlin(std::size_t(W) * H, 0.0f);
+        for (uint y = 0; y < H; ++y)
+            for (uint x = 0; x < W; ++x) {
+                vec3 c = vec3(in.color.fetch(x, y));
+                if (ep.color_rect.z != 0u) c = wrs_srgb_to_linear3(c);
+                bool valid;
+                c = wrs_sanitize_color(c, valid);
+                pyr[y * W + x] = vec4(c, valid ? 1.0f : 0.0f);
+                if (hasDepth)
+                    zlin[y * W + x] =
+                        wrs_linear_depth(in.depth->fetch(x, y).x, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
+            }
+        auto at = [&](uint level, uvec2 q) -> vec4& {
+            uvec2 sl = wrs_level_size(size0, level);
+            return pyr[wrs_level_offset(size0, level) + q.y * sl.x + q.x];
+        };
+
+        // Pass 2: pyramid.
+        if (mode != WRS_FOV_NONE) {
+            for (uint level = 1; level < uint(WRS_LEVELS); ++level) {
+                uvec2 src = wrs_level_size(size0, level - 1u), dst = wrs_level_size(size0, level);
+                auto tap = [&](uvec2 d, ivec2 o) { return at(level - 1u, wrs_down_tap(d, o, src)); };
+                for (uint y = 0; y < dst.y; ++y)
+                    for (uint x = 0; x < dst.x; ++x) {
+                        uvec2 d(x, y);
+                        vec4 r;
+                        if (mode == WRS_FOV_MIP) {
+                            r = wrs_down_box(tap(d, ivec2(0, 0)), tap(d, ivec2(1, 0)), tap(d, ivec2(0, 1)),
+                                             tap(d, ivec2(1, 1)));
+                        } else {
+                            vec4 rows[4];
+                            for (int j = 0; j < 4; ++j)
+                                rows[j] = wrs_binomial_row(tap(d, ivec2(-1, j - 1)), tap(d, ivec2(0, j - 1)),
+                                                           tap(d, ivec2(1, j - 1)), tap(d, ivec2(2, j - 1)));
+                            r = wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]);
+                        }
+                        at(level, d) = r;
+                    }
+            }
+        }
+
+        // Pass 3: foveate.
+        auto sampleLevel = [&](uint level, uvec2 p) {
+            if (level == 0u) return at(0u, p);
+            uvec2 sl = wrs_level_size(size0, level);
+            uvec2 i0, i1;
+            vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+            return wrs_bilinear(at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)),
+                                at(level, i1), f);
+        };
+        cand_[eye].assign(std::size_t(W) * H, vec4(0.0f));
+        out_[eye] = HostImage::make(layers::Format::RGBA8, W, H);
+        for (uint y = 0; y < H; ++y)
+            for (uint x = 0; x < W; ++x) {
+                uvec2 p(x, y);
+                vec3 ray = wrs_pixel_ray(x, y, W, H, ep.fov_tan);
+                float e = wrs_eccentricity_deg(ray, vec3(ep.gaze));
+                float r_f = ep.gaze.w;
+                vec3 lv = wrs_foveation_levels(mode, e, r_f, params.tuning.x);
+                vec4 c = sampleLevel(uint(lv.x), p);
+                if (lv.z > 0.0f) c = wrs_blend(c, sampleLevel(uint(lv.y), p), lv.z);
+                bool valid = at(0u, p).w > 0.5f;
+                float w = valid ? wrs_sample_weight(e, r_f) : 0.0f;
+                cand_[eye][y * W + x] = vec4(vec3(c), w);
+                glm::u8vec4 o = encodeOutput(vec3(c));
+                std::memcpy(out_[eye].data.data() + (std::size_t(y) * W + x) * 4, &o, 4);
+            }
+        if (!wrs) continue;
+
+        // Pass 4: temporal WRS.
+        prev_[eye] = history_ && res_[eye].size() == std::size_t(W) * H ? res_[eye]
+                                                                         : std::vector<uvec4>(std::size_t(W) * H, uvec4(0u));
+        res_[eye].assign(std::size_t(W) * H, uvec4(0u));
+        trace_[eye].assign(std::size_t(W) * H, Trace{});
+        for (uint y = 0; y < H; ++y)
+            for (uint x = 0; x < W; ++x) {
+                uvec2 p(x, y);
+                std::size_t idx = std::size_t(y) * W + x;
+                vec4 cand = cand_[eye][idx];
+                float z_cur = hasDepth ? zlin[idx] : 0.0f;
+                uvec2 q = p;
+                float dz = 0.0f;
+                bool on_screen = true;
+                if (hasMotion) on_screen = wrs_reproject(p, size0, vec3(in.motion->fetch(x, y)), q, dz);
+                Reservoir hist = wrs_unpack(prev_[eye][std::size_t(q.y) * W + q.x]);
+                bool has_history = on_screen && wrs_reservoir_valid(hist);
+                if (hasDepth && has_history && wrs_depth_flush(hist.z, z_cur, dz, params.tuning.y)) has_history = false;
+                float rnd = wrs_rand(x, y, eye, frame, seed);
+                bool keep;
+                Reservoir r = wrs_combine(has_history, hist, vec3(cand), cand.w, z_cur, rnd, uint(config_.change),
+                                          config_.bernoulli, keep);
+                res_[eye][idx] = wrs_pack(r);
+                Trace& t = trace_[eye][idx];
+                t.hadHistory = has_history;
+                t.keep = keep;
+                t.rnd = rnd;
+                t.source = q.y * W + q.x;
+                if (has_history) {
+                    float change = wrs_change(uint(config_.change), vec3(cand), hist.color);
+                    t.threshold = wrs_keep_threshold(
+                        wrs_biased_history_weight(hist.w_sum, cand.w, change, config_.bernoulli), cand.w);
+                }
+                glm::u8vec4 o = encodeOutput(r.color);
+                std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
+            }
+    }
+    if (wrs) history_ = true;
+    else history_ = false;
+}
+
+}  // namespace wrsfov

@@ -1,0 +1,62 @@
+// CPU reference of the whole per-eye pipeline, built on the same shared header as the shaders
+// (shaders/wrs_common.h). Tests compare the GPU against it pixel by pixel.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "compositor/compositor.h"
+#include "compositor/host_image.h"
+#include "shaders/wrs_params.h"
+
+namespace wrsfov {
+
+class Reference {
+public:
+    /// One eye's submitted images, already cut to the view rectangle (W x H of the frame).
+    struct EyeInput {
+        HostImage color;
+        std::optional<HostImage> depth;
+        std::optional<HostImage> motion;
+    };
+    /// What the combine decided at one pixel, and how close it was.
+    struct Trace {
+        bool hadHistory = false;
+        bool keep = false;
+        float rnd = 0;
+        float threshold = 0;  ///< history kept iff rnd <= threshold (wrs_keep_threshold)
+        uint32_t source = 0;  ///< pixel index the history was read from (after reprojection)
+    };
+
+    explicit Reference(const CompositorConfig& config) : config_(config) {}
+
+    /// Runs load, pyramid, foveate and (method wrs) the temporal combine for both eyes.
+    void step(const gpu::FrameParams& params, const std::array<EyeInput, 2>& eyes);
+
+    void setConfig(const CompositorConfig& config) { config_ = config; }
+    void resetHistory() { history_ = false; }
+    /// Replaces the history the next step reads (packed reservoirs, W*H).
+    void setHistory(uint32_t eye, std::vector<glm::uvec4> packed);
+
+    const std::vector<glm::uvec4>& reservoirs(uint32_t eye) const { return res_[eye]; }
+    const HostImage& output(uint32_t eye) const { return out_[eye]; }
+    const std::vector<Trace>& trace(uint32_t eye) const { return trace_[eye]; }
+    /// Foveated colour (linear RGB) and weight p̂ per pixel.
+    const std::vector<glm::vec4>& candidates(uint32_t eye) const { return cand_[eye]; }
+
+private:
+    CompositorConfig config_;
+    bool history_ = false;
+    std::array<std::vector<glm::uvec4>, 2> prev_, res_;
+    std::array<std::vector<glm::vec4>, 2> cand_;
+    std::array<std::vector<Trace>, 2> trace_;
+    std::array<HostImage, 2> out_;
+};
+
+/// Encodes linear RGB for the RGBA8 output exactly as the GPU store does (sRGB, round to nearest).
+glm::u8vec4 encodeOutput(glm::vec3 linear);
+
+}  // namespace wrsfov

@@ -1,0 +1,100 @@
+#include "compositor/swapchain_vk.h"
+
+#include <cstring>
+#include <string>
+
+namespace wrsfov {
+
+using layers::Format;
+using layers::SwapchainError;
+using layers::Usage;
+
+namespace {
+Error err(SwapchainError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
+}  // namespace
+
+Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ctx, const Compositor* owner,
+                                                                 const layers::SwapchainCreateInfo& info) {
+    if (Status s = layers::validateCreateInfo(info); !s) return s.error();
+    std::unique_ptr<VulkanSwapchain> sc(new VulkanSwapchain(ctx, owner, info));
+
+    vk::ImageCreateInfo ici;
+    ici.format = layers::toVkFormat(info.format);
+    ici.width = info.width;
+    ici.height = info.height;
+    ici.layers = info.arraySize;
+    ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    ici.usage |= info.format == Format::D32F ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT
+                                             : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    VkFormat viewFormat = VK_FORMAT_UNDEFINED;
+    if (info.format == Format::RGBA8_SRGB) {
+        ici.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+        viewFormat = VK_FORMAT_R8G8B8A8_UNORM;
+    }
+    for (uint32_t i = 0; i < info.imageCount; ++i) {
+        auto img = ctx.createImage(ici, viewFormat);
+        if (!img) return err(SwapchainError::DeviceFailure, img.error().message);
+        sc->images_.push_back(std::move(*img));
+    }
+    // Swapchain images live in GENERAL; start them there, cleared to zero.
+    Status s = ctx.submitAndWait([&](VkCommandBuffer cb) {
+        for (auto& img : sc->images_) {
+            VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+            b.srcAccessMask = 0;
+            b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+            b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+            b.newLayout = VK_IMAGE_LAYOUT_GENERAL;
+            b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            b.image = img.handle();
+            b.subresourceRange = {img.aspect(), 0, 1, 0, info.arraySize};
+            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                                 0, nullptr, 1, &b);
+            if (img.aspect() == VK_IMAGE_ASPECT_DEPTH_BIT) {
+                VkClearDepthStencilValue z{0.0f, 0};
+                vkCmdClearDepthStencilImage(cb, img.handle(), VK_IMAGE_LAYOUT_GENERAL, &z, 1, &b.subresourceRange);
+            } else {
+                VkClearColorValue c{};
+                vkCmdClearColorImage(cb, img.handle(), VK_IMAGE_LAYOUT_GENERAL, &c, 1, &b.subresourceRange);
+            }
+        }
+    });
+    if (!s) return err(SwapchainError::DeviceFailure, s.message());
+    return sc;
+}
+
+Status VulkanSwapchain::write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) {
+    const auto& in = info();
+    if (index >= in.imageCount || arrayLayer >= in.arraySize)
+        return err(SwapchainError::WriteOutOfRange, "write to image " + std::to_string(index) + " layer " +
+                                                        std::to_string(arrayLayer) + " of a swapchain with " +
+                                                        std::to_string(in.imageCount) + " images of " +
+                                                        std::to_string(in.arraySize) + " layers");
+    std::size_t expect = std::size_t(in.width) * in.height * layers::bytesPerTexel(in.format);
+    if (texels.size() != expect)
+        return err(SwapchainError::WriteOutOfRange, "write of " + std::to_string(texels.size()) + " bytes to a " +
+                                                        std::to_string(in.width) + "x" + std::to_string(in.height) +
+                                                        " " + std::string(layers::toString(in.format)) +
+                                                        " image that takes " + std::to_string(expect));
+    if (!isWaited(index))
+        return err(SwapchainError::CallOrder, "write to image " + std::to_string(index) +
+                                                  ", which is not acquired and waited for");
+    auto staging = ctx_.createBuffer(expect, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+    if (!staging) return err(SwapchainError::DeviceFailure, staging.error().message);
+    std::memcpy(staging->mapped(), texels.data(), expect);
+    const vk::Image& img = images_[index];
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
+                             nullptr, 0, nullptr);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {img.aspect(), 0, arrayLayer, 1};
+        region.imageExtent = {in.width, in.height, 1};
+        vkCmdCopyBufferToImage(cb, staging->handle(), img.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+    });
+    if (!s) return err(SwapchainError::DeviceFailure, s.message());
+    return {};
+}
+
+}  // namespace wrsfov

@@ -1,0 +1,35 @@
+// Swapchain images on the compositor's device (internal to compositor/).
+#pragma once
+
+#include <vector>
+
+#include "compositor/vk_context.h"
+#include "layers/swapchain.h"
+
+namespace wrsfov {
+
+class Compositor;
+
+class VulkanSwapchain final : public layers::Swapchain {
+public:
+    static Result<std::unique_ptr<VulkanSwapchain>> create(vk::Context& ctx, const Compositor* owner,
+                                                           const layers::SwapchainCreateInfo& info);
+
+    Status write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) override;
+    VkImage image(uint32_t index) const override { return images_.at(index).handle(); }
+
+    /// The view the compositor samples: sRGB images are viewed as UNORM (the load pass decodes
+    /// with the shared sRGB function, so the GPU matches the CPU reference).
+    VkImageView sampledView(uint32_t index, uint32_t layer) const { return images_.at(index).layerView(layer); }
+    const Compositor* owner() const { return owner_; }
+
+private:
+    VulkanSwapchain(vk::Context& ctx, const Compositor* owner, const layers::SwapchainCreateInfo& info)
+        : Swapchain(info), ctx_(ctx), owner_(owner) {}
+
+    vk::Context& ctx_;
+    const Compositor* owner_;
+    std::vector<vk::Image> images_;
+};
+
+}  // namespace wrsfov

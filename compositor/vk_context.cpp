@@ -1,0 +1,393 @@
+#include "compositor/vk_context.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <utility>
+
+namespace wrsfov::vk {
+
+const char* resultString(VkResult r) {
+    switch (r) {
+#define WRS_CASE(x) \
+    case x: return #x;
+        WRS_CASE(VK_SUCCESS)
+        WRS_CASE(VK_NOT_READY)
+        WRS_CASE(VK_TIMEOUT)
+        WRS_CASE(VK_INCOMPLETE)
+        WRS_CASE(VK_ERROR_OUT_OF_HOST_MEMORY)
+        WRS_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        WRS_CASE(VK_ERROR_INITIALIZATION_FAILED)
+        WRS_CASE(VK_ERROR_DEVICE_LOST)
+        WRS_CASE(VK_ERROR_MEMORY_MAP_FAILED)
+        WRS_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+        WRS_CASE(VK_ERROR_EXTENSION_NOT_PRESENT)
+        WRS_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+        WRS_CASE(VK_ERROR_INCOMPATIBLE_DRIVER)
+        WRS_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+        WRS_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED)
+        WRS_CASE(VK_ERROR_SURFACE_LOST_KHR)
+        WRS_CASE(VK_ERROR_OUT_OF_DATE_KHR)
+        WRS_CASE(VK_SUBOPTIMAL_KHR)
+#undef WRS_CASE
+    default: return "VK_ERROR_(unknown)";
+    }
+}
+
+void fatal(const char* file, int line, const char* call, VkResult r) {
+    std::fprintf(stderr, "%s:%d: %s failed with %s\n", file, line, call, resultString(r));
+    std::abort();
+}
+
+namespace {
+
+Error vkError(const std::string& what, VkResult r) {
+    return Error{static_cast<int>(r), what + " failed: " + resultString(r)};
+}
+
+int deviceScore(VkPhysicalDeviceType t) {
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
+    default: return 0;
+    }
+}
+
+bool hasLayer(const char* name) {
+    uint32_t n = 0;
+    vkEnumerateInstanceLayerProperties(&n, nullptr);
+    std::vector<VkLayerProperties> layers(n);
+    vkEnumerateInstanceLayerProperties(&n, layers.data());
+    for (auto& l : layers)
+        if (std::strcmp(l.layerName, name) == 0) return true;
+    return false;
+}
+
+}  // namespace
+
+ContextOptions ContextOptions::fromEnvironment() {
+    ContextOptions o;
+    if (const char* v = std::getenv("WRSFOV_VALIDATION")) o.validation = std::strcmp(v, "0") != 0 && *v;
+    if (const char* d = std::getenv("WRSFOV_DEVICE")) o.deviceName = d;
+    return o;
+}
+
+// ---- Buffer / Image ------------------------------------------------------------------------------
+
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+    if (this != &o) {
+        reset();
+        std::swap(device_, o.device_);
+        std::swap(buffer_, o.buffer_);
+        std::swap(memory_, o.memory_);
+        std::swap(size_, o.size_);
+        std::swap(mapped_, o.mapped_);
+    }
+    return *this;
+}
+
+void Buffer::reset() {
+    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+    buffer_ = VK_NULL_HANDLE;
+    memory_ = VK_NULL_HANDLE;
+    mapped_ = nullptr;
+    size_ = 0;
+}
+
+Image& Image::operator=(Image&& o) noexcept {
+    if (this != &o) {
+        reset();
+        std::swap(device_, o.device_);
+        std::swap(image_, o.image_);
+        std::swap(memory_, o.memory_);
+        std::swap(layerViews_, o.layerViews_);
+        std::swap(arrayView_, o.arrayView_);
+        std::swap(info_, o.info_);
+        std::swap(aspect_, o.aspect_);
+    }
+    return *this;
+}
+
+void Image::reset() {
+    for (VkImageView v : layerViews_) vkDestroyImageView(device_, v, nullptr);
+    layerViews_.clear();
+    if (arrayView_) vkDestroyImageView(device_, arrayView_, nullptr);
+    if (image_) vkDestroyImage(device_, image_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+    arrayView_ = VK_NULL_HANDLE;
+    image_ = VK_NULL_HANDLE;
+    memory_ = VK_NULL_HANDLE;
+}
+
+// ---- Context -------------------------------------------------------------------------------------
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                      VkDebugUtilsMessageTypeFlagsEXT,
+                                                      const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    auto* self = static_cast<Context*>(user);
+    const char* kind = "info";
+    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        self->validationErrors_++;
+        kind = "error";
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        self->validationWarnings_++;
+        kind = "warning";
+    } else {
+        return VK_FALSE;
+    }
+    std::string msg = std::string("[validation ") + kind + "] " + (data->pMessage ? data->pMessage : "");
+    std::fprintf(stderr, "%s\n", msg.c_str());
+    std::lock_guard<std::mutex> lock(self->messagesMutex_);
+    self->messages_.push_back(std::move(msg));
+    return VK_FALSE;
+}
+
+std::vector<std::string> Context::validationMessages() const {
+    std::lock_guard<std::mutex> lock(messagesMutex_);
+    return messages_;
+}
+
+Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) {
+    std::unique_ptr<Context> ctx(new Context());
+    Context& c = *ctx;
+
+    std::vector<const char*> layers;
+    std::vector<const char*> extensions = options.instanceExtensions;
+    if (options.validation) {
+        if (!hasLayer("VK_LAYER_KHRONOS_validation"))
+            return Error{static_cast<int>(VK_ERROR_LAYER_NOT_PRESENT),
+                         "validation was requested but VK_LAYER_KHRONOS_validation is not installed "
+                         "(Debian package vulkan-validationlayers)"};
+        layers.push_back("VK_LAYER_KHRONOS_validation");
+        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        c.validation_ = true;
+    }
+
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "wrsfov";
+    app.pEngineName = "wrsfov";
+    app.apiVersion = VK_API_VERSION_1_2;
+
+    VkDebugUtilsMessengerCreateInfoEXT dbg{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    dbg.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    // Performance hints are left out: images stay in GENERAL layout on purpose (see swapchain.h).
+    dbg.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
+    dbg.pfnUserCallback = &Context::debugCallback;
+    dbg.pUserData = &c;
+
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    ici.enabledLayerCount = static_cast<uint32_t>(layers.size());
+    ici.ppEnabledLayerNames = layers.data();
+    ici.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    ici.ppEnabledExtensionNames = extensions.data();
+    if (c.validation_) ici.pNext = &dbg;
+    if (VkResult r = vkCreateInstance(&ici, nullptr, &c.instance_); r != VK_SUCCESS)
+        return Error{static_cast<int>(r), std::string("vkCreateInstance failed: ") + resultString(r) +
+                                              " (is a Vulkan driver installed? Debian: mesa-vulkan-drivers)"};
+    if (c.validation_) {
+        auto fn = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(c.instance_, "vkCreateDebugUtilsMessengerEXT"));
+        if (fn) fn(c.instance_, &dbg, nullptr, &c.messenger_);
+    }
+
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(c.instance_, &n, nullptr);
+    std::vector<VkPhysicalDevice> devices(n);
+    vkEnumeratePhysicalDevices(c.instance_, &n, devices.data());
+    std::string available;
+    int best = -1;
+    for (VkPhysicalDevice d : devices) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(d, &p);
+        available += std::string(available.empty() ? "" : ", ") + p.deviceName;
+        if (p.apiVersion < VK_API_VERSION_1_2) continue;
+        if (!options.deviceName.empty() && std::string(p.deviceName).find(options.deviceName) == std::string::npos)
+            continue;
+        uint32_t qn = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(d, &qn, nullptr);
+        std::vector<VkQueueFamilyProperties> qf(qn);
+        vkGetPhysicalDeviceQueueFamilyProperties(d, &qn, qf.data());
+        for (uint32_t i = 0; i < qn; ++i) {
+            VkQueueFlags need = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
+            if ((qf[i].queueFlags & need) != need) continue;
+            int score = deviceScore(p.deviceType);
+            if (score > best) {
+                best = score;
+                c.physical_ = d;
+                c.queueFamily_ = i;
+                c.timestampValidBits_ = qf[i].timestampValidBits;
+            }
+            break;
+        }
+    }
+    if (!c.physical_)
+        return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
+                     (options.deviceName.empty() ? std::string("no Vulkan 1.2 device with a graphics+compute queue")
+                                                 : "no Vulkan 1.2 device named like '" + options.deviceName + "'") +
+                         "; available: " + (available.empty() ? "none" : available)};
+    vkGetPhysicalDeviceProperties(c.physical_, &c.props_);
+    vkGetPhysicalDeviceMemoryProperties(c.physical_, &c.memProps_);
+
+    float prio = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = c.queueFamily_;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &prio;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    dci.enabledExtensionCount = static_cast<uint32_t>(options.deviceExtensions.size());
+    dci.ppEnabledExtensionNames = options.deviceExtensions.data();
+    if (VkResult r = vkCreateDevice(c.physical_, &dci, nullptr, &c.device_); r != VK_SUCCESS)
+        return vkError("vkCreateDevice", r);
+    vkGetDeviceQueue(c.device_, c.queueFamily_, 0, &c.queue_);
+
+    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pci.queueFamilyIndex = c.queueFamily_;
+    VK_CHECK(vkCreateCommandPool(c.device_, &pci, nullptr, &c.pool_));
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VK_CHECK(vkCreateFence(c.device_, &fci, nullptr, &c.fence_));
+    return ctx;
+}
+
+Context::~Context() {
+    if (device_) {
+        vkDeviceWaitIdle(device_);
+        if (fence_) vkDestroyFence(device_, fence_, nullptr);
+        if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
+        vkDestroyDevice(device_, nullptr);
+    }
+    if (messenger_) {
+        auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+        if (fn) fn(instance_, messenger_, nullptr);
+    }
+    if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+Result<uint32_t> Context::memoryType(uint32_t typeBits, VkMemoryPropertyFlags props) const {
+    for (uint32_t i = 0; i < memProps_.memoryTypeCount; ++i)
+        if ((typeBits & (1u << i)) && (memProps_.memoryTypes[i].propertyFlags & props) == props) return i;
+    return Error{static_cast<int>(VK_ERROR_OUT_OF_DEVICE_MEMORY), "no memory type with the needed properties"};
+}
+
+Result<Buffer> Context::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible) {
+    Buffer b;
+    b.device_ = device_;
+    b.size_ = size;
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bci.size = size;
+    bci.usage = usage;
+    bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    if (VkResult r = vkCreateBuffer(device_, &bci, nullptr, &b.buffer_); r != VK_SUCCESS)
+        return vkError("vkCreateBuffer (" + std::to_string(size) + " bytes)", r);
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(device_, b.buffer_, &req);
+    auto type = memoryType(req.memoryTypeBits, hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                                 VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (!type) return type.error();
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = *type;
+    if (VkResult r = vkAllocateMemory(device_, &mai, nullptr, &b.memory_); r != VK_SUCCESS)
+        return vkError("vkAllocateMemory (" + std::to_string(req.size) + " bytes)", r);
+    VK_CHECK(vkBindBufferMemory(device_, b.buffer_, b.memory_, 0));
+    if (hostVisible) VK_CHECK(vkMapMemory(device_, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_));
+    return b;
+}
+
+Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFormat) {
+    Image img;
+    img.device_ = device_;
+    img.info_ = info;
+    bool depth = info.format == VK_FORMAT_D32_SFLOAT;
+    img.aspect_ = depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+    VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    ici.flags = info.flags;
+    ici.imageType = VK_IMAGE_TYPE_2D;
+    ici.format = info.format;
+    ici.extent = {info.width, info.height, 1};
+    ici.mipLevels = 1;
+    ici.arrayLayers = info.layers;
+    ici.samples = VK_SAMPLE_COUNT_1_BIT;
+    ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+    ici.usage = info.usage;
+    ici.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    if (VkResult r = vkCreateImage(device_, &ici, nullptr, &img.image_); r != VK_SUCCESS)
+        return vkError("vkCreateImage (" + std::to_string(info.width) + "x" + std::to_string(info.height) + ")", r);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(device_, img.image_, &req);
+    auto type = memoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (!type) return type.error();
+    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mai.allocationSize = req.size;
+    mai.memoryTypeIndex = *type;
+    if (VkResult r = vkAllocateMemory(device_, &mai, nullptr, &img.memory_); r != VK_SUCCESS)
+        return vkError("vkAllocateMemory (image, " + std::to_string(req.size) + " bytes)", r);
+    VK_CHECK(vkBindImageMemory(device_, img.image_, img.memory_, 0));
+
+    VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    vci.image = img.image_;
+    vci.format = viewFormat == VK_FORMAT_UNDEFINED ? info.format : viewFormat;
+    vci.subresourceRange = {img.aspect_, 0, 1, 0, 1};
+    for (uint32_t l = 0; l < info.layers; ++l) {
+        vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+        vci.subresourceRange.baseArrayLayer = l;
+        VkImageView v;
+        VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &v));
+        img.layerViews_.push_back(v);
+    }
+    vci.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
+    vci.subresourceRange.baseArrayLayer = 0;
+    vci.subresourceRange.layerCount = info.layers;
+    VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &img.arrayView_));
+    return img;
+}
+
+ShaderModule Context::createShaderModule(const uint32_t* code, size_t bytes) {
+    VkShaderModuleCreateInfo sci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    sci.codeSize = bytes;
+    sci.pCode = code;
+    VkShaderModule m;
+    VK_CHECK(vkCreateShaderModule(device_, &sci, nullptr, &m));
+    return ShaderModule(device_, m);
+}
+
+VkCommandBuffer Context::allocateCommandBuffer() {
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool_;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer cb;
+    VK_CHECK(vkAllocateCommandBuffers(device_, &ai, &cb));
+    return cb;
+}
+
+void Context::freeCommandBuffer(VkCommandBuffer cb) { vkFreeCommandBuffers(device_, pool_, 1, &cb); }
+
+Status Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) {
+    VkCommandBuffer cb = allocateCommandBuffer();
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+    record(cb);
+    VK_CHECK(vkEndCommandBuffer(cb));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    VkResult r = vkQueueSubmit(queue_, 1, &si, fence_);
+    if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
+    vkResetFences(device_, 1, &fence_);
+    freeCommandBuffer(cb);
+    if (r != VK_SUCCESS) return vkError("queue submission", r);
+    return {};
+}
+
+}  // namespace wrsfov::vk

@@ -1,0 +1,204 @@
+// Vulkan instance, device and queue, headless; move-only wrappers for the objects the compositor
+// makes. Prefers a GPU, falls back to a CPU implementation (Mesa lavapipe), or takes a device by
+// name. Optionally runs under the Khronos validation layer and counts what it reports.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "layers/status.h"
+
+namespace wrsfov::vk {
+
+/// Name of a VkResult, e.g. "VK_ERROR_DEVICE_LOST".
+const char* resultString(VkResult r);
+
+/// For calls that only fail on programmer error or a dead device: prints file, line, call and
+/// result, then aborts. Expected failures (no device, device lost at submit) return Status instead.
+#define VK_CHECK(call)                                                                                        \
+    do {                                                                                                      \
+        VkResult vk_check_result_ = (call);                                                                   \
+        if (vk_check_result_ != VK_SUCCESS) ::wrsfov::vk::fatal(__FILE__, __LINE__, #call, vk_check_result_); \
+    } while (0)
+[[noreturn]] void fatal(const char* file, int line, const char* call, VkResult r);
+
+struct ContextOptions {
+    /// Enable VK_LAYER_KHRONOS_validation (default: environment WRSFOV_VALIDATION=1).
+    bool validation = false;
+    /// Pick the first device whose name contains this (default: environment WRSFOV_DEVICE).
+    std::string deviceName;
+    /// Extra instance / device extensions (a windowed preview adds the surface ones).
+    std::vector<const char*> instanceExtensions;
+    std::vector<const char*> deviceExtensions;
+    /// Reads WRSFOV_VALIDATION and WRSFOV_DEVICE.
+    static ContextOptions fromEnvironment();
+};
+
+class Context;
+
+/// A buffer with its own memory. Host-visible buffers stay mapped.
+class Buffer {
+public:
+    Buffer() = default;
+    Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+    Buffer& operator=(Buffer&& o) noexcept;
+    ~Buffer() { reset(); }
+    void reset();
+    VkBuffer handle() const { return buffer_; }
+    VkDeviceSize size() const { return size_; }
+    void* mapped() const { return mapped_; }
+    explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
+
+private:
+    friend class Context;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkBuffer buffer_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkDeviceSize size_ = 0;
+    void* mapped_ = nullptr;
+};
+
+struct ImageCreateInfo {
+    VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
+    uint32_t width = 1;
+    uint32_t height = 1;
+    uint32_t layers = 1;
+    VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    VkImageCreateFlags flags = 0;
+};
+
+/// An image with its own memory and one 2D view per array layer (+ one 2D-array view).
+class Image {
+public:
+    Image() = default;
+    Image(Image&& o) noexcept { *this = std::move(o); }
+    Image& operator=(Image&& o) noexcept;
+    ~Image() { reset(); }
+    void reset();
+    VkImage handle() const { return image_; }
+    /// 2D view of one layer, in `viewFormat` if given at creation, else the image format.
+    VkImageView layerView(uint32_t layer) const { return layerViews_.at(layer); }
+    VkImageView arrayView() const { return arrayView_; }
+    const ImageCreateInfo& info() const { return info_; }
+    VkImageAspectFlags aspect() const { return aspect_; }
+    explicit operator bool() const { return image_ != VK_NULL_HANDLE; }
+
+private:
+    friend class Context;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkImage image_ = VK_NULL_HANDLE;
+    VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    std::vector<VkImageView> layerViews_;
+    VkImageView arrayView_ = VK_NULL_HANDLE;
+    ImageCreateInfo info_;
+    VkImageAspectFlags aspect_ = VK_IMAGE_ASPECT_COLOR_BIT;
+};
+
+/// Generic move-only holder for a handle destroyed with vkDestroyX(device, handle, nullptr).
+template <typename H, void (*Destroy)(VkDevice, H, const VkAllocationCallbacks*)>
+class Handle {
+public:
+    Handle() = default;
+    Handle(VkDevice d, H h) : device_(d), h_(h) {}
+    Handle(Handle&& o) noexcept : device_(o.device_), h_(o.h_) { o.h_ = VK_NULL_HANDLE; }
+    Handle& operator=(Handle&& o) noexcept {
+        if (this != &o) {
+            reset();
+            device_ = o.device_;
+            h_ = o.h_;
+            o.h_ = VK_NULL_HANDLE;
+        }
+        return *this;
+    }
+    ~Handle() { reset(); }
+    void reset() {
+        if (h_ != VK_NULL_HANDLE) Destroy(device_, h_, nullptr);
+        h_ = VK_NULL_HANDLE;
+    }
+    H get() const { return h_; }
+    explicit operator bool() const { return h_ != VK_NULL_HANDLE; }
+
+private:
+    VkDevice device_ = VK_NULL_HANDLE;
+    H h_ = VK_NULL_HANDLE;
+};
+using ShaderModule = Handle<VkShaderModule, vkDestroyShaderModule>;
+using Pipeline = Handle<VkPipeline, vkDestroyPipeline>;
+using PipelineLayout = Handle<VkPipelineLayout, vkDestroyPipelineLayout>;
+using DescriptorSetLayout = Handle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
+using DescriptorPool = Handle<VkDescriptorPool, vkDestroyDescriptorPool>;
+using Sampler = Handle<VkSampler, vkDestroySampler>;
+using QueryPool = Handle<VkQueryPool, vkDestroyQueryPool>;
+using Fence = Handle<VkFence, vkDestroyFence>;
+using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
+
+class Context {
+public:
+    /// Creates instance and device. Fails with a message naming the available devices when none
+    /// fits (or the one asked for by name is not there).
+    static Result<std::unique_ptr<Context>> create(const ContextOptions& options = ContextOptions::fromEnvironment());
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    VkInstance instance() const { return instance_; }
+    VkPhysicalDevice physicalDevice() const { return physical_; }
+    VkDevice device() const { return device_; }
+    VkQueue queue() const { return queue_; }
+    uint32_t queueFamily() const { return queueFamily_; }
+    const VkPhysicalDeviceProperties& properties() const { return props_; }
+    std::string deviceName() const { return props_.deviceName; }
+    bool isCpuDevice() const { return props_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+    /// Nanoseconds per timestamp tick; 0 when the queue cannot write timestamps.
+    double timestampPeriodNs() const { return timestampValidBits_ ? props_.limits.timestampPeriod : 0.0; }
+
+    /// Validation-layer messages of severity error / warning seen since creation.
+    uint32_t validationErrors() const { return validationErrors_.load(); }
+    uint32_t validationWarnings() const { return validationWarnings_.load(); }
+    std::vector<std::string> validationMessages() const;
+    bool validationEnabled() const { return validation_; }
+
+    Result<Buffer> createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible);
+    /// viewFormat: format of the per-layer views (VK_FORMAT_UNDEFINED: the image's own format).
+    Result<Image> createImage(const ImageCreateInfo& info, VkFormat viewFormat = VK_FORMAT_UNDEFINED);
+    ShaderModule createShaderModule(const uint32_t* code, size_t bytes);
+
+    /// Records with `record`, submits, waits. Returns DeviceFailure-style errors (code = VkResult).
+    Status submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    /// Allocates a primary command buffer from the context's pool.
+    VkCommandBuffer allocateCommandBuffer();
+    void freeCommandBuffer(VkCommandBuffer cb);
+
+private:
+    Context() = default;
+    static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                        VkDebugUtilsMessageTypeFlagsEXT types,
+                                                        const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+    Result<uint32_t> memoryType(uint32_t typeBits, VkMemoryPropertyFlags props) const;
+
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    uint32_t queueFamily_ = 0;
+    uint32_t timestampValidBits_ = 0;
+    VkPhysicalDeviceProperties props_{};
+    VkPhysicalDeviceMemoryProperties memProps_{};
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    VkFence fence_ = VK_NULL_HANDLE;
+    bool validation_ = false;
+    std::atomic<uint32_t> validationErrors_{0};
+    std::atomic<uint32_t> validationWarnings_{0};
+    mutable std::mutex messagesMutex_;
+    std::vector<std::string> messages_;
+};
+
+}  // namespace wrsfov::vk

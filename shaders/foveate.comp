@@ -1,0 +1,41 @@
+// Pass 3: per pixel eccentricity, foveated colour (blend of pyramid levels) and sample weight p̂.
+// Method `fov` (WRITE_OUTPUT) stores the result as the output; `wrs` hands it to the wrs pass.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "bindings.glsl"
+
+layout(constant_id = 0) const uint FOV_MODE = 1u;
+layout(constant_id = 1) const bool WRITE_OUTPUT = false;
+layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
+
+vec4 sample_level(uint eye, uint level, uvec2 p) {
+    if (level == 0u) return pyramid[pyramid_index(eye, 0u, p)];
+    uvec2 size0 = frame.size.xy;
+    uvec2 sl = wrs_level_size(size0, level);
+    uvec2 i0, i1;
+    vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+    return wrs_bilinear(pyramid[pyramid_index(eye, level, i0)], pyramid[pyramid_index(eye, level, uvec2(i1.x, i0.y))],
+                        pyramid[pyramid_index(eye, level, uvec2(i0.x, i1.y))], pyramid[pyramid_index(eye, level, i1)], f);
+}
+
+void main() {
+    uint eye = gl_WorkGroupID.z;
+    uvec2 p = gl_GlobalInvocationID.xy;
+    if (any(greaterThanEqual(p, frame.size.xy))) return;
+    EyeParams ep = frame.eye[eye];
+
+    vec3 ray = wrs_pixel_ray(p.x, p.y, frame.size.x, frame.size.y, ep.fov_tan);
+    float e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
+    float r_f = ep.gaze.w;
+    vec3 lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
+    vec4 c = sample_level(eye, uint(lv.x), p);
+    if (lv.z > 0.0) c = wrs_blend(c, sample_level(eye, uint(lv.y), p), lv.z);
+    bool valid = pyramid[pyramid_index(eye, 0u, p)].a > 0.5;
+    float w = valid ? wrs_sample_weight(e, r_f) : 0.0;
+
+    if (WRITE_OUTPUT) {
+        store_output(eye, p, c.rgb);
+    } else {
+        candidate[pixel_index(eye, p)] = vec4(c.rgb, w);
+    }
+}

@@ -1,0 +1,455 @@
+// The per-pixel math of wrsfov, in the common subset of GLSL and C++ (see glsl_cpp.h).
+//
+// Compiled into every compute shader and into the CPU reference (compositor/reference.cpp), so the
+// GPU and the reference can only differ by the rounding of built-in functions (exp, pow, atan,
+// normalize). Equation numbers refer to Cantory et al., MIG '25 ("the paper"); section names to
+// DESIGN.md.
+#ifndef WRSFOV_WRS_COMMON_H
+#define WRSFOV_WRS_COMMON_H
+
+#include "glsl_cpp.h"
+#include "config.h"
+
+WRS_BEGIN
+
+// ---------------------------------------------------------------------------------------------
+// Numbers and guards
+// ---------------------------------------------------------------------------------------------
+
+const float WRS_PI = 3.14159265358979f;
+const float WRS_RAD_TO_DEG = 57.2957795130823f;
+// Largest value a packed fp16 channel holds; colours and depths are clamped to it before packing.
+const float WRS_HALF_MAX = 65504.0f;
+// A reservoir never has w_sum <= 0 (DESIGN §3): this is the floor it is clamped to, and the weight
+// given to a reservoir that had to be started from an invalid candidate.
+const float WRS_WSUM_MIN = 1e-30f;
+// and never overflows: w_sum grows by at most 1 per frame, so this is reached only by corruption.
+const float WRS_WSUM_MAX = 1e30f;
+
+// True for finite floats. Works on the bits: some drivers fold isnan()/isinf() away.
+WRS_FN bool wrs_finite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u; }
+WRS_FN bool wrs_finite3(vec3 v) { return wrs_finite(v.x) && wrs_finite(v.y) && wrs_finite(v.z); }
+
+// ---------------------------------------------------------------------------------------------
+// Views and eccentricity (DESIGN "Conventions")
+// ---------------------------------------------------------------------------------------------
+
+// fov_tan = (tan angleLeft, tan angleRight, tan angleUp, tan angleDown), the XrFovf order.
+// Pixel (x, y), y down, centre (x + 0.5, y + 0.5); eye space is -Z forward, +Y up, +X right.
+WRS_FN vec3 wrs_pixel_ray(uint x, uint y, uint width, uint height, vec4 fov_tan) {
+    float u = (float(x) + 0.5f) / float(width);
+    float v = (float(y) + 0.5f) / float(height);
+    float tx = fov_tan.x + u * (fov_tan.y - fov_tan.x);
+    float ty = fov_tan.z - v * (fov_tan.z - fov_tan.w);
+    return normalize(vec3(tx, ty, -1.0f));
+}
+
+// atan(y / x) for y, x >= 0, in radians, written out (Cephes atanf: range reduction + odd
+// polynomial, ~2e-7 relative) because built-in atan is as loose as 1e-5 on some devices, which
+// would make CPU and GPU weights disagree near the fovea edge.
+WRS_FN float wrs_atan2_pos(float y, float x) {
+    if (y <= 0.0f) return 0.0f;
+    if (x <= 0.0f) return 0.5f * WRS_PI;
+    bool swap = y > x;
+    float t = swap ? x / y : y / x;  // in (0, 1]
+    float base = 0.0f;
+    if (t > 0.41421356f) {  // tan(pi/8)
+        t = (t - 1.0f) / (t + 1.0f);
+        base = 0.25f * WRS_PI;
+    }
+    float z = t * t;
+    WRS_PRECISE float p = ((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f;
+    WRS_PRECISE float a = base + (p * z * t + t);
+    return swap ? 0.5f * WRS_PI - a : a;
+}
+
+// Angle in degrees between two unit rays. 2·atan2(|a−b|, |a+b|) keeps full precision near 0°,
+// where acos(dot) loses most of its digits.
+WRS_FN float wrs_eccentricity_deg(vec3 ray, vec3 gaze) {
+    float num = length(ray - gaze);
+    float den = length(ray + gaze);
+    return 2.0f * wrs_atan2_pos(num, den) * WRS_RAD_TO_DEG;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sample weight p̂ (paper eq. 3–4): Watson 2014 cone density, normalised at the fovea edge
+// ---------------------------------------------------------------------------------------------
+
+const float WRS_WATSON_A = 0.9851f;
+const float WRS_WATSON_R2 = 1.058f;
+const float WRS_WATSON_RE = 22.14f;
+const float WRS_WATSON_DC0 = 14804.6f;
+const float WRS_WATSON_RM = 41.03f;
+
+// Eq. 3, e in degrees.
+WRS_FN float wrs_watson_density(float e) {
+    float q = 1.0f + e / WRS_WATSON_R2;
+    return 2.0f * WRS_WATSON_DC0 / (1.0f + e / WRS_WATSON_RM) *
+           (WRS_WATSON_A / (q * q) + (1.0f - WRS_WATSON_A) * exp(-e / WRS_WATSON_RE));
+}
+
+// Eq. 4: 1 inside the fovea (radius r_f in degrees), d(e)/d(r_f) outside.
+WRS_FN float wrs_sample_weight(float e, float r_f) {
+    if (e <= r_f) return 1.0f;
+    return wrs_watson_density(e) / wrs_watson_density(r_f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Foveation (paper §4.3, DESIGN §1): which levels of the colour pyramid a pixel blends
+// ---------------------------------------------------------------------------------------------
+
+const uint WRS_FOV_NONE = 0u;   // the application rendered foveated already: level 0 only
+const uint WRS_FOV_MIP = 1u;    // box mip chain, rates 1 / 8x8 / 16x16, 1° linear blends
+const uint WRS_FOV_GAUSS = 2u;  // [1 3 3 1] Gaussian pyramid, sigma growing with eccentricity
+
+// Effective Gaussian sigma, in level-0 pixels, of pyramid level k built by repeated [1 3 3 1]/8
+// filtering and decimation: sigma_k^2 = 0.75 * (4^k - 1) / 3 * ... = 0.25 * (4^k - 1).
+// Levels 3 and 4 land on sigma 3.97 and 7.98, i.e. half the 8x8 and 16x16 subsampling factors,
+// which is what makes `gauss` comparable with `mip`.
+WRS_FN float wrs_gauss_level_sigma(uint k) {
+    float p = float(1u << (2u * k));
+    return 0.5f * sqrt(p - 1.0f);
+}
+
+// sigma(e) for `gauss` (documented in README "Foveation modes"): 0 inside the fovea, rising linearly
+// from 0.5 at r_f to 4 (= 8x8 rate / 2) at the end of the mid-periphery, then linearly to 8
+// (= 16x16 rate / 2) over the next 5°, constant after. r_mid = max(r_m, r_f); the first ramp is at
+// least 1° long so that a fovea larger than the mid-periphery still blends.
+WRS_FN float wrs_gauss_sigma(float e, float r_f, float r_m) {
+    if (e <= r_f) return 0.0f;
+    float r_mid = max(r_m, r_f + 1.0f);
+    if (e <= r_mid) return 0.5f + 3.5f * (e - r_f) / (r_mid - r_f);
+    return 4.0f + 4.0f * min((e - r_mid) / 5.0f, 1.0f);
+}
+
+// Levels to blend for a pixel at eccentricity e: colour = mix(level a, level b, t).
+// Returned as vec3(a, b, t).
+WRS_FN vec3 wrs_foveation_levels(uint mode, float e, float r_f, float r_m) {
+    if (mode == WRS_FOV_NONE || e <= r_f) return vec3(0.0f, 0.0f, 0.0f);
+    if (mode == WRS_FOV_MIP) {
+        float r_mid = max(r_m, r_f);
+        bool skip_mid = r_f + 1.0f > r_mid;  // fovea reaches into the far periphery
+        if (e < r_f + 1.0f) return vec3(0.0f, skip_mid ? 4.0f : 3.0f, e - r_f);
+        if (skip_mid) return vec3(4.0f, 4.0f, 0.0f);
+        if (e <= r_mid) return vec3(3.0f, 3.0f, 0.0f);
+        if (e < r_mid + 1.0f) return vec3(3.0f, 4.0f, e - r_mid);
+        return vec3(4.0f, 4.0f, 0.0f);
+    }
+    float s = wrs_gauss_sigma(e, r_f, r_m);
+    for (uint k = 0u; k + 1u < uint(WRS_LEVELS); ++k) {
+        float s0 = wrs_gauss_level_sigma(k);
+        float s1 = wrs_gauss_level_sigma(k + 1u);
+        if (s <= s1) return vec3(float(k), float(k + 1u), (s - s0) / (s1 - s0));
+    }
+    return vec3(float(WRS_LEVELS - 1), float(WRS_LEVELS - 1), 0.0f);
+}
+
+// Pyramid level sizes: each level halves, rounding up, never below 1.
+WRS_FN uvec2 wrs_level_size(uvec2 size0, uint level) {
+    uvec2 s = size0;
+    for (uint k = 0u; k < level; ++k) s = max((s + uvec2(1u, 1u)) / 2u, uvec2(1u, 1u));
+    return s;
+}
+
+// Offset (in texels) of a level inside one eye's pyramid, and the size of one eye's pyramid.
+WRS_FN uint wrs_level_offset(uvec2 size0, uint level) {
+    uint off = 0u;
+    for (uint k = 0u; k < level; ++k) {
+        uvec2 s = wrs_level_size(size0, k);
+        off += s.x * s.y;
+    }
+    return off;
+}
+WRS_FN uint wrs_pyramid_texels(uvec2 size0) { return wrs_level_offset(size0, uint(WRS_LEVELS)); }
+
+// Bilinear lookup of a coarser level at the centre of level-0 pixel p, clamp to edge.
+// Returns the integer corner in i0 (the other corner is i0 + 1 clamped, in i1) and the weights.
+WRS_FN vec2 wrs_bilinear_setup(uvec2 p, uvec2 size0, uvec2 size_l, WRS_OUT(uvec2) i0, WRS_OUT(uvec2) i1) {
+    vec2 pos = (vec2(p) + vec2(0.5f, 0.5f)) * vec2(size_l) / vec2(size0) - vec2(0.5f, 0.5f);
+    pos = clamp(pos, vec2(0.0f, 0.0f), vec2(size_l) - vec2(1.0f, 1.0f));
+    vec2 f = floor(pos);
+    i0 = uvec2(f);
+    i1 = min(i0 + uvec2(1u, 1u), size_l - uvec2(1u, 1u));
+    return pos - f;
+}
+WRS_FN vec4 wrs_bilinear(vec4 c00, vec4 c10, vec4 c01, vec4 c11, vec2 f) {
+    vec4 top = c00 + (c10 - c00) * f.x;
+    vec4 bottom = c01 + (c11 - c01) * f.x;
+    return top + (bottom - top) * f.y;
+}
+
+// Linear blend of two pyramid samples, written out so both sides round alike.
+WRS_FN vec4 wrs_blend(vec4 a, vec4 b, float t) { return a + (b - a) * t; }
+
+// Source texel of a downsample tap: level-(k-1) index 2*d + o, clamped to the level.
+WRS_FN uvec2 wrs_down_tap(uvec2 d, ivec2 o, uvec2 src_size) {
+    ivec2 s = ivec2(2u * d) + o;
+    return uvec2(clamp(s, ivec2(0, 0), ivec2(src_size) - ivec2(1, 1)));
+}
+// `mip`: 2x2 box over taps o in {0,1}^2, in the order (0,0) (1,0) (0,1) (1,1).
+WRS_FN vec4 wrs_down_box(vec4 t00, vec4 t10, vec4 t01, vec4 t11) { return ((t00 + t10) + (t01 + t11)) * 0.25f; }
+// `gauss`: separable [1 3 3 1]/8 over taps o in {-1..2}^2, given as 4 rows of 4 taps each.
+WRS_FN vec4 wrs_binomial_row(vec4 a, vec4 b, vec4 c, vec4 d) { return (a + d + 3.0f * (b + c)) * 0.125f; }
+
+// ---------------------------------------------------------------------------------------------
+// Colour
+// ---------------------------------------------------------------------------------------------
+
+WRS_FN float wrs_srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : pow((c + 0.055f) / 1.055f, 2.4f);
+}
+WRS_FN float wrs_linear_to_srgb(float c) {
+    c = clamp(c, 0.0f, 1.0f);
+    return c <= 0.0031308f ? c * 12.92f : 1.055f * pow(c, 1.0f / 2.4f) - 0.055f;
+}
+WRS_FN vec3 wrs_srgb_to_linear3(vec3 c) {
+    return vec3(wrs_srgb_to_linear(c.x), wrs_srgb_to_linear(c.y), wrs_srgb_to_linear(c.z));
+}
+WRS_FN vec3 wrs_linear_to_srgb3(vec3 c) {
+    return vec3(wrs_linear_to_srgb(c.x), wrs_linear_to_srgb(c.y), wrs_linear_to_srgb(c.z));
+}
+
+// What a colour becomes before it enters the pipeline: non-finite channels -> 0, negative -> 0,
+// larger than fp16 can hold -> 65504. `valid` reports whether the input was usable as-is finite.
+WRS_FN vec3 wrs_sanitize_color(vec3 c, WRS_OUT(bool) valid) {
+    valid = wrs_finite3(c);
+    vec3 r = vec3(wrs_finite(c.x) ? c.x : 0.0f, wrs_finite(c.y) ? c.y : 0.0f, wrs_finite(c.z) ? c.z : 0.0f);
+    return clamp(r, vec3(0.0f, 0.0f, 0.0f), vec3(WRS_HALF_MAX, WRS_HALF_MAX, WRS_HALF_MAX));
+}
+
+// CIE 1976 L* of linear sRGB (D65), Y from the Rec. 709 primaries.
+WRS_FN float wrs_lab_f(float t) {
+    const float d = 6.0f / 29.0f;
+    return t > d * d * d ? pow(t, 1.0f / 3.0f) : t / (3.0f * d * d) + 4.0f / 29.0f;
+}
+WRS_FN vec3 wrs_linear_to_lab(vec3 c) {
+    float X = 0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z;
+    float Y = 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
+    float Z = 0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z;
+    float fx = wrs_lab_f(X / 0.95047f);
+    float fy = wrs_lab_f(Y);
+    float fz = wrs_lab_f(Z / 1.08883f);
+    return vec3(116.0f * fy - 16.0f, 500.0f * (fx - fy), 200.0f * (fy - fz));
+}
+
+const uint WRS_CHANGE_OFF = 0u;    // eq. 6 only
+const uint WRS_CHANGE_LSTAR = 1u;  // eq. 7 with ΔL = |L*1 − L*2| / 100 (DESIGN default)
+const uint WRS_CHANGE_DE94 = 2u;   // eq. 7 with ΔE94 / 100 (graphic arts, kL = kC = kH = 1)
+
+// |ΔL| of eq. 7, clamped to [0, 1].
+WRS_FN float wrs_change(uint metric, vec3 a, vec3 b) {
+    if (metric == WRS_CHANGE_OFF) return 0.0f;
+    vec3 la = wrs_linear_to_lab(a);
+    vec3 lb = wrs_linear_to_lab(b);
+    float d;
+    if (metric == WRS_CHANGE_LSTAR) {
+        d = abs(la.x - lb.x);
+    } else {
+        float c1 = sqrt(la.y * la.y + la.z * la.z);
+        float c2 = sqrt(lb.y * lb.y + lb.z * lb.z);
+        float dl = la.x - lb.x;
+        float dc = c1 - c2;
+        float da = la.y - lb.y;
+        float db = la.z - lb.z;
+        float dh2 = max(da * da + db * db - dc * dc, 0.0f);
+        float sc = 1.0f + 0.045f * c1;
+        float sh = 1.0f + 0.015f * c1;
+        d = sqrt(dl * dl + (dc / sc) * (dc / sc) + dh2 / (sh * sh));
+    }
+    float r = d / 100.0f;
+    return wrs_finite(r) ? clamp(r, 0.0f, 1.0f) : 1.0f;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Depth (DESIGN "Depth")
+// ---------------------------------------------------------------------------------------------
+
+// Linear view depth from a [0, 1] depth value; far may be +inf (infinite projection). Returns 0
+// ("unknown") for anything that does not give a positive finite depth; the depth test is then
+// skipped for that pixel.
+WRS_FN float wrs_linear_depth(float d, float near_z, float far_z, bool reversed) {
+    if (!wrs_finite(d) || d < 0.0f || d > 1.0f) return 0.0f;
+    float z;
+    bool inf_far = !wrs_finite(far_z);
+    if (reversed) {
+        z = inf_far ? near_z / d : near_z * far_z / (near_z + d * (far_z - near_z));
+    } else {
+        z = inf_far ? near_z / (1.0f - d) : near_z * far_z / (far_z - d * (far_z - near_z));
+    }
+    return (wrs_finite(z) && z > 0.0f) ? min(z, WRS_HALF_MAX) : 0.0f;
+}
+
+// True when the history at a reprojected pixel belongs to another surface: DESIGN §3 depth test.
+// z_hist: depth stored with the history; z_cur: this pixel now; dz: z_prev − z_cur from the
+// motion vector's third channel (0 without one).
+WRS_FN bool wrs_depth_flush(float z_hist, float z_cur, float dz, float tau) {
+    if (z_hist <= 0.0f || z_cur <= 0.0f) return false;  // unknown on either side: nothing to test
+    return abs(z_hist - (z_cur + dz)) > tau * z_cur;
+}
+
+// Reprojection (DESIGN §3): the previous position of pixel p is its centre + mv.xy, read at the
+// nearest pixel q. Non-finite motion is taken as zero motion and a non-finite dz as 0 (documented
+// fallback: the history stays, the depth and change tests still guard it). Returns false when the
+// previous position is off-screen: that pixel has no history.
+WRS_FN bool wrs_reproject(uvec2 p, uvec2 size, vec3 mv, WRS_OUT(uvec2) q, WRS_OUT(float) dz) {
+    bool finite_xy = wrs_finite(mv.x) && wrs_finite(mv.y);
+    vec2 m = finite_xy ? vec2(mv.x, mv.y) : vec2(0.0f, 0.0f);
+    dz = wrs_finite(mv.z) ? mv.z : 0.0f;
+    vec2 pos = vec2(p) + vec2(0.5f, 0.5f) + m;
+    q = p;
+    if (!(pos.x >= 0.0f && pos.y >= 0.0f && pos.x < float(size.x) && pos.y < float(size.y))) return false;
+    q = uvec2(floor(pos));
+    return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random numbers: one hash of (x, y, eye, frame, seed), identical on CPU and GPU
+// ---------------------------------------------------------------------------------------------
+
+// PCG output permutation (O'Neill 2014; Jarzynski & Olano 2020 "hash functions for GPU rendering").
+WRS_FN uint wrs_pcg(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+WRS_FN uint wrs_hash(uint x, uint y, uint eye, uint frame, uint seed) {
+    uint h = wrs_pcg(x ^ wrs_pcg(seed));
+    h = wrs_pcg(y ^ h);
+    h = wrs_pcg(eye ^ h);
+    return wrs_pcg(frame ^ h);
+}
+// 24 random bits as a float in [0, 1): exact on both sides.
+WRS_FN float wrs_rand(uint x, uint y, uint eye, uint frame, uint seed) {
+    return float(wrs_hash(x, y, eye, frame, seed) >> 8u) * (1.0f / 16777216.0f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reservoirs (paper §3.1, §4.1–4.3; DESIGN §3)
+// ---------------------------------------------------------------------------------------------
+
+struct Reservoir {
+    vec3 color;   // the kept sample, linear RGB
+    float w;      // its weight p̂ when it was taken
+    float w_sum;  // sum of (biased) candidate weights, > 0
+    uint M;       // candidates seen, capped at WRS_M_MAX
+    float z;      // linear depth of this pixel in the frame the reservoir was written (0 unknown)
+};
+
+WRS_FN Reservoir wrs_reservoir(vec3 color, float w, float w_sum, uint M, float z) {
+    Reservoir r;
+    r.color = color;
+    r.w = w;
+    r.w_sum = w_sum;
+    r.M = M;
+    r.z = z;
+    return r;
+}
+
+// Packed storage: 4 x 32 bits = 16 bytes per pixel (README "Reservoir layout").
+//   word 0: colour R | G    (fp16, fp16)
+//   word 1: colour B | w    (fp16, fp16)
+//   word 2: w_sum           (fp32)
+//   word 3: z | M           (fp16, uint16)
+// fp16 is converted here, by hand and with round-to-nearest-even, because packHalf2x16 leaves
+// the rounding to the implementation.
+WRS_FN uint wrs_f32_to_f16(float f) {
+    uint x = floatBitsToUint(f);
+    uint sign = (x >> 16u) & 0x8000u;
+    uint ax = x & 0x7fffffffu;
+    if (ax >= 0x7f800000u) return sign | 0x7c00u | (ax > 0x7f800000u ? 0x200u : 0u);  // inf / nan
+    if (ax >= 0x477ff000u) return sign | 0x7c00u;                                      // overflow
+    if (ax >= 0x38800000u) {                                                           // normal
+        uint base = ax - 0x38000000u;
+        uint h = base >> 13u;
+        uint rem = base & 0x1fffu;
+        if (rem > 0x1000u || (rem == 0x1000u && (h & 1u) != 0u)) h += 1u;
+        return sign | h;
+    }
+    uint e = ax >> 23u;
+    if (e < 102u) return sign;  // below half the smallest subnormal: rounds to zero
+    uint m = (ax & 0x7fffffu) | 0x800000u;
+    uint shift = 126u - e;  // 14..24
+    uint h = m >> shift;
+    uint rem = m & ((1u << shift) - 1u);
+    uint halfway = 1u << (shift - 1u);
+    if (rem > halfway || (rem == halfway && (h & 1u) != 0u)) h += 1u;
+    return sign | h;
+}
+WRS_FN float wrs_f16_to_f32(uint h) {
+    uint sign = (h & 0x8000u) << 16u;
+    uint e = (h >> 10u) & 0x1fu;
+    uint m = h & 0x3ffu;
+    if (e == 0u) {
+        float v = float(m) * 5.9604644775390625e-8f;  // m * 2^-24, exact
+        return sign != 0u ? -v : v;
+    }
+    if (e == 31u) return uintBitsToFloat(sign | 0x7f800000u | (m << 13u));
+    return uintBitsToFloat(sign | ((e + 112u) << 23u) | (m << 13u));
+}
+WRS_FN float wrs_round_f16(float f) { return wrs_f16_to_f32(wrs_f32_to_f16(f)); }
+
+WRS_FN uvec4 wrs_pack(Reservoir r) {
+    uvec4 p;
+    p.x = wrs_f32_to_f16(r.color.x) | (wrs_f32_to_f16(r.color.y) << 16u);
+    p.y = wrs_f32_to_f16(r.color.z) | (wrs_f32_to_f16(r.w) << 16u);
+    p.z = floatBitsToUint(r.w_sum);
+    p.w = wrs_f32_to_f16(r.z) | (min(r.M, WRS_M_MAX) << 16u);
+    return p;
+}
+WRS_FN Reservoir wrs_unpack(uvec4 p) {
+    Reservoir r;
+    r.color = vec3(wrs_f16_to_f32(p.x & 0xffffu), wrs_f16_to_f32(p.x >> 16u), wrs_f16_to_f32(p.y & 0xffffu));
+    r.w = wrs_f16_to_f32(p.y >> 16u);
+    r.w_sum = uintBitsToFloat(p.z);
+    r.z = wrs_f16_to_f32(p.w & 0xffffu);
+    r.M = p.w >> 16u;
+    return r;
+}
+// A loaded reservoir is usable as history only if everything in it is finite and w_sum > 0:
+// corrupted or never-written storage (all zero) is discarded on load, never propagated.
+WRS_FN bool wrs_reservoir_valid(Reservoir r) {
+    return wrs_finite3(r.color) && wrs_finite(r.w) && wrs_finite(r.w_sum) && r.w_sum > 0.0f && wrs_finite(r.z) &&
+           r.M > 0u;
+}
+
+// Options of the temporal combine.
+const uint WRS_BIAS_BERNOULLI = 1u;  // eq. 6: scale history by its survival probability
+
+// History weight after the temporal bias (eq. 7 = eq. 6 x change term), all from w_sum as loaded:
+// w_sum1 = w_sum · (1 − |ΔL|) · (1 − w_cur / (w_sum + w_cur)).
+WRS_FN float wrs_biased_history_weight(float w_sum, float w_cur, float change, bool bernoulli) {
+    WRS_PRECISE float w1 = w_sum * (1.0f - change);
+    if (bernoulli) w1 = w1 * (1.0f - w_cur / (w_sum + w_cur));  // w_sum > 0, so the division is safe
+    return max(w1, 0.0f);
+}
+
+// Probability threshold of the combine: history is kept iff rand <= wrs_keep_threshold.
+// Used by tests to know how close a decision was.
+WRS_FN float wrs_keep_threshold(float w_sum1, float w_cur) {
+    float t = w_sum1 + w_cur;
+    return t > 0.0f ? w_sum1 / t : 1.0f;
+}
+
+// One temporal step for one pixel (Alg. 2 with the biased history). Without usable history the
+// reservoir starts from the candidate. `keep` reports whether the history sample was kept.
+// An invalid candidate (w_cur == 0) never replaces history; a reservoir started from one gets
+// w_sum = WRS_WSUM_MIN so that the next valid candidate replaces it.
+WRS_FN Reservoir wrs_combine(bool has_history, Reservoir hist, vec3 cur_color, float w_cur, float z_cur, float rnd,
+                             uint change_metric, bool bernoulli, WRS_OUT(bool) keep) {
+    keep = false;
+    if (!has_history) return wrs_reservoir(cur_color, w_cur, max(w_cur, WRS_WSUM_MIN), 1u, z_cur);
+    float change = wrs_change(change_metric, cur_color, hist.color);
+    WRS_PRECISE float w_sum1 = wrs_biased_history_weight(hist.w_sum, w_cur, change, bernoulli);
+    WRS_PRECISE float total = w_sum1 + w_cur;
+    WRS_PRECISE float lhs = rnd * total;
+    keep = lhs <= w_sum1;
+    Reservoir r = keep ? hist : wrs_reservoir(cur_color, w_cur, 0.0f, 0u, 0.0f);
+    r.w_sum = clamp(total, WRS_WSUM_MIN, WRS_WSUM_MAX);
+    r.M = min(hist.M + 1u, WRS_M_MAX);
+    r.z = z_cur;
+    return r;
+}
+
+WRS_END
+
+#endif

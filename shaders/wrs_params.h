@@ -1,0 +1,41 @@
+// The per-frame parameter block of every pass, shared by C++ and GLSL (std140 uniform buffer).
+// 16-byte rows only, explicit padding; the C++ side checks the size.
+#ifndef WRSFOV_WRS_PARAMS_H
+#define WRSFOV_WRS_PARAMS_H
+
+#include "glsl_cpp.h"
+
+WRS_BEGIN
+
+struct EyeParams {
+    vec4 fov_tan;       // tan(angleLeft), tan(angleRight), tan(angleUp), tan(angleDown)
+    vec4 gaze;          // xyz: unit gaze direction in eye space; w: fovea radius r_f in degrees
+    uvec4 color_rect;   // x, y offset of the view in the colour image; z: 1 if sRGB-encoded; w: image layer
+    uvec4 depth_rect;   // x, y offset in the depth image; z: 1 if reversed-Z; w: pad
+    uvec4 motion_rect;  // x, y offset in the motion image; zw: pad
+    vec4 depth_range;   // near, far (may be +inf), zw: pad
+};
+
+struct FrameParams {
+    EyeParams eye[2];
+    uvec4 size;    // x: width, y: height (both eyes), z: frame index, w: seed
+    vec4 tuning;   // x: r_m (degrees), y: tau_depth (relative), zw: pad
+};
+
+// Push constants of the pyramid pass: which level is being written.
+struct LevelPush {
+    uint level;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+WRS_END
+
+#ifdef __cplusplus
+static_assert(sizeof(wrsfov::gpu::EyeParams) == 96);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 96 + 32);
+static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
+#endif
+
+#endif

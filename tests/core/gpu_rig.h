@@ -1,0 +1,97 @@
+// Shared test scaffolding for GPU tests: one Vulkan context per test program (validation on when
+// WRSFOV_VALIDATION=1, and every test fails on any validation error), a stereo "application" that
+// submits colour/depth/motion through real swapchains, and random input generators.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <random>
+#include <span>
+#include <vector>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "compositor/compositor.h"
+#include "compositor/reference.h"
+#include "compositor/vk_context.h"
+#include "layers/frame.h"
+
+namespace wrsfov::test {
+
+/// The test program's Vulkan context (created on first use; aborts the test if none).
+vk::Context& context();
+
+/// Base fixture of GPU tests: checks that the validation layer stayed silent during the test.
+class GpuTest : public ::testing::Test {
+protected:
+    void SetUp() override;
+    void TearDown() override;
+
+private:
+    uint32_t errorsBefore_ = 0;
+};
+
+/// What one eye submits in a frame.
+struct EyeFrame {
+    HostImage color;
+    std::optional<HostImage> depth;   // R32F or D32F
+    std::optional<HostImage> motion;  // RG16F or RGBA16F
+    layers::Fov fov;
+    layers::EyeGaze gaze;
+};
+
+/// A stereo application: one swapchain per kind with two array layers (layer = eye).
+class StereoApp {
+public:
+    StereoApp(Compositor& compositor, uint32_t width, uint32_t height, layers::Format colorFormat,
+              std::optional<layers::Format> depthFormat, std::optional<layers::Format> motionFormat);
+
+    /// Writes the images and ends the frame; the frame's layer struct is kept for inspection.
+    Status submit(uint64_t frameIndex, const std::array<EyeFrame, 2>& eyes, bool reversed = false);
+    /// Builds (without submitting) the frame end for the images last written.
+    layers::FrameEndInfo frameEnd(uint64_t frameIndex, const std::array<EyeFrame, 2>& eyes, bool reversed = false);
+    /// Writes both eyes' images through acquire/wait/write/release.
+    void write(const std::array<EyeFrame, 2>& eyes);
+
+    layers::Swapchain& color() { return *color_; }
+    layers::Swapchain* depth() { return depth_.get(); }
+    layers::Swapchain* motion() { return motion_.get(); }
+    float nearZ = 0.1f, farZ = 100.0f;
+
+private:
+    Compositor& comp_;
+    uint32_t w_, h_;
+    std::unique_ptr<layers::Swapchain> color_, depth_, motion_;
+};
+
+/// Reference inputs from the same images.
+std::array<Reference::EyeInput, 2> referenceInputs(const std::array<EyeFrame, 2>& eyes);
+
+/// A typical asymmetric HMD field of view for an eye (0 left, 1 right: mirrored), radians.
+layers::Fov hmdFov(int eye);
+/// A gaze direction at (azimuth, elevation) degrees, -Z forward.
+glm::vec3 gazeDir(float azimuthDeg, float elevationDeg);
+
+/// Random test content.
+struct RandomScene {
+    explicit RandomScene(uint32_t seed) : rng(seed) {}
+    std::mt19937 rng;
+    /// Blocky colour with fine noise (exercises every pyramid level).
+    HostImage color(layers::Format f, uint32_t w, uint32_t h);
+    /// Depth in (0, 1) made of patches, so flushes happen at patch edges.
+    HostImage depth(layers::Format f, uint32_t w, uint32_t h);
+    /// Motion: a random global shift (integer and fractional) plus per-patch jitter, some off-screen.
+    HostImage motion(layers::Format f, uint32_t w, uint32_t h);
+    glm::vec3 gaze(const layers::Fov& fov);
+};
+
+}  // namespace wrsfov::test
+
+namespace wrsfov::test {
+/// Runs a compute shader with binding 0 = input SSBO, binding 1 = output SSBO and a uint push
+/// constant `count` (local size 64 in x), and returns the output bytes.
+std::vector<std::byte> runBufferKernel(const uint32_t* spirv, size_t spirvBytes, std::span<const std::byte> input,
+                                       size_t outputBytes, uint32_t count);
+}  // namespace wrsfov::test

@@ -1,0 +1,166 @@
+// The GPU pipeline against the CPU reference built from the same shared header, over many frames of
+// random colour, depth, motion and gaze. Each frame the reference starts from the GPU's own history,
+// so every frame checks one step of every pixel: the selection must be identical except where the
+// random number lies within 1e-6 of the keep threshold, output colours within 1/255.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "gpu_rig.h"
+
+namespace wrsfov::test {
+namespace {
+
+struct Case {
+    const char* name;
+    Method method;
+    FoveationMode mode;
+    layers::Format color;
+    std::optional<layers::Format> depth;
+    std::optional<layers::Format> motion;
+    ChangeMetric change;
+    bool reversed;
+};
+
+struct Tally {
+    uint64_t decisions = 0, kept = 0, mismatches = 0, nearThreshold = 0, outputOff = 0, maxOutputDiff = 0;
+};
+
+void compareFrame(const Compositor& comp, Compositor& gpu, Reference& ref, const std::vector<glm::uvec4> prev[2],
+                  Tally& t, bool wrs, int frame) {
+    const uint32_t W = comp.width(), H = comp.height();
+    for (uint32_t eye = 0; eye < 2; ++eye) {
+        auto out = gpu.readOutput(eye);
+        ASSERT_TRUE(out.ok());
+        const HostImage& cpuOut = ref.output(eye);
+        for (std::size_t i = 0; i < out->data.size(); ++i) {
+            int d = std::abs(int(uint8_t(out->data[i])) - int(uint8_t(cpuOut.data[i])));
+            t.maxOutputDiff = std::max<uint64_t>(t.maxOutputDiff, d);
+            if (d > 1) {
+                if (t.outputOff++ < 5)
+                    ADD_FAILURE() << "frame " << frame << " eye " << eye << " pixel " << (i / 4) % W << ","
+                                  << (i / 4) / W << " channel " << i % 4 << ": gpu " << int(uint8_t(out->data[i]))
+                                  << " cpu " << int(uint8_t(cpuOut.data[i]));
+            }
+        }
+        if (!wrs) continue;
+        auto res = gpu.readReservoirs(eye);
+        ASSERT_TRUE(res.ok());
+        const auto& cpuRes = ref.reservoirs(eye);
+        const auto& trace = ref.trace(eye);
+        for (uint32_t i = 0; i < W * H; ++i) {
+            const Reference::Trace& tr = trace[i];
+            const glm::uvec4 g = (*res)[i], c = cpuRes[i];
+            const gpu::Reservoir gr = gpu::wrs_unpack(g), cr = gpu::wrs_unpack(c);
+            // Both start from the same history, so M must agree everywhere; w_sum to float rounding.
+            EXPECT_EQ(gr.M, cr.M) << "frame " << frame << " pixel " << i;
+            EXPECT_NEAR(gr.w_sum, cr.w_sum, 1e-5f * std::max(1.0f, cr.w_sum)) << "frame " << frame << " pixel " << i;
+            if (!tr.hadHistory) continue;  // initialisation: the candidate, checked through the output
+            t.decisions++;
+            t.kept += tr.keep;
+            // The GPU kept the history iff its sample words are the history's words.
+            const glm::uvec4 h = prev[eye][tr.source];
+            const bool gpuKeep = g.x == h.x && g.y == h.y;
+            const bool cpuKeep = tr.keep;
+            const bool ambiguous = c.x == h.x && c.y == h.y && !cpuKeep;  // candidate packs like the history
+            if (gpuKeep == cpuKeep || ambiguous) continue;
+            t.mismatches++;
+            if (std::fabs(tr.rnd - tr.threshold) < 1e-6f) {
+                t.nearThreshold++;
+            } else if (t.mismatches - t.nearThreshold <= 5) {
+                ADD_FAILURE() << "frame " << frame << " eye " << eye << " pixel " << i % W << "," << i / W
+                              << ": selection differs, cpu keep=" << cpuKeep << " rnd=" << tr.rnd
+                              << " threshold=" << tr.threshold;
+            }
+        }
+    }
+}
+
+class GpuVsCpu : public GpuTest, public ::testing::WithParamInterface<Case> {};
+
+TEST_P(GpuVsCpu, SixtyRandomFramesMatchReference) {
+    const Case& c = GetParam();
+    const uint32_t W = 88, H = 72;  // not multiples of the 8x8 workgroup: exercises bounds checks
+    CompositorConfig cfg;
+    cfg.method = c.method;
+    cfg.foveation = c.mode;
+    cfg.change = c.change;
+    cfg.foveaDeg = 10.0f;
+    cfg.seed = 7;
+    auto comp = Compositor::create(context(), cfg);
+    ASSERT_TRUE(comp.ok()) << comp.error().message;
+    StereoApp app(**comp, W, H, c.color, c.depth, c.motion);
+    Reference ref(cfg);
+    RandomScene rs(1234);
+    Tally t;
+    const int frames = 60;
+    // Temporally coherent content: colour changes a little every frame and anew every 5th frame,
+    // depth anew every 10th, so history survives often enough to exercise the combine.
+    std::array<HostImage, 2> baseColor, baseDepth;
+    std::mt19937 noise(99);
+    std::uniform_real_distribution<float> jitter(-0.04f, 0.04f);
+    for (int f = 0; f < frames; ++f) {
+        std::array<EyeFrame, 2> eyes;
+        for (int e = 0; e < 2; ++e) {
+            eyes[e].fov = hmdFov(e);
+            if (f % 5 == 0) baseColor[e] = rs.color(c.color, W, H);
+            eyes[e].color = baseColor[e];
+            for (uint32_t y = 0; y < H; ++y)
+                for (uint32_t x = 0; x < W; ++x)
+                    eyes[e].color.store(x, y, eyes[e].color.fetch(x, y) + glm::vec4(jitter(noise), jitter(noise),
+                                                                                    jitter(noise), 0.0f));
+            if (c.depth) {
+                if (f % 10 == 0) baseDepth[e] = rs.depth(*c.depth, W, H);
+                eyes[e].depth = baseDepth[e];
+            }
+            if (c.motion) eyes[e].motion = rs.motion(*c.motion, W, H);
+            eyes[e].gaze = {rs.gaze(eyes[e].fov), true, 1.0f};
+        }
+        std::vector<glm::uvec4> prev[2];
+        if (c.method == Method::Wrs && f > 0) {
+            for (uint32_t e = 0; e < 2; ++e) {
+                auto r = (*comp)->readReservoirs(e);
+                ASSERT_TRUE(r.ok());
+                prev[e] = *r;
+                ref.setHistory(e, prev[e]);
+            }
+        }
+        Status s = app.submit(uint64_t(f + 1), eyes, c.reversed);
+        ASSERT_TRUE(s.ok()) << s.message();
+        gpu::FrameParams params = (*comp)->lastParams();
+        if (std::getenv("WRSFOV_TEST_MUTATE_SEED")) params.size.w += 1;  // shows the comparison can fail
+        ref.step(params, referenceInputs(eyes));
+        compareFrame(**comp, **comp, ref, prev, t, c.method == Method::Wrs, f);
+        if (HasFailure()) break;
+    }
+    std::printf("[%s] decisions with history: %llu (history kept in %llu), selection mismatches: %llu (all within 1e-6 of the threshold: "
+                "%llu), max output difference: %llu/255\n",
+                c.name, (unsigned long long)t.decisions, (unsigned long long)t.kept, (unsigned long long)t.mismatches,
+                (unsigned long long)t.nearThreshold, (unsigned long long)t.maxOutputDiff);
+    EXPECT_EQ(t.mismatches, t.nearThreshold);
+    EXPECT_LE(t.maxOutputDiff, 1u);
+    if (c.method == Method::Wrs) {
+        // Both outcomes of the combine must be well represented for the comparison to mean anything.
+        EXPECT_GT(t.decisions, 100000u);
+        EXPECT_GT(t.kept, t.decisions / 20);
+        EXPECT_GT(t.decisions - t.kept, t.decisions / 20);
+    }
+}
+
+using layers::Format;
+INSTANTIATE_TEST_SUITE_P(
+    Pipelines, GpuVsCpu,
+    ::testing::Values(
+        Case{"wrs_mip_depth_motion", Method::Wrs, FoveationMode::Mip, Format::RGBA8_SRGB, Format::D32F, Format::RGBA16F,
+             ChangeMetric::LStar, false},
+        Case{"wrs_gauss_r32f_rg16f_reversed", Method::Wrs, FoveationMode::Gauss, Format::RGBA16F, Format::R32F,
+             Format::RG16F, ChangeMetric::DeltaE94, true},
+        Case{"wrs_none_nodepth_nomotion", Method::Wrs, FoveationMode::None, Format::RGBA8, std::nullopt, std::nullopt,
+             ChangeMetric::Off, false},
+        Case{"fov_mip", Method::Fov, FoveationMode::Mip, Format::RGBA8_SRGB, std::nullopt, std::nullopt,
+             ChangeMetric::LStar, false}),
+    [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
+
+}  // namespace
+}  // namespace wrsfov::test
