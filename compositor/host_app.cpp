@@ -1,0 +1,93 @@
+#include "compositor/host_app.h"
+
+#include <cmath>
+
+namespace wrsfov {
+
+Result<std::unique_ptr<HostStereoApp>> HostStereoApp::create(Compositor& compositor, const Options& o) {
+    std::unique_ptr<HostStereoApp> app(new HostStereoApp(compositor, o));
+    auto make = [&](layers::Usage usage, layers::Format format) -> Result<std::unique_ptr<layers::Swapchain>> {
+        layers::SwapchainCreateInfo ci;
+        ci.usage = usage;
+        ci.format = format;
+        ci.width = o.width;
+        ci.height = o.height;
+        ci.arraySize = 2;
+        ci.imageCount = 2;
+        return compositor.createSwapchain(ci);
+    };
+    auto c = make(layers::Usage::Color, o.color);
+    if (!c) return c.error();
+    app->color_ = std::move(*c);
+    if (o.depth) {
+        auto d = make(layers::Usage::Depth, *o.depth);
+        if (!d) return d.error();
+        app->depth_ = std::move(*d);
+    }
+    if (o.motion) {
+        auto m = make(layers::Usage::Motion, *o.motion);
+        if (!m) return m.error();
+        app->motion_ = std::move(*m);
+    }
+    return app;
+}
+
+Status HostStereoApp::write(const std::array<EyeSubmission, 2>& eyes) {
+    auto put = [&](layers::Swapchain* sc, auto get) -> Status {
+        if (!sc) return {};
+        auto idx = sc->acquire();
+        if (!idx) return idx.error();
+        if (Status s = sc->wait(); !s) return s;
+        for (uint32_t eye = 0; eye < 2; ++eye) {
+            const HostImage* img = get(eyes[eye]);
+            if (!img) return Error{static_cast<int>(layers::SwapchainError::WriteOutOfRange),
+                                   "eye " + std::to_string(eye) + " has no image for a swapchain the app created"};
+            if (Status s = sc->write(*idx, eye, img->bytes()); !s) {
+                (void)sc->release();
+                return s;
+            }
+        }
+        return sc->release();
+    };
+    if (Status s = put(color_.get(), [](const EyeSubmission& e) { return &e.color; }); !s) return s;
+    if (Status s = put(depth_.get(), [](const EyeSubmission& e) { return e.depth ? &*e.depth : nullptr; }); !s)
+        return s;
+    return put(motion_.get(), [](const EyeSubmission& e) { return e.motion ? &*e.motion : nullptr; });
+}
+
+layers::FrameEndInfo HostStereoApp::frameEnd(uint64_t frameIndex, double time_s,
+                                             const std::array<EyeSubmission, 2>& eyes) const {
+    const uint32_t w = options_.width, h = options_.height;
+    layers::FrameEndInfo f;
+    f.frameIndex = frameIndex;
+    f.time_s = time_s;
+    layers::ProjectionLayer layer;
+    for (uint32_t eye = 0; eye < 2; ++eye) {
+        layers::ProjectionView v;
+        v.fov = eyes[eye].fov;
+        v.color = {color_.get(), {0, 0, w, h}, eye};
+        if (depth_)
+            v.depth = layers::DepthInfo{{depth_.get(), {0, 0, w, h}, eye}, options_.nearZ, options_.farZ,
+                                        options_.reversedZ};
+        if (motion_) v.motion = layers::MotionInfo{{motion_.get(), {0, 0, w, h}, eye}};
+        layer.views.push_back(v);
+        f.gaze[eye] = eyes[eye].gaze;
+    }
+    f.layers.push_back(std::move(layer));
+    return f;
+}
+
+Status HostStereoApp::submit(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes) {
+    if (Status s = write(eyes); !s) return s;
+    return comp_.endFrame(frameEnd(frameIndex, time_s, eyes));
+}
+
+glm::vec3 pixelDirection(const layers::Fov& fov, uint32_t width, uint32_t height, float x, float y) {
+    float tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight);
+    float tu = std::tan(fov.angleUp), td = std::tan(fov.angleDown);
+    float tx = tl + (x + 0.5f) / float(width) * (tr - tl);
+    float ty = tu - (y + 0.5f) / float(height) * (tu - td);
+    return glm::normalize(glm::vec3(tx, ty, -1.0f));
+}
+
+}  // namespace wrsfov

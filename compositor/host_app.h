@@ -1,0 +1,61 @@
+// The application side for CPU-made images: stereo swapchains (two array layers, layer = eye) that
+// it fills through acquire/wait/write/release, and the frame end it submits. Tools and tests use it
+// to drive the compositor exactly as an application would.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+
+#include "compositor/compositor.h"
+#include "compositor/host_image.h"
+#include "layers/frame.h"
+
+namespace wrsfov {
+
+/// What one eye submits in a frame.
+struct EyeSubmission {
+    HostImage color;
+    std::optional<HostImage> depth;   ///< R32F or D32F, [0, 1]
+    std::optional<HostImage> motion;  ///< RG16F or RGBA16F, pixels
+    layers::Fov fov;
+    layers::EyeGaze gaze;
+};
+
+class HostStereoApp {
+public:
+    struct Options {
+        uint32_t width = 0, height = 0;
+        layers::Format color = layers::Format::RGBA8_SRGB;
+        std::optional<layers::Format> depth;
+        std::optional<layers::Format> motion;
+        float nearZ = 0.1f, farZ = 100.0f;
+        bool reversedZ = false;
+    };
+    /// Creates the swapchains on `compositor`; fails with the swapchain error.
+    static Result<std::unique_ptr<HostStereoApp>> create(Compositor& compositor, const Options& options);
+
+    /// Writes both eyes' images (acquire, wait, write, release).
+    Status write(const std::array<EyeSubmission, 2>& eyes);
+    /// The frame end for the images last written.
+    layers::FrameEndInfo frameEnd(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes) const;
+    /// write() then Compositor::endFrame().
+    Status submit(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes);
+
+    layers::Swapchain& color() { return *color_; }
+    layers::Swapchain* depth() { return depth_.get(); }
+    layers::Swapchain* motion() { return motion_.get(); }
+    const Options& options() const { return options_; }
+
+private:
+    HostStereoApp(Compositor& c, const Options& o) : comp_(c), options_(o) {}
+    Compositor& comp_;
+    Options options_;
+    std::unique_ptr<layers::Swapchain> color_, depth_, motion_;
+};
+
+/// Unit direction through the centre of pixel (x, y) of a view (DESIGN "Conventions"), for turning
+/// a point on the image into a gaze direction.
+glm::vec3 pixelDirection(const layers::Fov& fov, uint32_t width, uint32_t height, float x, float y);
+
+}  // namespace wrsfov

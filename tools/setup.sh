@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs the Debian packages wrsfov needs (only the missing ones), then configures and builds.
+# Usage: tools/setup.sh [build-dir] [extra cmake args...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(build-essential cmake pkg-config git
+          libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools
+          libglm-dev libglfw3-dev libopencv-dev libopencv-contrib-dev libhidapi-dev libgtest-dev
+          xvfb clang)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "== installing: ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+build="${1:-build}"
+shift || true
+echo "== configuring ($build)"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" > "$build.configure.log" 2>&1 || {
+  cat "$build.configure.log"; exit 1; }
+echo "== building ($build, $(nproc) jobs)"
+cmake --build "$build" -j "$(nproc)"
