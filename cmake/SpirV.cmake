@@ -9,7 +9,13 @@ function(wrsfov_add_spirv)
   file(MAKE_DIRECTORY ${out_dir})
   set(outputs)
   foreach(src ${ARG_SOURCES})
+    # load.comp -> load_spv.h (compute passes); atrium.vert -> atrium_vert_spv.h (other stages)
     get_filename_component(name ${src} NAME_WE)
+    get_filename_component(ext ${src} LAST_EXT)
+    if(NOT ext STREQUAL ".comp")
+      string(SUBSTRING ${ext} 1 -1 stage)
+      set(name ${name}_${stage})
+    endif()
     set(out ${out_dir}/${name}_spv.h)
     add_custom_command(
       OUTPUT ${out}

@@ -97,4 +97,34 @@ Status VulkanSwapchain::write(uint32_t index, uint32_t arrayLayer, std::span<con
     return {};
 }
 
+Result<std::vector<std::byte>> VulkanSwapchain::read(uint32_t index, uint32_t arrayLayer) {
+    const auto& in = info();
+    if (index >= in.imageCount || arrayLayer >= in.arraySize)
+        return err(SwapchainError::WriteOutOfRange, "read of image " + std::to_string(index) + " layer " +
+                                                        std::to_string(arrayLayer) + " is out of range");
+    std::size_t bytes = std::size_t(in.width) * in.height * layers::bytesPerTexel(in.format);
+    auto staging = ctx_.createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    if (!staging) return err(SwapchainError::DeviceFailure, staging.error().message);
+    const vk::Image& img = images_[index];
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
+                             nullptr, 0, nullptr);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {img.aspect(), 0, arrayLayer, 1};
+        region.imageExtent = {in.width, in.height, 1};
+        vkCmdCopyImageToBuffer(cb, img.handle(), VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
+        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
+                             nullptr);
+    });
+    if (!s) return err(SwapchainError::DeviceFailure, s.message());
+    std::vector<std::byte> out(bytes);
+    std::memcpy(out.data(), staging->mapped(), bytes);
+    return out;
+}
+
 }  // namespace wrsfov

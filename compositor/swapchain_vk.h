@@ -16,6 +16,7 @@ public:
                                                            const layers::SwapchainCreateInfo& info);
 
     Status write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) override;
+    Result<std::vector<std::byte>> read(uint32_t index, uint32_t arrayLayer) override;
     VkImage image(uint32_t index) const override { return images_.at(index).handle(); }
 
     /// The view the compositor samples: sRGB images are viewed as UNORM (the load pass decodes

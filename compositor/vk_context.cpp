@@ -313,7 +313,7 @@ Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFor
     ici.imageType = VK_IMAGE_TYPE_2D;
     ici.format = info.format;
     ici.extent = {info.width, info.height, 1};
-    ici.mipLevels = 1;
+    ici.mipLevels = info.mipLevels;
     ici.arrayLayers = info.layers;
     ici.samples = VK_SAMPLE_COUNT_1_BIT;
     ici.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -336,7 +336,7 @@ Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFor
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = img.image_;
     vci.format = viewFormat == VK_FORMAT_UNDEFINED ? info.format : viewFormat;
-    vci.subresourceRange = {img.aspect_, 0, 1, 0, 1};
+    vci.subresourceRange = {img.aspect_, 0, info.mipLevels, 0, 1};
     for (uint32_t l = 0; l < info.layers; ++l) {
         vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
         vci.subresourceRange.baseArrayLayer = l;

@@ -70,6 +70,7 @@ struct ImageCreateInfo {
     uint32_t width = 1;
     uint32_t height = 1;
     uint32_t layers = 1;
+    uint32_t mipLevels = 1;
     VkImageUsageFlags usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     VkImageCreateFlags flags = 0;
 };

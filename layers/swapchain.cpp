@@ -53,6 +53,10 @@ Status Swapchain::release() {
     return {};
 }
 
+Result<std::vector<std::byte>> Swapchain::read(uint32_t, uint32_t) {
+    return err(SwapchainError::DeviceFailure, "this swapchain cannot read its images back");
+}
+
 bool Swapchain::isWaited(uint32_t index) const {
     return std::find(waited_.begin(), waited_.end(), index) != waited_.end();
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <span>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -58,6 +59,9 @@ public:
     /// Writes CPU pixels (tightly packed rows of bytesPerTexel(format)) into one layer of an image
     /// the caller has acquired and waited for. Depth D32F takes 4-byte floats.
     virtual Status write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) = 0;
+    /// Reads one layer of an image back (tightly packed texels), e.g. for screenshots and tests.
+    /// Implementations without a readback path refuse with DeviceFailure.
+    virtual Result<std::vector<std::byte>> read(uint32_t index, uint32_t arrayLayer);
     virtual VkImage image(uint32_t index) const = 0;
 
     /// Index of the image the compositor will read, -1 if none was released yet.

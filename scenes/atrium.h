@@ -1,0 +1,91 @@
+// The `atrium` and `dynamic` scenes: a room of textured columns, floor, walls and text posters,
+// rendered per eye with a Vulkan graphics pipeline straight into an application's swapchain images
+// (colour, depth, motion), like an XR application would. Motion vectors come from the previous
+// frame's camera and object transforms.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "compositor/vk_context.h"
+#include "layers/frame.h"
+#include "layers/status.h"
+#include "layers/swapchain.h"
+
+namespace wrsfov::scenes {
+
+enum class CameraPath : uint8_t {
+    Static,   ///< head still, looking down the room
+    Lateral,  ///< back-and-forth sideways motion, 0.5 m amplitude, 4 s period
+    Turn,     ///< head yaw ±25°, 6 s period
+};
+
+struct AtriumOptions {
+    uint32_t width = 256, height = 256;  ///< per eye
+    bool dynamic = false;                ///< moving boxes that occlude and disocclude the room
+    CameraPath path = CameraPath::Lateral;
+    float ipd = 0.063f;                  ///< metres
+    float nearZ = 0.05f, farZ = 100.0f;
+    bool reversedZ = false;
+};
+
+/// Per-eye asymmetric field of view of the stereo camera (HMD-like; mirrored between eyes).
+layers::Fov atriumFov(int eye);
+
+/// World -> view matrix of one eye at time t (OpenXR axes: -Z forward, +Y up).
+glm::mat4 atriumView(const AtriumOptions& o, int eye, double t);
+/// Projection for a field of view into Vulkan clip space (y down, depth [0,1], reversed or not).
+glm::mat4 projection(const layers::Fov& fov, float nearZ, float farZ, bool reversedZ);
+
+class AtriumRenderer {
+public:
+    static Result<std::unique_ptr<AtriumRenderer>> create(vk::Context& ctx, const AtriumOptions& options);
+    ~AtriumRenderer();
+
+    /// Renders both eyes at time t into layer 0 (left) and 1 (right) of the given swapchain images
+    /// (which the caller has acquired and waited for). `prevT` is the time of the previous frame for
+    /// motion vectors (equal to t on the first frame: zero motion).
+    Status render(double t, double prevT, layers::Swapchain& color, uint32_t colorIndex, layers::Swapchain& depth,
+                  uint32_t depthIndex, layers::Swapchain& motion, uint32_t motionIndex);
+
+    const AtriumOptions& options() const { return options_; }
+
+private:
+    explicit AtriumRenderer(vk::Context& ctx, const AtriumOptions& o) : ctx_(ctx), options_(o) {}
+    Status init();
+    VkImageView view(VkImage image, VkFormat format, VkImageAspectFlags aspect, uint32_t layer);
+    VkFramebuffer framebuffer(VkImageView color, VkImageView motion, VkImageView depth);
+
+    struct Vertex {
+        glm::vec3 pos;
+        glm::vec3 normal;
+        glm::vec2 uv;
+        uint32_t material;
+    };
+    struct Object {
+        uint32_t first, count;
+    };
+
+    vk::Context& ctx_;
+    AtriumOptions options_;
+    VkRenderPass renderPass_ = VK_NULL_HANDLE;
+    VkFormat colorFormat_ = VK_FORMAT_UNDEFINED;
+    vk::DescriptorSetLayout setLayout_;
+    vk::PipelineLayout pipelineLayout_;
+    vk::Pipeline pipeline_;
+    vk::DescriptorPool pool_;
+    VkDescriptorSet sets_[2] = {};
+    vk::Buffer vertices_;
+    vk::Buffer cameras_[2];
+    vk::Image poster_;
+    vk::Sampler sampler_;
+    Object room_{}, cube_{};
+    std::map<std::tuple<VkImage, VkFormat, uint32_t>, VkImageView> views_;
+    std::map<std::tuple<VkImageView, VkImageView, VkImageView>, VkFramebuffer> framebuffers_;
+};
+
+}  // namespace wrsfov::scenes

@@ -1,0 +1,59 @@
+// Atrium scene: procedural high-frequency materials (bricks, checkers, stripes, a text poster
+// texture), simple lighting, sRGB colour, motion vectors in pixels and the linear depth change.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "atrium.glsl"
+
+layout(set = 0, binding = 1) uniform sampler2D poster;
+
+layout(location = 0) in vec3 v_world;
+layout(location = 1) in vec3 v_normal;
+layout(location = 2) in vec2 v_uv;
+layout(location = 3) flat in uint v_material;
+layout(location = 4) in vec4 v_prev_clip;
+layout(location = 5) in float v_zcur;
+layout(location = 6) in float v_zprev;
+
+layout(location = 0) out vec4 out_color;   // written to an sRGB view: hardware encodes
+layout(location = 1) out vec4 out_motion;  // RGBA16F: dx, dy (pixels), dz = z_prev - z_cur, 0
+
+float checker(vec2 uv, float n) {
+    vec2 c = floor(uv * n);
+    return mod(c.x + c.y, 2.0);
+}
+
+vec3 bricks(vec2 uv) {
+    vec2 b = uv * vec2(8.0, 16.0);
+    if (mod(floor(b.y), 2.0) > 0.5) b.x += 0.5;
+    vec2 f = fract(b);
+    bool mortar = f.x < 0.06 || f.y < 0.1;
+    float n = fract(sin(dot(floor(b), vec2(12.9898, 78.233))) * 43758.5453);
+    return mortar ? vec3(0.75, 0.72, 0.68) : vec3(0.55 + 0.2 * n, 0.22 + 0.08 * n, 0.15);
+}
+
+void main() {
+    vec3 base;
+    if (v_material == 0u) {
+        base = mix(vec3(0.08), vec3(0.85), checker(v_uv, 16.0));           // floor
+    } else if (v_material == 1u) {
+        base = bricks(v_uv);                                                 // walls
+    } else if (v_material == 2u) {
+        float s = step(0.5, fract(v_uv.y * 40.0));
+        base = mix(vec3(0.2, 0.35, 0.7), vec3(0.9, 0.9, 0.8), s);           // columns: fine stripes
+    } else if (v_material == 3u) {
+        base = texture(poster, v_uv).rgb;                                    // posters with text
+    } else if (v_material == 4u) {
+        base = mix(vec3(0.9, 0.3, 0.1), vec3(0.1, 0.1, 0.1), checker(v_uv, 6.0));  // moving objects
+    } else {
+        base = vec3(0.6, 0.6, 0.65);                                         // ceiling
+    }
+    vec3 n = normalize(v_normal);
+    vec3 l = normalize(vec3(0.3, 1.0, 0.5));
+    float light = 0.45 + 0.55 * max(dot(n, l), 0.0);
+    out_color = vec4(base * light, 1.0);
+
+    vec2 cur = gl_FragCoord.xy;
+    vec2 ndc_prev = v_prev_clip.xy / v_prev_clip.w;
+    vec2 prev = (ndc_prev * 0.5 + 0.5) * cam.viewport.xy;
+    out_motion = vec4(prev - cur, v_zprev - v_zcur, 0.0);
+}

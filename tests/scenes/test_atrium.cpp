@@ -1,0 +1,192 @@
+// The atrium scene: deterministic, and its motion vectors agree with the camera: reprojecting the
+// previous frame's colour with them reproduces the current frame.
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "compositor/compositor.h"
+#include "compositor/host_app.h"
+#include "scenes/atrium.h"
+#include "../core/gpu_rig.h"
+
+namespace wrsfov::test {
+namespace {
+
+struct Frame {
+    HostImage color, depth, motion;
+};
+
+class Atrium : public GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        auto c = Compositor::create(context());
+        ASSERT_TRUE(c.ok());
+        comp = std::move(*c);
+        HostStereoApp::Options o;
+        o.width = W;
+        o.height = H;
+        o.depth = layers::Format::D32F;
+        o.motion = layers::Format::RGBA16F;
+        auto a = HostStereoApp::create(*comp, o);
+        ASSERT_TRUE(a.ok());
+        app = std::move(*a);
+    }
+    // Renders eye `eye` at t (previous time prevT) and reads the three images back.
+    Frame render(scenes::AtriumRenderer& r, double t, double prevT, uint32_t eye) {
+        layers::Swapchain* sc[3] = {&app->color(), app->depth(), app->motion()};
+        uint32_t idx[3];
+        for (int i = 0; i < 3; ++i) {
+            idx[i] = *sc[i]->acquire();
+            EXPECT_TRUE(sc[i]->wait().ok());
+        }
+        Status s = r.render(t, prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
+        EXPECT_TRUE(s.ok()) << s.message();
+        Frame f;
+        HostImage* out[3] = {&f.color, &f.depth, &f.motion};
+        layers::Format fmt[3] = {layers::Format::RGBA8_SRGB, layers::Format::D32F, layers::Format::RGBA16F};
+        for (int i = 0; i < 3; ++i) {
+            *out[i] = HostImage::make(fmt[i], W, H);
+            auto bytes = sc[i]->read(idx[i], eye);
+            EXPECT_TRUE(bytes.ok());
+            if (bytes.ok()) out[i]->data = *bytes;
+            EXPECT_TRUE(sc[i]->release().ok());
+        }
+        return f;
+    }
+    static constexpr uint32_t W = 160, H = 144;
+    std::unique_ptr<Compositor> comp;
+    std::unique_ptr<HostStereoApp> app;
+};
+
+TEST_F(Atrium, Deterministic) {
+    scenes::AtriumOptions o;
+    o.width = W;
+    o.height = H;
+    o.dynamic = true;
+    auto r = scenes::AtriumRenderer::create(context(), o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    Frame a = render(**r, 0.4, 0.4 - 1 / 90.0, 0);
+    Frame b = render(**r, 0.4, 0.4 - 1 / 90.0, 0);
+    EXPECT_EQ(a.color.data, b.color.data);
+    if (const char* dir = std::getenv("WRSFOV_TEST_PNG")) (void)writePng(a.color, std::string(dir) + "/atrium.png");
+    EXPECT_EQ(a.motion.data, b.motion.data);
+    // Something is drawn everywhere (no clear colour left), depth inside (0, 1).
+    uint64_t cleared = 0;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            float d = a.depth.fetch(x, y).x;
+            cleared += d >= 1.0f;
+            EXPECT_GT(d, 0.0f);
+        }
+    EXPECT_EQ(cleared, 0u);
+}
+
+float cur_depth(const HostImage& depth, uint32_t x, uint32_t y) { return depth.fetch(x, y).x; }
+
+// Reprojection error: mean |current - previous(p + mv)| over pixels, in sRGB 8-bit units.
+double reprojectionError(const Frame& prev, const Frame& cur, bool useMotion) {
+    double sum = 0;
+    uint64_t n = 0;
+    for (uint32_t y = 2; y + 2 < cur.color.height; ++y)
+        for (uint32_t x = 2; x + 2 < cur.color.width; ++x) {
+            glm::vec4 mv = useMotion ? cur.motion.fetch(x, y) : glm::vec4(0.0f);
+            float px = float(x) + mv.x, py = float(y) + mv.y;
+            int qx = int(std::lround(px)), qy = int(std::lround(py));
+            if (qx < 0 || qy < 0 || qx >= int(cur.color.width) || qy >= int(cur.color.height)) continue;
+            glm::vec4 a = cur.color.fetch(x, y), b = prev.color.fetch(uint32_t(qx), uint32_t(qy));
+            sum += (std::fabs(a.x - b.x) + std::fabs(a.y - b.y) + std::fabs(a.z - b.z)) / 3.0 * 255.0;
+            n++;
+        }
+    return sum / double(std::max<uint64_t>(n, 1));
+}
+
+TEST_F(Atrium, MotionVectorsMatchCameraReprojection) {
+    for (auto path : {scenes::CameraPath::Lateral, scenes::CameraPath::Turn}) {
+        scenes::AtriumOptions o;
+        o.width = W;
+        o.height = H;
+        o.path = path;
+        auto r = scenes::AtriumRenderer::create(context(), o);
+        ASSERT_TRUE(r.ok());
+        const double dt = 4.0 / 90.0;  // a few frames apart, so the motion is several pixels
+        const double t1 = 0.05;  // both paths move fastest around t = 0
+        for (uint32_t eye = 0; eye < 2; ++eye) {
+            Frame prev = render(**r, t1 - dt, t1 - 2 * dt, eye);
+            Frame cur = render(**r, t1, t1 - dt, eye);
+            double withMv = reprojectionError(prev, cur, true);
+            double without = reprojectionError(prev, cur, false);
+            // Largest motion in the frame, to be sure it is not trivially small.
+            float maxMv = 0;
+            for (uint32_t y = 0; y < H; ++y)
+                for (uint32_t x = 0; x < W; ++x) maxMv = std::max(maxMv, glm::length(glm::vec2(cur.motion.fetch(x, y))));
+            std::printf("path %d eye %u: max |mv| %.2f px, reprojection error %.2f with motion, %.2f without\n",
+                        int(path), eye, maxMv, withMv, without);
+            EXPECT_GT(maxMv, 1.5f);
+            // Colour reprojection is limited by the aliasing of the high-frequency materials; it must
+            // still be clearly better with the motion vectors than without.
+            EXPECT_LT(withMv, 0.8 * without);
+
+            // Geometric check: unproject each pixel with its depth through this frame's camera,
+            // project it with the previous frame's camera: that displacement is the motion vector.
+            glm::mat4 proj = scenes::projection(scenes::atriumFov(int(eye)), o.nearZ, o.farZ, o.reversedZ);
+            glm::mat4 curVp = proj * scenes::atriumView(o, int(eye), t1);
+            glm::mat4 prevVp = proj * scenes::atriumView(o, int(eye), t1 - dt);
+            glm::mat4 inv = glm::inverse(curVp);
+            float worst = 0;
+            for (uint32_t y = 0; y < H; ++y)
+                for (uint32_t x = 0; x < W; ++x) {
+                    glm::vec2 ndc((float(x) + 0.5f) / W * 2 - 1, (float(y) + 0.5f) / H * 2 - 1);
+                    glm::vec4 world = inv * glm::vec4(ndc, cur_depth(cur.depth, x, y), 1.0f);
+                    world /= world.w;
+                    glm::vec4 pc = prevVp * world;
+                    glm::vec2 prevPx = (glm::vec2(pc) / pc.w * 0.5f + 0.5f) * glm::vec2(W, H);
+                    glm::vec2 expect = prevPx - glm::vec2(float(x) + 0.5f, float(y) + 0.5f);
+                    worst = std::max(worst, glm::length(expect - glm::vec2(cur.motion.fetch(x, y))));
+                }
+            std::printf("  worst |mv - camera reprojection| = %.4f px\n", worst);
+            EXPECT_LT(worst, 0.05f);
+        }
+    }
+}
+
+TEST_F(Atrium, StaticCameraHasZeroMotion) {
+    scenes::AtriumOptions o;
+    o.width = W;
+    o.height = H;
+    o.path = scenes::CameraPath::Static;
+    auto r = scenes::AtriumRenderer::create(context(), o);
+    ASSERT_TRUE(r.ok());
+    Frame f = render(**r, 1.0, 1.0 - 1 / 90.0, 1);
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            glm::vec4 mv = f.motion.fetch(x, y);
+            ASSERT_LT(std::fabs(mv.x) + std::fabs(mv.y), 0.02f) << x << "," << y;
+            ASSERT_LT(std::fabs(mv.z), 1e-3f);
+        }
+}
+
+TEST_F(Atrium, RejectsWrongSwapchains) {
+    scenes::AtriumOptions o;
+    o.width = W + 1;  // does not match the swapchains
+    o.height = H;
+    auto r = scenes::AtriumRenderer::create(context(), o);
+    ASSERT_TRUE(r.ok());
+    layers::Swapchain* sc[3] = {&app->color(), app->depth(), app->motion()};
+    uint32_t idx[3];
+    for (int i = 0; i < 3; ++i) {
+        idx[i] = *sc[i]->acquire();
+        ASSERT_TRUE(sc[i]->wait().ok());
+    }
+    Status s = (*r)->render(0.0, 0.0, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
+    EXPECT_FALSE(s.ok());
+    EXPECT_NE(s.message().find("swapchains must be"), std::string::npos) << s.message();
+    s = (*r)->render(0.0, 0.0, *sc[1], idx[1], *sc[0], idx[0], *sc[2], idx[2]);
+    EXPECT_FALSE(s.ok());
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(sc[i]->release().ok());
+}
+
+}  // namespace
+}  // namespace wrsfov::test
