@@ -190,3 +190,63 @@ TEST_F(Atrium, RejectsWrongSwapchains) {
 
 }  // namespace
 }  // namespace wrsfov::test
+
+#include "scenes/text.h"
+
+namespace wrsfov::test {
+namespace {
+
+TEST(TextScene, DeterministicStereoPageWithTextAtTheStatedSize) {
+    scenes::TextOptions o;
+    o.width = 384;
+    o.height = 320;
+    scenes::TextScene a(o), b(o);
+    scenes::TextOptions m = o;  // monitor mode at ~10 px/deg: glyphs resolved
+    m.monitor = true;
+    m.width = 768;
+    m.height = 608;
+    scenes::TextScene mon(m);
+    EXPECT_EQ(a.color(0).data, b.color(0).data);
+    EXPECT_EQ(a.color(1).data, b.color(1).data);
+    // Stereo: the eyes see the page from different places.
+    EXPECT_NE(a.color(0).data, a.color(1).data);
+    if (const char* dir = std::getenv("WRSFOV_TEST_PNG")) {
+        (void)writePng(a.color(0), std::string(dir) + "/text_L.png");
+        (void)writePng(mon.color(0), std::string(dir) + "/text_monitor.png");
+    }
+    EXPECT_EQ(mon.color(0).data, mon.color(1).data);  // monitor mode: one view for both eyes
+    // The reading block (black glyphs) is darker on average than the grey nonsense text beside it
+    // at the same elevations, and it ends at the stated ±20°.
+    const scenes::TextLayout& L = o.layout;
+    auto darkFraction = [&](float azFrom, float azTo, float el0, float el1) {
+        double dark = 0;
+        uint64_t n = 0;
+        layers::Fov f = scenes::textFov(m, 0);
+        for (uint32_t y = 0; y < m.height; ++y)
+            for (uint32_t x = 0; x < m.width; ++x) {
+                glm::vec3 r = pixelDirection(f, m.width, m.height, float(x), float(y));
+                float az = std::atan2(r.x, -r.z) * 57.29578f, el = std::atan2(r.y, -r.z) * 57.29578f;
+                if (az < azFrom || az > azTo || el < el0 || el > el1) continue;
+                n++;
+                dark += 1.0 - mon.color(0).fetch(x, y).x;
+            }
+        return n ? double(dark) / double(n) : 0.0;
+    };
+    float top = float(L.firstLineElevationDeg), bottom = float(L.firstLineElevationDeg - L.lines * L.lineSpacingDeg);
+    double inside = darkFraction(-18, 18, bottom, top);
+    double outside = darkFraction(22, 36, bottom, top);
+    // Darkness the ink adds over the blank page (sRGB 238/255).
+    const double paper = 1.0 - 238.0 / 255.0;
+    std::printf("ink darkness: %.4f inside the reading block, %.4f beside it (freetype %d)\n", inside - paper,
+                outside - paper, mon.usedFreeType());
+    EXPECT_GT(inside - paper, 0.02);
+    EXPECT_GT(inside - paper, 1.5 * (outside - paper));
+    // Depth is the page plane: constant, inside (0, 1).
+    float d0 = a.depth(0).fetch(0, 0).x;
+    EXPECT_GT(d0, 0.0f);
+    EXPECT_LT(d0, 1.0f);
+    EXPECT_EQ(a.depth(1).fetch(o.width - 1, o.height - 1).x, d0);
+}
+
+}  // namespace
+}  // namespace wrsfov::test
