@@ -1,0 +1,52 @@
+#!/bin/sh
+# End-to-end checks of wrsfov-gaze: cli_test.sh BINARY DATA_DIR OUT_DIR
+set -u
+bin=$1 data=$2 out=$3
+mkdir -p "$out"
+fails=0
+check() {  # check NAME EXPECTED_RC PATTERN COMMAND...
+    name=$1 want=$2 pattern=$3
+    shift 3
+    "$@" >"$out/$name.log" 2>&1
+    rc=$?
+    if [ "$rc" -ne "$want" ]; then
+        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
+    fi
+    if [ -n "$pattern" ] && ! grep -q -- "$pattern" "$out/$name.log"; then
+        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
+    fi
+    echo "ok   $name"
+}
+
+check generate 0 "wrote 10000 samples" "$bin" generate --mode fixation --seconds 10 --rate 1000 --seed 3 \
+    --out "$out/fix.csv" --plot "$out/fix.png"
+check generate_again 0 "" "$bin" generate --mode fixation --seconds 10 --rate 1000 --seed 3 --out "$out/fix2.csv"
+check same_seed_same_file 0 "" cmp "$out/fix.csv" "$out/fix2.csv"
+check generate_other_seed 0 "" "$bin" generate --mode fixation --seconds 10 --rate 1000 --seed 4 --out "$out/fix3.csv"
+check other_seed_differs 1 "" cmp -s "$out/fix.csv" "$out/fix3.csv"
+check plots_written 0 "" test -s "$out/fix.png" -a -s "$out/fix_velocity.png"
+check header 0 "t_s,frame,valid,left_x,left_y,left_z,right_x,right_y,right_z,label" head -n 1 "$out/fix.csv"
+check stats 0 "microsaccade rate" "$bin" stats "$out/fix.csv"
+check stats_reading_gen 0 "" "$bin" generate --mode reading --seconds 30 --rate 500 --seed 1 --out "$out/read.csv"
+check stats_reading 0 "regressions" "$bin" stats "$out/read.csv" --reading --char-deg 0.3 --line-spacing-deg 1
+check stats_pupil 0 "3 bad rows skipped" "$bin" stats "$data/pupil_gaze_positions.csv"
+check stats_pupil_lines 0 "pupil_gaze_positions.csv:6: skipped" "$bin" stats "$data/pupil_gaze_positions.csv"
+check stats_tobii 0 "Tobii Pro Lab TSV" "$bin" stats "$data/tobii_export.tsv"
+check stats_missing 1 "cannot open" "$bin" stats "$out/none.csv"
+check generate_bad_mode 2 "--mode must be" "$bin" generate --mode dance --seconds 1 --out "$out/x.csv"
+check generate_bad_rate 2 "rate must be 90..1000" "$bin" generate --mode scene --seconds 1 --rate 5000 --out "$out/x.csv"
+check hid_decode 0 '"gaze_point_um": \[250000, 140000\]' "$bin" hid-decode --descriptor "$data/eyetracker_descriptor.hex" \
+    --report "$data/eyetracker_report.hex" --feature "$data/eyetracker_feature.hex"
+check hid_decode_ts 0 '"timestamp_us": 123456789' "$bin" hid-decode --descriptor "$data/eyetracker_descriptor.hex" \
+    --report "$data/eyetracker_report.hex"
+check hid_decode_screen 0 '"screen_um": \[600000, 340000\]' "$bin" hid-decode \
+    --descriptor "$data/eyetracker_descriptor.hex" --feature "$data/eyetracker_feature.hex"
+head -c 30 "$data/eyetracker_descriptor.hex" >"$out/truncated.hex"
+check hid_decode_truncated 1 "truncated\|not closed" "$bin" hid-decode --descriptor "$out/truncated.hex"
+printf '01 02 03\n' >"$out/short_report.hex"
+check hid_decode_short_report 1 "truncated" "$bin" hid-decode --descriptor "$data/eyetracker_descriptor.hex" \
+    --report "$out/short_report.hex"
+check list 0 "" "$bin" list
+check record_missing 1 "recorded no samples" "$bin" record --device /dev/hidraw-none --out "$out/rec.csv" --seconds 0.6
+check unknown_command 2 "unknown command" "$bin" frobnicate
+[ "$fails" -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }
