@@ -9,13 +9,21 @@
 #include "foveate_spv.h"
 #include "load_spv.h"
 #include "pyramid_spv.h"
+#include "taa_spv.h"
 #include "wrs_spv.h"
 
 namespace wrsfov {
 
 using layers::SubmitError;
 
-std::string_view toString(Method m) { return m == Method::Fov ? "fov" : "wrs"; }
+std::string_view toString(Method m) {
+    switch (m) {
+    case Method::Fov: return "fov";
+    case Method::FovTaa: return "fov+taa";
+    case Method::Wrs: return "wrs";
+    }
+    return "?";
+}
 std::string_view toString(FoveationMode m) {
     switch (m) {
     case FoveationMode::None: return "none";
@@ -35,7 +43,7 @@ std::string_view toString(ChangeMetric m) {
 
 namespace {
 
-enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kCopy, kShaderCount };
+enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kTaa, kCopy, kShaderCount };
 enum Binding : uint32_t {
     kFrame = 0, kColor = 1, kDepth = 2, kMotion = 3, kPyramidBuf = 4, kDepthBuf = 5, kCandidate = 6,
     kResPrev = 7, kResCur = 8, kOutput = 9, kBindingCount = 10
@@ -60,10 +68,11 @@ bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 
 Status checkConfig(const CompositorConfig& c) {
     auto bad = [](float v, float lo, float hi) { return !std::isfinite(v) || v <= lo || v > hi; };
-    if (bad(c.foveaDeg, 0.0f, 180.0f)) return Error{1, "fovea size must be in (0°, 180°]"};
-    if (bad(c.midPeripheryDeg, 0.0f, 180.0f)) return Error{1, "mid-periphery size must be in (0°, 180°]"};
-    if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return Error{1, "fallback fovea size must be in (0°, 180°]"};
-    if (bad(c.depthTau, 0.0f, 1e6f)) return Error{1, "depth tolerance must be positive and finite"};
+    auto refuse = [](const char* what) { return Error{static_cast<int>(ConfigError::InvalidValue), what}; };
+    if (bad(c.foveaDeg, 0.0f, 180.0f)) return refuse("fovea size must be in (0°, 180°]");
+    if (bad(c.midPeripheryDeg, 0.0f, 180.0f)) return refuse("mid-periphery size must be in (0°, 180°]");
+    if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return refuse("fallback fovea size must be in (0°, 180°]");
+    if (bad(c.depthTau, 0.0f, 1e6f)) return refuse("depth tolerance must be positive and finite");
     return {};
 }
 
@@ -117,9 +126,11 @@ Compositor::~Compositor() {
     if (cmd_) ctx_.freeCommandBuffer(cmd_);
 }
 
-void Compositor::setConfig(const CompositorConfig& config) {
+Status Compositor::setConfig(const CompositorConfig& config) {
+    if (Status s = checkConfig(config); !s) return s;
     pending_ = config;
     configPending_ = true;
+    return {};
 }
 
 Status Compositor::init() {
@@ -217,6 +228,7 @@ Status Compositor::init() {
                                      {pyramid_spv, sizeof(pyramid_spv)},
                                      {foveate_spv, sizeof(foveate_spv)},
                                      {wrs_spv, sizeof(wrs_spv)},
+                                     {taa_spv, sizeof(taa_spv)},
                                      {copy_spv, sizeof(copy_spv)}};
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
@@ -350,21 +362,21 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     if (Status s = validator_.validate(frame); !s) return s;
     const layers::ProjectionLayer& layer = frame.layers[0];
     auto vkSwapchain = [&](const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); };
-    for (const auto& v : layer.views) {
-        for (const layers::SubImage* s : {&v.color, v.depth ? &v.depth->subImage : nullptr,
-                                          v.motion ? &v.motion->subImage : nullptr}) {
+    for (std::size_t eye = 0; eye < layer.views.size(); ++eye) {
+        const layers::ProjectionView& v = layer.views[eye];
+        const std::pair<const layers::SubImage*, const char*> subImages[] = {
+            {&v.color, "colour"},
+            {v.depth ? &v.depth->subImage : nullptr, "depth"},
+            {v.motion ? &v.motion->subImage : nullptr, "motion"}};
+        for (auto [s, field] : subImages) {
             if (!s) continue;
             const VulkanSwapchain* vs = vkSwapchain(*s);
             if (!vs || vs->owner() != this)
-                return submitError(SubmitError::ForeignSwapchain,
-                                   "a swapchain in the frame was not created by this compositor");
+                return submitError(SubmitError::ForeignSwapchain, std::string(eye == 0 ? "left " : "right ") + field +
+                                                                      " swapchain was not created by this compositor");
         }
     }
     if (configPending_) {
-        if (Status s = checkConfig(pending_); !s) {
-            configPending_ = false;
-            return s;
-        }
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
         config_ = pending_;
         configPending_ = false;
@@ -377,13 +389,15 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     const bool hasDepth = layer.views[0].depth.has_value();
     const bool hasMotion = layer.views[0].motion.has_value();
     const bool wrs = config_.method == Method::Wrs;
+    const bool taa = config_.method == Method::FovTaa;
+    const bool temporal = wrs || taa;  // a pass with history in the reservoir buffers
     const bool pyramid = config_.foveation != FoveationMode::None;
 
     stats_ = FrameStats{};
     stats_.frameIndex = frame.frameIndex;
     stats_.usedDepth = hasDepth;
-    stats_.usedMotion = hasMotion && wrs;
-    stats_.historyReset = wrs && !historyValid_;
+    stats_.usedMotion = hasMotion && temporal;
+    stats_.historyReset = temporal && !historyValid_;
     params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
@@ -429,7 +443,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
                              nullptr, 0, nullptr);
     }
-    if (wrs && !historyValid_) {
+    if (temporal && !historyValid_) {
         // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
         vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
         VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -461,13 +475,17 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     }
     stamp(2);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kFoveate, {uint32_t(config_.foveation), wrs ? 0u : 1u, 0, 0}));
+                      pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
     vkCmdDispatch(cb, gx, gy, WRS_EYES);
     computeBarrier(cb);
     stamp(3);
     if (wrs) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kWrs, {hasMotion, hasDepth, uint32_t(config_.change), config_.bernoulli}));
+        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        computeBarrier(cb);
+    } else if (taa) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {hasMotion, 0, 0, 0}));
         vkCmdDispatch(cb, gx, gy, WRS_EYES);
         computeBarrier(cb);
     }
@@ -499,16 +517,16 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
             stats_.gpu.load = double(ts[1] - ts[0]) * ms;
             stats_.gpu.pyramid = double(ts[2] - ts[1]) * ms;
             stats_.gpu.foveate = double(ts[3] - ts[2]) * ms;
-            stats_.gpu.wrs = double(ts[4] - ts[3]) * ms;
+            stats_.gpu.temporal = double(ts[4] - ts[3]) * ms;
             stats_.gpu.total = double(ts[4] - ts[0]) * ms;
             stats_.gpu.valid = true;
         }
     }
-    if (wrs) {
+    if (temporal) {
         current_ = 1 - current_;
         historyValid_ = true;
     } else {
-        historyValid_ = false;  // the reservoirs did not follow this frame
+        historyValid_ = false;  // the history buffers did not follow this frame
     }
     validator_.accept(frame);
     return {};

@@ -6,6 +6,7 @@
 //   2. pyramid  – levels 1..4 (box for `mip`, [1 3 3 1] Gaussian for `gauss`; skipped for `none`)
 //   3. foveate  – eccentricity, foveated colour, weight p̂ (method `fov` writes the output here)
 //   4. wrs      – reprojection, depth flush, biased combine, reservoir store, output (method `wrs`)
+//      or taa   – reprojected history clipped to the neighbourhood's variance box (method `fov+taa`)
 #pragma once
 
 #include <array>
@@ -27,7 +28,8 @@
 
 namespace wrsfov {
 
-enum class Method : uint8_t { Fov, Wrs };
+/// fov: foveation only; fovTaa: foveation + TAA baseline (Karis/Salvi); wrs: foveation + WRS.
+enum class Method : uint8_t { Fov, FovTaa, Wrs };
 /// Values equal the shader constants WRS_FOV_*.
 enum class FoveationMode : uint8_t { None = 0, Mip = 1, Gauss = 2 };
 /// Values equal the shader constants WRS_CHANGE_*.
@@ -36,6 +38,9 @@ enum class ChangeMetric : uint8_t { Off = 0, LStar = 1, DeltaE94 = 2 };
 std::string_view toString(Method m);
 std::string_view toString(FoveationMode m);
 std::string_view toString(ChangeMetric m);
+
+/// Refusal of a configuration (Compositor::create, Compositor::setConfig).
+enum class ConfigError : int { InvalidValue = 100 };
 
 struct CompositorConfig {
     Method method = Method::Wrs;
@@ -49,9 +54,9 @@ struct CompositorConfig {
     uint32_t seed = 1;
 };
 
-/// GPU time of each pass for both eyes together, in milliseconds (NaN when not measured).
+/// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 struct PassTimes {
-    double load = 0, pyramid = 0, foveate = 0, wrs = 0, total = 0;
+    double load = 0, pyramid = 0, foveate = 0, temporal = 0, total = 0;  ///< temporal: the wrs or taa pass
     bool valid = false;
 };
 
@@ -84,8 +89,9 @@ public:
     const FrameStats& stats() const { return stats_; }
     const gpu::FrameParams& lastParams() const { return params_; }
     const CompositorConfig& config() const { return config_; }
-    /// Takes effect at the next frame; a change of method or foveation resets history.
-    void setConfig(const CompositorConfig& config);
+    /// Takes effect at the next frame; a change of method or foveation resets history. A config
+    /// with an out-of-range value is refused here (ConfigError::InvalidValue) and changes nothing.
+    Status setConfig(const CompositorConfig& config);
     void resetHistory() { historyValid_ = false; }
 
     /// The last frame's output of one eye: RGBA8, sRGB-encoded.

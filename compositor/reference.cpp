@@ -27,6 +27,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const uint frame = params.size.z, seed = params.size.w;
     const uint mode = uint(config_.foveation);
     const bool wrs = config_.method == Method::Wrs;
+    const bool taa = config_.method == Method::FovTaa;
 
     for (uint eye = 0; eye < 2; ++eye) {
         const EyeParams& ep = params.eye[eye];
@@ -103,12 +104,46 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 glm::u8vec4 o = encodeOutput(vec3(c));
                 std::memcpy(out_[eye].data.data() + (std::size_t(y) * W + x) * 4, &o, 4);
             }
-        if (!wrs) continue;
+        if (!wrs && !taa) continue;
 
-        // Pass 4: temporal WRS.
         prev_[eye] = history_ && res_[eye].size() == std::size_t(W) * H ? res_[eye]
                                                                          : std::vector<uvec4>(std::size_t(W) * H, uvec4(0u));
         res_[eye].assign(std::size_t(W) * H, uvec4(0u));
+        if (taa) {
+            // Pass 4 of FOV+TAA.
+            auto histAt = [&](uvec2 q) {
+                uvec4 h = prev_[eye][std::size_t(q.y) * W + q.x];
+                return vec4(uintBitsToFloat(h.x), uintBitsToFloat(h.y), uintBitsToFloat(h.z), 0.0f);
+            };
+            for (uint y = 0; y < H; ++y)
+                for (uint x = 0; x < W; ++x) {
+                    uvec2 p(x, y);
+                    vec3 nb[9];
+                    for (int j = 0; j < 3; ++j)
+                        for (int i = 0; i < 3; ++i) {
+                            uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size0);
+                            nb[j * 3 + i] = wrs_rgb_to_ycocg(vec3(cand_[eye][std::size_t(q.y) * W + q.x]));
+                        }
+                    vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) : vec3(0.0f);
+                    uvec2 i0, i1;
+                    vec2 f;
+                    bool has = wrs_taa_reproject(p, size0, mv, i0, i1, f) && prev_[eye][std::size_t(y) * W + x].w != 0u;
+                    vec3 hist(0.0f);
+                    if (has) {
+                        hist = vec3(wrs_bilinear(histAt(i0), histAt(uvec2(i1.x, i0.y)), histAt(uvec2(i0.x, i1.y)),
+                                                 histAt(i1), f));
+                        has = wrs_finite3(hist);
+                    }
+                    vec3 c = wrs_taa(nb, hist, has);
+                    std::size_t idx = std::size_t(y) * W + x;
+                    res_[eye][idx] = uvec4(floatBitsToUint(c.x), floatBitsToUint(c.y), floatBitsToUint(c.z), 1u);
+                    glm::u8vec4 o = encodeOutput(c);
+                    std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
+                }
+            continue;
+        }
+
+        // Pass 4: temporal WRS.
         trace_[eye].assign(std::size_t(W) * H, Trace{});
         for (uint y = 0; y < H; ++y)
             for (uint x = 0; x < W; ++x) {
@@ -142,8 +177,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
             }
     }
-    if (wrs) history_ = true;
-    else history_ = false;
+    history_ = wrs || taa;
 }
 
 }  // namespace wrsfov

@@ -1,0 +1,39 @@
+// Pass 4 of the FOV+TAA baseline: reproject the previous output with the motion vectors (bilinear),
+// clip it to the variance box of the current foveated 3x3 neighbourhood in YCoCg, blend with
+// alpha 0.1. History is linear RGB in the reservoir buffers (same 16 bytes per pixel).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "bindings.glsl"
+
+layout(constant_id = 0) const bool HAS_MOTION = false;
+layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
+
+vec3 history_at(uint eye, uvec2 q) { return uintBitsToFloat(res_prev[pixel_index(eye, q)].xyz); }
+
+void main() {
+    uint eye = gl_WorkGroupID.z;
+    uvec2 p = gl_GlobalInvocationID.xy;
+    uvec2 size = frame.size.xy;
+    if (any(greaterThanEqual(p, size))) return;
+    EyeParams ep = frame.eye[eye];
+
+    vec3 nb[9];
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+            uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size);
+            nb[j * 3 + i] = wrs_rgb_to_ycocg(candidate[pixel_index(eye, q)].rgb);
+        }
+    vec3 mv = HAS_MOTION ? texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz : vec3(0.0);
+    uvec2 i0, i1;
+    vec2 f;
+    bool has = wrs_taa_reproject(p, size, mv, i0, i1, f) && res_prev[pixel_index(eye, p)].w != 0u;
+    vec3 hist = vec3(0.0);
+    if (has) {
+        hist = wrs_bilinear(vec4(history_at(eye, i0), 0.0), vec4(history_at(eye, uvec2(i1.x, i0.y)), 0.0),
+                            vec4(history_at(eye, uvec2(i0.x, i1.y)), 0.0), vec4(history_at(eye, i1), 0.0), f).rgb;
+        has = wrs_finite3(hist);
+    }
+    vec3 c = wrs_taa(nb, hist, has);
+    res_cur[pixel_index(eye, p)] = uvec4(floatBitsToUint(c), 1u);
+    store_output(eye, p, c);
+}
