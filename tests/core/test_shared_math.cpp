@@ -1,3 +1,600 @@
+// The shared per-pixel math (shaders/wrs_common.h) compiled as C++: A-Chao selection statistics,
+// the temporal biases on hand-computed cases, sample weights, eccentricity with asymmetric fields
+// of view, fp16 packing, reservoir validity and the per-pixel hash.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <vector>
+
 #include <gtest/gtest.h>
+
 #include "shaders/wrs_common.h"
-TEST(SharedMath, Placeholder) { EXPECT_NEAR(wrsfov::gpu::wrs_sample_weight(5.0f, 2.5f), 0.395f, 0.001f); }
+
+namespace wrsfov::gpu {
+namespace {
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+const float kInf = std::numeric_limits<float>::infinity();
+
+// ---------------------------------------------------------------------------------------------
+// Statistics helpers
+// ---------------------------------------------------------------------------------------------
+
+// Upper regularized incomplete gamma Q(k, x) for integer k: e^-x * sum_{j<k} x^j / j!.
+// With k = df / 2 this is the chi-square survival function for even degrees of freedom.
+double gammaQInt(int k, double x) {
+    double term = 1.0, sum = 1.0;
+    for (int j = 1; j < k; ++j) {
+        term *= x / j;
+        sum += term;
+    }
+    return std::exp(-x) * sum;
+}
+
+double chiSquarePValue(double chi2, int df) {
+    EXPECT_EQ(df % 2, 0) << "closed form needs an even number of degrees of freedom";
+    return gammaQInt(df / 2, chi2 / 2.0);
+}
+
+TEST(Statistics, ChiSquareSurvivalMatchesTables) {
+    // Tabulated critical values: df 6 at p = 0.001 is 22.458, df 2 at p = 0.05 is 5.991.
+    EXPECT_NEAR(chiSquarePValue(22.458, 6), 0.001, 2e-6);
+    EXPECT_NEAR(chiSquarePValue(5.991, 2), 0.05, 1e-4);
+    EXPECT_NEAR(chiSquarePValue(0.0, 6), 1.0, 1e-15);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. A-Chao selection frequencies
+// ---------------------------------------------------------------------------------------------
+
+struct StreamResult {
+    std::vector<uint64_t> counts;
+    uint64_t wrongM = 0, unidentified = 0;
+};
+
+// Streams the candidates into one reservoir per trial, packing and unpacking between steps as the
+// GPU does (the reservoir travels through storage). Candidate i is the colour (i + 1, 0.25, 0.5),
+// exact in fp16, so the final colour names the selected candidate.
+StreamResult streamTrials(const std::vector<float>& weights, uint32_t trials, uint32_t seed, uint32_t change,
+                          bool bernoulli) {
+    const uint32_t width = 256;  // trial t is "pixel" (t % width, t / width); step i is "frame" i
+    StreamResult out;
+    out.counts.assign(weights.size(), 0);
+    for (uint32_t t = 0; t < trials; ++t) {
+        const uint32_t x = t % width, y = t / width;
+        Reservoir r;
+        bool has = false;
+        for (uint32_t i = 0; i < weights.size(); ++i) {
+            vec3 color(float(i + 1), 0.25f, 0.5f);
+            float rnd = wrs_rand(x, y, 0u, i, seed);
+            bool keep;
+            Reservoir n = wrs_combine(has, r, color, weights[i], 1.0f, rnd, change, bernoulli, keep);
+            r = wrs_unpack(wrs_pack(n));
+            has = true;
+        }
+        if (r.M != weights.size()) out.wrongM++;
+        const float id = r.color.x - 1.0f;
+        if (id >= 0.0f && id < float(weights.size()) && id == std::floor(id) && r.color.y == 0.25f &&
+            r.color.z == 0.5f)
+            out.counts[uint32_t(id)]++;
+        else
+            out.unidentified++;
+    }
+    return out;
+}
+
+struct Fit {
+    double chi2 = 0, p = 0, worstSigma = 0;
+};
+
+Fit fitFrequencies(const std::vector<uint64_t>& counts, const std::vector<float>& weights, uint64_t n) {
+    double total = 0;
+    for (float w : weights) total += w;
+    Fit f;
+    for (std::size_t i = 0; i < weights.size(); ++i) {
+        const double p = weights[i] / total, expect = double(n) * p;
+        const double d = double(counts[i]) - expect;
+        f.chi2 += d * d / expect;
+        f.worstSigma = std::max(f.worstSigma, std::fabs(d) / std::sqrt(double(n) * p * (1.0 - p)));
+    }
+    f.p = chiSquarePValue(f.chi2, int(weights.size()) - 1);
+    return f;
+}
+
+// 7 weights spanning 2.5 decades, in an order that puts large ones both early and late.
+const std::vector<float> kStreamWeights = {0.25f, 0.005f, 1.0f, 0.061f, 0.8f, 0.02f, 0.39f};
+
+TEST(AChao, SelectionFrequenciesMatchWeightsWithoutBias) {
+    const uint32_t trials = 60000;
+    StreamResult r = streamTrials(kStreamWeights, trials, 20240611u, WRS_CHANGE_OFF, false);
+    EXPECT_EQ(r.wrongM, 0u) << "every final reservoir has seen all candidates";
+    ASSERT_EQ(r.unidentified, 0u) << "the kept colour must be one of the candidates";
+    Fit f = fitFrequencies(r.counts, kStreamWeights, trials);
+    double total = 0;
+    for (float w : kStreamWeights) total += w;
+    for (std::size_t i = 0; i < kStreamWeights.size(); ++i)
+        std::printf("  candidate %zu: w = %.3f, expected %.1f, got %llu\n", i, kStreamWeights[i],
+                    trials * kStreamWeights[i] / total, (unsigned long long)r.counts[i]);
+    std::printf("  chi-square = %.3f (df %zu), p = %.4f, worst bin %.2f sigma\n", f.chi2, kStreamWeights.size() - 1,
+                f.p, f.worstSigma);
+    // 99.9 % confidence: refuse only when the frequencies are this unlikely under w_i / sum w.
+    EXPECT_GT(f.p, 0.001);
+    EXPECT_LT(f.worstSigma, 4.0);
+}
+
+TEST(AChao, SelectionIsIndependentOfStreamOrder) {
+    std::vector<float> reversed(kStreamWeights.rbegin(), kStreamWeights.rend());
+    const uint32_t trials = 40000;
+    StreamResult r = streamTrials(reversed, trials, 77u, WRS_CHANGE_OFF, false);
+    ASSERT_EQ(r.unidentified, 0u);
+    Fit f = fitFrequencies(r.counts, reversed, trials);
+    EXPECT_GT(f.p, 0.001);
+    EXPECT_LT(f.worstSigma, 4.0);
+}
+
+TEST(AChao, TheTestDetectsABiasedStream) {
+    // The Bernoulli bias (eq. 6) favours late candidates: the same test must reject it, which shows
+    // it has the power to fail.
+    const uint32_t trials = 60000;
+    StreamResult r = streamTrials(kStreamWeights, trials, 20240611u, WRS_CHANGE_OFF, true);
+    ASSERT_EQ(r.unidentified, 0u);
+    Fit f = fitFrequencies(r.counts, kStreamWeights, trials);
+    std::printf("  with the Bernoulli bias: chi-square = %.1f, p = %.3g\n", f.chi2, f.p);
+    EXPECT_LT(f.p, 1e-6);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Biases (eq. 6 / 7) and combine on hand-computed cases
+// ---------------------------------------------------------------------------------------------
+
+TEST(Bias, BiasedHistoryWeightFollowsEquationSevenExactly) {
+    // w_sum1 = w_sum * (1 - |dL|) * (1 - w_cur / (w_sum + w_cur)); all values below are exact in float.
+    // 3 * (1 - 0.25) * (1 - 1 / (3 + 1)) = 3 * 0.75 * 0.75 = 1.6875
+    EXPECT_EQ(wrs_biased_history_weight(3.0f, 1.0f, 0.25f, true), 1.6875f);
+    // without the Bernoulli factor: 3 * 0.75 = 2.25
+    EXPECT_EQ(wrs_biased_history_weight(3.0f, 1.0f, 0.25f, false), 2.25f);
+    // without the change term: 3 * (1 - 1/4) = 2.25
+    EXPECT_EQ(wrs_biased_history_weight(3.0f, 1.0f, 0.0f, true), 2.25f);
+    // eq. 6 on its own: 1 * (1 - 1 / (1 + 1)) = 0.5
+    EXPECT_EQ(wrs_biased_history_weight(1.0f, 1.0f, 0.0f, true), 0.5f);
+    // 6 * (1 - 0.5) * (1 - 2 / (6 + 2)) = 6 * 0.5 * 0.75 = 2.25
+    EXPECT_EQ(wrs_biased_history_weight(6.0f, 2.0f, 0.5f, true), 2.25f);
+    // a full change wipes the history: 5 * (1 - 1) * ... = 0
+    EXPECT_EQ(wrs_biased_history_weight(5.0f, 0.5f, 1.0f, true), 0.0f);
+    // nothing biased: the history weight passes unchanged
+    EXPECT_EQ(wrs_biased_history_weight(7.5f, 0.3f, 0.0f, false), 7.5f);
+    // a zero-weight candidate does not discount the history: 4 * (1 - 0 / 4) = 4
+    EXPECT_EQ(wrs_biased_history_weight(4.0f, 0.0f, 0.0f, true), 4.0f);
+    // non-exact case: 0.7 * (1 - 0.1) * (1 - 0.2 / 0.9) = 0.63 * 0.777... = 0.49
+    EXPECT_NEAR(wrs_biased_history_weight(0.7f, 0.2f, 0.1f, true), 0.49f, 1e-7f);
+}
+
+TEST(Bias, LStarChangeOfGreyAgainstWhite) {
+    // Linear grey 0.18: Y = 0.18 (the Rec. 709 Y row sums to 1), L* = 116 * 0.18^(1/3) - 16
+    //   = 116 * 0.5646216 - 16 = 49.49611; white: L* = 116 * 1 - 16 = 100.
+    // |dL| = (100 - 49.49611) / 100 = 0.5050389.
+    const vec3 grey(0.18f), white(1.0f), black(0.0f);
+    EXPECT_NEAR(wrs_linear_to_lab(grey).x, 49.49611f, 2e-4f);
+    EXPECT_NEAR(wrs_linear_to_lab(white).x, 100.0f, 2e-4f);
+    EXPECT_NEAR(wrs_change(WRS_CHANGE_LSTAR, grey, white), 0.5050389f, 2e-6f);
+    EXPECT_NEAR(wrs_change(WRS_CHANGE_LSTAR, white, grey), 0.5050389f, 2e-6f);  // |.|: symmetric
+    // white against black: (100 - 0) / 100 = 1, the clamp's upper end
+    EXPECT_NEAR(wrs_change(WRS_CHANGE_LSTAR, white, black), 1.0f, 1e-6f);
+    // beyond white (linear 8: L* = 116 * 2 - 16 = 216) the change is clamped to 1
+    EXPECT_EQ(wrs_change(WRS_CHANGE_LSTAR, vec3(8.0f), black), 1.0f);
+    // identical colours: no change; metric off: always 0
+    EXPECT_EQ(wrs_change(WRS_CHANGE_LSTAR, grey, grey), 0.0f);
+    EXPECT_EQ(wrs_change(WRS_CHANGE_OFF, white, black), 0.0f);
+    // a chroma-only change (equal-luminance colours) is invisible to L*, seen by dE94
+    const vec3 a(0.3f, 0.2f, 0.1f);
+    const float y = 0.2126729f * a.x + 0.7151522f * a.y + 0.0721750f * a.z;
+    const vec3 b(y, y, y);  // same Y, no chroma
+    EXPECT_LT(wrs_change(WRS_CHANGE_LSTAR, a, b), 1e-5f);
+    EXPECT_GT(wrs_change(WRS_CHANGE_DE94, a, b), 0.1f);
+}
+
+TEST(Bias, DeltaE94OnHandComputedColours) {
+    // Red (1,0,0): L* 53.24079, a* 80.09246, b* 67.20320, C1 = sqrt(80.09246^2 + 67.20320^2) = 104.55177.
+    // Against black (L* = a* = b* = 0): dL = 53.24079, dC = 104.55177, dH^2 = da^2 + db^2 - dC^2 = 0,
+    //   S_C = 1 + 0.045 * 104.55177 = 5.704829, S_H = 1 + 0.015 * 104.55177 = 2.568276,
+    //   dE94 = sqrt(53.24079^2 + (104.55177 / 5.704829)^2) = sqrt(2834.582 + 335.881) = 56.30681.
+    EXPECT_NEAR(wrs_change(WRS_CHANGE_DE94, vec3(1, 0, 0), vec3(0)), 0.5630681f, 5e-6f);
+    // Red against green (0,1,0): green L* 87.73472, a* -86.18272, b* 83.17932, C2 = 119.77587;
+    //   dL = -34.49393, dC = 104.55177 - 119.77587 = -15.22411,
+    //   dH^2 = (80.09246 + 86.18272)^2 + (67.20320 - 83.17932)^2 - 15.22411^2 = 27670.90,
+    //   dE94 = sqrt(34.49393^2 + (15.22411 / 5.704829)^2 + 27670.90 / 2.568276^2)
+    //        = sqrt(1189.831 + 7.121802 + 4195.086) = 73.43043.
+    EXPECT_NEAR(wrs_change(WRS_CHANGE_DE94, vec3(1, 0, 0), vec3(0, 1, 0)), 0.7343043f, 1e-5f);
+    // Greys have no chroma: dE94 reduces to |dL| = 0.5050389 (grey 0.18 vs white).
+    EXPECT_NEAR(wrs_change(WRS_CHANGE_DE94, vec3(0.18f), vec3(1.0f)), 0.5050389f, 2e-6f);
+    // Non-finite inputs never produce a non-finite change: treated as a full change.
+    EXPECT_EQ(wrs_change(WRS_CHANGE_DE94, vec3(kNaN, 0, 0), vec3(0)), 1.0f);
+    EXPECT_EQ(wrs_change(WRS_CHANGE_LSTAR, vec3(kInf), vec3(0)), 1.0f);
+}
+
+TEST(Combine, HandComputedBernoulliCase) {
+    // History {A, w 0.5, w_sum 3, M 4, z 2}; candidate B with w_cur = 1, z_cur = 5; change off.
+    // w_sum1 = 3 * (1 - 1/(3+1)) = 2.25; total = 3.25; keep iff rand * 3.25 <= 2.25, i.e. rand <= 0.6923077.
+    const vec3 A(0.1f, 0.2f, 0.3f), B(0.9f, 0.8f, 0.7f);
+    const Reservoir hist = wrs_reservoir(A, 0.5f, 3.0f, 4u, 2.0f);
+    bool keep;
+    Reservoir r = wrs_combine(true, hist, B, 1.0f, 5.0f, 0.69f, WRS_CHANGE_OFF, true, keep);
+    EXPECT_TRUE(keep);
+    EXPECT_EQ(r.color, A);
+    EXPECT_EQ(r.w, 0.5f);      // the kept sample keeps its own weight
+    EXPECT_EQ(r.w_sum, 3.25f);  // w_sum1 + w_cur = 2.25 + 1
+    EXPECT_EQ(r.M, 5u);         // M1 + 1
+    EXPECT_EQ(r.z, 5.0f);       // z of this frame, whichever sample is kept
+    r = wrs_combine(true, hist, B, 1.0f, 5.0f, 0.70f, WRS_CHANGE_OFF, true, keep);
+    EXPECT_FALSE(keep);
+    EXPECT_EQ(r.color, B);
+    EXPECT_EQ(r.w, 1.0f);
+    EXPECT_EQ(r.w_sum, 3.25f);
+    EXPECT_EQ(r.M, 5u);
+    EXPECT_EQ(r.z, 5.0f);
+    EXPECT_NEAR(wrs_keep_threshold(2.25f, 1.0f), 0.6923077f, 1e-7f);  // 2.25 / 3.25
+}
+
+TEST(Combine, ThresholdIsInclusiveAndExact) {
+    // No bias: w_sum1 = 3, total = 3 + 1 = 4, keep iff rand * 4 <= 3. rand = 0.75 gives exactly 3.
+    const Reservoir hist = wrs_reservoir(vec3(0.25f), 1.0f, 3.0f, 3u, 0.0f);
+    bool keep;
+    wrs_combine(true, hist, vec3(0.5f), 1.0f, 0.0f, 0.75f, WRS_CHANGE_OFF, false, keep);
+    EXPECT_TRUE(keep);
+    wrs_combine(true, hist, vec3(0.5f), 1.0f, 0.0f, 0.75f + 1.0f / 16777216.0f, WRS_CHANGE_OFF, false, keep);
+    EXPECT_FALSE(keep);
+    // With the Bernoulli factor the same history becomes 3 * (1 - 1/4) = 2.25: rand 0.75 now replaces.
+    Reservoir r = wrs_combine(true, hist, vec3(0.5f), 1.0f, 0.0f, 0.75f, WRS_CHANGE_OFF, true, keep);
+    EXPECT_FALSE(keep);
+    EXPECT_EQ(r.w_sum, 3.25f);
+    // rand = 0 always keeps a history with positive weight, rand just below 1 keeps only if the
+    // candidate weighs nothing.
+    wrs_combine(true, hist, vec3(0.5f), 1.0f, 0.0f, 0.0f, WRS_CHANGE_LSTAR, true, keep);
+    EXPECT_TRUE(keep);
+    wrs_combine(true, hist, vec3(0.5f), 0.0f, 0.0f, 1.0f - 1.0f / 16777216.0f, WRS_CHANGE_LSTAR, true, keep);
+    EXPECT_TRUE(keep);
+}
+
+TEST(Combine, HandComputedLStarCase) {
+    // History white {w_sum 2, M 7}; candidate grey 0.18 with w_cur = 1.
+    // w_sum1 = 2 * (1 - 0.5050389) * (1 - 1/(2+1)) = 2 * 0.4949611 * 0.6666667 = 0.6599481;
+    // total = 1.6599481; threshold = 0.6599481 / 1.6599481 = 0.3975715.
+    const Reservoir hist = wrs_reservoir(vec3(1.0f), 0.25f, 2.0f, 7u, 0.0f);
+    bool keep;
+    Reservoir r = wrs_combine(true, hist, vec3(0.18f), 1.0f, 0.0f, 0.397f, WRS_CHANGE_LSTAR, true, keep);
+    EXPECT_TRUE(keep);
+    EXPECT_EQ(r.color, vec3(1.0f));
+    EXPECT_NEAR(r.w_sum, 1.6599481f, 3e-6f);
+    EXPECT_EQ(r.M, 8u);
+    r = wrs_combine(true, hist, vec3(0.18f), 1.0f, 0.0f, 0.3985f, WRS_CHANGE_LSTAR, true, keep);
+    EXPECT_FALSE(keep);
+    EXPECT_EQ(r.color, vec3(0.18f));
+    EXPECT_NEAR(r.w_sum, 1.6599481f, 3e-6f);
+    // Same with dE94 (greys: equal to dL) and without Bernoulli: w_sum1 = 2 * 0.4949611 = 0.9899222,
+    // threshold = 0.9899222 / 1.9899222 = 0.4974678.
+    r = wrs_combine(true, hist, vec3(0.18f), 1.0f, 0.0f, 0.497f, WRS_CHANGE_DE94, false, keep);
+    EXPECT_TRUE(keep);
+    EXPECT_NEAR(r.w_sum, 1.9899222f, 3e-6f);
+    wrs_combine(true, hist, vec3(0.18f), 1.0f, 0.0f, 0.498f, WRS_CHANGE_DE94, false, keep);
+    EXPECT_FALSE(keep);
+}
+
+TEST(Combine, FullChangeAlwaysReplacesAndNoHistoryInitialises) {
+    // History black, candidate white: |dL| = 1, w_sum1 = 0: the candidate replaces for every rand > 0.
+    const Reservoir hist = wrs_reservoir(vec3(0.0f), 1.0f, 10.0f, 9u, 0.0f);
+    bool keep;
+    Reservoir r = wrs_combine(true, hist, vec3(1.0f), 0.5f, 0.0f, 1.0f / 16777216.0f, WRS_CHANGE_LSTAR, true, keep);
+    EXPECT_FALSE(keep);
+    EXPECT_EQ(r.color, vec3(1.0f));
+    EXPECT_NEAR(r.w_sum, 0.5f, 1e-6f);  // 0 + w_cur
+    EXPECT_EQ(r.M, 10u);
+    // No history: {candidate, w, w_sum = w, M = 1, z}.
+    r = wrs_combine(false, hist, vec3(0.5f, 0.25f, 0.125f), 0.39f, 3.0f, 0.5f, WRS_CHANGE_LSTAR, true, keep);
+    EXPECT_FALSE(keep);
+    EXPECT_EQ(r.color, vec3(0.5f, 0.25f, 0.125f));
+    EXPECT_EQ(r.w, 0.39f);
+    EXPECT_EQ(r.w_sum, 0.39f);
+    EXPECT_EQ(r.M, 1u);
+    EXPECT_EQ(r.z, 3.0f);
+    // An invalid candidate (w = 0) starts a reservoir with the floor weight, never w_sum = 0.
+    r = wrs_combine(false, hist, vec3(0.0f), 0.0f, 0.0f, 0.5f, WRS_CHANGE_OFF, false, keep);
+    EXPECT_GT(r.w_sum, 0.0f);
+    EXPECT_TRUE(wrs_reservoir_valid(r));
+    // ...and never replaces history.
+    r = wrs_combine(true, hist, vec3(0.3f), 0.0f, 0.0f, 0.999f, WRS_CHANGE_OFF, true, keep);
+    EXPECT_TRUE(keep);
+    EXPECT_EQ(r.color, vec3(0.0f));
+    // M saturates at WRS_M_MAX.
+    r = wrs_combine(true, wrs_reservoir(vec3(0.2f), 1.0f, 1.0f, WRS_M_MAX, 0.0f), vec3(0.2f), 1.0f, 0.0f, 0.1f,
+                    WRS_CHANGE_OFF, false, keep);
+    EXPECT_EQ(r.M, WRS_M_MAX);
+    EXPECT_EQ(wrs_unpack(wrs_pack(r)).M, WRS_M_MAX);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sample weights (eq. 3-4)
+// ---------------------------------------------------------------------------------------------
+
+// Watson 2014 in double, written out independently of the header.
+double watsonDensity(double e) {
+    const double a = 0.9851, r2 = 1.058, re = 22.14, dc0 = 14804.6, rm = 41.03;
+    return 2.0 * dc0 / (1.0 + e / rm) * (a / ((1.0 + e / r2) * (1.0 + e / r2)) + (1.0 - a) * std::exp(-e / re));
+}
+
+TEST(Weights, FoveaWeighsOneAndPeripheryMatchesWatson) {
+    // d(2.5) = 2 * 14804.6 / 1.0609310 * (0.9851 / 11.309426 + 0.0149 * 0.8932241) = 2802.4062
+    // d(5)   = 2 * 14804.6 / 1.1218621 * (0.9851 / 32.785907 + 0.0149 * 0.7978493) = 1106.7707
+    // d(20)  = 2 * 14804.6 / 1.4874482 * (0.9851 / 396.15296 + 0.0149 * 0.4052130) = 169.68583
+    EXPECT_NEAR(watsonDensity(2.5), 2802.4062, 1e-3);
+    EXPECT_NEAR(watsonDensity(5.0), 1106.7707, 1e-3);
+    EXPECT_NEAR(watsonDensity(20.0), 169.68583, 1e-4);
+    // w(5) = 1106.7707 / 2802.4062 = 0.3949359 (DESIGN: ~0.39); w(20) = 169.68583 / 2802.4062 = 0.0605500 (~0.061)
+    EXPECT_NEAR(wrs_sample_weight(5.0f, 2.5f), 0.3949359f, 1e-5f);
+    EXPECT_NEAR(wrs_sample_weight(20.0f, 2.5f), 0.0605500f, 1e-5f);
+    EXPECT_NEAR(wrs_sample_weight(10.0f, 2.5f), watsonDensity(10.0) / watsonDensity(2.5), 1e-5);
+    // Fovea pixels weigh exactly 1, the edge included.
+    for (float e : {0.0f, 0.5f, 1.0f, 2.0f, 2.4999f, 2.5f}) EXPECT_EQ(wrs_sample_weight(e, 2.5f), 1.0f) << e;
+    EXPECT_LT(wrs_sample_weight(2.5001f, 2.5f), 1.0f);
+    EXPECT_GT(wrs_sample_weight(2.5001f, 2.5f), 0.999f);  // continuous at the edge
+    // Decreasing outside and relative to the fovea edge for other sizes.
+    float last = 1.0f;
+    for (float e = 3.0f; e < 120.0f; e += 0.5f) {
+        float w = wrs_sample_weight(e, 2.5f);
+        EXPECT_LT(w, last) << e;
+        EXPECT_GT(w, 0.0f) << e;
+        EXPECT_NEAR(w, watsonDensity(e) / watsonDensity(2.5), 1e-5 * std::max(1.0, double(w)) + 1e-7) << e;
+        last = w;
+    }
+    EXPECT_NEAR(wrs_sample_weight(20.0f, 5.0f), watsonDensity(20.0) / watsonDensity(5.0), 1e-5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Eccentricity with an asymmetric field of view
+// ---------------------------------------------------------------------------------------------
+
+double eccentricityDouble(double tx, double ty, glm::dvec3 gaze) {
+    glm::dvec3 ray = glm::normalize(glm::dvec3(tx, ty, -1.0));
+    gaze = glm::normalize(gaze);
+    return std::acos(std::clamp(glm::dot(ray, gaze), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+}
+
+TEST(Eccentricity, KnownPixelsOfAnAsymmetricView) {
+    // tan angles: left -1.5, right 0.5, up 1.0, down -0.6 (an asymmetric view looking left and up).
+    const vec4 fov(-1.5f, 0.5f, 1.0f, -0.6f);
+    // 8x8: pixel (2, 3): tx = -1.5 + 2.5/8 * 2 = -0.875, ty = 1 - 3.5/8 * 1.6 = 0.3;
+    // from straight ahead: e = atan(sqrt(0.875^2 + 0.3^2)) = atan(sqrt(0.855625)) = atan(0.925) = 42.768825°.
+    vec3 ray = wrs_pixel_ray(2, 3, 8, 8, fov);
+    EXPECT_NEAR(ray.x / -ray.z, -0.875f, 1e-6f);
+    EXPECT_NEAR(ray.y / -ray.z, 0.3f, 1e-6f);
+    EXPECT_NEAR(wrs_eccentricity_deg(ray, vec3(0, 0, -1)), 42.768825f, 2e-4f);
+    // 9x9: the centre pixel (4, 4) looks along the view's centre, tx = -1.5 + 0.5 * 2 = -0.5,
+    // ty = 1 - 0.5 * 1.6 = 0.2: off-axis by atan(sqrt(0.25 + 0.04)) = atan(0.5385165) = 28.303196°.
+    vec3 centre = wrs_pixel_ray(4, 4, 9, 9, fov);
+    EXPECT_NEAR(wrs_eccentricity_deg(centre, vec3(0, 0, -1)), 28.303196f, 2e-4f);
+    // ...and exactly on a gaze towards (-0.5, 0.2, -1).
+    vec3 g = normalize(vec3(-0.5f, 0.2f, -1.0f));
+    EXPECT_LT(wrs_eccentricity_deg(centre, g), 1e-3f);
+    // Every pixel of a 37x29 view against a few gazes, versus acos in double.
+    const glm::dvec3 gazes[] = {{0, 0, -1}, {-0.5, 0.2, -1}, {0.3, -0.45, -1}, {-1.2, 0.9, -1}};
+    const uint32_t W = 37, H = 29;
+    double worst = 0;
+    for (const glm::dvec3& gd : gazes) {
+        vec3 gf = vec3(glm::normalize(gd));
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                double tx = -1.5 + (x + 0.5) / W * 2.0;
+                double ty = 1.0 - (y + 0.5) / H * 1.6;
+                double expect = eccentricityDouble(tx, ty, gd);
+                double got = wrs_eccentricity_deg(wrs_pixel_ray(x, y, W, H, fov), gf);
+                worst = std::max(worst, std::fabs(got - expect));
+                ASSERT_NEAR(got, expect, 2e-4 + 1e-5 * expect) << "pixel " << x << "," << y;
+            }
+    }
+    std::printf("  worst eccentricity error against acos in double: %.3g°\n", worst);
+}
+
+TEST(Eccentricity, SmallAnglesKeepTheirPrecision) {
+    // 2 atan2 keeps digits where acos(dot) would lose them: 0.01° and 0.001° between two rays.
+    for (double deg : {0.001, 0.01, 0.1, 1.0, 45.0, 89.0, 135.0, 179.0}) {
+        double r = deg * 3.14159265358979323846 / 180.0;
+        vec3 a(0, 0, -1), b(float(std::sin(r)), 0.0f, float(-std::cos(r)));
+        EXPECT_NEAR(wrs_eccentricity_deg(a, b), deg, 1e-5 * deg + 2e-5) << deg;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// fp16 packing, reservoir layout and validity
+// ---------------------------------------------------------------------------------------------
+
+TEST(Fp16, RoundToNearestEvenSubnormalsAndLimits) {
+    auto h = [](float f) { return wrs_f32_to_f16(f); };
+    EXPECT_EQ(h(1.0f), 0x3c00u);
+    EXPECT_EQ(h(-2.0f), 0xc000u);
+    EXPECT_EQ(h(0.0f), 0x0000u);
+    EXPECT_EQ(h(-0.0f), 0x8000u);
+    // 1 + 2^-11 lies halfway between 1 and 1 + 2^-10: ties to even (down).
+    EXPECT_EQ(h(1.0f + std::ldexp(1.0f, -11)), 0x3c00u);
+    // 1 + 3 * 2^-11 lies halfway between 0x3c01 and 0x3c02: ties to even (up).
+    EXPECT_EQ(h(1.0f + 3.0f * std::ldexp(1.0f, -11)), 0x3c02u);
+    // just above halfway rounds up
+    EXPECT_EQ(h(1.0f + std::ldexp(1.0f, -11) + std::ldexp(1.0f, -20)), 0x3c01u);
+    // max: 65504 = 0x7bff; 65519 rounds down to it; 65520 (halfway to 65536) rounds to even = inf.
+    EXPECT_EQ(h(65504.0f), 0x7bffu);
+    EXPECT_EQ(h(65519.0f), 0x7bffu);
+    EXPECT_EQ(h(65520.0f), 0x7c00u);
+    EXPECT_EQ(h(-1e10f), 0xfc00u);
+    EXPECT_EQ(h(kInf), 0x7c00u);
+    EXPECT_EQ(h(-kInf), 0xfc00u);
+    EXPECT_EQ(h(kNaN) & 0x7e00u, 0x7e00u);  // quiet NaN
+    // subnormals: 2^-24 is the smallest; 2^-25 is halfway to 0 (ties to even: 0); 3 * 2^-25 is 1.5 ulp
+    // (ties to even: 2); 1023 * 2^-24 the largest; 2^-14 the smallest normal.
+    EXPECT_EQ(h(std::ldexp(1.0f, -24)), 0x0001u);
+    EXPECT_EQ(h(std::ldexp(1.0f, -25)), 0x0000u);
+    EXPECT_EQ(h(std::ldexp(1.0f, -25) * 1.0001f), 0x0001u);
+    EXPECT_EQ(h(3.0f * std::ldexp(1.0f, -25)), 0x0002u);
+    EXPECT_EQ(h(1023.0f * std::ldexp(1.0f, -24)), 0x03ffu);
+    EXPECT_EQ(h(std::ldexp(1.0f, -14)), 0x0400u);
+    EXPECT_EQ(h(-std::ldexp(1.0f, -24)), 0x8001u);
+    EXPECT_EQ(h(1e-10f), 0x0000u);
+    EXPECT_EQ(wrs_f16_to_f32(0x0001u), std::ldexp(1.0f, -24));
+    EXPECT_EQ(wrs_f16_to_f32(0x7bffu), 65504.0f);
+    EXPECT_EQ(wrs_f16_to_f32(0x7c00u), kInf);
+    EXPECT_EQ(wrs_f16_to_f32(0xfc00u), -kInf);
+    EXPECT_TRUE(std::isnan(wrs_f16_to_f32(0x7e00u)));
+}
+
+TEST(Fp16, EveryHalfRoundTripsAndRandomFloatsRoundToTheNearest) {
+    // All 65536 bit patterns: finite and infinite ones survive f16 -> f32 -> f16 unchanged, NaNs stay NaN.
+    std::vector<std::pair<double, uint32_t>> finite;  // value, bits (non-negative finite halves)
+    for (uint32_t b = 0; b < 65536u; ++b) {
+        float f = wrs_f16_to_f32(b);
+        if ((b & 0x7c00u) == 0x7c00u && (b & 0x3ffu) != 0u) {
+            EXPECT_TRUE(std::isnan(f)) << b;
+            EXPECT_TRUE(std::isnan(wrs_f16_to_f32(wrs_f32_to_f16(f)))) << b;
+            continue;
+        }
+        ASSERT_EQ(wrs_f32_to_f16(f), b) << "half 0x" << std::hex << b;
+        if (b < 0x7c00u) finite.emplace_back(double(f), b);
+    }
+    // Independent oracle: nearest of the sorted non-negative halves, ties to the even pattern.
+    std::sort(finite.begin(), finite.end());
+    std::mt19937 rng(4242);
+    std::uniform_int_distribution<uint32_t> bits(0u, 0x477fefffu);  // non-negative, below the overflow point
+    for (int i = 0; i < 200000; ++i) {
+        uint32_t u = bits(rng);
+        float f = std::bit_cast<float>(u);
+        double v = f;
+        auto it = std::lower_bound(finite.begin(), finite.end(), std::pair<double, uint32_t>(v, 0u));
+        uint32_t expect;
+        if (it == finite.end()) {
+            expect = finite.back().second;
+        } else if (it->first == v || it == finite.begin()) {
+            expect = it->second;
+        } else {
+            auto lo = std::prev(it);
+            double dl = v - lo->first, dh = it->first - v;
+            expect = dl < dh ? lo->second : dh < dl ? it->second : ((lo->second & 1u) == 0u ? lo->second : it->second);
+        }
+        ASSERT_EQ(wrs_f32_to_f16(f), expect) << "float " << f;
+        ASSERT_EQ(wrs_f32_to_f16(-f), expect | 0x8000u) << "float " << -f;
+    }
+}
+
+TEST(Reservoir, PackUnpackRoundTripAndLayout) {
+    Reservoir r = wrs_reservoir(vec3(0.5f, 0.25f, 65504.0f), 0.39453125f, 123.456f, 4242u, 7.5f);
+    uvec4 p = wrs_pack(r);
+    EXPECT_EQ(p.x, 0x3800u | (0x3400u << 16u));  // R 0.5 | G 0.25
+    EXPECT_EQ(p.y & 0xffffu, 0x7bffu);           // B 65504
+    EXPECT_EQ(p.z, std::bit_cast<uint32_t>(123.456f));  // w_sum stays fp32
+    EXPECT_EQ(p.w >> 16u, 4242u);
+    Reservoir u = wrs_unpack(p);
+    EXPECT_EQ(u.color, r.color);
+    EXPECT_EQ(u.w, r.w);  // 0.39453125 is exact in fp16
+    EXPECT_EQ(u.w_sum, r.w_sum);
+    EXPECT_EQ(u.M, r.M);
+    EXPECT_EQ(u.z, r.z);
+    // Values that are not fp16 round to nearest even; M above 16 bits saturates.
+    Reservoir s = wrs_reservoir(vec3(0.1f), 0.061f, 1e-30f, 70000u, 1000.3f);
+    Reservoir t = wrs_unpack(wrs_pack(s));
+    EXPECT_EQ(t.color.x, wrs_round_f16(0.1f));
+    EXPECT_NEAR(t.color.x, 0.1f, 0.1f / 2048.0f);
+    EXPECT_EQ(t.w_sum, 1e-30f);
+    EXPECT_EQ(t.M, WRS_M_MAX);
+    EXPECT_EQ(t.z, 1000.5f);  // 1000.3 -> 1000.5, the nearer fp16 (step 0.5 in [512, 1024))
+}
+
+TEST(Reservoir, ValidityRejectsNonFiniteAndEmpty) {
+    const Reservoir ok = wrs_reservoir(vec3(0.2f), 0.5f, 1.0f, 3u, 2.0f);
+    EXPECT_TRUE(wrs_reservoir_valid(ok));
+    EXPECT_TRUE(wrs_reservoir_valid(wrs_unpack(wrs_pack(ok))));
+    auto with = [&](auto edit) {
+        Reservoir r = ok;
+        edit(r);
+        return wrs_reservoir_valid(r);
+    };
+    EXPECT_FALSE(with([](Reservoir& r) { r.color.x = kNaN; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.color.y = kInf; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.color.z = -kInf; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.w = kNaN; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.w_sum = kNaN; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.w_sum = kInf; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.w_sum = 0.0f; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.w_sum = -0.0f; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.w_sum = -1.0f; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.z = kNaN; }));
+    EXPECT_FALSE(with([](Reservoir& r) { r.M = 0u; }));
+    EXPECT_TRUE(with([](Reservoir& r) { r.w_sum = 1e-30f; }));
+    // Never-written (all zero) storage and packed NaN/Inf bit patterns are rejected on load.
+    EXPECT_FALSE(wrs_reservoir_valid(wrs_unpack(uvec4(0u))));
+    uvec4 p = wrs_pack(ok);
+    EXPECT_FALSE(wrs_reservoir_valid(wrs_unpack(uvec4((p.x & 0xffff0000u) | 0x7e00u, p.y, p.z, p.w))));
+    EXPECT_FALSE(wrs_reservoir_valid(wrs_unpack(uvec4(p.x, (p.y & 0xffffu) | (0x7c00u << 16u), p.z, p.w))));
+    EXPECT_FALSE(wrs_reservoir_valid(wrs_unpack(uvec4(p.x, p.y, 0x7fc00000u, p.w))));
+    EXPECT_FALSE(wrs_reservoir_valid(wrs_unpack(uvec4(p.x, p.y, p.z, (p.w & 0xffff0000u) | 0xfc00u))));
+    EXPECT_TRUE(wrs_finite(65504.0f));
+    EXPECT_FALSE(wrs_finite(kNaN));
+    EXPECT_FALSE(wrs_finite(-kInf));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hash
+// ---------------------------------------------------------------------------------------------
+
+TEST(Hash, DeterministicSensitiveToEveryInputAndUniform) {
+    const uint32_t h0 = wrs_hash(3, 5, 1, 42, 7);
+    EXPECT_EQ(wrs_hash(3, 5, 1, 42, 7), h0);
+    EXPECT_NE(wrs_hash(4, 5, 1, 42, 7), h0);
+    EXPECT_NE(wrs_hash(3, 6, 1, 42, 7), h0);
+    EXPECT_NE(wrs_hash(3, 5, 0, 42, 7), h0);
+    EXPECT_NE(wrs_hash(3, 5, 1, 43, 7), h0);
+    EXPECT_NE(wrs_hash(3, 5, 1, 42, 8), h0);
+    // x and y are not interchangeable.
+    EXPECT_NE(wrs_hash(5, 3, 1, 42, 7), h0);
+
+    // 128 x 128 pixels x 2 eyes x 8 frames into 64 bins of rand; chi-square with 63 df compared with
+    // its normal approximation (mean df, sd sqrt(2 df)), mean, balance of each of the 24 bits.
+    const int bins = 64;
+    std::vector<uint64_t> count(bins, 0);
+    std::vector<uint64_t> bitOnes(24, 0);
+    uint64_t n = 0, collisionsWithNeighbour = 0;
+    double sum = 0;
+    for (uint32_t f = 0; f < 8; ++f)
+        for (uint32_t e = 0; e < 2; ++e)
+            for (uint32_t y = 0; y < 128; ++y)
+                for (uint32_t x = 0; x < 128; ++x) {
+                    float r = wrs_rand(x, y, e, f, 1u);
+                    ASSERT_GE(r, 0.0f);
+                    ASSERT_LT(r, 1.0f);
+                    const uint32_t q = uint32_t(r * 16777216.0f);
+                    ASSERT_EQ(float(q), r * 16777216.0f) << "24 bits exactly";
+                    count[q >> 18]++;
+                    for (int b = 0; b < 24; ++b) bitOnes[b] += (q >> b) & 1u;
+                    if (x > 0 && wrs_rand(x - 1, y, e, f, 1u) == r) collisionsWithNeighbour++;
+                    sum += r;
+                    n++;
+                }
+    double chi2 = 0, expect = double(n) / bins;
+    for (uint64_t c : count) chi2 += (c - expect) * (c - expect) / expect;
+    const double df = bins - 1;
+    std::printf("  rand: mean %.5f, chi-square over %d bins %.1f (df %.0f)\n", sum / n, bins, chi2, df);
+    EXPECT_LT(std::fabs(chi2 - df) / std::sqrt(2 * df), 4.0);
+    EXPECT_NEAR(sum / n, 0.5, 4.0 * std::sqrt(1.0 / 12.0 / n));
+    for (int b = 0; b < 24; ++b) EXPECT_NEAR(double(bitOnes[b]) / n, 0.5, 4.0 * 0.5 / std::sqrt(double(n))) << "bit " << b;
+    EXPECT_LT(collisionsWithNeighbour, 5u);
+    // Neighbouring seeds give unrelated streams: correlation of rand over the same pixels.
+    double sxy = 0, sx = 0, sy = 0, sxx = 0, syy = 0;
+    const int m = 65536;
+    for (int i = 0; i < m; ++i) {
+        double a = wrs_rand(i & 255, i >> 8, 0, 0, 1u), b = wrs_rand(i & 255, i >> 8, 0, 0, 2u);
+        sx += a, sy += b, sxy += a * b, sxx += a * a, syy += b * b;
+    }
+    double corr = (sxy / m - sx / m * sy / m) / std::sqrt((sxx / m - sx * sx / m / m) * (syy / m - sy * sy / m / m));
+    EXPECT_LT(std::fabs(corr), 4.0 / std::sqrt(double(m)));
+}
+
+}  // namespace
+}  // namespace wrsfov::gpu
