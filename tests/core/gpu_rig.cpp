@@ -29,63 +29,34 @@ void GpuTest::TearDown() {
 
 StereoApp::StereoApp(Compositor& compositor, uint32_t width, uint32_t height, layers::Format colorFormat,
                      std::optional<layers::Format> depthFormat, std::optional<layers::Format> motionFormat)
-    : comp_(compositor), w_(width), h_(height) {
-    auto make = [&](layers::Usage usage, layers::Format format) {
-        layers::SwapchainCreateInfo ci;
-        ci.usage = usage;
-        ci.format = format;
-        ci.width = width;
-        ci.height = height;
-        ci.arraySize = 2;
-        ci.imageCount = 2;
-        auto sc = compositor.createSwapchain(ci);
-        EXPECT_TRUE(sc.ok()) << (sc.ok() ? "" : sc.error().message);
-        return sc.ok() ? std::move(*sc) : nullptr;
-    };
-    color_ = make(layers::Usage::Color, colorFormat);
-    if (depthFormat) depth_ = make(layers::Usage::Depth, *depthFormat);
-    if (motionFormat) motion_ = make(layers::Usage::Motion, *motionFormat);
+    : comp_(compositor) {
+    HostStereoApp::Options o;
+    o.width = width;
+    o.height = height;
+    o.color = colorFormat;
+    o.depth = depthFormat;
+    o.motion = motionFormat;
+    o.nearZ = nearZ;
+    o.farZ = farZ;
+    auto app = HostStereoApp::create(compositor, o);
+    EXPECT_TRUE(app.ok()) << (app.ok() ? "" : app.error().message);
+    if (app.ok()) app_ = std::move(*app);
 }
 
 void StereoApp::write(const std::array<EyeFrame, 2>& eyes) {
-    auto put = [&](layers::Swapchain* sc, auto get) {
-        if (!sc) return;
-        auto idx = sc->acquire();
-        ASSERT_TRUE(idx.ok());
-        ASSERT_TRUE(sc->wait().ok());
-        for (uint32_t eye = 0; eye < 2; ++eye) {
-            const HostImage* img = get(eyes[eye]);
-            ASSERT_NE(img, nullptr);
-            Status s = sc->write(*idx, eye, img->bytes());
-            ASSERT_TRUE(s.ok()) << s.message();
-        }
-        ASSERT_TRUE(sc->release().ok());
-    };
-    put(color_.get(), [](const EyeFrame& e) { return &e.color; });
-    put(depth_.get(), [](const EyeFrame& e) { return e.depth ? &*e.depth : nullptr; });
-    put(motion_.get(), [](const EyeFrame& e) { return e.motion ? &*e.motion : nullptr; });
+    Status s = app_->write(eyes);
+    ASSERT_TRUE(s.ok()) << s.message();
 }
 
 layers::FrameEndInfo StereoApp::frameEnd(uint64_t frameIndex, const std::array<EyeFrame, 2>& eyes, bool reversed) {
-    layers::FrameEndInfo f;
-    f.frameIndex = frameIndex;
-    f.time_s = double(frameIndex) / 90.0;
-    layers::ProjectionLayer layer;
-    for (uint32_t eye = 0; eye < 2; ++eye) {
-        layers::ProjectionView v;
-        v.fov = eyes[eye].fov;
-        v.color = {color_.get(), {0, 0, w_, h_}, eye};
-        if (depth_) v.depth = layers::DepthInfo{{depth_.get(), {0, 0, w_, h_}, eye}, nearZ, farZ, reversed};
-        if (motion_) v.motion = layers::MotionInfo{{motion_.get(), {0, 0, w_, h_}, eye}};
-        layer.views.push_back(v);
-        f.gaze[eye] = eyes[eye].gaze;
-    }
-    f.layers.push_back(layer);
+    layers::FrameEndInfo f = app_->frameEnd(frameIndex, double(frameIndex) / 90.0, eyes);
+    for (auto& v : f.layers[0].views)
+        if (v.depth) v.depth->reversedZ = reversed;
     return f;
 }
 
 Status StereoApp::submit(uint64_t frameIndex, const std::array<EyeFrame, 2>& eyes, bool reversed) {
-    write(eyes);
+    if (Status s = app_->write(eyes); !s) return s;
     return comp_.endFrame(frameEnd(frameIndex, eyes, reversed));
 }
 

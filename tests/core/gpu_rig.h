@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "compositor/compositor.h"
+#include "compositor/host_app.h"
 #include "compositor/reference.h"
 #include "compositor/vk_context.h"
 #include "layers/frame.h"
@@ -34,36 +35,29 @@ private:
 };
 
 /// What one eye submits in a frame.
-struct EyeFrame {
-    HostImage color;
-    std::optional<HostImage> depth;   // R32F or D32F
-    std::optional<HostImage> motion;  // RG16F or RGBA16F
-    layers::Fov fov;
-    layers::EyeGaze gaze;
-};
+using EyeFrame = EyeSubmission;
 
-/// A stereo application: one swapchain per kind with two array layers (layer = eye).
+/// A stereo application on HostStereoApp: one swapchain per kind with two array layers (layer = eye).
 class StereoApp {
 public:
     StereoApp(Compositor& compositor, uint32_t width, uint32_t height, layers::Format colorFormat,
               std::optional<layers::Format> depthFormat, std::optional<layers::Format> motionFormat);
 
-    /// Writes the images and ends the frame; the frame's layer struct is kept for inspection.
+    /// Writes the images and ends the frame (time = frameIndex / 90 s).
     Status submit(uint64_t frameIndex, const std::array<EyeFrame, 2>& eyes, bool reversed = false);
     /// Builds (without submitting) the frame end for the images last written.
     layers::FrameEndInfo frameEnd(uint64_t frameIndex, const std::array<EyeFrame, 2>& eyes, bool reversed = false);
     /// Writes both eyes' images through acquire/wait/write/release.
     void write(const std::array<EyeFrame, 2>& eyes);
 
-    layers::Swapchain& color() { return *color_; }
-    layers::Swapchain* depth() { return depth_.get(); }
-    layers::Swapchain* motion() { return motion_.get(); }
-    float nearZ = 0.1f, farZ = 100.0f;
+    layers::Swapchain& color() { return app_->color(); }
+    layers::Swapchain* depth() { return app_->depth(); }
+    layers::Swapchain* motion() { return app_->motion(); }
+    const float nearZ = 0.1f, farZ = 100.0f;
 
 private:
     Compositor& comp_;
-    uint32_t w_, h_;
-    std::unique_ptr<layers::Swapchain> color_, depth_, motion_;
+    std::unique_ptr<HostStereoApp> app_;
 };
 
 /// Reference inputs from the same images.
