@@ -82,6 +82,16 @@ Status HostStereoApp::submit(uint64_t frameIndex, double time_s, const std::arra
     return comp_.endFrame(frameEnd(frameIndex, time_s, eyes));
 }
 
+layers::Fov hmdFov(int eye) {
+    const float d = 3.14159265f / 180.0f;
+    layers::Fov f;
+    f.angleLeft = (eye == 0 ? -50.0f : -42.0f) * d;
+    f.angleRight = (eye == 0 ? 42.0f : 50.0f) * d;
+    f.angleUp = 45.0f * d;
+    f.angleDown = -48.0f * d;
+    return f;
+}
+
 glm::vec3 pixelDirection(const layers::Fov& fov, uint32_t width, uint32_t height, float x, float y) {
     float tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight);
     float tu = std::tan(fov.angleUp), td = std::tan(fov.angleDown);

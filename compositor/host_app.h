@@ -54,6 +54,10 @@ private:
     std::unique_ptr<layers::Swapchain> color_, depth_, motion_;
 };
 
+/// A typical HMD per-eye field of view (0 left, 1 right): asymmetric, the nasal side narrower than
+/// the temporal side, mirrored between the eyes; 92° x 93° per eye.
+layers::Fov hmdFov(int eye);
+
 /// Unit direction through the centre of pixel (x, y) of a view (DESIGN "Conventions"), for turning
 /// a point on the image into a gaze direction.
 glm::vec3 pixelDirection(const layers::Fov& fov, uint32_t width, uint32_t height, float x, float y);

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "atrium_frag_spv.h"
+#include "compositor/host_app.h"
 #include "atrium_vert_spv.h"
 #include "shaders/atrium_params.h"
 
@@ -28,14 +29,7 @@ glm::mat4 movingBox(int i, double t) {
 constexpr int kMovingBoxes = 3;
 }  // namespace
 
-layers::Fov atriumFov(int eye) {
-    layers::Fov f;
-    f.angleLeft = (eye == 0 ? -50.0f : -42.0f) * kDeg;
-    f.angleRight = (eye == 0 ? 42.0f : 50.0f) * kDeg;
-    f.angleUp = 45.0f * kDeg;
-    f.angleDown = -48.0f * kDeg;
-    return f;
-}
+layers::Fov atriumFov(int eye) { return hmdFov(eye); }
 
 glm::mat4 atriumView(const AtriumOptions& o, int eye, double t) {
     glm::vec3 head(0.0f, 1.6f, 0.0f);

@@ -112,16 +112,6 @@ bool parse(int argc, char** argv, Options& o, std::string& err) {
     return true;
 }
 
-layers::Fov eyeFov(int eye) {
-    const float d = 3.14159265f / 180.0f;
-    layers::Fov f;
-    f.angleLeft = (eye == 0 ? -50.0f : -42.0f) * d;
-    f.angleRight = (eye == 0 ? 42.0f : 50.0f) * d;
-    f.angleUp = 45.0f * d;
-    f.angleDown = -48.0f * d;
-    return f;
-}
-
 // The page: text lines in the middle, gratings and a checker around it. Disparity shifts the
 // right eye's copy so that both eyes see the same page at a small depth.
 cv::Mat drawPage(uint32_t w, uint32_t h, int shiftPx, uint32_t seed) {
@@ -274,7 +264,7 @@ int main(int argc, char** argv) {
         std::array<EyeSubmission, 2> eyes;
         for (int e = 0; e < 2; ++e) {
             eyes[e].color = pages[e];
-            eyes[e].fov = eyeFov(e);
+            eyes[e].fov = hmdFov(e);
             float gx = g.x - float(e == 1 ? disparity : 0);
             eyes[e].gaze = {pixelDirection(eyes[e].fov, o.width, o.height, gx, g.y), true, 1.0f};
         }

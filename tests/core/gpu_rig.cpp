@@ -70,17 +70,6 @@ std::array<Reference::EyeInput, 2> referenceInputs(const std::array<EyeFrame, 2>
     return in;
 }
 
-layers::Fov hmdFov(int eye) {
-    const float d = 3.14159265f / 180.0f;
-    layers::Fov f;
-    // Nasal side narrower than temporal side, like typical HMD lenses; mirrored between the eyes.
-    f.angleLeft = (eye == 0 ? -52.0f : -44.0f) * d;
-    f.angleRight = (eye == 0 ? 44.0f : 52.0f) * d;
-    f.angleUp = 48.0f * d;
-    f.angleDown = -53.0f * d;
-    return f;
-}
-
 glm::vec3 gazeDir(float azimuthDeg, float elevationDeg) {
     const float d = 3.14159265f / 180.0f;
     float az = azimuthDeg * d, el = elevationDeg * d;

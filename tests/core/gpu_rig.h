@@ -63,8 +63,7 @@ private:
 /// Reference inputs from the same images.
 std::array<Reference::EyeInput, 2> referenceInputs(const std::array<EyeFrame, 2>& eyes);
 
-/// A typical asymmetric HMD field of view for an eye (0 left, 1 right: mirrored), radians.
-layers::Fov hmdFov(int eye);
+using wrsfov::hmdFov;
 /// A gaze direction at (azimuth, elevation) degrees, -Z forward.
 glm::vec3 gazeDir(float azimuthDeg, float elevationDeg);
 
