@@ -18,25 +18,34 @@ using layers::SubmitError;
 
 std::string_view toString(Method m) {
     switch (m) {
-    case Method::Fov: return "fov";
-    case Method::FovTaa: return "fov+taa";
-    case Method::Wrs: return "wrs";
+        case Method::Fov:
+            return "fov";
+        case Method::FovTaa:
+            return "fov+taa";
+        case Method::Wrs:
+            return "wrs";
     }
     return "?";
 }
 std::string_view toString(FoveationMode m) {
     switch (m) {
-    case FoveationMode::None: return "none";
-    case FoveationMode::Mip: return "mip";
-    case FoveationMode::Gauss: return "gauss";
+        case FoveationMode::None:
+            return "none";
+        case FoveationMode::Mip:
+            return "mip";
+        case FoveationMode::Gauss:
+            return "gauss";
     }
     return "?";
 }
 std::string_view toString(ChangeMetric m) {
     switch (m) {
-    case ChangeMetric::Off: return "off";
-    case ChangeMetric::LStar: return "lstar";
-    case ChangeMetric::DeltaE94: return "de94";
+        case ChangeMetric::Off:
+            return "off";
+        case ChangeMetric::LStar:
+            return "lstar";
+        case ChangeMetric::DeltaE94:
+            return "de94";
     }
     return "?";
 }
@@ -45,8 +54,16 @@ namespace {
 
 enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kTaa, kCopy, kShaderCount };
 enum Binding : uint32_t {
-    kFrame = 0, kColor = 1, kDepth = 2, kMotion = 3, kPyramidBuf = 4, kDepthBuf = 5, kCandidate = 6,
-    kResPrev = 7, kResCur = 8, kOutput = 9, kBindingCount = 10
+    kFrame = 0,
+    kColor = 1,
+    kDepth = 2,
+    kMotion = 3,
+    kPyramidBuf = 4,
+    kDepthBuf = 5,
+    kCandidate = 6,
+    kResPrev = 7,
+    kResCur = 8,
+    kOutput = 9
 };
 // Timestamps: start, after load, after pyramid, after foveate, after wrs.
 constexpr uint32_t kTimestamps = 5;
@@ -57,11 +74,8 @@ Error submitError(SubmitError code, std::string msg) { return Error{static_cast<
 uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 
 void computeBarrier(VkCommandBuffer cb) {
-    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
-                         nullptr, 0, nullptr);
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -135,53 +149,19 @@ Status Compositor::setConfig(const CompositorConfig& config) {
 
 Status Compositor::init() {
     VkDevice dev = ctx_.device();
-    VkDescriptorSetLayoutBinding b[kBindingCount] = {};
-    auto bind = [&](uint32_t i, VkDescriptorType t, uint32_t count) {
-        b[i].binding = i;
-        b[i].descriptorType = t;
-        b[i].descriptorCount = count;
-        b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    auto binding = [](uint32_t i, VkDescriptorType t, uint32_t count = 1) {
+        return VkDescriptorSetLayoutBinding{i, t, count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     };
-    bind(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1);
-    bind(kColor, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2);
-    bind(kDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2);
-    bind(kMotion, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2);
-    for (uint32_t i : {kPyramidBuf, kDepthBuf, kCandidate, kResPrev, kResCur}) bind(i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1);
-    bind(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1);
-    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    lci.bindingCount = kBindingCount;
-    lci.pBindings = b;
-    VkDescriptorSetLayout sl;
-    VK_CHECK(vkCreateDescriptorSetLayout(dev, &lci, nullptr, &sl));
-    setLayout_ = vk::DescriptorSetLayout(dev, sl);
-
-    VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::LevelPush)};
-    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.setLayoutCount = 1;
-    plci.pSetLayouts = &sl;
-    plci.pushConstantRangeCount = 1;
-    plci.pPushConstantRanges = &pcr;
-    VkPipelineLayout pl;
-    VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
-    pipelineLayout_ = vk::PipelineLayout(dev, pl);
-
-    VkDescriptorSetLayoutBinding cb[2] = {};
-    for (uint32_t i = 0; i < 2; ++i) {
-        cb[i].binding = i;
-        cb[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        cb[i].descriptorCount = 1;
-        cb[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-    }
-    lci.bindingCount = 2;
-    lci.pBindings = cb;
-    VkDescriptorSetLayout csl;
-    VK_CHECK(vkCreateDescriptorSetLayout(dev, &lci, nullptr, &csl));
-    copySetLayout_ = vk::DescriptorSetLayout(dev, csl);
-    VkPushConstantRange cpcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t)};
-    plci.pSetLayouts = &csl;
-    plci.pPushConstantRanges = &cpcr;
-    VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
-    copyPipelineLayout_ = vk::PipelineLayout(dev, pl);
+    const VkDescriptorType ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, image = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    setLayout_ = ctx_.createSetLayout(
+        {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
+         binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kDepthBuf, ssbo), binding(kCandidate, ssbo),
+         binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)});
+    pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
+    copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
+    copyPipelineLayout_ =
+        ctx_.createPipelineLayout(copySetLayout_.get(), sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
+    const VkDescriptorSetLayout sl = setLayout_.get(), csl = copySetLayout_.get();
 
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 12},
@@ -224,12 +204,9 @@ Status Compositor::init() {
         const uint32_t* words;
         size_t bytes;
     };
-    const Code code[kShaderCount] = {{load_spv, sizeof(load_spv)},
-                                     {pyramid_spv, sizeof(pyramid_spv)},
-                                     {foveate_spv, sizeof(foveate_spv)},
-                                     {wrs_spv, sizeof(wrs_spv)},
-                                     {taa_spv, sizeof(taa_spv)},
-                                     {copy_spv, sizeof(copy_spv)}};
+    const Code code[kShaderCount] = {{load_spv, sizeof(load_spv)},       {pyramid_spv, sizeof(pyramid_spv)},
+                                     {foveate_spv, sizeof(foveate_spv)}, {wrs_spv, sizeof(wrs_spv)},
+                                     {taa_spv, sizeof(taa_spv)},         {copy_spv, sizeof(copy_spv)}};
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
@@ -293,9 +270,9 @@ Status Compositor::resize(uint32_t width, uint32_t height) {
         b = std::move(*r);
         return {};
     };
-    for (auto [buf, bytes] : {std::pair{&pyramid_, pyramidTexels * 16}, std::pair{&zlin_, pixels * 4},
-                              std::pair{&candidate_, pixels * 16}, std::pair{&reservoirs_[0], pixels * 16},
-                              std::pair{&reservoirs_[1], pixels * 16}})
+    for (auto [buf, bytes] :
+         {std::pair{&pyramid_, pyramidTexels * 16}, std::pair{&zlin_, pixels * 4}, std::pair{&candidate_, pixels * 16},
+          std::pair{&reservoirs_[0], pixels * 16}, std::pair{&reservoirs_[1], pixels * 16}})
         if (Status s = alloc(*buf, bytes); !s) return s;
 
     output_.reset();
@@ -322,27 +299,18 @@ Status Compositor::resize(uint32_t width, uint32_t height) {
     if (!s) return s;
 
     for (uint32_t i = 0; i < 2; ++i) {
-        VkDescriptorBufferInfo bi[6] = {{ubo_.handle(), 0, VK_WHOLE_SIZE},      {pyramid_.handle(), 0, VK_WHOLE_SIZE},
-                                        {zlin_.handle(), 0, VK_WHOLE_SIZE},     {candidate_.handle(), 0, VK_WHOLE_SIZE},
-                                        {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE},
-                                        {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
+        VkDescriptorBufferInfo bi[6] = {
+            {ubo_.handle(), 0, VK_WHOLE_SIZE},           {pyramid_.handle(), 0, VK_WHOLE_SIZE},
+            {zlin_.handle(), 0, VK_WHOLE_SIZE},          {candidate_.handle(), 0, VK_WHOLE_SIZE},
+            {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE}, {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
         const uint32_t bindings[6] = {kFrame, kPyramidBuf, kDepthBuf, kCandidate, kResPrev, kResCur};
-        VkWriteDescriptorSet w[7] = {};
-        for (int k = 0; k < 6; ++k) {
-            w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            w[k].dstSet = sets_[i];
-            w[k].dstBinding = bindings[k];
-            w[k].descriptorCount = 1;
-            w[k].descriptorType = k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            w[k].pBufferInfo = &bi[k];
-        }
+        VkWriteDescriptorSet w[7];
+        for (int k = 0; k < 6; ++k)
+            w[k] =
+                vk::bufferWrite(sets_[i], bindings[k],
+                                k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[k]);
         VkDescriptorImageInfo oi{VK_NULL_HANDLE, output_.arrayView(), VK_IMAGE_LAYOUT_GENERAL};
-        w[6].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[6].dstSet = sets_[i];
-        w[6].dstBinding = kOutput;
-        w[6].descriptorCount = 1;
-        w[6].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-        w[6].pImageInfo = &oi;
+        w[6] = vk::imageWrite(sets_[i], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
         vkUpdateDescriptorSets(ctx_.device(), 7, w, 0, nullptr);
     }
     width_ = width;
@@ -411,19 +379,14 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
             return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
         };
         ii[0 + eye] = {sampler_.get(), view(v.color), VK_IMAGE_LAYOUT_GENERAL};
-        ii[2 + eye] = {sampler_.get(), v.depth ? view(v.depth->subImage) : dummy_.layerView(0), VK_IMAGE_LAYOUT_GENERAL};
+        ii[2 + eye] = {sampler_.get(), v.depth ? view(v.depth->subImage) : dummy_.layerView(0),
+                       VK_IMAGE_LAYOUT_GENERAL};
         ii[4 + eye] = {sampler_.get(), v.motion ? view(v.motion->subImage) : dummy_.layerView(0),
                        VK_IMAGE_LAYOUT_GENERAL};
     }
-    VkWriteDescriptorSet wr[3] = {};
-    for (uint32_t k = 0; k < 3; ++k) {
-        wr[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        wr[k].dstSet = set;
-        wr[k].dstBinding = kColor + k;
-        wr[k].descriptorCount = 2;
-        wr[k].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        wr[k].pImageInfo = &ii[2 * k];
-    }
+    VkWriteDescriptorSet wr[3];
+    for (uint32_t k = 0; k < 3; ++k)
+        wr[k] = vk::imageWrite(set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
     vkUpdateDescriptorSets(ctx_.device(), 3, wr, 0, nullptr);
 
     VkCommandBuffer cb = cmd_;
@@ -436,21 +399,16 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     {
         // Whatever the application wrote (uploads, its own rendering) and the last frame's
         // readbacks are done before the passes read or overwrite them.
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_MEMORY_READ_BIT;
-        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                          VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_MEMORY_READ_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
     }
     if (temporal && !historyValid_) {
         // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
         vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     }
     auto stamp = [&](uint32_t i) {
         if (timing) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
@@ -534,25 +492,10 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
 
 Result<HostImage> Compositor::readImageLayer(uint32_t layer) {
     HostImage out = HostImage::make(layers::Format::RGBA8, width_, height_);
-    auto staging = ctx_.createBuffer(out.data.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
-    if (!staging) return staging.error();
-    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, layer, 1};
-        region.imageExtent = {width_, height_, 1};
-        vkCmdCopyImageToBuffer(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
-        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                             nullptr);
-    });
-    if (!s) return s.error();
-    std::memcpy(out.data.data(), staging->mapped(), out.data.size());
+    auto bytes =
+        ctx_.readImageLayer(output_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, layer, width_, height_, out.data.size());
+    if (!bytes) return bytes.error();
+    out.data = std::move(*bytes);
     return out;
 }
 
@@ -567,17 +510,13 @@ Result<std::vector<glm::uvec4>> Compositor::readReservoirs(uint32_t eye) {
     auto staging = ctx_.createBuffer(n * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
     if (!staging) return staging.error();
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_TRANSFER_READ_BIT);
         VkBufferCopy region{eye * n * 16, 0, n * 16};
         vkCmdCopyBuffer(cb, reservoirs_[current_].handle(), staging->handle(), 1, &region);
-        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                             nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                          VK_ACCESS_HOST_READ_BIT);
     });
     if (!s) return s.error();
     std::vector<glm::uvec4> out(n);
@@ -593,11 +532,9 @@ Status Compositor::writeReservoirs(uint32_t eye, const std::vector<glm::uvec4>& 
     if (!staging) return staging.error();
     std::memcpy(staging->mapped(), packed.data(), n * 16);
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-        mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
         VkBufferCopy region{0, eye * n * 16, n * 16};
         vkCmdCopyBuffer(cb, staging->handle(), reservoirs_[current_].handle(), 1, &region);
     });
@@ -615,15 +552,8 @@ Result<double> Compositor::timeCopyKernel(uint64_t bytes, int repeats) {
     auto dst = ctx_.createBuffer(count * 16, usage, false);
     if (!dst) return dst.error();
     VkDescriptorBufferInfo bi[2] = {{src->handle(), 0, VK_WHOLE_SIZE}, {dst->handle(), 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet w[2] = {};
-    for (uint32_t k = 0; k < 2; ++k) {
-        w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[k].dstSet = copySet_;
-        w[k].dstBinding = k;
-        w[k].descriptorCount = 1;
-        w[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        w[k].pBufferInfo = &bi[k];
-    }
+    VkWriteDescriptorSet w[2] = {vk::bufferWrite(copySet_, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[0]),
+                                 vk::bufferWrite(copySet_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[1])};
     vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
     const uint32_t groupsTotal = uint32_t((count + 63) / 64);
     const uint32_t gx = std::min<uint32_t>(groupsTotal, 65535);
@@ -633,11 +563,8 @@ Result<double> Compositor::timeCopyKernel(uint64_t bytes, int repeats) {
     for (int i = 0; i < repeats; ++i) {
         Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
             vkCmdFillBuffer(cb, src->handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);
-            VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-            mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-            mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
-            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
-                                 nullptr, 0, nullptr);
+            vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
             vkCmdResetQueryPool(cb, queries_.get(), kTimestamps, kCopyTimestamps);
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
             vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,

@@ -24,8 +24,8 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ct
     ici.height = info.height;
     ici.layers = info.arraySize;
     ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    ici.usage |= info.format == Format::D32F ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT
-                                             : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    ici.usage |=
+        info.format == Format::D32F ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
     VkFormat viewFormat = VK_FORMAT_UNDEFINED;
     if (info.format == Format::RGBA8_SRGB) {
         ici.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
@@ -76,18 +76,16 @@ Status VulkanSwapchain::write(uint32_t index, uint32_t arrayLayer, std::span<con
                                                         " " + std::string(layers::toString(in.format)) +
                                                         " image that takes " + std::to_string(expect));
     if (!isWaited(index))
-        return err(SwapchainError::CallOrder, "write to image " + std::to_string(index) +
-                                                  ", which is not acquired and waited for");
+        return err(SwapchainError::CallOrder,
+                   "write to image " + std::to_string(index) + ", which is not acquired and waited for");
     auto staging = ctx_.createBuffer(expect, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
     if (!staging) return err(SwapchainError::DeviceFailure, staging.error().message);
     std::memcpy(staging->mapped(), texels.data(), expect);
     const vk::Image& img = images_[index];
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_TRANSFER_WRITE_BIT);
         VkBufferImageCopy region{};
         region.imageSubresource = {img.aspect(), 0, arrayLayer, 1};
         region.imageExtent = {in.width, in.height, 1};
@@ -103,28 +101,10 @@ Result<std::vector<std::byte>> VulkanSwapchain::read(uint32_t index, uint32_t ar
         return err(SwapchainError::WriteOutOfRange, "read of image " + std::to_string(index) + " layer " +
                                                         std::to_string(arrayLayer) + " is out of range");
     std::size_t bytes = std::size_t(in.width) * in.height * layers::bytesPerTexel(in.format);
-    auto staging = ctx_.createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
-    if (!staging) return err(SwapchainError::DeviceFailure, staging.error().message);
     const vk::Image& img = images_[index];
-    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {img.aspect(), 0, arrayLayer, 1};
-        region.imageExtent = {in.width, in.height, 1};
-        vkCmdCopyImageToBuffer(cb, img.handle(), VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
-        mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                             nullptr);
-    });
-    if (!s) return err(SwapchainError::DeviceFailure, s.message());
-    std::vector<std::byte> out(bytes);
-    std::memcpy(out.data(), staging->mapped(), bytes);
-    return out;
+    auto r = ctx_.readImageLayer(img.handle(), img.aspect(), arrayLayer, in.width, in.height, bytes);
+    if (!r) return err(SwapchainError::DeviceFailure, r.error().message);
+    return std::move(*r);
 }
 
 }  // namespace wrsfov

@@ -10,7 +10,8 @@ namespace wrsfov::vk {
 const char* resultString(VkResult r) {
     switch (r) {
 #define WRS_CASE(x) \
-    case x: return #x;
+    case x:         \
+        return #x;
         WRS_CASE(VK_SUCCESS)
         WRS_CASE(VK_NOT_READY)
         WRS_CASE(VK_TIMEOUT)
@@ -30,7 +31,8 @@ const char* resultString(VkResult r) {
         WRS_CASE(VK_ERROR_OUT_OF_DATE_KHR)
         WRS_CASE(VK_SUBOPTIMAL_KHR)
 #undef WRS_CASE
-    default: return "VK_ERROR_(unknown)";
+        default:
+            return "VK_ERROR_(unknown)";
     }
 }
 
@@ -47,11 +49,16 @@ Error vkError(const std::string& what, VkResult r) {
 
 int deviceScore(VkPhysicalDeviceType t) {
     switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 4;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 3;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 1;
+        default:
+            return 0;
     }
 }
 
@@ -72,6 +79,36 @@ ContextOptions ContextOptions::fromEnvironment() {
     if (const char* v = std::getenv("WRSFOV_VALIDATION")) o.validation = std::strcmp(v, "0") != 0 && *v;
     if (const char* d = std::getenv("WRSFOV_DEVICE")) o.deviceName = d;
     return o;
+}
+
+void memoryBarrier(VkCommandBuffer cb, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess) {
+    VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    mb.srcAccessMask = srcAccess;
+    mb.dstAccessMask = dstAccess;
+    vkCmdPipelineBarrier(cb, srcStage, dstStage, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+VkWriteDescriptorSet bufferWrite(VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                                 const VkDescriptorBufferInfo* infos, uint32_t count) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.dstBinding = binding;
+    w.descriptorCount = count;
+    w.descriptorType = type;
+    w.pBufferInfo = infos;
+    return w;
+}
+
+VkWriteDescriptorSet imageWrite(VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                                const VkDescriptorImageInfo* infos, uint32_t count) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.dstBinding = binding;
+    w.descriptorCount = count;
+    w.descriptorType = type;
+    w.pImageInfo = infos;
+    return w;
 }
 
 // ---- Buffer / Image ------------------------------------------------------------------------------
@@ -172,7 +209,8 @@ Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) 
     app.apiVersion = VK_API_VERSION_1_2;
 
     VkDebugUtilsMessengerCreateInfoEXT dbg{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    dbg.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    dbg.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     // Performance hints are left out: images stay in GENERAL layout on purpose (see swapchain.h).
     dbg.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
     dbg.pfnUserCallback = &Context::debugCallback;
@@ -288,9 +326,9 @@ Result<Buffer> Context::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage
         return vkError("vkCreateBuffer (" + std::to_string(size) + " bytes)", r);
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(device_, b.buffer_, &req);
-    auto type = memoryType(req.memoryTypeBits, hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                                 VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    auto type = memoryType(req.memoryTypeBits,
+                           hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                       : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (!type) return type.error();
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
@@ -358,6 +396,48 @@ ShaderModule Context::createShaderModule(const uint32_t* code, size_t bytes) {
     VkShaderModule m;
     VK_CHECK(vkCreateShaderModule(device_, &sci, nullptr, &m));
     return ShaderModule(device_, m);
+}
+
+DescriptorSetLayout Context::createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings) {
+    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    lci.bindingCount = static_cast<uint32_t>(bindings.size());
+    lci.pBindings = bindings.begin();
+    VkDescriptorSetLayout sl;
+    VK_CHECK(vkCreateDescriptorSetLayout(device_, &lci, nullptr, &sl));
+    return DescriptorSetLayout(device_, sl);
+}
+
+PipelineLayout Context::createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes,
+                                             VkShaderStageFlags pushStages) {
+    VkPushConstantRange pcr{pushStages, 0, pushBytes};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.setLayoutCount = 1;
+    plci.pSetLayouts = &set;
+    plci.pushConstantRangeCount = pushBytes ? 1 : 0;
+    plci.pPushConstantRanges = pushBytes ? &pcr : nullptr;
+    VkPipelineLayout pl;
+    VK_CHECK(vkCreatePipelineLayout(device_, &plci, nullptr, &pl));
+    return PipelineLayout(device_, pl);
+}
+
+Result<std::vector<std::byte>> Context::readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
+                                                       uint32_t width, uint32_t height, size_t bytes) {
+    auto staging = createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    if (!staging) return staging.error();
+    Status s = submitAndWait([&](VkCommandBuffer cb) {
+        memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {aspect, 0, layer, 1};
+        region.imageExtent = {width, height, 1};
+        vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
+        memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                      VK_ACCESS_HOST_READ_BIT);
+    });
+    if (!s) return s.error();
+    std::vector<std::byte> out(bytes);
+    std::memcpy(out.data(), staging->mapped(), bytes);
+    return out;
 }
 
 VkCommandBuffer Context::allocateCommandBuffer() {

@@ -3,15 +3,16 @@
 // name. Optionally runs under the Khronos validation layer and counts what it reports.
 #pragma once
 
+#include <vulkan/vulkan.h>
+
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
-
-#include <vulkan/vulkan.h>
 
 #include "layers/status.h"
 
@@ -140,6 +141,17 @@ using QueryPool = Handle<VkQueryPool, vkDestroyQueryPool>;
 using Fence = Handle<VkFence, vkDestroyFence>;
 using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
 
+/// A global memory barrier: everything in `srcStage` with `srcAccess` before, `dstStage` with
+/// `dstAccess` after.
+void memoryBarrier(VkCommandBuffer cb, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
+                   VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
+
+/// One descriptor write for `count` buffers or images at `binding` of `set`.
+VkWriteDescriptorSet bufferWrite(VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                                 const VkDescriptorBufferInfo* infos, uint32_t count = 1);
+VkWriteDescriptorSet imageWrite(VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
+                                const VkDescriptorImageInfo* infos, uint32_t count = 1);
+
 class Context {
 public:
     /// Creates instance and device. Fails with a message naming the available devices when none
@@ -170,6 +182,12 @@ public:
     /// viewFormat: format of the per-layer views (VK_FORMAT_UNDEFINED: the image's own format).
     Result<Image> createImage(const ImageCreateInfo& info, VkFormat viewFormat = VK_FORMAT_UNDEFINED);
     ShaderModule createShaderModule(const uint32_t* code, size_t bytes);
+    DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
+    /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
+    PipelineLayout createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes, VkShaderStageFlags pushStages);
+    /// Copies one layer of a (GENERAL-layout) image to host memory, after all earlier writes.
+    Result<std::vector<std::byte>> readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
+                                                  uint32_t width, uint32_t height, size_t bytes);
 
     /// Records with `record`, submits, waits. Returns DeviceFailure-style errors (code = VkResult).
     Status submitAndWait(const std::function<void(VkCommandBuffer)>& record);

@@ -2,13 +2,12 @@
 
 #include <cmath>
 #include <cstring>
-
 #include <glm/gtc/matrix_transform.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "atrium_frag_spv.h"
-#include "compositor/host_app.h"
 #include "atrium_vert_spv.h"
+#include "compositor/host_app.h"
 #include "shaders/atrium_params.h"
 
 namespace wrsfov::scenes {
@@ -97,12 +96,12 @@ Status AtriumRenderer::init() {
         quad(p[0], p[1], p[5], p[4], {s.x * k, s.z * k}, mat);  // -y
     };
     const float X = 6.0f, Z0 = 2.0f, Z1 = -14.0f, Y = 4.0f;
-    quad({-X, 0, Z0}, {X, 0, Z0}, {X, 0, Z1}, {-X, 0, Z1}, {2 * X / 2, (Z0 - Z1) / 2}, 0);          // floor
-    quad({-X, Y, Z1}, {X, Y, Z1}, {X, Y, Z0}, {-X, Y, Z0}, {1, 1}, 5);                              // ceiling
-    quad({-X, 0, Z1}, {X, 0, Z1}, {X, Y, Z1}, {-X, Y, Z1}, {2 * X / 4, Y / 4}, 1);                  // back wall
-    quad({-X, 0, Z0}, {-X, 0, Z1}, {-X, Y, Z1}, {-X, Y, Z0}, {(Z0 - Z1) / 4, Y / 4}, 1);            // left wall
-    quad({X, 0, Z1}, {X, 0, Z0}, {X, Y, Z0}, {X, Y, Z1}, {(Z0 - Z1) / 4, Y / 4}, 1);                // right wall
-    quad({-X, 0, Z0}, {-X, Y, Z0}, {X, Y, Z0}, {X, 0, Z0}, {2 * X / 4, Y / 4}, 1);                  // wall behind
+    quad({-X, 0, Z0}, {X, 0, Z0}, {X, 0, Z1}, {-X, 0, Z1}, {2 * X / 2, (Z0 - Z1) / 2}, 0);  // floor
+    quad({-X, Y, Z1}, {X, Y, Z1}, {X, Y, Z0}, {-X, Y, Z0}, {1, 1}, 5);                      // ceiling
+    quad({-X, 0, Z1}, {X, 0, Z1}, {X, Y, Z1}, {-X, Y, Z1}, {2 * X / 4, Y / 4}, 1);          // back wall
+    quad({-X, 0, Z0}, {-X, 0, Z1}, {-X, Y, Z1}, {-X, Y, Z0}, {(Z0 - Z1) / 4, Y / 4}, 1);    // left wall
+    quad({X, 0, Z1}, {X, 0, Z0}, {X, Y, Z0}, {X, Y, Z1}, {(Z0 - Z1) / 4, Y / 4}, 1);        // right wall
+    quad({-X, 0, Z0}, {-X, Y, Z0}, {X, Y, Z0}, {X, 0, Z0}, {2 * X / 4, Y / 4}, 1);          // wall behind
     for (float z : {-3.0f, -6.0f, -9.0f, -12.0f})
         for (float x : {-2.6f, 2.6f}) box({x - 0.3f, 0, z - 0.3f}, {x + 0.3f, Y, z + 0.3f}, 2, 1.0f);
     // Posters: text textures on the walls (uv flipped so that text reads left to right).
@@ -110,8 +109,8 @@ Status AtriumRenderer::init() {
          {1, 1}, 3);
     quad({-X + 0.01f, 1.0f, -4.0f}, {-X + 0.01f, 1.0f, -8.0f}, {-X + 0.01f, 3.0f, -8.0f}, {-X + 0.01f, 3.0f, -4.0f},
          {1, 1}, 3);
-    quad({X - 0.01f, 1.0f, -8.0f}, {X - 0.01f, 1.0f, -4.0f}, {X - 0.01f, 3.0f, -4.0f}, {X - 0.01f, 3.0f, -8.0f},
-         {1, 1}, 3);
+    quad({X - 0.01f, 1.0f, -8.0f}, {X - 0.01f, 1.0f, -4.0f}, {X - 0.01f, 3.0f, -4.0f}, {X - 0.01f, 3.0f, -8.0f}, {1, 1},
+         3);
     for (Vertex& q : v)
         if (q.material == 3) q.uv.y = 1.0f - q.uv.y;
     room_ = {0, uint32_t(v.size())};
@@ -131,8 +130,8 @@ Status AtriumRenderer::init() {
     // ---- poster texture: text drawn with OpenCV, mip chain by area averaging
     const int PW = 1024, PH = 512;
     cv::Mat page(PH, PW, CV_8UC4, cv::Scalar(245, 240, 230, 255));
-    const char* words[] = {"reservoir", "foveated", "sample", "weight", "history", "gaze", "saccade", "vision",
-                           "acuity", "pixel", "stereo", "render", "compute", "atrium", "column", "poster"};
+    const char* words[] = {"reservoir", "foveated", "sample", "weight", "history", "gaze",   "saccade", "vision",
+                           "acuity",    "pixel",    "stereo", "render", "compute", "atrium", "column",  "poster"};
     cv::RNG rng(7);
     for (int y = 40; y < PH - 10; y += 34) {
         std::string line;
@@ -204,26 +203,14 @@ Status AtriumRenderer::init() {
     VK_CHECK(vkCreateSampler(dev, &sci, nullptr, &smp));
     sampler_ = vk::Sampler(dev, smp);
 
-    VkDescriptorSetLayoutBinding b[2] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
-    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    lci.bindingCount = 2;
-    lci.pBindings = b;
-    VkDescriptorSetLayout sl;
-    VK_CHECK(vkCreateDescriptorSetLayout(dev, &lci, nullptr, &sl));
-    setLayout_ = vk::DescriptorSetLayout(dev, sl);
-    VkPushConstantRange pcr{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::AtriumDraw)};
-    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.setLayoutCount = 1;
-    plci.pSetLayouts = &sl;
-    plci.pushConstantRangeCount = 1;
-    plci.pPushConstantRanges = &pcr;
-    VkPipelineLayout pl;
-    VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
-    pipelineLayout_ = vk::PipelineLayout(dev, pl);
+    setLayout_ = ctx_.createSetLayout(
+        {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}});
+    const VkDescriptorSetLayout sl = setLayout_.get();
+    pipelineLayout_ = ctx_.createPipelineLayout(sl, sizeof(gpu::AtriumDraw), VK_SHADER_STAGE_VERTEX_BIT);
 
-    VkDescriptorPoolSize ps[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
+    VkDescriptorPoolSize ps[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
+                                  {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 2;
     dpci.poolSizeCount = 2;
@@ -240,17 +227,8 @@ Status AtriumRenderer::init() {
     for (int e = 0; e < 2; ++e) {
         VkDescriptorBufferInfo bi{cameras_[e].handle(), 0, VK_WHOLE_SIZE};
         VkDescriptorImageInfo ii{sampler_.get(), poster_.layerView(0), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-        VkWriteDescriptorSet w[2] = {};
-        w[0].sType = w[1].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[0].dstSet = w[1].dstSet = sets_[e];
-        w[0].dstBinding = 0;
-        w[0].descriptorCount = 1;
-        w[0].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        w[0].pBufferInfo = &bi;
-        w[1].dstBinding = 1;
-        w[1].descriptorCount = 1;
-        w[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        w[1].pImageInfo = &ii;
+        VkWriteDescriptorSet w[2] = {vk::bufferWrite(sets_[e], 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &bi),
+                                     vk::imageWrite(sets_[e], 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii)};
         vkUpdateDescriptorSets(dev, 2, w, 0, nullptr);
     }
     return {};
@@ -327,7 +305,8 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
         dep[0].srcSubpass = VK_SUBPASS_EXTERNAL;
         dep[0].dstSubpass = 0;
         dep[0].srcStageMask = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
-        dep[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+        dep[0].dstStageMask =
+            VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
         dep[0].srcAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
         dep[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
         dep[1].srcSubpass = 0;
@@ -423,7 +402,8 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
     return ctx_.submitAndWait([&](VkCommandBuffer cb) {
         for (uint32_t e = 0; e < 2; ++e) {
             VkImageView cv = view(color.image(colorIndex), colorViewFormat, VK_IMAGE_ASPECT_COLOR_BIT, e);
-            VkImageView mv = view(motion.image(motionIndex), VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_ASPECT_COLOR_BIT, e);
+            VkImageView mv =
+                view(motion.image(motionIndex), VK_FORMAT_R16G16B16A16_SFLOAT, VK_IMAGE_ASPECT_COLOR_BIT, e);
             VkImageView dv = view(depth.image(depthIndex), VK_FORMAT_D32_SFLOAT, VK_IMAGE_ASPECT_DEPTH_BIT, e);
             VkClearValue clear[3] = {};
             clear[0].color = {{0.02f, 0.02f, 0.03f, 1.0f}};

@@ -135,23 +135,12 @@ std::vector<std::byte> runBufferKernel(const uint32_t* spirv, size_t spirvBytes,
     auto out = ctx.createBuffer(outputBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
     EXPECT_TRUE(in.ok() && out.ok());
     std::memcpy(in->mapped(), input.data(), input.size());
-    VkDescriptorSetLayoutBinding b[2] = {};
-    for (uint32_t i = 0; i < 2; ++i) b[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-    VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    lci.bindingCount = 2;
-    lci.pBindings = b;
-    VkDescriptorSetLayout sl;
-    VK_CHECK(vkCreateDescriptorSetLayout(dev, &lci, nullptr, &sl));
-    vk::DescriptorSetLayout setLayout(dev, sl);
-    VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, 4};
-    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    plci.setLayoutCount = 1;
-    plci.pSetLayouts = &sl;
-    plci.pushConstantRangeCount = 1;
-    plci.pPushConstantRanges = &pcr;
-    VkPipelineLayout pl;
-    VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
-    vk::PipelineLayout layout(dev, pl);
+    vk::DescriptorSetLayout setLayout =
+        ctx.createSetLayout({{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}});
+    const VkDescriptorSetLayout sl = setLayout.get();
+    vk::PipelineLayout layout = ctx.createPipelineLayout(sl, 4, VK_SHADER_STAGE_COMPUTE_BIT);
+    const VkPipelineLayout pl = layout.get();
     vk::ShaderModule module = ctx.createShaderModule(spirv, spirvBytes);
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
@@ -177,26 +166,16 @@ std::vector<std::byte> runBufferKernel(const uint32_t* spirv, size_t spirvBytes,
     VkDescriptorSet set;
     VK_CHECK(vkAllocateDescriptorSets(dev, &ai, &set));
     VkDescriptorBufferInfo bi[2] = {{in->handle(), 0, VK_WHOLE_SIZE}, {out->handle(), 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet w[2] = {};
-    for (uint32_t i = 0; i < 2; ++i) {
-        w[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        w[i].dstSet = set;
-        w[i].dstBinding = i;
-        w[i].descriptorCount = 1;
-        w[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        w[i].pBufferInfo = &bi[i];
-    }
+    VkWriteDescriptorSet w[2] = {vk::bufferWrite(set, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[0]),
+                                 vk::bufferWrite(set, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[1])};
     vkUpdateDescriptorSets(dev, 2, w, 0, nullptr);
     Status s = ctx.submitAndWait([&](VkCommandBuffer cb) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, nullptr);
         vkCmdPushConstants(cb, pl, VK_SHADER_STAGE_COMPUTE_BIT, 0, 4, &count);
         vkCmdDispatch(cb, (count + 63) / 64, 1, 1);
-        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0,
-                             nullptr, 0, nullptr);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     });
     EXPECT_TRUE(s.ok()) << s.message();
     std::vector<std::byte> result(outputBytes);
