@@ -65,9 +65,8 @@ enum Binding : uint32_t {
     kResCur = 8,
     kOutput = 9
 };
-// Timestamps: start, after load, after pyramid, after foveate, after wrs.
-constexpr uint32_t kTimestamps = 5;
-constexpr uint32_t kCopyTimestamps = 2;
+// Timestamps: start, after the copy kernel (measureCopy), after load, pyramid, foveate, wrs/taa.
+constexpr uint32_t kTimestamps = 6;
 
 Error submitError(SubmitError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
 
@@ -91,6 +90,21 @@ Status checkConfig(const CompositorConfig& c) {
 }
 
 }  // namespace
+
+uint64_t trafficBytes(const CompositorConfig& c, uint32_t w, uint32_t h, bool depth, bool motion) {
+    const double px = double(w) * h * WRS_EYES;
+    double b = px * (4 + 16 + (depth ? 4 + 4 : 0));  // load: colour (+ depth) in, level 0 (+ linear depth) out
+    if (c.foveation != FoveationMode::None) {
+        const double taps = c.foveation == FoveationMode::Mip ? 4 : 16;
+        for (int k = 1; k < WRS_LEVELS; ++k) b += px / std::pow(4.0, k) * (taps * 16 + 16);
+    }
+    const bool temporal = c.method != Method::Fov;
+    const bool pyramid = c.foveation != FoveationMode::None;
+    b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + (temporal ? 16 : 4));  // foveate: level 0 + 2 bilinear levels
+    if (c.method == Method::Wrs) b += px * (16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
+    if (c.method == Method::FovTaa) b += px * (16 + 16 + (motion ? 8 : 0) + 16 + 4);
+    return uint64_t(b);
+}
 
 gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::FrameEndInfo& frame, uint32_t width,
                                  uint32_t height, bool fallback[2]) {
@@ -195,7 +209,7 @@ Status Compositor::init() {
 
     VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    qci.queryCount = kTimestamps + kCopyTimestamps;
+    qci.queryCount = kTimestamps;
     VkQueryPool qp;
     VK_CHECK(vkCreateQueryPool(dev, &qci, nullptr, &qp));
     queries_ = vk::QueryPool(dev, qp);
@@ -368,6 +382,31 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     stats_.historyReset = temporal && !historyValid_;
     params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
+    if (config_.measureCopy) {
+        // Half the frame's traffic is read and half written: the copy moves the same bytes.
+        const uint64_t half = (trafficBytes(config_, w, h, hasDepth, hasMotion) / 2 + 15) / 16 * 16;
+        if (copySrc_.size() != half) {
+            vkDeviceWaitIdle(ctx_.device());
+            const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+            auto src = ctx_.createBuffer(half, use, false);
+            auto dst = ctx_.createBuffer(half, use, false);
+            if (!src || !dst)
+                return submitError(SubmitError::DeviceFailure,
+                                   "copy-kernel buffers: " + (src ? dst.error() : src.error()).message);
+            copySrc_ = std::move(*src);
+            copyDst_ = std::move(*dst);
+            // Real data in both buffers, so the copy never reads or writes untouched pages.
+            Status filled = ctx_.submitAndWait([&](VkCommandBuffer c) {
+                vkCmdFillBuffer(c, copySrc_.handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);
+                vkCmdFillBuffer(c, copyDst_.handle(), 0, VK_WHOLE_SIZE, 0u);
+            });
+            if (!filled) return submitError(SubmitError::DeviceFailure, filled.message());
+            VkDescriptorBufferInfo bi[2] = {{copySrc_.handle(), 0, VK_WHOLE_SIZE}, {copyDst_.handle(), 0, VK_WHOLE_SIZE}};
+            VkWriteDescriptorSet w2[2] = {vk::bufferWrite(copySet_, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[0]),
+                                          vk::bufferWrite(copySet_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[1])};
+            vkUpdateDescriptorSets(ctx_.device(), 2, w2, 0, nullptr);
+        }
+    }
 
     // Per-frame inputs: the last released image of each swapchain.
     VkDescriptorSet set = sets_[current_];
@@ -415,11 +454,25 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     };
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
     const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
+    // The same-bytes copy kernel first, so that it runs in the same state as the passes.
     stamp(0);
+    if (config_.measureCopy && timing) {
+        const uint32_t count = uint32_t(copySrc_.size() / 16);
+        const uint32_t groupsTotal = (count + 63) / 64;
+        const uint32_t cgx = std::min<uint32_t>(groupsTotal, 65535), cgy = (groupsTotal + cgx - 1) / cgx;
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
+                                nullptr);
+        vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
+        vkCmdDispatch(cb, cgx, cgy, 1);
+        computeBarrier(cb);
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
+    }
+    stamp(1);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kLoad, {hasDepth, 0, 0, 0}));
     vkCmdDispatch(cb, gx, gy, WRS_EYES);
     computeBarrier(cb);
-    stamp(1);
+    stamp(2);
     if (pyramid) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kPyramid, {config_.foveation == FoveationMode::Mip ? 1u : 2u, 0, 0, 0}));
@@ -431,12 +484,12 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
             computeBarrier(cb);
         }
     }
-    stamp(2);
+    stamp(3);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                       pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
     vkCmdDispatch(cb, gx, gy, WRS_EYES);
     computeBarrier(cb);
-    stamp(3);
+    stamp(4);
     if (wrs) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kWrs, {hasMotion, hasDepth, uint32_t(config_.change), config_.bernoulli}));
@@ -447,7 +500,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         vkCmdDispatch(cb, gx, gy, WRS_EYES);
         computeBarrier(cb);
     }
-    stamp(4);
+    stamp(5);
     VK_CHECK(vkEndCommandBuffer(cb));
 
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
@@ -472,11 +525,12 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kTimestamps, sizeof(ts), ts, sizeof(uint64_t),
                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
             double ms = ctx_.timestampPeriodNs() * 1e-6;
-            stats_.gpu.load = double(ts[1] - ts[0]) * ms;
-            stats_.gpu.pyramid = double(ts[2] - ts[1]) * ms;
-            stats_.gpu.foveate = double(ts[3] - ts[2]) * ms;
-            stats_.gpu.temporal = double(ts[4] - ts[3]) * ms;
-            stats_.gpu.total = double(ts[4] - ts[0]) * ms;
+            stats_.gpu.copy = config_.measureCopy ? double(ts[1] - ts[0]) * ms : 0.0;
+            stats_.gpu.load = double(ts[2] - ts[1]) * ms;
+            stats_.gpu.pyramid = double(ts[3] - ts[2]) * ms;
+            stats_.gpu.foveate = double(ts[4] - ts[3]) * ms;
+            stats_.gpu.temporal = double(ts[5] - ts[4]) * ms;
+            stats_.gpu.total = double(ts[5] - ts[1]) * ms;
             stats_.gpu.valid = true;
         }
     }
@@ -541,47 +595,6 @@ Status Compositor::writeReservoirs(uint32_t eye, const std::vector<glm::uvec4>& 
     if (!s) return s;
     historyValid_ = true;
     return {};
-}
-
-Result<double> Compositor::timeCopyKernel(uint64_t bytes, int repeats) {
-    if (ctx_.timestampPeriodNs() <= 0) return Error{1, "the device cannot write timestamps"};
-    const uint64_t count = std::max<uint64_t>(1, (bytes + 15) / 16);
-    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    auto src = ctx_.createBuffer(count * 16, usage, false);
-    if (!src) return src.error();
-    auto dst = ctx_.createBuffer(count * 16, usage, false);
-    if (!dst) return dst.error();
-    VkDescriptorBufferInfo bi[2] = {{src->handle(), 0, VK_WHOLE_SIZE}, {dst->handle(), 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet w[2] = {vk::bufferWrite(copySet_, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[0]),
-                                 vk::bufferWrite(copySet_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[1])};
-    vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
-    const uint32_t groupsTotal = uint32_t((count + 63) / 64);
-    const uint32_t gx = std::min<uint32_t>(groupsTotal, 65535);
-    const uint32_t gy = (groupsTotal + gx - 1) / gx;
-    const uint32_t n32 = uint32_t(count);
-    std::vector<double> times;
-    for (int i = 0; i < repeats; ++i) {
-        Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-            vkCmdFillBuffer(cb, src->handle(), 0, VK_WHOLE_SIZE, 0x3f800000u);
-            vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-            vkCmdResetQueryPool(cb, queries_.get(), kTimestamps, kCopyTimestamps);
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
-            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
-                                    nullptr);
-            vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(n32), &n32);
-            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), kTimestamps);
-            vkCmdDispatch(cb, gx, gy, 1);
-            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), kTimestamps + 1);
-        });
-        if (!s) return s.error();
-        uint64_t ts[2];
-        VK_CHECK(vkGetQueryPoolResults(ctx_.device(), queries_.get(), kTimestamps, 2, sizeof(ts), ts, sizeof(uint64_t),
-                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-        times.push_back(double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6);
-    }
-    std::sort(times.begin(), times.end());
-    return times[times.size() / 2];
 }
 
 }  // namespace wrsfov

@@ -52,13 +52,21 @@ struct CompositorConfig {
     bool bernoulli = true;           ///< eq. 6 survival bias of the history
     float depthTau = 0.05f;          ///< relative depth difference that flushes history
     uint32_t seed = 1;
+    /// Append a copy kernel moving the frame's estimated traffic (trafficBytes) to every frame's
+    /// submission and time it: the yardstick benchmarks report the passes against.
+    bool measureCopy = false;
 };
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 struct PassTimes {
     double load = 0, pyramid = 0, foveate = 0, temporal = 0, total = 0;  ///< temporal: the wrs or taa pass
+    double copy = 0;  ///< the same-bytes copy kernel right after the passes (CompositorConfig::measureCopy)
     bool valid = false;
 };
+
+/// Estimated bytes the passes of a frame read and write for both eyes, each texel counted once
+/// (layouts in shaders/bindings.glsl): what the copy kernel moves, half read and half written.
+uint64_t trafficBytes(const CompositorConfig& config, uint32_t width, uint32_t height, bool depth, bool motion);
 
 struct FrameStats {
     uint64_t frameIndex = 0;
@@ -105,8 +113,6 @@ public:
     uint32_t width() const { return width_; }
     uint32_t height() const { return height_; }
 
-    /// GPU time in ms of the same-bytes copy kernel over `bytes` (median of `repeats` runs).
-    Result<double> timeCopyKernel(uint64_t bytes, int repeats = 5);
     vk::Context& context() { return ctx_; }
 
 private:
@@ -140,6 +146,7 @@ private:
     vk::Buffer ubo_;
     vk::Buffer pyramid_, zlin_, candidate_;
     vk::Buffer reservoirs_[2];
+    vk::Buffer copySrc_, copyDst_;  // the copy kernel's buffers (measureCopy)
     uint32_t current_ = 0;  // reservoirs_[current_] holds the latest frame's reservoirs
     bool historyValid_ = false;
     vk::Image output_;
