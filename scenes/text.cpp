@@ -86,20 +86,21 @@ TextScene::TextScene(const TextOptions& o) : options_(o) {
             if (int(s.size() + w.size()) > L.lineChars) break;
             s += w + " ";
         }
-        double el = L.firstLineElevationDeg - line * L.lineSpacingDeg;
-        put(s, std::tan(L.leftEdgeAzimuthDeg * kDeg), std::tan(el * kDeg), cv::Scalar(25, 25, 25));
+        // Baseline below the line centre by about half an x-height (0.45 advances for DejaVu Sans Mono).
+        double baseline = L.lineCentreDeg(line) - 0.45 * L.charDeg;
+        put(s, std::tan(L.leftEdgeAzimuthDeg() * kDeg), std::tan(baseline * kDeg), cv::Scalar(25, 25, 25));
     }
     // Peripheral nonsense text everywhere else, in grey.
-    const double blockTop = L.firstLineElevationDeg + L.lineSpacingDeg;
-    const double blockBottom = L.firstLineElevationDeg - L.lines * L.lineSpacingDeg;
-    const double rightEdge = L.leftEdgeAzimuthDeg + L.lineChars * L.charDeg;
+    const double blockTop = L.lineCentreDeg(0) + L.lineSpacingDeg;
+    const double blockBottom = L.lineCentreDeg(L.lines - 1) - L.lineSpacingDeg;
+    const double rightEdge = L.leftEdgeAzimuthDeg() + L.lineChars * L.charDeg;
     for (double el = 54.0; el > -54.0; el -= L.lineSpacingDeg) {
         for (double az = -58.0; az < 58.0;) {
             std::string w;
             int n = rng.uniform(2, 9);
             for (int i = 0; i < n; ++i) w += char('a' + rng.uniform(0, 26));
             double wDeg = (n + 1) * L.charDeg;
-            bool inBlock = el <= blockTop && el >= blockBottom && az + wDeg >= L.leftEdgeAzimuthDeg - 1.0 &&
+            bool inBlock = el <= blockTop && el >= blockBottom && az + wDeg >= L.leftEdgeAzimuthDeg() - 1.0 &&
                            az <= rightEdge + 1.0;
             if (!inBlock) put(w, std::tan(az * kDeg), std::tan(el * kDeg), cv::Scalar(120, 120, 120));
             az += wDeg;

@@ -22,8 +22,10 @@ struct TextLayout {
     double lineSpacingDeg = 1.5;   ///< distance between baselines
     int lineChars = 80;            ///< characters per line: 80 x 0.5° = ±20°
     int lines = 12;
-    double firstLineElevationDeg = 8.0;
-    double leftEdgeAzimuthDeg = -20.0;
+    /// Elevation of the centre of line i (x-height middle), the convention of the reading gaze
+    /// generator: the block is centred on the view axis.
+    double lineCentreDeg(int i) const { return 0.5 * (lines - 1) * lineSpacingDeg - i * lineSpacingDeg; }
+    double leftEdgeAzimuthDeg() const { return -0.5 * lineChars * charDeg; }
 };
 
 struct TextOptions {

@@ -232,7 +232,7 @@ TEST(TextScene, DeterministicStereoPageWithTextAtTheStatedSize) {
             }
         return n ? double(dark) / double(n) : 0.0;
     };
-    float top = float(L.firstLineElevationDeg), bottom = float(L.firstLineElevationDeg - L.lines * L.lineSpacingDeg);
+    float top = float(L.lineCentreDeg(0)), bottom = float(L.lineCentreDeg(L.lines - 1));
     double inside = darkFraction(-18, 18, bottom, top);
     double outside = darkFraction(22, 36, bottom, top);
     // Darkness the ink adds over the blank page (sRGB 238/255).
