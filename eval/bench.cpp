@@ -1,0 +1,538 @@
+#include "eval/bench.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "compositor/host_app.h"
+#include "eval/metrics.h"
+#include "gaze/source.h"
+#include "scenes/text.h"
+#include "shaders/wrs_common.h"
+
+namespace wrsfov::eval {
+
+std::string_view toString(SceneKind s) {
+    switch (s) {
+    case SceneKind::Text: return "text";
+    case SceneKind::Atrium: return "atrium";
+    case SceneKind::Dynamic: return "dynamic";
+    }
+    return "?";
+}
+
+std::optional<SceneKind> parseScene(std::string_view name) {
+    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic})
+        if (toString(s) == name) return s;
+    return std::nullopt;
+}
+
+namespace {
+
+constexpr double kFps = 90.0;
+Error benchError(const std::string& m) { return Error{1, m}; }
+
+// Frames of one scene as the application submits them (CPU images, both eyes).
+class SceneFrames {
+public:
+    virtual ~SceneFrames() = default;
+    virtual Status frame(double t, double prevT, std::array<EyeSubmission, 2>& eyes) = 0;
+    virtual HostStereoApp::Options appOptions() const = 0;
+};
+
+class TextFrames final : public SceneFrames {
+public:
+    TextFrames(uint32_t w, uint32_t h, uint32_t seed) {
+        scenes::TextOptions o;
+        o.width = w;
+        o.height = h;
+        o.seed = seed;
+        scene_ = std::make_unique<scenes::TextScene>(o);
+    }
+    Status frame(double, double, std::array<EyeSubmission, 2>& eyes) override {
+        for (int e = 0; e < 2; ++e) {
+            eyes[e].color = scene_->color(e);
+            eyes[e].depth = scene_->depth(e);
+            eyes[e].motion.reset();
+            eyes[e].fov = scenes::textFov(scene_->options(), e);
+        }
+        return {};
+    }
+    HostStereoApp::Options appOptions() const override {
+        HostStereoApp::Options a;
+        a.width = scene_->options().width;
+        a.height = scene_->options().height;
+        a.depth = layers::Format::R32F;
+        a.nearZ = scene_->options().nearZ;
+        a.farZ = scene_->options().farZ;
+        return a;
+    }
+    const scenes::TextLayout& layout() const { return scene_->options().layout; }
+
+private:
+    std::unique_ptr<scenes::TextScene> scene_;
+};
+
+// The atrium is rendered with Vulkan into an application's swapchains, then read back so that
+// every compositor of the cell gets the very same images.
+class AtriumFrames final : public SceneFrames {
+public:
+    static Result<std::unique_ptr<AtriumFrames>> create(vk::Context& ctx, const scenes::AtriumOptions& o) {
+        std::unique_ptr<AtriumFrames> f(new AtriumFrames());
+        auto comp = Compositor::create(ctx);
+        if (!comp) return comp.error();
+        f->owner_ = std::move(*comp);
+        f->options_ = o;
+        auto app = HostStereoApp::create(*f->owner_, f->appOptions());
+        if (!app) return app.error();
+        f->app_ = std::move(*app);
+        auto r = scenes::AtriumRenderer::create(ctx, o);
+        if (!r) return r.error();
+        f->renderer_ = std::move(*r);
+        return f;
+    }
+    Status frame(double t, double prevT, std::array<EyeSubmission, 2>& eyes) override {
+        layers::Swapchain* sc[3] = {&app_->color(), app_->depth(), app_->motion()};
+        uint32_t idx[3];
+        for (int i = 0; i < 3; ++i) {
+            auto a = sc[i]->acquire();
+            if (!a) return a.error();
+            idx[i] = *a;
+            if (Status s = sc[i]->wait(); !s) return s;
+        }
+        Status s = renderer_->render(t, prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
+        const layers::Format fmt[3] = {layers::Format::RGBA8_SRGB, layers::Format::D32F, layers::Format::RGBA16F};
+        for (int e = 0; e < 2 && s; ++e) {
+            HostImage* out[3] = {&eyes[e].color, &eyes[e].depth.emplace(), &eyes[e].motion.emplace()};
+            for (int i = 0; i < 3 && s; ++i) {
+                auto bytes = sc[i]->read(idx[i], uint32_t(e));
+                if (!bytes) {
+                    s = bytes.error();
+                    break;
+                }
+                *out[i] = HostImage::make(fmt[i], options_.width, options_.height);
+                out[i]->data = std::move(*bytes);
+            }
+            eyes[e].fov = scenes::atriumFov(e);
+        }
+        for (int i = 0; i < 3; ++i) (void)sc[i]->release();
+        return s;
+    }
+    HostStereoApp::Options appOptions() const override {
+        HostStereoApp::Options a;
+        a.width = options_.width;
+        a.height = options_.height;
+        a.depth = layers::Format::D32F;
+        a.motion = layers::Format::RGBA16F;
+        a.nearZ = options_.nearZ;
+        a.farZ = options_.farZ;
+        a.reversedZ = options_.reversedZ;
+        return a;
+    }
+
+private:
+    AtriumFrames() = default;
+    scenes::AtriumOptions options_;
+    std::unique_ptr<Compositor> owner_;
+    std::unique_ptr<HostStereoApp> app_;
+    std::unique_ptr<scenes::AtriumRenderer> renderer_;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+double mseFromPsnr(double p) { return std::isinf(p) ? 0.0 : std::pow(10.0, -p / 10.0); }
+double psnrFromMse(double m) { return m <= 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(1.0 / m); }
+
+// Fraction of full-rate shading: each pixel costs 1/4^level of its blended pyramid levels.
+double shadingFraction(FoveationMode mode, const cv::Mat& ecc, float rf, float rm) {
+    double sum = 0;
+    for (int y = 0; y < ecc.rows; ++y)
+        for (int x = 0; x < ecc.cols; ++x) {
+            glm::vec3 lv = gpu::wrs_foveation_levels(uint32_t(mode), ecc.at<float>(y, x), rf, rm);
+            sum += std::pow(4.0, -lv.x) * (1.0 - lv.z) + std::pow(4.0, -lv.y) * lv.z;
+        }
+    return sum / double(ecc.total());
+}
+
+struct Accum {
+    double mse = 0, nearMse = 0, eccMse = 0, ssim = 0, flip = 0, shading = 0;
+    int n = 0, heavy = 0;
+    std::vector<double> load, pyramid, foveate, temporal, total, copy;
+    TemporalInstability instab[2];
+};
+
+cv::Mat toBgr8(const HostImage& img) {
+    cv::Mat rgba(int(img.height), int(img.width), CV_8UC4, const_cast<std::byte*>(img.data.data()));
+    cv::Mat bgr;
+    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
+    return bgr;
+}
+
+}  // namespace
+
+Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o) {
+    auto say = [&](const std::string& s) {
+        if (o.progress) o.progress(s);
+    };
+    if (o.width < 32 || o.height < 32) return benchError("bench: images must be at least 32x32 per eye");
+    if (o.frames <= o.warmup) return benchError("bench: frames must exceed the warm-up frames");
+    std::vector<CellResult> results;
+    const int cellsTotal = int(o.scenes.size() * o.modes.size() * o.foveas.size());
+    int cellNo = 0;
+    for (SceneKind scene : o.scenes) {
+        std::unique_ptr<SceneFrames> frames;
+        gaze::GeneratorConfig gc;
+        gc.seed = o.seed;
+        gc.seconds = o.frames / kFps + 2.0;
+        if (scene == SceneKind::Text) {
+            auto tf = std::make_unique<TextFrames>(o.width, o.height, o.seed);
+            const scenes::TextLayout& L = tf->layout();
+            gc.mode = gaze::Mode::Reading;
+            gc.reading.char_deg = L.charDeg;
+            gc.reading.line_spacing_deg = L.lineSpacingDeg;
+            gc.reading.line_chars = L.lineChars;
+            gc.reading.lines_per_page = L.lines;
+            frames = std::move(tf);
+        } else {
+            scenes::AtriumOptions ao;
+            ao.width = o.width;
+            ao.height = o.height;
+            ao.dynamic = scene == SceneKind::Dynamic;
+            ao.path = o.path;
+            auto af = AtriumFrames::create(ctx, ao);
+            if (!af) return af.error();
+            frames = std::move(*af);
+            gc.mode = gaze::Mode::Scene;
+        }
+        auto gazeSource = gaze::SyntheticSource::create(gc);
+        if (!gazeSource) return benchError("bench: gaze generator: " + gazeSource.error().message);
+        const HostStereoApp::Options appOpt = frames->appOptions();
+
+        for (FoveationMode mode : o.modes) {
+            for (float fovea : o.foveas) {
+                ++cellNo;
+                say("cell " + std::to_string(cellNo) + "/" + std::to_string(cellsTotal) + ": " +
+                    std::string(toString(scene)) + ", " + std::string(toString(mode)) + ", fovea " +
+                    std::to_string(fovea).substr(0, 4) + "°");
+                // Reference + one compositor per method, all fed the same frames.
+                struct Run {
+                    Method method;
+                    std::unique_ptr<Compositor> comp;
+                    std::unique_ptr<HostStereoApp> app;
+                    Accum acc;
+                    HostImage last[2];
+                };
+                std::vector<Run> runs;
+                for (int i = -1; i < int(o.methods.size()); ++i) {
+                    CompositorConfig cc;
+                    cc.method = i < 0 ? Method::Fov : o.methods[i];
+                    cc.foveation = i < 0 ? FoveationMode::None : mode;
+                    cc.foveaDeg = fovea;
+                    cc.seed = o.seed;
+                    cc.change = o.change;
+                    cc.measureCopy = i >= 0;
+                    auto c = Compositor::create(ctx, cc);
+                    if (!c) return c.error();
+                    auto a = HostStereoApp::create(**c, appOpt);
+                    if (!a) return a.error();
+                    Run run;
+                    run.method = cc.method;
+                    run.comp = std::move(*c);
+                    run.app = std::move(*a);
+                    runs.push_back(std::move(run));
+                }
+                double prevT = 0;
+                for (int f = 0; f < o.frames; ++f) {
+                    const double t = f / kFps;
+                    std::array<EyeSubmission, 2> eyes;
+                    if (Status s = frames->frame(t, f == 0 ? t : prevT, eyes); !s) return s.error();
+                    prevT = t;
+                    gaze::GazeSample g = (*gazeSource)->sample(t);
+                    for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
+                    HostImage ref[2];
+                    for (std::size_t r = 0; r < runs.size(); ++r) {
+                        Run& run = runs[r];
+                        if (Status s = run.app->submit(uint64_t(f + 1), t, eyes); !s)
+                            return benchError("bench: frame " + std::to_string(f) + " refused: " + s.message());
+                        for (uint32_t e = 0; e < 2; ++e) {
+                            auto out = run.comp->readOutput(e);
+                            if (!out) return out.error();
+                            run.last[e] = std::move(*out);
+                        }
+                        if (r == 0) {
+                            ref[0] = run.last[0];
+                            ref[1] = run.last[1];
+                            continue;
+                        }
+                        for (int e = 0; e < 2; ++e) run.acc.instab[e].addFrame(ref[e], run.last[e]);
+                        if (f < o.warmup) continue;
+                        const FrameStats& st = run.comp->stats();
+                        if (st.gpu.valid) {
+                            run.acc.load.push_back(st.gpu.load);
+                            run.acc.pyramid.push_back(st.gpu.pyramid);
+                            run.acc.foveate.push_back(st.gpu.foveate);
+                            run.acc.temporal.push_back(st.gpu.temporal);
+                            run.acc.total.push_back(st.gpu.total);
+                            run.acc.copy.push_back(st.gpu.copy);
+                        }
+                        const bool heavy = (f - o.warmup) % std::max(1, o.heavyEvery) == 0;
+                        for (int e = 0; e < 2; ++e) {
+                            const gpu::EyeParams& ep = run.comp->lastParams().eye[e];
+                            cv::Mat ecc = eccentricityMap(o.width, o.height, ep);
+                            run.acc.mse += mseFromPsnr(psnr(ref[e], run.last[e]));
+                            // Near-gaze PSNR is NaN only when no pixel lies within 10° (gaze far outside the
+                            // view); such an eye-frame adds nothing there (counted as zero error).
+                            double np = nearGazePsnr(ref[e], run.last[e], ecc);
+                            run.acc.nearMse += std::isnan(np) ? 0.0 : mseFromPsnr(np);
+                            run.acc.eccMse += eccentricityWeightedMse(ref[e], run.last[e], ecc);
+                            run.acc.shading +=
+                                shadingFraction(mode, ecc, ep.gaze.w, run.comp->lastParams().tuning.x);
+                            if (heavy) {
+                                run.acc.ssim += ssim(ref[e], run.last[e]);
+                                FlipOptions fo{pixelsPerDegreeAtCentre(o.width, ep.fov_tan)};
+                                run.acc.flip += flip(ref[e], run.last[e], fo).mean;
+                            }
+                        }
+                        run.acc.n += 2;
+                        if (heavy) run.acc.heavy += 2;
+                    }
+                }
+                double fovTotal = 0;
+                for (std::size_t r = 1; r < runs.size(); ++r)
+                    if (runs[r].method == Method::Fov) fovTotal = median(runs[r].acc.total);
+                for (std::size_t r = 1; r < runs.size(); ++r) {
+                    Run& run = runs[r];
+                    Accum& a = run.acc;
+                    CellResult c{scene, run.method, mode, fovea};
+                    c.frames = o.frames - o.warmup;
+                    c.gpu = {median(a.load), median(a.pyramid), median(a.foveate), median(a.temporal),
+                             median(a.total), median(a.copy), !a.total.empty()};
+                    c.trafficBytes = double(trafficBytes(run.comp->config(), o.width, o.height,
+                                                         appOpt.depth.has_value(), appOpt.motion.has_value()));
+                    c.copyMs = median(a.copy);
+                    c.shadingFraction = a.shading / std::max(1, a.n);
+                    c.psnr = psnrFromMse(a.mse / std::max(1, a.n));
+                    c.nearPsnr = psnrFromMse(a.nearMse / std::max(1, a.n));
+                    c.eccMse = a.eccMse / std::max(1, a.n);
+                    c.ssim = a.ssim / std::max(1, a.heavy);
+                    c.flip = a.flip / std::max(1, a.heavy);
+                    c.temporal = 0.5 * (a.instab[0].mean() + a.instab[1].mean());
+                    c.fovTotalMs = fovTotal;
+                    results.push_back(c);
+                }
+                // Crops around the left eye's gaze at the last frame, for the smallest fovea.
+                if (!o.cropDir.empty() && fovea == o.foveas.front()) {
+                    const gpu::EyeParams& ep = runs[0].comp->lastParams().eye[0];
+                    cv::Mat ecc = eccentricityMap(o.width, o.height, ep);
+                    cv::Point minLoc;
+                    cv::minMaxLoc(ecc, nullptr, nullptr, &minLoc, nullptr);
+                    const int cw = std::min<int>(int(o.width), 192), ch = std::min<int>(int(o.height), 160);
+                    cv::Rect roi(std::clamp(minLoc.x - cw / 2, 0, int(o.width) - cw),
+                                 std::clamp(minLoc.y - ch / 2, 0, int(o.height) - ch), cw, ch);
+                    std::vector<cv::Mat> top, bottom;
+                    for (std::size_t r = 0; r < runs.size(); ++r) {
+                        cv::Mat img = toBgr8(runs[r].last[0])(roi).clone();
+                        std::string label = r == 0 ? "reference" : std::string(toString(runs[r].method));
+                        cv::putText(img, label, {4, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 255}, 1, cv::LINE_AA);
+                        top.push_back(img);
+                        cv::Mat map;
+                        if (r == 0) {
+                            map = cv::Mat(ch, cw, CV_8UC3, cv::Scalar(0, 0, 0));
+                            cv::putText(map, "FLIP error (0..1)", {4, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
+                                        {255, 255, 255}, 1, cv::LINE_AA);
+                        } else {
+                            FlipOptions fo{pixelsPerDegreeAtCentre(o.width, ep.fov_tan)};
+                            cv::Mat fm = flip(runs[0].last[0], runs[r].last[0], fo).map(roi), fm8;
+                            fm.convertTo(fm8, CV_8U, 255.0);
+                            cv::applyColorMap(fm8, map, cv::COLORMAP_MAGMA);
+                        }
+                        bottom.push_back(map);
+                    }
+                    cv::Mat t, b, all;
+                    cv::hconcat(top, t);
+                    cv::hconcat(bottom, b);
+                    cv::vconcat(t, b, all);
+                    std::ostringstream name;
+                    name << o.cropDir << "/crops_" << toString(scene) << "_" << toString(mode) << "_" << fovea
+                         << ".png";
+                    cv::imwrite(name.str(), all);
+                }
+            }
+        }
+    }
+    return results;
+}
+
+float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene, FoveationMode mode) {
+    double target = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& c : results)
+        if (c.scene == scene && c.mode == mode && c.method == Method::Fov && c.foveaDeg == 10.0f) target = c.nearPsnr;
+    if (std::isnan(target)) return 0.0f;
+    float best = 0.0f;
+    for (const auto& c : results)
+        if (c.scene == scene && c.mode == mode && c.method == Method::Wrs && c.nearPsnr >= target &&
+            (best == 0.0f || c.foveaDeg < best))
+            best = c.foveaDeg;
+    return best;
+}
+
+namespace {
+
+// A small scatter/line chart drawn with OpenCV.
+struct Series {
+    std::string name;
+    cv::Scalar colour;
+    std::vector<cv::Point2d> points;
+    std::vector<std::string> labels;
+    bool line = false;
+};
+
+cv::Mat chart(const std::string& title, const std::string& xLabel, const std::string& yLabel,
+              const std::vector<Series>& series) {
+    const int W = 720, H = 480, L = 70, R = 20, T = 60, B = 60;
+    cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const auto& s : series)
+        for (const auto& p : s.points)
+            if (std::isfinite(p.x) && std::isfinite(p.y)) {
+                x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+            }
+    if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+    const double px = std::max(1e-9, (x1 - x0) * 0.08), py = std::max(1e-9, (y1 - y0) * 0.1);
+    x0 -= px, x1 += px, y0 -= py, y1 += py;
+    auto map = [&](cv::Point2d p) {
+        return cv::Point(int(L + (p.x - x0) / (x1 - x0) * (W - L - R)), int(H - B - (p.y - y0) / (y1 - y0) * (H - T - B)));
+    };
+    cv::rectangle(img, {L, T}, {W - R, H - B}, {0, 0, 0}, 1);
+    for (int i = 0; i <= 4; ++i) {
+        double xv = x0 + (x1 - x0) * i / 4, yv = y0 + (y1 - y0) * i / 4;
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.3g", xv);
+        cv::putText(img, buf, map({xv, y0}) + cv::Point(-15, 18), cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 1,
+                    cv::LINE_AA);
+        std::snprintf(buf, sizeof buf, "%.3g", yv);
+        cv::putText(img, buf, {8, map({x0, yv}).y + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 1, cv::LINE_AA);
+        cv::line(img, map({x0, yv}), map({x1, yv}), {225, 225, 225}, 1);
+    }
+    cv::putText(img, title, {L, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(img, xLabel, {W / 2 - 80, H - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(img, yLabel, {5, T - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+    int lx = W / 2;  // legend: one row in the top margin
+    for (const auto& s : series) {
+        for (std::size_t i = 0; i < s.points.size(); ++i) {
+            if (!std::isfinite(s.points[i].y)) continue;
+            cv::circle(img, map(s.points[i]), 5, s.colour, -1, cv::LINE_AA);
+            if (s.line && i > 0) cv::line(img, map(s.points[i - 1]), map(s.points[i]), s.colour, 2, cv::LINE_AA);
+            if (i < s.labels.size())
+                cv::putText(img, s.labels[i], map(s.points[i]) + cv::Point(6, -6), cv::FONT_HERSHEY_SIMPLEX, 0.38,
+                            s.colour, 1, cv::LINE_AA);
+        }
+        cv::circle(img, {lx, T - 14}, 5, s.colour, -1, cv::LINE_AA);
+        cv::putText(img, s.name, {lx + 10, T - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+        lx += 110;
+    }
+    return img;
+}
+
+cv::Scalar methodColour(Method m) {
+    switch (m) {
+    case Method::Fov: return {40, 40, 220};
+    case Method::FovTaa: return {40, 160, 40};
+    case Method::Wrs: return {200, 90, 20};
+    }
+    return {0, 0, 0};
+}
+
+std::string fmt(double v, int prec = 2) {
+    if (std::isinf(v)) return "inf";
+    if (std::isnan(v)) return "n/a";
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(prec);
+    s << v;
+    return s.str();
+}
+
+}  // namespace
+
+Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o, const std::string& dir,
+                   const std::string& deviceName) {
+    std::ofstream csv(dir + "/results.csv");
+    if (!csv) return Error{1, "cannot write " + dir + "/results.csv"};
+    csv << "scene,method,mode,fovea_deg,frames,load_ms,pyramid_ms,foveate_ms,temporal_ms,total_ms,per_eye_ms,"
+           "copy_ms,traffic_bytes,ratio_to_copy,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
+           "temporal_instability\n";
+    for (const auto& c : results)
+        csv << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg << ','
+            << c.frames << ',' << c.gpu.load << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal
+            << ',' << c.gpu.total << ',' << c.gpu.total / 2 << ',' << c.copyMs << ',' << c.trafficBytes << ','
+            << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.fovTotalMs << ',' << c.shadingFraction << ','
+            << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
+            << '\n';
+
+    std::ofstream md(dir + "/table.md");
+    if (!md) return Error{1, "cannot write " + dir + "/table.md"};
+    md << "# wrsfov benchmark\n\n" << o.width << "x" << o.height << " per eye, " << o.frames << " frames at 90 Hz ("
+       << o.warmup << " warm-up), device " << deviceName
+       << ". Gaze: synthetic reading (text) and free viewing (atrium). Metrics against the unfoveated "
+          "reference of the same frames, both eyes; SSIM and FLIP every "
+       << o.heavyEvery << "th frame. Times are GPU medians per frame for both eyes; ×copy is the ratio to a "
+          "copy kernel moving the same bytes in the same run, ×fov the ratio to FOV in the same cell.\n";
+    for (SceneKind scene : o.scenes)
+        for (FoveationMode mode : o.modes) {
+            md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"
+               << "| method | fovea | near-gaze PSNR | PSNR | SSIM | FLIP | ecc-MSE | temporal | GPU ms | ×copy | ×fov | "
+                  "shading |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+            for (const auto& c : results) {
+                if (c.scene != scene || c.mode != mode) continue;
+                md << "| " << toString(c.method) << " | " << fmt(c.foveaDeg, 1) << "° | " << fmt(c.nearPsnr) << " | "
+                   << fmt(c.psnr) << " | " << fmt(c.ssim, 4) << " | " << fmt(c.flip, 4) << " | " << fmt(c.eccMse, 5)
+                   << " | " << fmt(c.temporal, 4) << " | " << fmt(c.gpu.total, 3) << " | "
+                   << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.fovTotalMs) << " | "
+                   << fmt(c.shadingFraction, 3) << " |\n";
+            }
+            float eq = equalQualityFovea(results, scene, mode);
+            md << "\nEqual-quality fovea size (smallest WRS fovea with near-gaze PSNR ≥ FOV at 10°): "
+               << (eq > 0 ? fmt(eq, 1) + "°" : std::string("none in this sweep")) << "\n";
+        }
+
+    // Error against run time, and error against fovea size, per scene (first mode).
+    for (SceneKind scene : o.scenes) {
+        std::vector<Series> vsTime, vsFovea;
+        for (Method m : o.methods) {
+            Series st{std::string(toString(m)), methodColour(m)}, sf{std::string(toString(m)), methodColour(m)};
+            sf.line = true;
+            for (const auto& c : results) {
+                if (c.scene != scene || c.method != m || c.mode != o.modes.front()) continue;
+                st.points.push_back({c.gpu.total, c.nearPsnr});
+                st.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
+                sf.points.push_back({c.foveaDeg, c.nearPsnr});
+            }
+            vsTime.push_back(st);
+            vsFovea.push_back(sf);
+        }
+        std::string s(toString(scene)), md0(toString(o.modes.front()));
+        cv::imwrite(dir + "/error_vs_time_" + s + ".png",
+                    chart(s + " (" + md0 + "): near-gaze PSNR against GPU time", "GPU ms per frame (both eyes)",
+                          "near-gaze PSNR (dB)", vsTime));
+        cv::imwrite(dir + "/error_vs_fovea_" + s + ".png",
+                    chart(s + " (" + md0 + "): near-gaze PSNR against fovea size", "fovea diameter (deg)",
+                          "near-gaze PSNR (dB)", vsFovea));
+    }
+    return {};
+}
+
+}  // namespace wrsfov::eval

@@ -1,0 +1,63 @@
+// The run-time-against-error benchmark: scenes x foveation modes x fovea sizes, every method
+// through the same compositor path against the unfoveated reference of the same frames, with
+// synthetic gaze (reading for `text`, free viewing for the others).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "compositor/compositor.h"
+#include "compositor/vk_context.h"
+#include "layers/status.h"
+#include "scenes/atrium.h"
+
+namespace wrsfov::eval {
+
+enum class SceneKind : uint8_t { Text, Atrium, Dynamic };
+std::string_view toString(SceneKind s);
+std::optional<SceneKind> parseScene(std::string_view name);
+
+struct BenchOptions {
+    std::vector<SceneKind> scenes{SceneKind::Text, SceneKind::Atrium};
+    std::vector<Method> methods{Method::Fov, Method::FovTaa, Method::Wrs};
+    std::vector<float> foveas{5.0f, 7.5f, 10.0f};  ///< diameters in degrees
+    std::vector<FoveationMode> modes{FoveationMode::Mip, FoveationMode::Gauss};
+    uint32_t width = 320, height = 288;  ///< per eye
+    int frames = 90;                     ///< per cell, at 90 Hz
+    int warmup = 10;                     ///< frames before timings and metrics count
+    int heavyEvery = 10;                 ///< SSIM and FLIP on every n-th counted frame
+    uint32_t seed = 1;
+    ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
+    scenes::CameraPath path = scenes::CameraPath::Lateral;
+    std::string cropDir;  ///< where to write side-by-side crops and error maps ("" = none)
+    std::function<void(const std::string&)> progress;
+};
+
+/// One cell of the sweep: means over the counted frames and both eyes.
+struct CellResult {
+    SceneKind scene;
+    Method method;
+    FoveationMode mode;
+    float foveaDeg;
+    int frames = 0;
+    PassTimes gpu;            ///< medians, ms per frame for both eyes
+    double copyMs = 0;        ///< same-bytes copy kernel in the same submissions, median ms
+    double trafficBytes = 0;  ///< estimated bytes the passes read and write per frame
+    double shadingFraction = 0;  ///< full-rate shading work the foveation represents (1 = none saved)
+    double psnr = 0, ssim = 0, nearPsnr = 0, eccMse = 0, flip = 0, temporal = 0;
+    double fovTotalMs = 0;    ///< the `fov` method's median total in the same cell (for ratios)
+};
+
+/// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
+Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);
+
+/// The smallest WRS fovea whose near-gaze PSNR is at least FOV's at 10° (same scene and mode);
+/// 0 when none is (or the sweep lacks the cells).
+float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene, FoveationMode mode);
+
+/// Writes results.csv, table.md, error_vs_time.png and error_vs_fovea.png into `dir`.
+Status writeReport(const std::vector<CellResult>& results, const BenchOptions& options, const std::string& dir,
+                   const std::string& deviceName);
+
+}  // namespace wrsfov::eval

@@ -1,0 +1,22 @@
+#!/bin/sh
+# wrsfov-bench --quick end to end: every output file is written and the table has every cell.
+# usage: bench_quick_test.sh WRSFOV_BENCH OUT_DIR
+set -eu
+bench="$1"
+out="$2"
+rm -rf "$out"
+"$bench" --quick --out "$out" > "$out.log" 2>&1 || { cat "$out.log"; exit 1; }
+grep -q "cell 4/4" "$out.log" || { echo "no progress lines"; cat "$out.log"; exit 1; }
+for f in results.csv table.md error_vs_time_text.png error_vs_time_atrium.png error_vs_fovea_text.png \
+         error_vs_fovea_atrium.png crops_text_mip_5.png crops_atrium_mip_5.png; do
+  [ -s "$out/$f" ] || { echo "missing or empty: $out/$f"; exit 1; }
+done
+# header + 2 scenes x 1 mode x 2 foveas x 3 methods
+rows=$(wc -l < "$out/results.csv")
+[ "$rows" -eq 13 ] || { echo "results.csv has $rows lines, expected 13"; exit 1; }
+# every timing and ratio is a finite positive number
+awk -F, 'NR > 1 { for (i = 6; i <= 15; i++) if (!($i + 0 > 0) && i != 7) { print "bad value in column " i ": " $0; exit 1 } }' \
+  "$out/results.csv"
+grep -q "Equal-quality fovea size" "$out/table.md"
+grep -q "^| wrs | 5.0°" "$out/table.md"
+echo "bench --quick: all outputs present"

@@ -1,0 +1,61 @@
+// Regression guard of the benchmark's headline: at a 5° fovea, WRS keeps more near-gaze quality
+// than FOV on the reading page (reading gaze) and in the atrium (free viewing, static camera).
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "../core/gpu_rig.h"
+#include "eval/bench.h"
+
+namespace wrsfov::test {
+namespace {
+
+class Bench : public GpuTest {};
+
+TEST_F(Bench, WrsBeatsFovNearGazeAtFiveDegrees) {
+    eval::BenchOptions o;
+    o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
+    o.methods = {Method::Fov, Method::Wrs};
+    o.foveas = {5.0f};
+    o.modes = {FoveationMode::Mip};
+    o.width = 160;
+    o.height = 144;
+    o.frames = 120;  // long enough for the reading gaze to revisit words
+    o.warmup = 10;
+    o.heavyEvery = 1000;
+    o.path = scenes::CameraPath::Static;
+    auto r = eval::runBench(context(), o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_EQ(r->size(), 4u);
+    for (eval::SceneKind scene : o.scenes) {
+        double fov = NAN, wrs = NAN;
+        for (const auto& c : *r) {
+            if (c.scene != scene) continue;
+            (c.method == Method::Fov ? fov : wrs) = c.nearPsnr;
+            EXPECT_TRUE(c.gpu.valid);
+            EXPECT_GT(c.copyMs, 0.0);
+            EXPECT_GT(c.shadingFraction, 0.0);
+            EXPECT_LT(c.shadingFraction, 0.2);  // a 5° fovea shades a small part of a 92° view at full rate
+        }
+        std::printf("%s: near-gaze PSNR fov %.3f dB, wrs %.3f dB\n", std::string(eval::toString(scene)).c_str(), fov,
+                    wrs);
+        EXPECT_GT(wrs, fov) << eval::toString(scene);
+    }
+}
+
+TEST(BenchOptions, RefusesBadSweeps) {
+    eval::BenchOptions o;
+    o.frames = 5;
+    o.warmup = 10;
+    auto r = eval::runBench(context(), o);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("warm-up"), std::string::npos) << r.error().message;
+    o = {};
+    o.width = 8;
+    r = eval::runBench(context(), o);
+    ASSERT_FALSE(r.ok());
+}
+
+}  // namespace
+}  // namespace wrsfov::test
