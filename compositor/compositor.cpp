@@ -248,6 +248,10 @@ Status Compositor::init() {
     });
     if (!st) return st;
     cmd_ = ctx_.allocateCommandBuffer();
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence;
+    VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
+    frameFence_ = vk::Fence(dev, fence);
     return {};
 }
 
@@ -506,16 +510,10 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
-    vk::Fence fence;
-    {
-        VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        VkFence f;
-        VK_CHECK(vkCreateFence(ctx_.device(), &fci, nullptr, &f));
-        fence = vk::Fence(ctx_.device(), f);
-    }
-    VkFence f = fence.get();
+    VkFence f = frameFence_.get();
     VkResult r = vkQueueSubmit(ctx_.queue(), 1, &si, f);
     if (r == VK_SUCCESS) r = vkWaitForFences(ctx_.device(), 1, &f, VK_TRUE, UINT64_MAX);
+    vkResetFences(ctx_.device(), 1, &f);
     if (r != VK_SUCCESS)
         return submitError(SubmitError::DeviceFailure,
                            std::string("the device failed while compositing: ") + vk::resultString(r));

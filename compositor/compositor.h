@@ -152,6 +152,7 @@ private:
     vk::Image output_;
     vk::Image dummy_;  // bound where a view has no depth / motion
     VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+    vk::Fence frameFence_;  // signalled by each frame's submission, reset after the wait
 };
 
 }  // namespace wrsfov
