@@ -18,7 +18,7 @@
 #include "compositor/compositor.h"
 #include "compositor/host_app.h"
 #include "compositor/vk_context.h"
-#include "shaders/wrs_common.h"
+#include "eval/metrics.h"
 
 using namespace wrsfov;
 namespace fs = std::filesystem;
@@ -174,27 +174,12 @@ struct Psnr {
     double full = 0, near = 0;
 };
 
-// PSNR on sRGB-encoded 8-bit output, over all pixels and over pixels within 10° of the gaze.
-Psnr psnr(const HostImage& a, const HostImage& ref, const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
-    double se = 0, seNear = 0;
-    uint64_t n = 0, nNear = 0;
-    for (uint32_t y = 0; y < h; ++y)
-        for (uint32_t x = 0; x < w; ++x) {
-            double s = 0;
-            for (int c = 0; c < 3; ++c) {
-                double d = (double(uint8_t(a.data[(y * w + x) * 4 + c])) - double(uint8_t(ref.data[(y * w + x) * 4 + c]))) / 255.0;
-                s += d * d;
-            }
-            se += s;
-            n += 3;
-            float e = gpu::wrs_eccentricity_deg(gpu::wrs_pixel_ray(x, y, w, h, ep.fov_tan), glm::vec3(ep.gaze));
-            if (e <= 10.0f) {
-                seNear += s;
-                nNear += 3;
-            }
-        }
-    auto db = [](double mse) { return mse <= 0 ? 99.0 : 10.0 * std::log10(1.0 / mse); };
-    return {db(se / double(n)), nNear ? db(seNear / double(nNear)) : 0.0};
+// PSNR on sRGB-encoded 8-bit output, over all pixels and over pixels within 10° of the gaze
+// (eval/metrics). Identical images count as 99 dB so that means over frames stay finite.
+Psnr psnr(const HostImage& a, const HostImage& ref, const gpu::EyeParams& ep) {
+    cv::Mat ecc = eval::eccentricityMap(a.width, a.height, ep);
+    double near = eval::nearGazePsnr(ref, a, ecc);
+    return {std::min(eval::psnr(ref, a), 99.0), std::isnan(near) ? 0.0 : std::min(near, 99.0)};
 }
 
 }  // namespace
@@ -285,8 +270,8 @@ int main(int argc, char** argv) {
         }
         for (int i = 1; i < 3; ++i) {
             const FrameStats& st = comps[i]->stats();
-            Psnr pl = psnr(outs[i][0], outs[0][0], comps[i]->lastParams().eye[0], o.width, o.height);
-            Psnr pr = psnr(outs[i][1], outs[0][1], comps[i]->lastParams().eye[1], o.width, o.height);
+            Psnr pl = psnr(outs[i][0], outs[0][0], comps[i]->lastParams().eye[0]);
+            Psnr pr = psnr(outs[i][1], outs[0][1], comps[i]->lastParams().eye[1]);
             csv << f << ',' << t << ',' << g.x << ',' << g.y << ',' << names[i] << ',' << st.gpu.load << ','
                 << st.gpu.pyramid << ',' << st.gpu.foveate << ',' << st.gpu.temporal << ',' << st.gpu.total << ','
                 << pl.full << ',' << pr.full << ',' << pl.near << ',' << pr.near << '\n';
