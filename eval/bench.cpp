@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -15,6 +16,7 @@
 
 #include "compositor/host_app.h"
 #include "eval/metrics.h"
+#include "eval/sequence.h"
 #include "gaze/source.h"
 #include "scenes/text.h"
 #include "shaders/wrs_common.h"
@@ -26,12 +28,13 @@ std::string_view toString(SceneKind s) {
     case SceneKind::Text: return "text";
     case SceneKind::Atrium: return "atrium";
     case SceneKind::Dynamic: return "dynamic";
+    case SceneKind::Sequence: return "sequence";
     }
     return "?";
 }
 
 std::optional<SceneKind> parseScene(std::string_view name) {
-    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic})
+    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Sequence})
         if (toString(s) == name) return s;
     return std::nullopt;
 }
@@ -45,20 +48,24 @@ Error benchError(const std::string& m) { return Error{1, m}; }
 class SceneFrames {
 public:
     virtual ~SceneFrames() = default;
-    virtual Status frame(double t, double prevT, std::array<EyeSubmission, 2>& eyes) = 0;
+    virtual Status frame(int index, double t, double prevT, std::array<EyeSubmission, 2>& eyes) = 0;
     virtual HostStereoApp::Options appOptions() const = 0;
+    /// Whether frame() fills in the gaze (a sequence with gaze.csv); else the synthetic gaze is used.
+    virtual bool providesGaze() const { return false; }
+    virtual double fps() const { return kFps; }
 };
 
 class TextFrames final : public SceneFrames {
 public:
-    TextFrames(uint32_t w, uint32_t h, uint32_t seed) {
+    TextFrames(uint32_t w, uint32_t h, uint32_t seed, bool monitor) {
         scenes::TextOptions o;
         o.width = w;
         o.height = h;
         o.seed = seed;
+        o.monitor = monitor;
         scene_ = std::make_unique<scenes::TextScene>(o);
     }
-    Status frame(double, double, std::array<EyeSubmission, 2>& eyes) override {
+    Status frame(int, double, double, std::array<EyeSubmission, 2>& eyes) override {
         for (int e = 0; e < 2; ++e) {
             eyes[e].color = scene_->color(e);
             eyes[e].depth = scene_->depth(e);
@@ -100,7 +107,7 @@ public:
         f->renderer_ = std::move(*r);
         return f;
     }
-    Status frame(double t, double prevT, std::array<EyeSubmission, 2>& eyes) override {
+    Status frame(int, double t, double prevT, std::array<EyeSubmission, 2>& eyes) override {
         layers::Swapchain* sc[3] = {&app_->color(), app_->depth(), app_->motion()};
         uint32_t idx[3];
         for (int i = 0; i < 3; ++i) {
@@ -122,7 +129,7 @@ public:
                 *out[i] = HostImage::make(fmt[i], options_.width, options_.height);
                 out[i]->data = std::move(*bytes);
             }
-            eyes[e].fov = scenes::atriumFov(e);
+            eyes[e].fov = scenes::atriumFov(options_, e);
         }
         for (int i = 0; i < 3; ++i) (void)sc[i]->release();
         return s;
@@ -146,6 +153,75 @@ private:
     std::unique_ptr<HostStereoApp> app_;
     std::unique_ptr<scenes::AtriumRenderer> renderer_;
 };
+
+// External frames from a sequence directory, read from disk frame by frame.
+class SequenceFrames final : public SceneFrames {
+public:
+    explicit SequenceFrames(std::unique_ptr<SequenceReader> reader) : reader_(std::move(reader)) {}
+    Status frame(int index, double, double, std::array<EyeSubmission, 2>& eyes) override {
+        auto f = reader_->frame(uint32_t(index));
+        if (!f) return f.error();
+        eyes = std::move(f->eyes);
+        return {};
+    }
+    HostStereoApp::Options appOptions() const override { return reader_->appOptions(); }
+    bool providesGaze() const override { return reader_->hasGaze(); }
+    double fps() const override { return reader_->info().fps; }
+
+private:
+    std::unique_ptr<SequenceReader> reader_;
+};
+
+// A scene's frames and the synthetic gaze that goes with it (reading for text, free viewing else).
+struct SceneSetup {
+    std::unique_ptr<SceneFrames> frames;
+    std::unique_ptr<gaze::SyntheticSource> gaze;
+};
+
+Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptions& o) {
+    SceneSetup setup;
+    gaze::GeneratorConfig gc;
+    gc.seed = o.seed;
+    gc.mode = gaze::Mode::Scene;
+    if (scene == SceneKind::Text) {
+        auto tf = std::make_unique<TextFrames>(o.width, o.height, o.seed, o.monitor);
+        const scenes::TextLayout& L = tf->layout();
+        gc.mode = gaze::Mode::Reading;
+        gc.reading.char_deg = L.charDeg;
+        gc.reading.line_spacing_deg = L.lineSpacingDeg;
+        gc.reading.line_chars = L.lineChars;
+        gc.reading.lines_per_page = L.lines;
+        setup.frames = std::move(tf);
+    } else if (scene == SceneKind::Sequence) {
+        if (o.sequenceDir.empty()) return benchError("bench: scene 'sequence' needs a sequence directory");
+        auto r = SequenceReader::open(o.sequenceDir);
+        if (!r) return r.error();
+        const SequenceInfo& si = (*r)->info();
+        if (si.width != o.width || si.height != o.height)
+            return benchError("bench: sequence " + o.sequenceDir + " is " + std::to_string(si.width) + "x" +
+                              std::to_string(si.height) + " per eye, the sweep " + std::to_string(o.width) + "x" +
+                              std::to_string(o.height));
+        if (uint32_t(o.frames) > si.frameCount)
+            return benchError("bench: sequence " + o.sequenceDir + " has " + std::to_string(si.frameCount) +
+                              " frames, fewer than the " + std::to_string(o.frames) + " asked for");
+        setup.frames = std::make_unique<SequenceFrames>(std::move(*r));
+    } else {
+        scenes::AtriumOptions ao;
+        ao.width = o.width;
+        ao.height = o.height;
+        ao.dynamic = scene == SceneKind::Dynamic;
+        ao.path = o.path;
+        ao.monitor = o.monitor;
+        auto af = AtriumFrames::create(ctx, ao);
+        if (!af) return af.error();
+        setup.frames = std::move(*af);
+    }
+    gc.seconds = o.frames / setup.frames->fps() + 2.0;
+    auto gazeSource = gaze::SyntheticSource::create(gc);
+    if (!gazeSource) return benchError("bench: gaze generator: " + gazeSource.error().message);
+    setup.gaze = std::move(*gazeSource);
+    return setup;
+}
 
 double median(std::vector<double> v) {
     if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -193,32 +269,10 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
     const int cellsTotal = int(o.scenes.size() * o.modes.size() * o.foveas.size());
     int cellNo = 0;
     for (SceneKind scene : o.scenes) {
-        std::unique_ptr<SceneFrames> frames;
-        gaze::GeneratorConfig gc;
-        gc.seed = o.seed;
-        gc.seconds = o.frames / kFps + 2.0;
-        if (scene == SceneKind::Text) {
-            auto tf = std::make_unique<TextFrames>(o.width, o.height, o.seed);
-            const scenes::TextLayout& L = tf->layout();
-            gc.mode = gaze::Mode::Reading;
-            gc.reading.char_deg = L.charDeg;
-            gc.reading.line_spacing_deg = L.lineSpacingDeg;
-            gc.reading.line_chars = L.lineChars;
-            gc.reading.lines_per_page = L.lines;
-            frames = std::move(tf);
-        } else {
-            scenes::AtriumOptions ao;
-            ao.width = o.width;
-            ao.height = o.height;
-            ao.dynamic = scene == SceneKind::Dynamic;
-            ao.path = o.path;
-            auto af = AtriumFrames::create(ctx, ao);
-            if (!af) return af.error();
-            frames = std::move(*af);
-            gc.mode = gaze::Mode::Scene;
-        }
-        auto gazeSource = gaze::SyntheticSource::create(gc);
-        if (!gazeSource) return benchError("bench: gaze generator: " + gazeSource.error().message);
+        auto setup = openScene(ctx, scene, o);
+        if (!setup) return setup.error();
+        SceneFrames* frames = setup->frames.get();
+        gaze::SyntheticSource* gazeSource = setup->gaze.get();
         const HostStereoApp::Options appOpt = frames->appOptions();
 
         for (FoveationMode mode : o.modes) {
@@ -256,12 +310,14 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 }
                 double prevT = 0;
                 for (int f = 0; f < o.frames; ++f) {
-                    const double t = f / kFps;
+                    const double t = f / frames->fps();
                     std::array<EyeSubmission, 2> eyes;
-                    if (Status s = frames->frame(t, f == 0 ? t : prevT, eyes); !s) return s.error();
+                    if (Status s = frames->frame(f, t, f == 0 ? t : prevT, eyes); !s) return s.error();
                     prevT = t;
-                    gaze::GazeSample g = (*gazeSource)->sample(t);
-                    for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
+                    if (!frames->providesGaze()) {
+                        gaze::GazeSample g = gazeSource->sample(t);
+                        for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
+                    }
                     HostImage ref[2];
                     for (std::size_t r = 0; r < runs.size(); ++r) {
                         Run& run = runs[r];
@@ -376,6 +432,51 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
     return results;
 }
 
+Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions& o, const std::string& dir) {
+    if (o.frames < 1) return benchError("write sequence: frames must be at least 1");
+    auto setup = openScene(ctx, scene, o);
+    if (!setup) return setup.error();
+    SceneFrames& frames = *setup->frames;
+    const HostStereoApp::Options app = frames.appOptions();
+    SequenceInfo info;
+    info.width = app.width;
+    info.height = app.height;
+    info.frameCount = uint32_t(o.frames);
+    info.fps = frames.fps();
+    info.color = app.color == layers::Format::RGBA8_SRGB ? ColorFile::Png : ColorFile::Exr;
+    if (app.depth) info.depth = SequenceDepth{app.nearZ, app.farZ, app.reversedZ};
+    if (app.motion) info.motion = MotionUnits::Pixels;
+    std::ostringstream d;
+    d << "scene " << toString(scene) << ", seed " << o.seed << ", written by wrsfov-bench --write-sequence";
+    info.description = d.str();
+    std::unique_ptr<SequenceWriter> writer;
+    double prevT = 0;
+    for (int f = 0; f < o.frames; ++f) {
+        const double t = f / frames.fps();
+        std::array<EyeSubmission, 2> eyes;
+        if (Status s = frames.frame(f, t, f == 0 ? t : prevT, eyes); !s) return s;
+        prevT = t;
+        if (!frames.providesGaze()) {
+            gaze::GazeSample g = setup->gaze->sample(t);
+            for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
+        }
+        if (!writer) {  // the json needs the field of view, which the first frame brings
+            info.fov = {eyes[0].fov, eyes[1].fov};
+            auto w = SequenceWriter::create(dir, info);
+            if (!w) return w.error();
+            writer = std::move(*w);
+        }
+        for (int e = 0; e < 2; ++e)
+            if (std::memcmp(&eyes[e].fov, &info.fov[e], sizeof(layers::Fov)) != 0)
+                return benchError("write sequence: the field of view of scene " + std::string(toString(scene)) +
+                                  " changes at frame " + std::to_string(f) + "; a sequence has one per eye");
+        if (Status s = writer->writeFrame(uint32_t(f), eyes); !s) return s;
+        if (o.progress && ((f + 1) % 30 == 0 || f + 1 == o.frames))
+            o.progress("wrote frame " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
+    }
+    return writer->finish();
+}
+
 float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene, FoveationMode mode) {
     double target = std::numeric_limits<double>::quiet_NaN();
     for (const auto& c : results)
@@ -485,12 +586,15 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
 
     std::ofstream md(dir + "/table.md");
     if (!md) return Error{1, "cannot write " + dir + "/table.md"};
-    md << "# wrsfov benchmark\n\n" << o.width << "x" << o.height << " per eye, " << o.frames << " frames at 90 Hz ("
+    md << "# wrsfov benchmark\n\n" << o.width << "x" << o.height << (o.monitor ? " (monitor mode: one 76x60 degree view as both eyes)" : " per eye") << ", " << o.frames << " frames at 90 Hz ("
        << o.warmup << " warm-up), device " << deviceName
        << ". Gaze: synthetic reading (text) and free viewing (atrium). Metrics against the unfoveated "
           "reference of the same frames, both eyes; SSIM and FLIP every "
        << o.heavyEvery << "th frame. Times are GPU medians per frame for both eyes; ×copy is the ratio to a "
           "copy kernel moving the same bytes in the same run, ×fov the ratio to FOV in the same cell.\n";
+    if (std::find(o.scenes.begin(), o.scenes.end(), SceneKind::Sequence) != o.scenes.end())
+        md << "\nScene `sequence`: the frames of " << o.sequenceDir
+           << " at the fps of its sequence.json, gaze from its gaze.csv (synthetic free viewing without one).\n";
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
             md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"

@@ -1,6 +1,7 @@
 // The run-time-against-error benchmark: scenes x foveation modes x fovea sizes, every method
 // through the same compositor path against the unfoveated reference of the same frames, with
-// synthetic gaze (reading for `text`, free viewing for the others).
+// synthetic gaze (reading for `text`, free viewing for the others). The `sequence` scene evaluates
+// external frames from a sequence directory (docs/sequence.md) the same way.
 #pragma once
 
 #include <functional>
@@ -14,7 +15,8 @@
 
 namespace wrsfov::eval {
 
-enum class SceneKind : uint8_t { Text, Atrium, Dynamic };
+/// Built-in scenes, and `Sequence`: the frames of BenchOptions::sequenceDir.
+enum class SceneKind : uint8_t { Text, Atrium, Dynamic, Sequence };
 std::string_view toString(SceneKind s);
 std::optional<SceneKind> parseScene(std::string_view name);
 
@@ -30,6 +32,13 @@ struct BenchOptions {
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;
+    /// Built-in scenes in monitor mode: one symmetric 76° x 60° view (the paper's desktop setting)
+    /// submitted as both views, instead of the HMD's stereo pair.
+    bool monitor = false;
+    /// SceneKind::Sequence: the sequence directory. Its frames are the reference as submitted (at
+    /// full quality), its gaze comes from gaze.csv (synthetic free viewing without one), frame f is
+    /// displayed at f / fps of the json. width/height must be the sequence's, frames <= its frame count.
+    std::string sequenceDir;
     std::string cropDir;  ///< where to write side-by-side crops and error maps ("" = none)
     std::function<void(const std::string&)> progress;
 };
@@ -51,6 +60,12 @@ struct CellResult {
 
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);
+
+/// Writes `options.frames` frames of `scene` (at options.width x options.height, camera path and
+/// seed as in the sweep) with the sweep's gaze for that scene as a sequence directory `dir`:
+/// colour PNG, depth and motion EXR where the scene has them, gaze.csv. runBench on the written
+/// sequence then sees the same images and gaze as runBench on the scene.
+Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions& options, const std::string& dir);
 
 /// The smallest WRS fovea whose near-gaze PSNR is at least FOV's at 10° (same scene and mode);
 /// 0 when none is (or the sweep lacks the cells).

@@ -30,13 +30,24 @@ constexpr int kMovingBoxes = 3;
 
 layers::Fov atriumFov(int eye) { return hmdFov(eye); }
 
+layers::Fov atriumFov(const AtriumOptions& o, int eye) { return o.monitor ? monitorFov() : atriumFov(eye); }
+
+layers::Fov monitorFov() {
+    layers::Fov f;
+    f.angleLeft = -38.0f * kDeg;
+    f.angleRight = 38.0f * kDeg;
+    f.angleUp = 30.0f * kDeg;
+    f.angleDown = -30.0f * kDeg;
+    return f;
+}
+
 glm::mat4 atriumView(const AtriumOptions& o, int eye, double t) {
     glm::vec3 head(0.0f, 1.6f, 0.0f);
     float yaw = 0.0f;
     if (o.path == CameraPath::Lateral) head.x = 0.5f * float(std::sin(kTwoPi * t / 4.0));
     if (o.path == CameraPath::Turn) yaw = 25.0f * kDeg * float(std::sin(kTwoPi * t / 6.0));
     glm::mat4 headToWorld = glm::rotate(glm::translate(glm::mat4(1.0f), head), yaw, glm::vec3(0, 1, 0));
-    glm::mat4 eyeToWorld = glm::translate(headToWorld, glm::vec3((eye == 0 ? -0.5f : 0.5f) * o.ipd, 0.0f, 0.0f));
+    glm::mat4 eyeToWorld = glm::translate(headToWorld, glm::vec3(o.monitor ? 0.0f : (eye == 0 ? -0.5f : 0.5f) * o.ipd, 0.0f, 0.0f));
     return glm::inverse(eyeToWorld);
 }
 
@@ -388,7 +399,7 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
 
     const float W = float(options_.width), H = float(options_.height);
     for (int e = 0; e < 2; ++e) {
-        glm::mat4 proj = projection(atriumFov(e), options_.nearZ, options_.farZ, options_.reversedZ);
+        glm::mat4 proj = projection(atriumFov(options_, e), options_.nearZ, options_.farZ, options_.reversedZ);
         gpu::AtriumCamera cam{};
         cam.view = atriumView(options_, e, t);
         cam.prev_view = atriumView(options_, e, prevT);

@@ -31,10 +31,16 @@ struct AtriumOptions {
     float ipd = 0.063f;                  ///< metres
     float nearZ = 0.05f, farZ = 100.0f;
     bool reversedZ = false;
+    bool monitor = false;                ///< one symmetric 76° x 60° view for both eyes (no disparity)
 };
 
 /// Per-eye asymmetric field of view of the stereo camera (HMD-like; mirrored between eyes).
 layers::Fov atriumFov(int eye);
+/// The field of view of one eye of the scene: atriumFov(eye), or monitorFov() in monitor mode.
+layers::Fov atriumFov(const AtriumOptions& o, int eye);
+/// Monitor mode of the built-in scenes: one symmetric view of 76° x 60° (the paper's desktop
+/// setting of about 70-80° horizontally), submitted as both views.
+layers::Fov monitorFov();
 
 /// World -> view matrix of one eye at time t (OpenXR axes: -Z forward, +Y up).
 glm::mat4 atriumView(const AtriumOptions& o, int eye, double t);

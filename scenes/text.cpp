@@ -26,13 +26,7 @@ const char* kWords[] = {"the", "reservoir", "keeps", "samples", "that", "were", 
 }  // namespace
 
 layers::Fov textFov(const TextOptions& o, int eye) {
-    if (!o.monitor) return atriumFov(eye);
-    layers::Fov f;
-    f.angleLeft = float(-38.0 * kDeg);
-    f.angleRight = float(38.0 * kDeg);
-    f.angleUp = float(30.0 * kDeg);
-    f.angleDown = float(-30.0 * kDeg);
-    return f;
+    return o.monitor ? monitorFov() : atriumFov(eye);
 }
 
 TextScene::TextScene(const TextOptions& o) : options_(o) {

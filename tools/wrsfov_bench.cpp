@@ -1,5 +1,8 @@
 // wrsfov-bench: run time against error. Sweeps scenes x methods x fovea sizes x foveation modes
 // with synthetic gaze, and writes results.csv, table.md, PNG plots and crops into --out.
+// --sequence DIR evaluates external frames (docs/sequence.md); --write-sequence DIR writes a
+// built-in scene out as such a directory.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +13,7 @@
 #include <string>
 
 #include "eval/bench.h"
+#include "eval/sequence.h"
 
 using namespace wrsfov;
 
@@ -20,8 +24,16 @@ void usage() {
         "usage: wrsfov-bench [--out DIR] [--scenes text,atrium,dynamic] [--methods fov,fov+taa,wrs]\n"
         "                    [--fovea 5,7.5,10] [--modes mip,gauss] [--size WxH] [--frames N] [--warmup N]\n"
         "                    [--heavy-every N] [--path static|lateral|turn] [--change off|lstar|de94] [--seed N]\n"
-        "                    [--quick]\n"
-        "--quick: a CI-sized sweep (text and atrium, 160x144, 24 frames, fovea 5 and 10, mip).\n");
+        "                    [--monitor] [--quick] [--sequence DIR]\n"
+        "       wrsfov-bench --write-sequence DIR --scenes NAME [--size WxH] [--frames N] [--path P] [--seed N]\n"
+        "--monitor: the built-in scenes in monitor mode (one symmetric 76x60 degree view as both eyes)\n"
+        "  instead of the stereo HMD views.\n"
+        "--quick: a CI-sized sweep (text and atrium, 160x144, 24 frames, fovea 5 and 10, mip).\n"
+        "--sequence DIR: evaluate the frames of a sequence directory (docs/sequence.md) as scene\n"
+        "  `sequence` (alone unless --scenes is given); size, frames and fps come from its sequence.json,\n"
+        "  gaze from its gaze.csv (synthetic free viewing without one).\n"
+        "--write-sequence DIR: write one scene (frames, depth, motion, the sweep's gaze) as a sequence\n"
+        "  directory and exit.\n");
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -43,12 +55,18 @@ bool parseInt(const char* v, long lo, long hi, long& out) {
 int main(int argc, char** argv) {
     eval::BenchOptions o;
     std::string out = "out/bench";
+    std::string writeDir;
+    bool scenesGiven = false, sizeGiven = false, framesGiven = false, warmupGiven = false;
     std::string err;
     for (int i = 1; i < argc && err.empty(); ++i) {
         std::string a = argv[i];
         if (a == "--help" || a == "-h") {
             usage();
             return 0;
+        }
+        if (a == "--monitor") {
+            o.monitor = true;
+            continue;
         }
         if (a == "--quick") {
             o.width = 160;
@@ -68,11 +86,16 @@ int main(int argc, char** argv) {
         long n = 0;
         if (a == "--out") {
             out = v;
+        } else if (a == "--sequence") {
+            o.sequenceDir = v;
+        } else if (a == "--write-sequence") {
+            writeDir = v;
         } else if (a == "--scenes") {
+            scenesGiven = true;
             o.scenes.clear();
             for (auto& s : split(v)) {
                 auto k = eval::parseScene(s);
-                if (!k) err = "unknown scene '" + s + "' (text, atrium, dynamic)";
+                if (!k) err = "unknown scene '" + s + "' (text, atrium, dynamic, sequence)";
                 else o.scenes.push_back(*k);
             }
         } else if (a == "--methods") {
@@ -103,13 +126,16 @@ int main(int argc, char** argv) {
             unsigned w = 0, h = 0;
             if (std::sscanf(v, "%ux%u", &w, &h) != 2 || w < 32 || h < 32 || w > 4096 || h > 4096)
                 err = "--size wants WxH with 32..4096";
+            sizeGiven = true;
             o.width = w;
             o.height = h;
         } else if (a == "--frames") {
             if (!parseInt(v, 2, 100000, n)) err = "--frames wants 2..100000";
+            framesGiven = true;
             o.frames = int(n);
         } else if (a == "--warmup") {
             if (!parseInt(v, 0, 100000, n)) err = "--warmup wants a non-negative integer";
+            warmupGiven = true;
             o.warmup = int(n);
         } else if (a == "--heavy-every") {
             if (!parseInt(v, 1, 100000, n)) err = "--heavy-every wants a positive integer";
@@ -133,13 +159,51 @@ int main(int argc, char** argv) {
             err = "unknown option " + a;
         }
     }
+    if (err.empty() && !o.sequenceDir.empty()) {
+        // The sequence brings its own size and length.
+        auto info = eval::readSequenceInfo(o.sequenceDir);
+        if (!info) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", info.error().message.c_str());
+            return 1;
+        }
+        if (!scenesGiven) o.scenes.clear();
+        if (std::find(o.scenes.begin(), o.scenes.end(), eval::SceneKind::Sequence) == o.scenes.end())
+            o.scenes.push_back(eval::SceneKind::Sequence);
+        if (!sizeGiven) o.width = info->width, o.height = info->height;
+        if (!framesGiven) o.frames = int(info->frameCount);
+        if (!warmupGiven) o.warmup = std::min(o.warmup, o.frames / 2);
+    }
+    if (err.empty() && std::find(o.scenes.begin(), o.scenes.end(), eval::SceneKind::Sequence) != o.scenes.end() &&
+        o.sequenceDir.empty())
+        err = "scene 'sequence' needs --sequence DIR";
+    if (err.empty() && !writeDir.empty() && o.scenes.size() != 1)
+        err = "--write-sequence writes one scene: give --scenes NAME (or --sequence DIR)";
     if (err.empty() && (o.scenes.empty() || o.methods.empty() || o.foveas.empty() || o.modes.empty()))
         err = "scenes, methods, fovea sizes and modes must not be empty";
-    if (err.empty() && o.frames <= o.warmup) err = "--frames must exceed --warmup";
+    if (err.empty() && writeDir.empty() && o.frames <= o.warmup) err = "--frames must exceed --warmup";
     if (!err.empty()) {
         std::fprintf(stderr, "wrsfov-bench: %s\n", err.c_str());
         usage();
         return 2;
+    }
+    if (!writeDir.empty()) {
+        auto ctx = vk::Context::create();
+        if (!ctx) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", ctx.error().message.c_str());
+            return 1;
+        }
+        o.progress = [](const std::string& s) {
+            std::printf("%s\n", s.c_str());
+            std::fflush(stdout);
+        };
+        std::printf("wrsfov-bench: writing %s, %ux%u per eye, %d frames -> %s\n",
+                    std::string(eval::toString(o.scenes[0])).c_str(), o.width, o.height, o.frames, writeDir.c_str());
+        if (Status s = eval::writeSceneSequence(**ctx, o.scenes[0], o, writeDir); !s) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
+            return 1;
+        }
+        std::printf("wrsfov-bench: sequence in %s (sequence.json, NNNNNN_{L,R}_*, gaze.csv)\n", writeDir.c_str());
+        return 0;
     }
     std::error_code ec;
     std::filesystem::create_directories(out, ec);

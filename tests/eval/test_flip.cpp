@@ -290,6 +290,22 @@ TEST(EvalFlip, BlackAgainstWhiteIsNearOne) {
     EXPECT_GT(flip(c, inv).mean, 0.9);
 }
 
+// Coarse viewing: at 0.5 pixels per degree no edge or point can be resolved; the error is finite
+// and reduces to the colour term (checked against a fine viewing of uniform images, where the
+// features vanish as well).
+TEST(EvalFlip, CoarseViewingStaysFinite) {
+    cv::Mat a(48, 64, CV_32FC3, cv::Scalar(0.2, 0.4, 0.6)), b = a.clone();
+    cv::randu(b, cv::Scalar::all(0.0), cv::Scalar::all(1.0));
+    for (double ppd : {0.02, 0.3, 0.5, 0.65, 1.0}) {
+        const FlipResult r = flip(a, b, FlipOptions{ppd});
+        EXPECT_TRUE(std::isfinite(r.mean)) << ppd;
+        EXPECT_GT(r.mean, 0.0) << ppd;
+        EXPECT_LE(r.mean, 1.0) << ppd;
+    }
+    const cv::Mat grey(16, 16, CV_32FC3, cv::Scalar::all(0.5)), white(16, 16, CV_32FC3, cv::Scalar::all(1.0));
+    EXPECT_NEAR(flip(grey, white, FlipOptions{0.5}).mean, flip(grey, white, FlipOptions{67.0}).mean, 1e-6);
+}
+
 TEST(EvalFlip, IsSymmetric) {
     cv::Mat a = texture(80, 64, 22);
     cv::Mat b = clamp01(a + 0.1 * gaussianNoise(80, 64, 23));

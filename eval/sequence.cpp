@@ -1,0 +1,1219 @@
+#include "eval/sequence.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <variant>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "gaze/gaze_file.h"
+#include "shaders/wrs_common.h"
+
+namespace wrsfov::eval {
+
+namespace fs = std::filesystem;
+
+std::string_view toString(ColorFile c) { return c == ColorFile::Png ? "png" : "exr"; }
+
+std::string_view toString(MotionUnits u) {
+    switch (u) {
+    case MotionUnits::Pixels: return "pixels";
+    case MotionUnits::Ndc: return "ndc";
+    case MotionUnits::Uv: return "uv";
+    }
+    return "?";
+}
+
+std::string frameFileName(uint32_t frame, int eye, std::string_view kind) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%06u_%c_", frame, eye == 0 ? 'L' : 'R');
+    return std::string(buf) + std::string(kind);
+}
+
+namespace {
+
+constexpr uint32_t kMaxFrames = 999999;  // six digits in the file names
+constexpr uint32_t kMaxSize = 16384;
+
+Error seqError(SequenceError code, std::string message) { return Error{int(code), std::move(message)}; }
+
+// OpenCV 4.x reads and writes EXR only when OPENCV_IO_ENABLE_OPENEXR is set before its first use
+// of the codec; a value the user set is left alone.
+void enableExr() {
+    static const bool once = [] {
+        ::setenv("OPENCV_IO_ENABLE_OPENEXR", "1", 0);
+        return true;
+    }();
+    (void)once;
+}
+
+std::string fmtFloat(float v) {
+    if (std::isinf(v)) return v > 0 ? "\"inf\"" : "\"-inf\"";
+    char buf[64];
+    auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back as v
+    return ec == std::errc() ? std::string(buf, p) : std::string("0");
+}
+
+std::string fmtDouble(double v) {
+    char buf[64];
+    auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
+    return ec == std::errc() ? std::string(buf, p) : std::string("0");
+}
+
+// ---------------------------------------------------------------------------------------------
+// A small JSON reader (RFC 8259) for sequence.json. Numbers keep their text so that floats are
+// read with float rounding; the non-standard NaN / Infinity / -Infinity tokens (Python's json
+// writes them) are read as numbers so that the field check can name the field.
+// ---------------------------------------------------------------------------------------------
+
+struct JsonValue;
+using JsonObject = std::vector<std::pair<std::string, JsonValue>>;
+using JsonArray = std::vector<JsonValue>;
+
+struct JsonNumber {
+    double value = 0;
+    std::string text;
+};
+
+struct JsonValue {
+    std::variant<std::nullptr_t, bool, JsonNumber, std::string, JsonArray, JsonObject> v;
+    int line = 0;
+};
+
+class JsonParser {
+public:
+    JsonParser(std::string_view text, std::string name) : s_(text), name_(std::move(name)) {}
+
+    Result<JsonValue> parse() {
+        if (s_.size() >= 3 && s_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
+        skipSpace();
+        if (pos_ >= s_.size()) return fail("the file is empty");
+        JsonValue v;
+        if (!value(v, 0)) return error_;
+        skipSpace();
+        if (pos_ < s_.size()) return fail("unexpected text after the top-level value");
+        return v;
+    }
+
+private:
+    std::string_view s_;
+    std::string name_;
+    std::size_t pos_ = 0;
+    int line_ = 1;
+    std::size_t lineStart_ = 0;
+    Error error_;
+
+    Error fail(const std::string& what) {
+        error_ = seqError(SequenceError::BadJson, name_ + ":" + std::to_string(line_) + ":" +
+                                                      std::to_string(pos_ - lineStart_ + 1) + ": not valid JSON: " +
+                                                      what);
+        return error_;
+    }
+    bool failed(const std::string& what) {
+        fail(what);
+        return false;
+    }
+
+    void skipSpace() {
+        while (pos_ < s_.size()) {
+            char c = s_[pos_];
+            if (c == '\n') {
+                ++line_;
+                lineStart_ = pos_ + 1;
+            } else if (c != ' ' && c != '\t' && c != '\r') {
+                break;
+            }
+            ++pos_;
+        }
+    }
+
+    bool literal(std::string_view word) {
+        if (s_.substr(pos_, word.size()) != word) return false;
+        pos_ += word.size();
+        return true;
+    }
+
+    bool value(JsonValue& out, int depth) {
+        if (depth > 32) return failed("nested too deeply");
+        skipSpace();
+        out.line = line_;
+        if (pos_ >= s_.size()) return failed("unexpected end of file (truncated?)");
+        const char c = s_[pos_];
+        if (c == '{') return object(out, depth);
+        if (c == '[') return array(out, depth);
+        if (c == '"') {
+            std::string str;
+            if (!string(str)) return false;
+            out.v = std::move(str);
+            return true;
+        }
+        if (literal("true")) {
+            out.v = true;
+        } else if (literal("false")) {
+            out.v = false;
+        } else if (literal("null")) {
+            out.v = nullptr;
+        } else if (literal("NaN")) {
+            out.v = JsonNumber{std::nan(""), "NaN"};
+        } else if (literal("Infinity")) {
+            out.v = JsonNumber{HUGE_VAL, "Infinity"};
+        } else if (literal("-Infinity")) {
+            out.v = JsonNumber{-HUGE_VAL, "-Infinity"};
+        } else if (c == '-' || (c >= '0' && c <= '9')) {
+            return number(out);
+        } else {
+            return failed(std::string("unexpected character '") + c + "'");
+        }
+        return true;
+    }
+
+    bool number(JsonValue& out) {
+        const std::size_t start = pos_;
+        auto digits = [&] {
+            std::size_t n = 0;
+            while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') ++pos_, ++n;
+            return n;
+        };
+        if (s_[pos_] == '-') ++pos_;
+        if (pos_ < s_.size() && s_[pos_] == '0') {
+            ++pos_;
+        } else if (digits() == 0) {
+            return failed("a number needs digits");
+        }
+        if (pos_ < s_.size() && s_[pos_] == '.') {
+            ++pos_;
+            if (digits() == 0) return failed("a number needs digits after '.'");
+        }
+        if (pos_ < s_.size() && (s_[pos_] == 'e' || s_[pos_] == 'E')) {
+            ++pos_;
+            if (pos_ < s_.size() && (s_[pos_] == '+' || s_[pos_] == '-')) ++pos_;
+            if (digits() == 0) return failed("a number needs digits in its exponent");
+        }
+        JsonNumber n;
+        n.text = std::string(s_.substr(start, pos_ - start));
+        n.value = std::strtod(n.text.c_str(), nullptr);  // out of range gives ±HUGE_VAL: caught by the field checks
+        out.v = std::move(n);
+        return true;
+    }
+
+    bool hex4(uint32_t& cp) {
+        if (pos_ + 4 > s_.size()) return failed("truncated \\u escape");
+        cp = 0;
+        for (int i = 0; i < 4; ++i) {
+            char h = s_[pos_++];
+            cp <<= 4;
+            if (h >= '0' && h <= '9') cp |= uint32_t(h - '0');
+            else if (h >= 'a' && h <= 'f') cp |= uint32_t(h - 'a' + 10);
+            else if (h >= 'A' && h <= 'F') cp |= uint32_t(h - 'A' + 10);
+            else return failed("bad \\u escape");
+        }
+        return true;
+    }
+
+    static void utf8(std::string& out, uint32_t cp) {
+        if (cp < 0x80) {
+            out += char(cp);
+        } else if (cp < 0x800) {
+            out += char(0xC0 | (cp >> 6));
+            out += char(0x80 | (cp & 0x3F));
+        } else if (cp < 0x10000) {
+            out += char(0xE0 | (cp >> 12));
+            out += char(0x80 | ((cp >> 6) & 0x3F));
+            out += char(0x80 | (cp & 0x3F));
+        } else {
+            out += char(0xF0 | (cp >> 18));
+            out += char(0x80 | ((cp >> 12) & 0x3F));
+            out += char(0x80 | ((cp >> 6) & 0x3F));
+            out += char(0x80 | (cp & 0x3F));
+        }
+    }
+
+    bool string(std::string& out) {
+        ++pos_;  // opening quote
+        while (true) {
+            if (pos_ >= s_.size()) return failed("unterminated string (truncated?)");
+            const char c = s_[pos_++];
+            if (c == '"') return true;
+            if (static_cast<unsigned char>(c) < 0x20) return failed("control character in a string");
+            if (c != '\\') {
+                out += c;
+                continue;
+            }
+            if (pos_ >= s_.size()) return failed("unterminated string (truncated?)");
+            const char e = s_[pos_++];
+            switch (e) {
+            case '"': out += '"'; break;
+            case '\\': out += '\\'; break;
+            case '/': out += '/'; break;
+            case 'b': out += '\b'; break;
+            case 'f': out += '\f'; break;
+            case 'n': out += '\n'; break;
+            case 'r': out += '\r'; break;
+            case 't': out += '\t'; break;
+            case 'u': {
+                uint32_t cp = 0;
+                if (!hex4(cp)) return false;
+                if (cp >= 0xD800 && cp < 0xDC00) {
+                    uint32_t lo = 0;
+                    if (!literal("\\u") || !hex4(lo) || lo < 0xDC00 || lo >= 0xE000)
+                        return failed("unpaired UTF-16 surrogate in \\u escape");
+                    cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
+                } else if (cp >= 0xDC00 && cp < 0xE000) {
+                    return failed("unpaired UTF-16 surrogate in \\u escape");
+                }
+                utf8(out, cp);
+                break;
+            }
+            default: return failed(std::string("unknown escape '\\") + e + "'");
+            }
+        }
+    }
+
+    bool array(JsonValue& out, int depth) {
+        ++pos_;
+        JsonArray a;
+        skipSpace();
+        if (pos_ < s_.size() && s_[pos_] == ']') {
+            ++pos_;
+            out.v = std::move(a);
+            return true;
+        }
+        while (true) {
+            JsonValue item;
+            if (!value(item, depth + 1)) return false;
+            a.push_back(std::move(item));
+            skipSpace();
+            if (pos_ >= s_.size()) return failed("unexpected end of file in an array (truncated?)");
+            if (s_[pos_] == ',') {
+                ++pos_;
+                continue;
+            }
+            if (s_[pos_] == ']') {
+                ++pos_;
+                out.v = std::move(a);
+                return true;
+            }
+            return failed("expected ',' or ']' in an array");
+        }
+    }
+
+    bool object(JsonValue& out, int depth) {
+        ++pos_;
+        JsonObject o;
+        skipSpace();
+        if (pos_ < s_.size() && s_[pos_] == '}') {
+            ++pos_;
+            out.v = std::move(o);
+            return true;
+        }
+        while (true) {
+            skipSpace();
+            if (pos_ >= s_.size()) return failed("unexpected end of file in an object (truncated?)");
+            if (s_[pos_] != '"') return failed("expected a quoted field name");
+            std::string key;
+            if (!string(key)) return false;
+            for (const auto& kv : o)
+                if (kv.first == key) return failed("field \"" + key + "\" appears twice");
+            skipSpace();
+            if (pos_ >= s_.size() || s_[pos_] != ':') return failed("expected ':' after \"" + key + "\"");
+            ++pos_;
+            JsonValue v;
+            if (!value(v, depth + 1)) return false;
+            o.emplace_back(std::move(key), std::move(v));
+            skipSpace();
+            if (pos_ >= s_.size()) return failed("unexpected end of file in an object (truncated?)");
+            if (s_[pos_] == ',') {
+                ++pos_;
+                continue;
+            }
+            if (s_[pos_] == '}') {
+                ++pos_;
+                out.v = std::move(o);
+                return true;
+            }
+            return failed("expected ',' or '}' after the value of \"" + key + "\"");
+        }
+    }
+};
+
+// Typed access to the fields of sequence.json with messages that name the field.
+class Fields {
+public:
+    Fields(const JsonValue& v, std::string path, std::string file, Error* error)
+        : v_(v), path_(std::move(path)), file_(std::move(file)), error_(error) {}
+
+    bool isObject() const { return std::holds_alternative<JsonObject>(v_.v); }
+
+    // Fails on fields other than `known`.
+    bool onlyKnown(std::initializer_list<std::string_view> known) {
+        for (const auto& [k, v] : std::get<JsonObject>(v_.v)) {
+            if (std::find(known.begin(), known.end(), k) != known.end()) continue;
+            std::string list;
+            for (auto n : known) list += (list.empty() ? "" : ", ") + std::string(n);
+            return fail(v.line, "unknown field \"" + name(k) + "\" (known here: " + list + ")");
+        }
+        return true;
+    }
+
+    const JsonValue* find(std::string_view key) const {
+        for (const auto& [k, v] : std::get<JsonObject>(v_.v))
+            if (k == key) return &v;
+        return nullptr;
+    }
+
+    const JsonValue* require(std::string_view key) {
+        const JsonValue* v = find(key);
+        if (!v) fail(v_.line, "missing field \"" + name(key) + "\"");
+        return v;
+    }
+
+    bool number(std::string_view key, double& out, bool required = true) {
+        const JsonValue* v = required ? require(key) : find(key);
+        if (!v) return !required;
+        const auto* n = std::get_if<JsonNumber>(&v->v);
+        if (!n) return fail(v->line, "\"" + name(key) + "\" must be a number");
+        if (!std::isfinite(n->value))
+            return fail(v->line, "\"" + name(key) + "\" is " + n->text + ", not a finite number");
+        out = n->value;
+        return true;
+    }
+
+    // A float read with float rounding from the number's text; "inf" / Infinity only where allowed.
+    bool floatValue(std::string_view key, float& out, bool allowInf = false) {
+        const JsonValue* v = require(key);
+        if (!v) return false;
+        if (const auto* s = std::get_if<std::string>(&v->v); s && allowInf && (*s == "inf" || *s == "infinity")) {
+            out = HUGE_VALF;
+            return true;
+        }
+        const auto* n = std::get_if<JsonNumber>(&v->v);
+        if (!n) return fail(v->line, "\"" + name(key) + "\" must be a number" + (allowInf ? " or \"inf\"" : ""));
+        if (allowInf && n->text == "Infinity") {
+            out = HUGE_VALF;
+            return true;
+        }
+        float f = 0;
+        const char* b = n->text.data();
+        auto [p, ec] = std::from_chars(b, b + n->text.size(), f);
+        if (ec != std::errc() || p != b + n->text.size() || !std::isfinite(f))
+            return fail(v->line, "\"" + name(key) + "\" is " + n->text + ", not a finite number");
+        out = f;
+        return true;
+    }
+
+    bool integer(std::string_view key, uint64_t lo, uint64_t hi, uint32_t& out) {
+        double d = 0;
+        if (!number(key, d)) return false;
+        if (d != std::floor(d) || d < double(lo) || d > double(hi))
+            return fail(find(key)->line, "\"" + name(key) + "\" must be an integer in [" + std::to_string(lo) + ", " +
+                                             std::to_string(hi) + "], not " + std::get<JsonNumber>(find(key)->v).text);
+        out = uint32_t(d);
+        return true;
+    }
+
+    bool string(std::string_view key, std::string& out, bool required = true) {
+        const JsonValue* v = required ? require(key) : find(key);
+        if (!v) return !required;
+        const auto* s = std::get_if<std::string>(&v->v);
+        if (!s) return fail(v->line, "\"" + name(key) + "\" must be a string");
+        out = *s;
+        return true;
+    }
+
+    bool boolean(std::string_view key, bool& out) {
+        const JsonValue* v = find(key);
+        if (!v) return true;
+        const auto* b = std::get_if<bool>(&v->v);
+        if (!b) return fail(v->line, "\"" + name(key) + "\" must be true or false");
+        out = *b;
+        return true;
+    }
+
+    // A child object; nullopt with no error when absent or null and !required.
+    std::optional<Fields> child(std::string_view key, bool required) {
+        const JsonValue* v = required ? require(key) : find(key);
+        if (!v || (!required && std::holds_alternative<std::nullptr_t>(v->v))) return std::nullopt;
+        if (!std::holds_alternative<JsonObject>(v->v)) {
+            fail(v->line, "\"" + name(key) + "\" must be an object {...}");
+            return std::nullopt;
+        }
+        return Fields(*v, name(key), file_, error_);
+    }
+
+    bool fail(int line, const std::string& what) {
+        *error_ = seqError(SequenceError::BadField, file_ + ":" + std::to_string(line) + ": " + what);
+        return false;
+    }
+    std::string name(std::string_view key) const {
+        return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+    }
+    int line() const { return v_.line; }
+
+private:
+    const JsonValue& v_;
+    std::string path_, file_;
+    Error* error_;
+};
+
+// The same rules as the frame validation of layers/ (SubmitError::InvalidFov).
+std::optional<std::string> checkFov(const layers::Fov& f) {
+    const float lim = 1.5707963f;
+    for (float a : {f.angleLeft, f.angleRight, f.angleUp, f.angleDown})
+        if (!(std::abs(a) < lim)) return "angles must lie inside (-pi/2, pi/2) radians";
+    if (!(f.angleLeft < f.angleRight)) return "angle_left must be less than angle_right";
+    if (!(f.angleDown < f.angleUp)) return "angle_down must be less than angle_up";
+    return std::nullopt;
+}
+
+std::optional<std::string> checkInfo(const SequenceInfo& info) {
+    if (info.width < 1 || info.height < 1 || info.width > kMaxSize || info.height > kMaxSize)
+        return "width and height must be in [1, " + std::to_string(kMaxSize) + "]";
+    if (info.frameCount < 1 || info.frameCount > kMaxFrames)
+        return "frame_count must be in [1, " + std::to_string(kMaxFrames) + "]";
+    if (!(std::isfinite(info.fps) && info.fps > 0)) return "fps must be a positive finite number";
+    for (int e = 0; e < 2; ++e)
+        if (auto m = checkFov(info.fov[e])) return std::string("fov.") + (e ? "right" : "left") + ": " + *m;
+    if (info.depth) {
+        const SequenceDepth& d = *info.depth;
+        if (!(std::isfinite(d.nearZ) && d.nearZ > 0)) return "depth.near must be a positive finite number";
+        if (!(d.farZ > d.nearZ) || std::isnan(d.farZ)) return "depth.far must be greater than depth.near (or \"inf\")";
+    }
+    return std::nullopt;
+}
+
+Result<std::string> readText(const std::string& path, SequenceError missingCode) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return seqError(missingCode, "missing file " + path);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return seqError(missingCode, "cannot open " + path);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// EXR header: the channel names, which OpenCV's reader does not report (it returns Y as one
+// channel, any of R/G/B as three with the missing ones zero, and silently drops other names).
+// ---------------------------------------------------------------------------------------------
+
+struct ExrHeader {
+    std::vector<std::string> channels;  // sorted, as stored
+    int width = 0, height = 0;
+};
+
+Result<ExrHeader> readExrHeader(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return seqError(SequenceError::MissingFile, "missing file " + path);
+    std::vector<char> buf(1 << 16);
+    in.read(buf.data(), std::streamsize(buf.size()));
+    buf.resize(std::size_t(in.gcount()));
+    const std::string bad = path + " is not a readable EXR file: ";
+    if (buf.size() < 8 || std::memcmp(buf.data(), "\x76\x2f\x31\x01", 4) != 0)
+        return seqError(SequenceError::BadImage, bad + "no EXR signature (empty, truncated or another format)");
+    uint32_t version = 0;
+    std::memcpy(&version, buf.data() + 4, 4);
+    if ((version & 0xff) != 2) return seqError(SequenceError::BadImage, bad + "unknown EXR version");
+    if (version & 0x1800)
+        return seqError(SequenceError::BadImage, bad + "multi-part and deep EXR files are not supported");
+    std::size_t p = 8;
+    auto cstr = [&](std::string& out) {
+        const auto end = std::find(buf.begin() + std::ptrdiff_t(p), buf.end(), '\0');
+        if (end == buf.end()) return false;
+        out.assign(buf.begin() + std::ptrdiff_t(p), end);
+        p = std::size_t(end - buf.begin()) + 1;
+        return true;
+    };
+    ExrHeader h;
+    bool haveChannels = false, haveWindow = false;
+    while (true) {
+        std::string name, type;
+        if (!cstr(name)) return seqError(SequenceError::BadImage, bad + "truncated header");
+        if (name.empty()) break;
+        if (!cstr(type) || p + 4 > buf.size()) return seqError(SequenceError::BadImage, bad + "truncated header");
+        int32_t size = 0;
+        std::memcpy(&size, buf.data() + p, 4);
+        p += 4;
+        if (size < 0 || p + std::size_t(size) > buf.size())
+            return seqError(SequenceError::BadImage, bad + "truncated header (attribute " + name + ")");
+        const char* a = buf.data() + p;
+        if (name == "channels" && type == "chlist") {
+            std::size_t q = 0;
+            while (q < std::size_t(size) && a[q] != '\0') {
+                const char* n = a + q;
+                const std::size_t len = strnlen(n, std::size_t(size) - q);
+                if (q + len + 1 + 16 > std::size_t(size))
+                    return seqError(SequenceError::BadImage, bad + "bad channel list");
+                h.channels.emplace_back(n, len);
+                q += len + 1 + 16;  // pixel type, pLinear + reserved, x/y sampling
+            }
+            haveChannels = true;
+        } else if (name == "dataWindow" && type == "box2i" && size == 16) {
+            int32_t b[4];
+            std::memcpy(b, a, 16);
+            h.width = b[2] - b[0] + 1;
+            h.height = b[3] - b[1] + 1;
+            haveWindow = true;
+        }
+        p += std::size_t(size);
+    }
+    if (!haveChannels || !haveWindow)
+        return seqError(SequenceError::BadImage, bad + "header lacks the channels or dataWindow attribute");
+    return h;
+}
+
+std::string channelList(const std::vector<std::string>& c) {
+    std::string s;
+    for (const auto& n : c) s += (s.empty() ? "" : ", ") + n;
+    return std::to_string(c.size()) + " channel" + (c.size() == 1 ? "" : "s") + (c.empty() ? "" : " (" + s + ")");
+}
+
+bool sameSet(std::vector<std::string> a, std::vector<std::string> b) {
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return a == b;
+}
+
+Status checkSize(const std::string& path, int w, int h, const SequenceInfo& info) {
+    if (uint32_t(w) != info.width || uint32_t(h) != info.height)
+        return seqError(SequenceError::ImageSize, path + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                                                      ", sequence.json says " + std::to_string(info.width) + "x" +
+                                                      std::to_string(info.height));
+    return {};
+}
+
+// Decodes an EXR file (after its header) as float, or fails naming the file.
+Result<cv::Mat> decodeExr(const std::string& path) {
+    enableExr();
+    cv::Mat m;
+    try {
+        m = cv::imread(path, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception& e) {
+        return seqError(SequenceError::BadImage, "cannot decode " + path + ": " + e.what());
+    }
+    if (m.empty())
+        return seqError(SequenceError::BadImage,
+                        "cannot decode " + path + " (truncated or corrupt, or OpenCV without OpenEXR support)");
+    if (m.depth() != CV_32F) m.convertTo(m, CV_32F);
+    return m;
+}
+
+// Reads an EXR whose channel set must be one of `allowed`; returns the decoded image.
+Result<cv::Mat> readExr(const std::string& path, const SequenceInfo& info,
+                        std::initializer_list<std::vector<std::string>> allowed, const std::string& what,
+                        std::vector<std::string>* channels) {
+    auto h = readExrHeader(path);
+    if (!h) return h.error();
+    bool ok = false;
+    for (const auto& set : allowed) ok = ok || sameSet(h->channels, set);
+    if (!ok) return seqError(SequenceError::ImageChannels, path + " has " + channelList(h->channels) + "; " + what);
+    if (Status s = checkSize(path, h->width, h->height, info); !s) return s.error();
+    auto m = decodeExr(path);
+    if (!m) return m;
+    if (Status s = checkSize(path, m->cols, m->rows, info); !s) return s.error();
+    if (channels) *channels = h->channels;
+    return m;
+}
+
+float clampHalf(float v) { return std::isfinite(v) ? std::clamp(v, -65504.0f, 65504.0f) : v; }
+
+Result<HostImage> readColor(const std::string& dir, uint32_t i, int e, const SequenceInfo& info) {
+    if (info.color == ColorFile::Png) {
+        const std::string path = dir + "/" + frameFileName(i, e, "color.png");
+        cv::Mat m;
+        try {
+            m = cv::imread(path, cv::IMREAD_UNCHANGED);
+        } catch (const cv::Exception& ex) {
+            return seqError(SequenceError::BadImage, "cannot decode " + path + ": " + ex.what());
+        }
+        if (m.empty())
+            return seqError(SequenceError::BadImage, "cannot decode " + path + " (truncated or not a PNG file)");
+        if (m.depth() != CV_8U)
+            return seqError(SequenceError::ImageChannels,
+                            path + " is not 8 bits per channel; colour PNGs are 8-bit sRGB (or use color.exr)");
+        if (m.channels() != 3 && m.channels() != 4)
+            return seqError(SequenceError::ImageChannels, path + " has " + std::to_string(m.channels()) + " channel" +
+                                                              (m.channels() == 1 ? "" : "s") +
+                                                              "; colour needs RGB or RGBA");
+        if (Status s = checkSize(path, m.cols, m.rows, info); !s) return s.error();
+        cv::Mat rgba;
+        cv::cvtColor(m, rgba, m.channels() == 3 ? cv::COLOR_BGR2RGBA : cv::COLOR_BGRA2RGBA);
+        HostImage img = HostImage::make(layers::Format::RGBA8_SRGB, info.width, info.height);
+        for (int y = 0; y < rgba.rows; ++y)
+            std::memcpy(img.data.data() + std::size_t(y) * info.width * 4, rgba.ptr(y), std::size_t(info.width) * 4);
+        return img;
+    }
+    const std::string path = dir + "/" + frameFileName(i, e, "color.exr");
+    std::vector<std::string> ch;
+    auto m = readExr(path, info, {{"R", "G", "B"}, {"R", "G", "B", "A"}}, "colour needs R, G, B (and optionally A)",
+                     &ch);
+    if (!m) return m.error();
+    HostImage img = HostImage::make(layers::Format::RGBA16F, info.width, info.height);
+    const int n = m->channels();
+    for (int y = 0; y < m->rows; ++y) {
+        const float* row = m->ptr<float>(y);
+        for (int x = 0; x < m->cols; ++x) {
+            const float* p = row + x * n;  // B, G, R[, A]
+            img.store(uint32_t(x), uint32_t(y), glm::vec4(clampHalf(p[2]), clampHalf(p[1]), clampHalf(p[0]), 1.0f));
+        }
+    }
+    return img;
+}
+
+Result<HostImage> readDepth(const std::string& dir, uint32_t i, int e, const SequenceInfo& info) {
+    const std::string path = dir + "/" + frameFileName(i, e, "depth.exr");
+    std::vector<std::string> ch;
+    auto m = readExr(path, info, {{"Y"}, {"R"}, {"G"}, {"B"}},
+                     "depth needs exactly one channel, named Y (what OpenCV writes) or R", &ch);
+    if (!m) return m.error();
+    const int n = m->channels();
+    const int c = n == 1 ? 0 : ch[0] == "B" ? 0 : ch[0] == "G" ? 1 : 2;
+    HostImage img = HostImage::make(layers::Format::R32F, info.width, info.height);
+    float* out = reinterpret_cast<float*>(img.data.data());
+    for (int y = 0; y < m->rows; ++y) {
+        const float* row = m->ptr<float>(y);
+        for (int x = 0; x < m->cols; ++x) out[std::size_t(y) * info.width + std::size_t(x)] = row[x * n + c];
+    }
+    return img;
+}
+
+Result<HostImage> readMotion(const std::string& dir, uint32_t i, int e, const SequenceInfo& info) {
+    const std::string path = dir + "/" + frameFileName(i, e, "motion.exr");
+    std::vector<std::string> ch;
+    auto m = readExr(path, info, {{"R", "G"}, {"R", "G", "B"}},
+                     "motion needs R, G (dx, dy) and optionally B (z_prev - z_cur)", &ch);
+    if (!m) return m.error();
+    float sx = 1, sy = 1;
+    switch (*info.motion) {
+    case MotionUnits::Pixels: break;
+    case MotionUnits::Ndc: sx = 0.5f * float(info.width), sy = 0.5f * float(info.height); break;
+    case MotionUnits::Uv: sx = float(info.width), sy = float(info.height); break;
+    }
+    const int n = m->channels();  // 3 (B, G, R): OpenCV fills a missing B with 0
+    HostImage img = HostImage::make(layers::Format::RGBA16F, info.width, info.height);
+    for (int y = 0; y < m->rows; ++y) {
+        const float* row = m->ptr<float>(y);
+        for (int x = 0; x < m->cols; ++x) {
+            const float* p = row + x * n;
+            img.store(uint32_t(x), uint32_t(y),
+                      glm::vec4(clampHalf(p[2] * sx), clampHalf(p[1] * sy), clampHalf(p[0]), 0.0f));
+        }
+    }
+    return img;
+}
+
+// ---------------------------------------------------------------------------------------------
+// gaze.csv
+// ---------------------------------------------------------------------------------------------
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+    return s;
+}
+
+std::vector<std::string_view> splitCsv(std::string_view line) {
+    std::vector<std::string_view> out;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= line.size(); ++i)
+        if (i == line.size() || line[i] == ',') {
+            out.push_back(trim(line.substr(start, i - start)));
+            start = i + 1;
+        }
+    return out;
+}
+
+// A number as text: finite or not ("nan", "inf" are numbers here); nullopt for anything else.
+std::optional<double> csvNumber(std::string_view s) {
+    if (s.empty()) return std::nullopt;
+    if (s.front() == '+') s.remove_prefix(1);
+    double v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (p != s.data() + s.size()) return std::nullopt;
+    if (ec == std::errc::result_out_of_range) return s.front() == '-' ? -HUGE_VAL : HUGE_VAL;
+    if (ec != std::errc()) return std::nullopt;
+    return v;
+}
+
+}  // namespace
+
+Result<SequenceInfo> parseSequenceInfo(std::string_view json, const std::string& name) {
+    auto root = JsonParser(json, name).parse();
+    if (!root) return root.error();
+    Error err;
+    Fields top(*root, "", name, &err);
+    if (!top.isObject()) return seqError(SequenceError::BadField, name + ": the top level must be an object {...}");
+    if (!top.onlyKnown({"format", "version", "description", "width", "height", "frame_count", "fps", "color", "fov",
+                        "depth", "motion"}))
+        return err;
+    SequenceInfo info;
+    std::string format;
+    if (!top.string("format", format, false)) return err;
+    if (top.find("format") && format != "wrsfov-sequence")
+        return seqError(SequenceError::BadField,
+                        name + ": \"format\" is \"" + format + "\", expected \"wrsfov-sequence\"");
+    double version = 1;
+    if (!top.number("version", version, false)) return err;
+    if (version != 1)
+        return seqError(SequenceError::BadField,
+                        name + ": \"version\" " + fmtDouble(version) + " is not supported (1)");
+    if (!top.string("description", info.description, false)) return err;
+    if (!top.integer("width", 1, kMaxSize, info.width) || !top.integer("height", 1, kMaxSize, info.height) ||
+        !top.integer("frame_count", 1, kMaxFrames, info.frameCount) || !top.number("fps", info.fps))
+        return err;
+    if (!(info.fps > 0)) return seqError(SequenceError::BadField, name + ": \"fps\" must be positive");
+    std::string color;
+    if (!top.string("color", color)) return err;
+    if (color == "png") info.color = ColorFile::Png;
+    else if (color == "exr") info.color = ColorFile::Exr;
+    else
+        return seqError(SequenceError::BadField,
+                        name + ": \"color\" is \"" + color + "\", expected \"png\" or \"exr\"");
+
+    auto fov = top.child("fov", true);
+    if (!fov) return err;
+    if (!fov->onlyKnown({"left", "right"})) return err;
+    for (int e = 0; e < 2; ++e) {
+        auto eye = fov->child(e == 0 ? "left" : "right", true);
+        if (!eye) return err;
+        layers::Fov& f = info.fov[e];
+        if (!eye->onlyKnown({"angle_left", "angle_right", "angle_up", "angle_down"}) ||
+            !eye->floatValue("angle_left", f.angleLeft) || !eye->floatValue("angle_right", f.angleRight) ||
+            !eye->floatValue("angle_up", f.angleUp) || !eye->floatValue("angle_down", f.angleDown))
+            return err;
+        if (auto m = checkFov(f))
+            return seqError(SequenceError::BadField,
+                            name + ":" + std::to_string(eye->line()) + ": fov." + (e ? "right" : "left") + ": " + *m);
+    }
+    if (auto d = top.child("depth", false)) {
+        SequenceDepth depth;
+        if (!d->onlyKnown({"near", "far", "reversed"}) || !d->floatValue("near", depth.nearZ) ||
+            !d->floatValue("far", depth.farZ, true) || !d->boolean("reversed", depth.reversedZ))
+            return err;
+        if (!(depth.nearZ > 0))
+            return seqError(SequenceError::BadField,
+                            name + ":" + std::to_string(d->line()) + ": depth.near must be > 0");
+        if (!(depth.farZ > depth.nearZ))
+            return seqError(SequenceError::BadField,
+                            name + ":" + std::to_string(d->line()) + ": depth.far must be greater than depth.near");
+        info.depth = depth;
+    } else if (!err.message.empty()) {
+        return err;
+    }
+    if (auto m = top.child("motion", false)) {
+        std::string units;
+        if (!m->onlyKnown({"units"}) || !m->string("units", units)) return err;
+        if (units == "pixels") info.motion = MotionUnits::Pixels;
+        else if (units == "ndc") info.motion = MotionUnits::Ndc;
+        else if (units == "uv") info.motion = MotionUnits::Uv;
+        else
+            return seqError(SequenceError::BadField, name + ":" + std::to_string(m->line()) + ": motion.units is \"" +
+                                                         units + "\", expected \"pixels\", \"ndc\" or \"uv\"");
+    } else if (!err.message.empty()) {
+        return err;
+    }
+    return info;
+}
+
+Result<SequenceInfo> readSequenceInfo(const std::string& dir) {
+    const std::string path = dir + "/sequence.json";
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        return seqError(SequenceError::MissingFile, "sequence directory " + dir + " does not exist");
+    auto text = readText(path, SequenceError::MissingFile);
+    if (!text) return text.error();
+    return parseSequenceInfo(*text, path);
+}
+
+std::string formatSequenceInfo(const SequenceInfo& info) {
+    std::ostringstream o;
+    auto quote = [](const std::string& s) {
+        std::string q = "\"";
+        for (char c : s) {
+            if (c == '"' || c == '\\') q += '\\', q += c;
+            else if (c == '\n') q += "\\n";
+            else if (static_cast<unsigned char>(c) < 0x20) {
+                char b[8];
+                std::snprintf(b, sizeof b, "\\u%04x", unsigned(c));
+                q += b;
+            } else q += c;
+        }
+        return q + "\"";
+    };
+    o << "{\n  \"format\": \"wrsfov-sequence\",\n  \"version\": 1,\n";
+    if (!info.description.empty()) o << "  \"description\": " << quote(info.description) << ",\n";
+    o << "  \"width\": " << info.width << ",\n  \"height\": " << info.height << ",\n  \"frame_count\": "
+      << info.frameCount << ",\n  \"fps\": " << fmtDouble(info.fps) << ",\n  \"color\": \"" << toString(info.color)
+      << "\",\n  \"fov\": {\n";
+    for (int e = 0; e < 2; ++e) {
+        const layers::Fov& f = info.fov[e];
+        o << "    \"" << (e ? "right" : "left") << "\": {\"angle_left\": " << fmtFloat(f.angleLeft)
+          << ", \"angle_right\": " << fmtFloat(f.angleRight) << ", \"angle_up\": " << fmtFloat(f.angleUp)
+          << ", \"angle_down\": " << fmtFloat(f.angleDown) << "}" << (e ? "\n" : ",\n");
+    }
+    o << "  }";
+    if (info.depth)
+        o << ",\n  \"depth\": {\"near\": " << fmtFloat(info.depth->nearZ) << ", \"far\": " << fmtFloat(info.depth->farZ)
+          << ", \"reversed\": " << (info.depth->reversedZ ? "true" : "false") << "}";
+    if (info.motion) o << ",\n  \"motion\": {\"units\": \"" << toString(*info.motion) << "\"}";
+    o << "\n}\n";
+    return o.str();
+}
+
+Result<SequenceGaze> parseSequenceGaze(std::string_view csv, uint32_t frameCount, const std::string& name) {
+    SequenceGaze out;
+    out.frames.assign(frameCount, {});
+    std::vector<std::size_t> rowLine(frameCount, 0);
+    auto bad = [&](std::size_t line, const std::string& what) {
+        return seqError(SequenceError::BadGaze, name + " line " + std::to_string(line) + ": " + what);
+    };
+    std::size_t lineNo = 0, pos = 0;
+    std::vector<std::string_view> header;
+    std::size_t idx[9] = {};
+    std::optional<std::size_t> confCol;
+    const char* names[] = {"t_s", "frame", "valid", "left_x", "left_y", "left_z", "right_x", "right_y", "right_z"};
+    if (csv.substr(0, 3) == "\xEF\xBB\xBF") pos = 3;
+    while (pos < csv.size()) {
+        std::size_t end = csv.find('\n', pos);
+        if (end == std::string_view::npos) end = csv.size();
+        const std::string_view line = trim(csv.substr(pos, end - pos));
+        pos = end + 1;
+        ++lineNo;
+        if (line.empty() || line.front() == '#') continue;
+        auto f = splitCsv(line);
+        if (header.empty()) {
+            header = f;
+            for (int k = 0; k < 9; ++k) {
+                auto it = std::find(header.begin(), header.end(), names[k]);
+                if (it == header.end())
+                    return bad(lineNo, std::string("header lacks column '") + names[k] +
+                                           "' (expected t_s,frame,valid,left_x,left_y,left_z,right_x,right_y,right_z)");
+                idx[k] = std::size_t(it - header.begin());
+            }
+            auto c = std::find(header.begin(), header.end(), "confidence");
+            if (c != header.end()) confCol = std::size_t(c - header.begin());
+            continue;
+        }
+        if (f.size() != header.size())
+            return bad(lineNo,
+                       "expected " + std::to_string(header.size()) + " fields, got " + std::to_string(f.size()));
+        auto t = csvNumber(f[idx[0]]);
+        if (!t || !std::isfinite(*t)) return bad(lineNo, "t_s '" + std::string(f[idx[0]]) + "' is not a finite number");
+        auto fr = csvNumber(f[idx[1]]);
+        if (!fr || !(*fr >= 0) || *fr != std::floor(*fr))
+            return bad(lineNo, "frame '" + std::string(f[idx[1]]) + "' is not a non-negative integer");
+        if (*fr >= double(frameCount))
+            return bad(lineNo, "frame " + std::string(f[idx[1]]) + " is beyond the sequence (frame_count " +
+                                   std::to_string(frameCount) + ")");
+        const std::string_view v = f[idx[2]];
+        if (v != "0" && v != "1") return bad(lineNo, "valid '" + std::string(v) + "' is not 0 or 1");
+        const uint32_t frame = uint32_t(*fr);
+        float conf = v == "1" ? 1.0f : 0.0f;
+        if (confCol) {
+            auto c = csvNumber(f[*confCol]);
+            if (!c || !(*c >= 0 && *c <= 1))
+                return bad(lineNo, "confidence '" + std::string(f[*confCol]) + "' is not in [0, 1]");
+            conf = float(*c);
+        }
+        std::array<layers::EyeGaze, 2> g{};
+        std::string note;
+        for (int e = 0; e < 2; ++e) {
+            glm::vec3 d(0.0f, 0.0f, -1.0f);
+            bool finite = true;
+            for (int k = 0; k < 3; ++k) {
+                const std::string_view s = f[idx[3 + 3 * e + k]];
+                if (v == "0" && s.empty()) continue;  // no direction during a dropout is fine
+                auto x = csvNumber(s);
+                if (!x)
+                    return bad(lineNo, std::string(names[3 + 3 * e + k]) + " '" + std::string(s) + "' is not a number");
+                d[k] = float(*x);
+                finite = finite && std::isfinite(d[k]);
+            }
+            g[e].dir = d;
+            g[e].confidence = conf;
+            g[e].valid = v == "1";
+            if (!g[e].valid) continue;
+            const float len = finite ? glm::length(d) : NAN;
+            char buf[96];
+            if (!finite) {
+                std::snprintf(buf, sizeof buf, "%s direction is not finite", e ? "right" : "left");
+            } else if (!(std::abs(len - 1.0f) <= 0.01f)) {
+                std::snprintf(buf, sizeof buf, "%s direction is not a unit vector (length %.4g)", e ? "right" : "left",
+                              double(len));
+            } else {
+                continue;
+            }
+            // The documented fallback: the frame's gaze becomes invalid (view centre, fallback fovea).
+            note += (note.empty() ? "" : "; ") + std::string(buf);
+        }
+        if (!note.empty()) {
+            for (auto& eg : g) eg.valid = false, eg.confidence = 0.0f;
+            out.notes.push_back({lineNo, frame, note + ": gaze of frame " + std::to_string(frame) + " is invalid"});
+        }
+        out.frames[frame] = g;  // the last row of a frame wins
+        rowLine[frame] = lineNo;
+    }
+    if (header.empty()) return bad(lineNo == 0 ? 1 : lineNo, "no header line (empty file?)");
+    for (uint32_t i = 0; i < frameCount; ++i)
+        if (rowLine[i] == 0) out.notes.push_back({0, i, "no row for frame " + std::to_string(i) + ": gaze invalid"});
+    // Notes in frame order, rows before "no row".
+    std::stable_sort(out.notes.begin(), out.notes.end(),
+                     [](const GazeNote& a, const GazeNote& b) { return a.frame < b.frame; });
+    return out;
+}
+
+Result<std::unique_ptr<SequenceReader>> SequenceReader::open(const std::string& dir) {
+    enableExr();
+    auto info = readSequenceInfo(dir);
+    if (!info) return info.error();
+    std::unique_ptr<SequenceReader> r(new SequenceReader());
+    r->dir_ = dir;
+    r->info_ = *info;
+    const SequenceInfo& si = r->info_;
+
+    // Which frame files are there (one directory listing), then what the json implies.
+    std::set<std::string> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) files.insert(entry.path().filename().string());
+    if (ec) return seqError(SequenceError::MissingFile, "cannot list " + dir + ": " + ec.message());
+    const std::string colorKind = si.color == ColorFile::Png ? "color.png" : "color.exr";
+    const std::string otherKind = si.color == ColorFile::Png ? "color.exr" : "color.png";
+    for (uint32_t i = 0; i < si.frameCount; ++i)
+        for (int e = 0; e < 2; ++e) {
+            std::vector<std::string> kinds{colorKind};
+            if (si.depth) kinds.push_back("depth.exr");
+            if (si.motion) kinds.push_back("motion.exr");
+            for (const auto& k : kinds) {
+                const std::string n = frameFileName(i, e, k);
+                if (files.count(n)) continue;
+                std::string hint;
+                if (k == colorKind && files.count(frameFileName(i, e, otherKind)))
+                    hint = " (there is " + frameFileName(i, e, otherKind) + ": sequence.json says \"color\": \"" +
+                           std::string(toString(si.color)) + "\")";
+                return seqError(SequenceError::MissingFile, "missing file " + dir + "/" + n + hint + " (frame " +
+                                                                std::to_string(i) + " of frame_count " +
+                                                                std::to_string(si.frameCount) + ")");
+            }
+        }
+    for (const auto& n : files) {
+        unsigned idx = 0;
+        char eye = 0;
+        int used = 0;
+        if (n.size() < 10 || std::sscanf(n.c_str(), "%6u_%c_%n", &idx, &eye, &used) != 2 || used != 9) continue;
+        if ((eye != 'L' && eye != 'R') || idx < si.frameCount) continue;
+        const std::string kind = n.substr(9);
+        if (kind != "color.png" && kind != "color.exr" && kind != "depth.exr" && kind != "motion.exr") continue;
+        return seqError(SequenceError::FrameCount, dir + "/sequence.json says frame_count " +
+                                                       std::to_string(si.frameCount) + " but " + n +
+                                                       " exists (frame " + std::to_string(idx) +
+                                                       "): fix frame_count or remove the extra frames");
+    }
+
+    r->gaze_.assign(si.frameCount, {});
+    const std::string gazePath = dir + "/gaze.csv";
+    if (fs::exists(gazePath, ec)) {
+        auto text = readText(gazePath, SequenceError::MissingFile);
+        if (!text) return text.error();
+        auto g = parseSequenceGaze(*text, si.frameCount, gazePath);
+        if (!g) return g.error();
+        r->hasGaze_ = true;
+        r->gaze_ = std::move(g->frames);
+        r->gazeNotes_ = std::move(g->notes);
+    }
+    return r;
+}
+
+Result<SequenceFrame> SequenceReader::frame(uint32_t index) const {
+    if (index >= info_.frameCount)
+        return seqError(SequenceError::FrameCount, "frame " + std::to_string(index) + " is beyond " + dir_ +
+                                                       " (frame_count " + std::to_string(info_.frameCount) + ")");
+    SequenceFrame f;
+    f.index = index;
+    f.time_s = index / info_.fps;
+    for (int e = 0; e < 2; ++e) {
+        EyeSubmission& eye = f.eyes[e];
+        auto c = readColor(dir_, index, e, info_);
+        if (!c) return c.error();
+        eye.color = std::move(*c);
+        if (info_.depth) {
+            auto d = readDepth(dir_, index, e, info_);
+            if (!d) return d.error();
+            eye.depth = std::move(*d);
+        }
+        if (info_.motion) {
+            auto m = readMotion(dir_, index, e, info_);
+            if (!m) return m.error();
+            eye.motion = std::move(*m);
+        }
+        eye.fov = info_.fov[e];
+        eye.gaze = gaze_[index][e];
+    }
+    return f;
+}
+
+HostStereoApp::Options SequenceReader::appOptions() const {
+    HostStereoApp::Options a;
+    a.width = info_.width;
+    a.height = info_.height;
+    a.color = info_.color == ColorFile::Png ? layers::Format::RGBA8_SRGB : layers::Format::RGBA16F;
+    if (info_.depth) {
+        a.depth = layers::Format::R32F;
+        a.nearZ = info_.depth->nearZ;
+        a.farZ = info_.depth->farZ;
+        a.reversedZ = info_.depth->reversedZ;
+    }
+    if (info_.motion) a.motion = layers::Format::RGBA16F;
+    return a;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+Status writeImage(const std::string& path, const cv::Mat& m, bool exr) {
+    enableExr();
+    bool ok = false;
+    std::string why;
+    try {
+        std::vector<int> params;
+        if (exr) params = {cv::IMWRITE_EXR_TYPE, cv::IMWRITE_EXR_TYPE_FLOAT};
+        ok = cv::imwrite(path, m, params);
+    } catch (const cv::Exception& e) {
+        why = std::string(": ") + e.what();
+    }
+    if (!ok)
+        return seqError(SequenceError::WriteFailed,
+                        "cannot write " + path + why + (exr ? " (is OpenCV built with OpenEXR?)" : ""));
+    return {};
+}
+
+Status checkImage(const HostImage& img, const SequenceInfo& info, const std::string& what,
+                  std::initializer_list<layers::Format> formats) {
+    if (img.width != info.width || img.height != info.height)
+        return seqError(SequenceError::BadInput, what + " is " + std::to_string(img.width) + "x" +
+                                                     std::to_string(img.height) + ", the sequence is " +
+                                                     std::to_string(info.width) + "x" + std::to_string(info.height));
+    if (std::find(formats.begin(), formats.end(), img.format) == formats.end())
+        return seqError(SequenceError::BadInput, what + " has format " + std::string(layers::toString(img.format)) +
+                                                     ", which cannot be written here");
+    if (img.data.size() != std::size_t(img.width) * img.height * img.texelBytes())
+        return seqError(SequenceError::BadInput, what + " has the wrong number of bytes");
+    return {};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<SequenceWriter>> SequenceWriter::create(const std::string& dir, const SequenceInfo& info) {
+    enableExr();
+    if (auto m = checkInfo(info)) return seqError(SequenceError::BadInput, "sequence for " + dir + ": " + *m);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) return seqError(SequenceError::WriteFailed, "cannot create " + dir + ": " + ec.message());
+    const std::string path = dir + "/sequence.json";
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    const std::string text = formatSequenceInfo(info);
+    out.write(text.data(), std::streamsize(text.size()));
+    out.close();
+    if (!out) return seqError(SequenceError::WriteFailed, "cannot write " + path);
+    std::unique_ptr<SequenceWriter> w(new SequenceWriter());
+    w->dir_ = dir;
+    w->info_ = info;
+    return w;
+}
+
+Status SequenceWriter::writeFrame(uint32_t index, const std::array<EyeSubmission, 2>& eyes) {
+    using layers::Format;
+    if (index != written_ || index >= info_.frameCount)
+        return seqError(SequenceError::BadInput, "sequence " + dir_ + ": frame " + std::to_string(index) +
+                                                     " written out of order or beyond frame_count " +
+                                                     std::to_string(info_.frameCount));
+    const int w = int(info_.width), h = int(info_.height);
+    for (int e = 0; e < 2; ++e) {
+        const EyeSubmission& eye = eyes[e];
+        const std::string tag = "frame " + std::to_string(index) + (e ? " right" : " left") + " eye: ";
+        if (info_.color == ColorFile::Png) {
+            if (Status s = checkImage(eye.color, info_, tag + "colour", {Format::RGBA8_SRGB}); !s) return s;
+            cv::Mat rgba(h, w, CV_8UC4, const_cast<std::byte*>(eye.color.data.data()));
+            std::vector<cv::Mat> ch;
+            cv::split(rgba, ch);
+            const bool opaque = cv::countNonZero(ch[3] != 255) == 0;
+            cv::Mat bgr;
+            cv::cvtColor(rgba, bgr, opaque ? cv::COLOR_RGBA2BGR : cv::COLOR_RGBA2BGRA);
+            if (Status s = writeImage(dir_ + "/" + frameFileName(index, e, "color.png"), bgr, false); !s) return s;
+        } else {
+            if (Status s =
+                    checkImage(eye.color, info_, tag + "colour", {Format::RGBA8, Format::RGBA8_SRGB, Format::RGBA16F});
+                !s)
+                return s;
+            cv::Mat m(h, w, CV_32FC3);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    glm::vec4 c = eye.color.fetch(uint32_t(x), uint32_t(y));
+                    if (eye.color.format == Format::RGBA8_SRGB)
+                        c = glm::vec4(gpu::wrs_srgb_to_linear3(glm::vec3(c)), c.w);
+                    m.at<cv::Vec3f>(y, x) = cv::Vec3f(c.z, c.y, c.x);
+                }
+            if (Status s = writeImage(dir_ + "/" + frameFileName(index, e, "color.exr"), m, true); !s) return s;
+        }
+        if (info_.depth.has_value() != eye.depth.has_value())
+            return seqError(SequenceError::BadInput, tag + (info_.depth ? "no depth, but the sequence declares depth"
+                                                                        : "depth, but the sequence declares none"));
+        if (eye.depth) {
+            if (Status s = checkImage(*eye.depth, info_, tag + "depth", {Format::R32F, Format::D32F}); !s) return s;
+            cv::Mat m(h, w, CV_32FC1, const_cast<std::byte*>(eye.depth->data.data()));
+            if (Status s = writeImage(dir_ + "/" + frameFileName(index, e, "depth.exr"), m, true); !s) return s;
+        }
+        if (info_.motion.has_value() != eye.motion.has_value())
+            return seqError(SequenceError::BadInput, tag + (info_.motion ? "no motion, but the sequence declares motion"
+                                                                         : "motion, but the sequence declares none"));
+        if (eye.motion) {
+            if (Status s = checkImage(*eye.motion, info_, tag + "motion", {Format::RG16F, Format::RGBA16F}); !s)
+                return s;
+            float sx = 1, sy = 1;
+            if (*info_.motion == MotionUnits::Ndc) sx = 2.0f / float(w), sy = 2.0f / float(h);
+            if (*info_.motion == MotionUnits::Uv) sx = 1.0f / float(w), sy = 1.0f / float(h);
+            // Three channels (OpenCV writes 1, 3 or 4): B = z_prev - z_cur, 0 for RG16F.
+            cv::Mat m(h, w, CV_32FC3);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    glm::vec4 v = eye.motion->fetch(uint32_t(x), uint32_t(y));
+                    const float dz = eye.motion->format == Format::RGBA16F ? v.z : 0.0f;
+                    m.at<cv::Vec3f>(y, x) = cv::Vec3f(dz, v.y * sy, v.x * sx);
+                }
+            if (Status s = writeImage(dir_ + "/" + frameFileName(index, e, "motion.exr"), m, true); !s) return s;
+        }
+    }
+    gaze_.push_back({eyes[0].gaze, eyes[1].gaze});
+    ++written_;
+    return {};
+}
+
+Status SequenceWriter::finish() {
+    if (written_ != info_.frameCount)
+        return seqError(SequenceError::FrameCount, "sequence " + dir_ + ": " + std::to_string(written_) +
+                                                       " frames written, frame_count is " +
+                                                       std::to_string(info_.frameCount));
+    std::vector<gaze::GazeSample> samples(gaze_.size());
+    std::vector<long long> frames(gaze_.size());
+    for (std::size_t i = 0; i < gaze_.size(); ++i) {
+        samples[i].t_s = double(i) / info_.fps;
+        for (int e = 0; e < 2; ++e) samples[i].eye[e] = {gaze_[i][e].dir, gaze_[i][e].valid, gaze_[i][e].confidence};
+        frames[i] = static_cast<long long>(i);
+    }
+    auto s = gaze::write_gaze_csv(dir_ + "/gaze.csv", samples, false, frames);
+    if (!s) return seqError(SequenceError::WriteFailed, s.error().message);
+    return {};
+}
+
+}  // namespace wrsfov::eval
