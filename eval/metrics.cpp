@@ -428,11 +428,19 @@ FeatureKernels featureKernels(double ppd) {
         (p > 0 ? pos[1] : neg[1]) += std::abs(p);
     }
     k.gauss /= gs;
+    // At very coarse viewing (below about 1 pixel per degree) the edge Gaussian is narrower than a
+    // pixel and its off-centre taps underflow to 0: no feature can be resolved there. A kernel
+    // with an empty lobe would no longer sum to zero, so it becomes 0 (feature term 0) instead of
+    // dividing 0 by 0 or responding to flat regions.
+    auto normalise = [](double v, double positive, double negative) {
+        if (!(positive > 0) || !(negative > 0)) return 0.0;
+        return v > 0 ? v / positive : v / negative;
+    };
     for (int i = 0; i <= 2 * r; ++i) {
         double& e = k.edge.at<double>(i);
-        e = e > 0 ? e / pos[0] : e / neg[0];
+        e = normalise(e, pos[0], neg[0]);
         double& p = k.point.at<double>(i);
-        p = p > 0 ? p / pos[1] : p / neg[1];
+        p = normalise(p, pos[1], neg[1]);
     }
     return k;
 }
