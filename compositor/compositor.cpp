@@ -70,6 +70,13 @@ constexpr uint32_t kTimestamps = 6;
 
 Error submitError(SubmitError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
 
+const char* const kDeviceLost =
+    "the Vulkan device was lost (VK_ERROR_DEVICE_LOST): this compositor refuses every frame from now on; "
+    "create a new vk::Context and Compositor";
+
+// Prefixes an allocation error with what it was for, e.g. "reservoirs: vkAllocateMemory (...) failed: ...".
+Error named(const char* what, const Error& e) { return Error{e.code, std::string(what) + ": " + e.message}; }
+
 uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 
 void computeBarrier(VkCommandBuffer cb) {
@@ -86,6 +93,11 @@ Status checkConfig(const CompositorConfig& c) {
     if (bad(c.midPeripheryDeg, 0.0f, 180.0f)) return refuse("mid-periphery size must be in (0°, 180°]");
     if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return refuse("fallback fovea size must be in (0°, 180°]");
     if (bad(c.depthTau, 0.0f, 1e6f)) return refuse("depth tolerance must be positive and finite");
+    // Enums may come from casts of file or command-line values: out-of-range ones are refused, not guessed.
+    if (uint8_t(c.method) > uint8_t(Method::Wrs)) return refuse("method must be fov, fov+taa or wrs");
+    if (uint8_t(c.foveation) > uint8_t(FoveationMode::Gauss))
+        return refuse("foveation mode must be none, mip or gauss");
+    if (uint8_t(c.change) > uint8_t(ChangeMetric::DeltaE94)) return refuse("change metric must be off, lstar or de94");
     return {};
 }
 
@@ -224,14 +236,14 @@ Status Compositor::init() {
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
-    if (!ubo) return ubo.error();
+    if (!ubo) return named("compositor frame parameters", ubo.error());
     ubo_ = std::move(*ubo);
 
     vk::ImageCreateInfo dci;
     dci.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     dci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     auto dummy = ctx_.createImage(dci);
-    if (!dummy) return dummy.error();
+    if (!dummy) return named("compositor placeholder image", dummy.error());
     dummy_ = std::move(*dummy);
     Status st = ctx_.submitAndWait([&](VkCommandBuffer cmd) {
         VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
@@ -276,24 +288,28 @@ VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 4> constants) {
 
 Status Compositor::resize(uint32_t width, uint32_t height) {
     vkDeviceWaitIdle(ctx_.device());
-    width_ = height_ = 0;
+    // Everything of the new size is made before anything old is released: when an allocation fails
+    // (out of device memory), the compositor keeps its old size, history and output untouched. The
+    // price is that old and new resources exist together for the moment of a resize.
     const VkBufferUsageFlags usage =
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const uint64_t pixels = uint64_t(width) * height * WRS_EYES;
     const uint64_t pyramidTexels = uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) * WRS_EYES;
-    auto alloc = [&](vk::Buffer& b, uint64_t bytes) -> Status {
-        b.reset();
-        auto r = ctx_.createBuffer(bytes, usage, false);
-        if (!r) return r.error();
-        b = std::move(*r);
-        return {};
+    vk::Buffer pyramid, zlin, candidate, reservoirs[2];
+    struct Alloc {
+        vk::Buffer* buffer;
+        uint64_t bytes;
+        const char* what;
     };
-    for (auto [buf, bytes] :
-         {std::pair{&pyramid_, pyramidTexels * 16}, std::pair{&zlin_, pixels * 4}, std::pair{&candidate_, pixels * 16},
-          std::pair{&reservoirs_[0], pixels * 16}, std::pair{&reservoirs_[1], pixels * 16}})
-        if (Status s = alloc(*buf, bytes); !s) return s;
+    for (const Alloc& a :
+         {Alloc{&pyramid, pyramidTexels * 16, "colour pyramid"}, Alloc{&zlin, pixels * 4, "linear depth"},
+          Alloc{&candidate, pixels * 16, "candidates"}, Alloc{&reservoirs[0], pixels * 16, "reservoirs"},
+          Alloc{&reservoirs[1], pixels * 16, "reservoirs"}}) {
+        auto r = ctx_.createBuffer(a.bytes, usage, false);
+        if (!r) return named(a.what, r.error());
+        *a.buffer = std::move(*r);
+    }
 
-    output_.reset();
     vk::ImageCreateInfo oci;
     oci.format = VK_FORMAT_R8G8B8A8_UNORM;
     oci.width = width;
@@ -301,21 +317,26 @@ Status Compositor::resize(uint32_t width, uint32_t height) {
     oci.layers = WRS_EYES;
     oci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
     auto out = ctx_.createImage(oci);
-    if (!out) return out.error();
-    output_ = std::move(*out);
+    if (!out) return named("output image", out.error());
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
         ib.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
         ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
         ib.newLayout = VK_IMAGE_LAYOUT_GENERAL;
         ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        ib.image = output_.handle();
+        ib.image = out->handle();
         ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, WRS_EYES};
         vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
                              0, nullptr, 1, &ib);
     });
     if (!s) return s;
 
+    output_ = std::move(*out);
+    pyramid_ = std::move(pyramid);
+    zlin_ = std::move(zlin);
+    candidate_ = std::move(candidate);
+    reservoirs_[0] = std::move(reservoirs[0]);
+    reservoirs_[1] = std::move(reservoirs[1]);
     for (uint32_t i = 0; i < 2; ++i) {
         VkDescriptorBufferInfo bi[6] = {
             {ubo_.handle(), 0, VK_WHOLE_SIZE},           {pyramid_.handle(), 0, VK_WHOLE_SIZE},
@@ -345,6 +366,7 @@ Result<std::unique_ptr<layers::Swapchain>> Compositor::createSwapchain(const lay
 }
 
 Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
+    if (ctx_.deviceLost()) return submitError(SubmitError::DeviceFailure, kDeviceLost);
     if (Status s = validator_.validate(frame); !s) return s;
     const layers::ProjectionLayer& layer = frame.layers[0];
     auto vkSwapchain = [&](const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); };
@@ -362,33 +384,15 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                                                                       " swapchain was not created by this compositor");
         }
     }
-    if (configPending_) {
-        if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
-        config_ = pending_;
-        configPending_ = false;
-    }
-
+    // Buffers of a new size first (copy kernel, then the passes'): a failed allocation refuses the
+    // frame before any state (size, history, configuration) has changed.
     const uint32_t w = layer.views[0].color.rect.width, h = layer.views[0].color.rect.height;
-    if (w != width_ || h != height_) {
-        if (Status s = resize(w, h); !s) return submitError(SubmitError::DeviceFailure, s.message());
-    }
     const bool hasDepth = layer.views[0].depth.has_value();
     const bool hasMotion = layer.views[0].motion.has_value();
-    const bool wrs = config_.method == Method::Wrs;
-    const bool taa = config_.method == Method::FovTaa;
-    const bool temporal = wrs || taa;  // a pass with history in the reservoir buffers
-    const bool pyramid = config_.foveation != FoveationMode::None;
-
-    stats_ = FrameStats{};
-    stats_.frameIndex = frame.frameIndex;
-    stats_.usedDepth = hasDepth;
-    stats_.usedMotion = hasMotion && temporal;
-    stats_.historyReset = temporal && !historyValid_;
-    params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
-    std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
-    if (config_.measureCopy) {
+    const CompositorConfig& next = configPending_ ? pending_ : config_;
+    if (next.measureCopy) {
         // Half the frame's traffic is read and half written: the copy moves the same bytes.
-        const uint64_t half = (trafficBytes(config_, w, h, hasDepth, hasMotion) / 2 + 15) / 16 * 16;
+        const uint64_t half = (trafficBytes(next, w, h, hasDepth, hasMotion) / 2 + 15) / 16 * 16;
         if (copySrc_.size() != half) {
             vkDeviceWaitIdle(ctx_.device());
             const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -405,12 +409,38 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                 vkCmdFillBuffer(c, copyDst_.handle(), 0, VK_WHOLE_SIZE, 0u);
             });
             if (!filled) return submitError(SubmitError::DeviceFailure, filled.message());
-            VkDescriptorBufferInfo bi[2] = {{copySrc_.handle(), 0, VK_WHOLE_SIZE}, {copyDst_.handle(), 0, VK_WHOLE_SIZE}};
+            VkDescriptorBufferInfo bi[2] = {{copySrc_.handle(), 0, VK_WHOLE_SIZE},
+                                            {copyDst_.handle(), 0, VK_WHOLE_SIZE}};
             VkWriteDescriptorSet w2[2] = {vk::bufferWrite(copySet_, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[0]),
                                           vk::bufferWrite(copySet_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[1])};
             vkUpdateDescriptorSets(ctx_.device(), 2, w2, 0, nullptr);
         }
     }
+
+    if (w != width_ || h != height_) {
+        if (Status s = resize(w, h); !s)
+            return submitError(SubmitError::DeviceFailure,
+                               ctx_.deviceLost()
+                                   ? std::string(kDeviceLost)
+                                   : "resizing to " + std::to_string(w) + "x" + std::to_string(h) + ": " + s.message());
+    }
+    if (configPending_) {
+        if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
+        config_ = pending_;
+        configPending_ = false;
+    }
+    const bool wrs = config_.method == Method::Wrs;
+    const bool taa = config_.method == Method::FovTaa;
+    const bool temporal = wrs || taa;  // a pass with history in the reservoir buffers
+    const bool pyramid = config_.foveation != FoveationMode::None;
+
+    stats_ = FrameStats{};
+    stats_.frameIndex = frame.frameIndex;
+    stats_.usedDepth = hasDepth;
+    stats_.usedMotion = hasMotion && temporal;
+    stats_.historyReset = temporal && !historyValid_;
+    params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
+    std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
     // Per-frame inputs: the last released image of each swapchain.
     VkDescriptorSet set = sets_[current_];
@@ -511,9 +541,9 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
     VkFence f = frameFence_.get();
-    VkResult r = vkQueueSubmit(ctx_.queue(), 1, &si, f);
-    if (r == VK_SUCCESS) r = vkWaitForFences(ctx_.device(), 1, &f, VK_TRUE, UINT64_MAX);
+    VkResult r = ctx_.submitBatch(si, f);
     vkResetFences(ctx_.device(), 1, &f);
+    if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
     if (r != VK_SUCCESS)
         return submitError(SubmitError::DeviceFailure,
                            std::string("the device failed while compositing: ") + vk::resultString(r));

@@ -1,5 +1,6 @@
 #include "compositor/vk_context.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -252,6 +253,7 @@ Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) 
         for (uint32_t i = 0; i < qn; ++i) {
             VkQueueFlags need = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
             if ((qf[i].queueFlags & need) != need) continue;
+            if (options.queueFilter && !options.queueFilter(c.instance_, d, i)) continue;
             int score = deviceScore(p.deviceType);
             if (score > best) {
                 best = score;
@@ -264,7 +266,8 @@ Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) 
     }
     if (!c.physical_)
         return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
-                     (options.deviceName.empty() ? std::string("no Vulkan 1.2 device with a graphics+compute queue")
+                     (options.deviceName.empty() ? std::string("no Vulkan 1.2 device with a graphics+compute queue") +
+                                                       (options.queueFilter ? " that can present" : "")
                                                  : "no Vulkan 1.2 device named like '" + options.deviceName + "'") +
                          "; available: " + (available.empty() ? "none" : available)};
     vkGetPhysicalDeviceProperties(c.physical_, &c.props_);
@@ -290,6 +293,11 @@ Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) 
     VK_CHECK(vkCreateCommandPool(c.device_, &pci, nullptr, &c.pool_));
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VK_CHECK(vkCreateFence(c.device_, &fci, nullptr, &c.fence_));
+    if (const char* spec = std::getenv("WRSFOV_FAULT"); spec && *spec) {
+        auto faults = FaultInjection::parse(spec);
+        if (!faults) return faults.error();
+        c.injectFaults(*faults);
+    }
     return ctx;
 }
 
@@ -333,7 +341,7 @@ Result<Buffer> Context::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = *type;
-    if (VkResult r = vkAllocateMemory(device_, &mai, nullptr, &b.memory_); r != VK_SUCCESS)
+    if (VkResult r = allocateMemory(mai, &b.memory_); r != VK_SUCCESS)
         return vkError("vkAllocateMemory (" + std::to_string(req.size) + " bytes)", r);
     VK_CHECK(vkBindBufferMemory(device_, b.buffer_, b.memory_, 0));
     if (hostVisible) VK_CHECK(vkMapMemory(device_, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_));
@@ -367,7 +375,7 @@ Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFor
     VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     mai.allocationSize = req.size;
     mai.memoryTypeIndex = *type;
-    if (VkResult r = vkAllocateMemory(device_, &mai, nullptr, &img.memory_); r != VK_SUCCESS)
+    if (VkResult r = allocateMemory(mai, &img.memory_); r != VK_SUCCESS)
         return vkError("vkAllocateMemory (image, " + std::to_string(req.size) + " bytes)", r);
     VK_CHECK(vkBindImageMemory(device_, img.image_, img.memory_, 0));
 
@@ -462,12 +470,67 @@ Status Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
-    VkResult r = vkQueueSubmit(queue_, 1, &si, fence_);
-    if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
+    VkResult r = submitBatch(si, fence_);
     vkResetFences(device_, 1, &fence_);
     freeCommandBuffer(cb);
     if (r != VK_SUCCESS) return vkError("queue submission", r);
     return {};
+}
+
+// ---- Device faults (FaultInjection) ---------------------------------------------------------------
+
+Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
+    FaultInjection f;
+    auto bad = [&] {
+        return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
+                     "WRSFOV_FAULT='" + spec + "' is not alloc:N and/or lost:N (N >= 1, comma-separated)"};
+    };
+    std::size_t pos = 0;
+    while (pos <= spec.size()) {
+        const std::size_t end = std::min(spec.find(',', pos), spec.size());
+        const std::string item = spec.substr(pos, end - pos);
+        const std::size_t colon = item.find(':');
+        if (colon == std::string::npos) return bad();
+        const std::string kind = item.substr(0, colon), count = item.substr(colon + 1);
+        char* stop = nullptr;
+        const unsigned long n = count.empty() ? 0 : std::strtoul(count.c_str(), &stop, 10);
+        if (count.empty() || *stop || n < 1 || n > 0xffffffffUL || count[0] == '-' || count[0] == '+') return bad();
+        if (kind == "alloc")
+            f.failAllocation = static_cast<uint32_t>(n);
+        else if (kind == "lost")
+            f.loseDevice = static_cast<uint32_t>(n);
+        else
+            return bad();
+        pos = end + 1;
+    }
+    return f;
+}
+
+void Context::injectFaults(const FaultInjection& faults) {
+    faults_ = faults;
+    faultAllocations_ = faultSubmissions_ = 0;
+}
+
+VkResult Context::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) {
+    if (faults_.failAllocation && ++faultAllocations_ == faults_.failAllocation) {
+        faults_.failAllocation = 0;
+        *memory = VK_NULL_HANDLE;
+        return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    }
+    return vkAllocateMemory(device_, &info, nullptr, memory);
+}
+
+VkResult Context::submitBatch(const VkSubmitInfo& submit, VkFence fence) {
+    if (deviceLost_) return VK_ERROR_DEVICE_LOST;
+    VkResult r = vkQueueSubmit(queue_, 1, &submit, fence);
+    if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+    // An injected loss lets the batch finish first, so that the device stays consistent for teardown.
+    if (r == VK_SUCCESS && faults_.loseDevice && ++faultSubmissions_ == faults_.loseDevice) {
+        faults_.loseDevice = 0;
+        r = VK_ERROR_DEVICE_LOST;
+    }
+    if (r == VK_ERROR_DEVICE_LOST) deviceLost_ = true;
+    return r;
 }
 
 }  // namespace wrsfov::vk

@@ -38,8 +38,26 @@ struct ContextOptions {
     /// Extra instance / device extensions (a windowed preview adds the surface ones).
     std::vector<const char*> instanceExtensions;
     std::vector<const char*> deviceExtensions;
+    /// When set, a queue family is used only if this accepts it (a windowed preview asks for one
+    /// that can present to its display); called with the new instance during device selection.
+    std::function<bool(VkInstance, VkPhysicalDevice, uint32_t queueFamily)> queueFilter;
     /// Reads WRSFOV_VALIDATION and WRSFOV_DEVICE.
     static ContextOptions fromEnvironment();
+};
+
+/// Device faults on demand, for tests: a real device will not run out of memory or get lost when
+/// asked to. Armed per Context with Context::injectFaults, or for a whole process with the
+/// environment variable WRSFOV_FAULT (read by Context::create): "alloc:N", "lost:N" or both,
+/// comma-separated. Counting starts when the faults are armed; each fault fires once.
+/// docs/bad-input.md ("Device faults") lists what each one leads to.
+struct FaultInjection {
+    /// The Nth device-memory allocation (1 = the next) fails with VK_ERROR_OUT_OF_DEVICE_MEMORY; 0: never.
+    uint32_t failAllocation = 0;
+    /// The Nth queue submission (1 = the next) runs, then its fence wait reports VK_ERROR_DEVICE_LOST
+    /// and the context stays lost; 0: never.
+    uint32_t loseDevice = 0;
+    /// Parses a WRSFOV_FAULT value; fails with a message on anything else.
+    static Result<FaultInjection> parse(const std::string& spec);
 };
 
 class Context;
@@ -191,6 +209,14 @@ public:
 
     /// Records with `record`, submits, waits. Returns DeviceFailure-style errors (code = VkResult).
     Status submitAndWait(const std::function<void(VkCommandBuffer)>& record);
+    /// Submits one batch to the queue and waits for `fence` (the caller resets it). Returns the
+    /// result of vkQueueSubmit or vkWaitForFences. After VK_ERROR_DEVICE_LOST (real or injected) the
+    /// context is lost: this and every later submission return it without touching the queue.
+    VkResult submitBatch(const VkSubmitInfo& submit, VkFence fence);
+    /// True once a submission reported VK_ERROR_DEVICE_LOST; only a new Context can be used then.
+    bool deviceLost() const { return deviceLost_; }
+    /// Test hook: arms `faults`, replacing what was armed before (see FaultInjection).
+    void injectFaults(const FaultInjection& faults);
     /// Allocates a primary command buffer from the context's pool.
     VkCommandBuffer allocateCommandBuffer();
     void freeCommandBuffer(VkCommandBuffer cb);
@@ -201,6 +227,8 @@ private:
                                                         VkDebugUtilsMessageTypeFlagsEXT types,
                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
     Result<uint32_t> memoryType(uint32_t typeBits, VkMemoryPropertyFlags props) const;
+    /// vkAllocateMemory, or the injected VK_ERROR_OUT_OF_DEVICE_MEMORY.
+    VkResult allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory);
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
@@ -218,6 +246,9 @@ private:
     std::atomic<uint32_t> validationWarnings_{0};
     mutable std::mutex messagesMutex_;
     std::vector<std::string> messages_;
+    FaultInjection faults_;
+    uint32_t faultAllocations_ = 0, faultSubmissions_ = 0;  // counted since the faults were armed
+    bool deviceLost_ = false;
 };
 
 }  // namespace wrsfov::vk

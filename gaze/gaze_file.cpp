@@ -318,7 +318,8 @@ private:
                 if (empty == 3) return Got::Missing;
                 if (empty > 0) return Got::Bad;
                 const glm::dvec3 dv(v[0], -v[1], -v[2]);
-                if (!(glm::length(dv) > 0)) return Got::Bad;
+                const double len = glm::length(dv);
+                if (!(len > 0) || !std::isfinite(len)) return Got::Bad;  // zero, or too long to normalise
                 d = glm::vec3(glm::normalize(dv));
                 return Got::Ok;
             };

@@ -28,7 +28,7 @@ GazeSample interpolate_samples(std::span<const GazeSample> samples, double t_s, 
     const double w = b && b->t_s > a.t_s ? (t_s - a.t_s) / (b->t_s - a.t_s) : 0.0;
     out.label = b && w >= 0.5 ? b->label : a.label;
     for (int e = 0; e < 2; ++e) {
-        if (b && a.eye[e].valid && b->eye[e].valid) {
+        if (b && a.eye[e].valid && b->eye[e].valid && b->t_s - a.t_s <= policy.max_gap_s) {
             const glm::vec3 d = glm::mix(a.eye[e].dir, b->eye[e].dir, static_cast<float>(w));
             const float len = glm::length(d);
             out.eye[e].dir = len > 0 ? d / len : a.eye[e].dir;

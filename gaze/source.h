@@ -19,6 +19,9 @@ struct DropoutPolicy {
     /// The last valid direction is held this long after it was measured; after that the eye is
     /// reported invalid, and the compositor falls back to a fixed centre with a larger fovea.
     double hold_s = 0.1;
+    /// Valid samples further apart than this are not interpolated between: the time between them
+    /// is a dropout (a tracker that stopped reporting, a gap in a recording), handled as above.
+    double max_gap_s = 0.1;
 };
 
 /// A gaze source polled at arbitrary times.
@@ -32,9 +35,9 @@ public:
 };
 
 /// Interpolates a time-ordered sample sequence at `t_s` under `policy`. Per eye: both
-/// neighbours valid -> normalised linear interpolation of the directions; otherwise the most
-/// recent valid sample at or before `t_s` is held if it is at most `hold_s` old, else the eye is
-/// invalid. The label is the one of the nearest sample.
+/// neighbours valid and at most `max_gap_s` apart -> normalised linear interpolation of the
+/// directions; otherwise the most recent valid sample at or before `t_s` is held if it is at most
+/// `hold_s` old, else the eye is invalid. The label is the one of the nearest sample.
 GazeSample interpolate_samples(std::span<const GazeSample> samples, double t_s, const DropoutPolicy& policy);
 
 /// Replays recorded samples (any format `read_gaze_file` reads). Times outside the recording

@@ -96,7 +96,8 @@ enum class SubmitError : int {
     InvalidDepthRange,      ///< near/far non-finite (far may be +inf), near <= 0, or far <= near
     InconsistentViews,      ///< one view has depth or motion and the other does not, or formats differ
     ForeignSwapchain,       ///< a swapchain made by another compositor (or another implementation)
-    DeviceFailure,          ///< the device failed while compositing (the compositor stays usable)
+    DeviceFailure,          ///< out of device memory (the compositor stays usable at its old size) or device
+                            ///< lost (every later frame is refused: make a new Context and Compositor)
 };
 
 std::string_view toString(SubmitError e);

@@ -92,15 +92,15 @@ bool parse(int argc, char** argv, Options& o, std::string& err) {
             }
         } else if (a == "--seed") {
             long n = std::strtol(v, &end, 10);
-            if (*end || n < 0) {
-                err = "--seed wants a non-negative integer";
+            if (!*v || *end || n < 0 || n > 0xffffffffL) {
+                err = "--seed wants an integer in 0..4294967295";
                 return false;
             }
             o.seed = uint32_t(n);
         } else if (a == "--save-every") {
             long n = std::strtol(v, &end, 10);
-            if (*end || n < 1) {
-                err = "--save-every wants a positive integer";
+            if (*end || n < 1 || n > 100000) {  // int-sized: a wrapped 0 would divide by zero
+                err = "--save-every wants 1..100000";
                 return false;
             }
             o.saveEvery = int(n);

@@ -1,0 +1,161 @@
+#!/bin/sh
+# docs/bad-input.md, "Command lines": every bad argument of wrsfov-bench, wrsfov-demo and wrsfov-gaze
+# ends with a non-zero exit status (2 usage, 1 run-time) and a message naming the problem, before any
+# device work. usage: cli_bad_args.sh WRSFOV_BENCH WRSFOV_DEMO WRSFOV_GAZE GAZE_DATA_DIR OUT_DIR
+set -u
+bench=$1 demo=$2 gz=$3 data=$4 out=$5
+rm -rf "$out"
+mkdir -p "$out"
+fails=0 count=0
+check() {  # check NAME EXPECTED_RC PATTERN COMMAND...
+    name=$1 want=$2 pattern=$3
+    shift 3
+    count=$((count + 1))
+    timeout 60 "$@" >"$out/$name.log" 2>&1
+    rc=$?
+    if [ "$rc" -ne "$want" ]; then
+        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
+    fi
+    if [ -n "$pattern" ] && ! grep -q -F -- "$pattern" "$out/$name.log"; then
+        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
+    fi
+    echo "ok   $name"
+}
+: >"$out/afile"  # a regular file where a directory is needed
+
+# ---- wrsfov-bench -------------------------------------------------------------------------------
+check bench_option_missing_value 2 "missing value after --frames" "$bench" --frames
+check bench_option_unknown 2 "unknown option --bogus" "$bench" --bogus 1
+for v in big 64x 8x8 0x0 99999x99999 -64x64 ""; do
+    check "bench_size_'$v'" 2 "--size wants WxH with 32..4096" "$bench" --size "$v"
+done
+for v in 0 -5 nan 100001 2.5 ""; do
+    check "bench_frames_'$v'" 2 "--frames wants 2..100000" "$bench" --frames "$v"
+done
+check bench_warmup_negative 2 "--warmup wants a non-negative integer" "$bench" --warmup -1
+check bench_frames_not_above_warmup 2 "--frames must exceed --warmup" "$bench" --frames 5 --warmup 5
+check bench_heavy_every_zero 2 "--heavy-every wants a positive integer" "$bench" --heavy-every 0
+for v in -1 4294967296 seven ""; do
+    check "bench_seed_'$v'" 2 "--seed wants a non-negative integer" "$bench" --seed "$v"
+done
+for v in nan inf -inf 0 -5 61 abc; do
+    check "bench_fovea_'$v'" 2 "fovea '$v' is not in (0, 60] degrees" "$bench" --fovea "$v"
+done
+check bench_fovea_empty_list 2 "must not be empty" "$bench" --fovea ,
+check bench_scenes_unknown 2 "unknown scene 'moon'" "$bench" --scenes moon
+check bench_scenes_empty 2 "must not be empty" "$bench" --scenes ""
+check bench_methods_unknown 2 "unknown method 'magic'" "$bench" --methods magic
+check bench_methods_empty 2 "must not be empty" "$bench" --methods ,
+check bench_modes_unknown 2 "unknown foveation mode 'blur'" "$bench" --modes blur
+check bench_change_unknown 2 "unknown change metric 'lab'" "$bench" --change lab
+check bench_path_unknown 2 "unknown camera path 'orbit'" "$bench" --path orbit
+check bench_out_not_a_directory 1 "cannot create $out/afile/sub" "$bench" --out "$out/afile/sub"
+
+# ---- wrsfov-demo --------------------------------------------------------------------------------
+check demo_option_missing_value 2 "missing value after --fovea" "$demo" --fovea
+check demo_option_unknown 2 "unknown option --bogus" "$demo" --bogus 1
+for v in big 16x 8x8 0x0 5000x5000 -16x16 ""; do
+    check "demo_size_'$v'" 2 "--size wants WxH with 16..4096" "$demo" --size "$v"
+done
+for v in 0 -5 nan 100001 1.5 ""; do
+    check "demo_frames_'$v'" 2 "--frames wants 1..100000" "$demo" --frames "$v"
+done
+for v in nan inf 0 -1 61 abc ""; do
+    check "demo_fovea_'$v'" 2 "--fovea wants a diameter in (0, 60] degrees" "$demo" --fovea "$v"
+done
+check demo_mode_unknown 2 "--mode wants mip, gauss or none, got 'blur'" "$demo" --mode blur
+for v in -1 4294967296 seven ""; do
+    check "demo_seed_'$v'" 2 "--seed wants an integer in 0..4294967295" "$demo" --seed "$v"
+done
+for v in 0 -1 4294967296 100001 often; do
+    check "demo_save_every_'$v'" 2 "--save-every wants 1..100000" "$demo" --save-every "$v"
+done
+check demo_out_not_a_directory 1 "cannot create $out/afile/sub" "$demo" --out "$out/afile/sub"
+
+# ---- wrsfov-gaze --------------------------------------------------------------------------------
+check gaze_no_command 2 "no command" "$gz"
+check gaze_generate_no_mode 2 "generate needs --mode" "$gz" generate --seconds 1 --out "$out/g.csv"
+check gaze_generate_no_out 2 "generate needs --out FILE" "$gz" generate --mode scene
+check gaze_generate_option_missing_value 2 "--seconds needs 1 value(s)" "$gz" generate --mode scene --out "$out/g.csv" --seconds
+check gaze_generate_unexpected_argument 2 "unexpected argument extra" "$gz" generate --mode scene --out "$out/g.csv" extra
+for v in nan inf -inf ten ""; do
+    check "gaze_generate_seconds_'$v'" 2 "--seconds '$v' is not a number" "$gz" generate --mode scene --out "$out/g.csv" --seconds "$v"
+done
+for v in 0 -1 3601 1e300; do
+    check "gaze_generate_seconds_$v" 2 "seconds must be in (0, 3600]" "$gz" generate --mode scene --out "$out/g.csv" --seconds "$v"
+done
+for v in 0 -100 89 1001; do
+    check "gaze_generate_rate_$v" 2 "tracker rate must be 90..1000 Hz" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --rate "$v"
+done
+for v in -1 1.5 2e19; do
+    check "gaze_generate_seed_$v" 2 "--seed must be a non-negative integer" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --seed "$v"
+done
+check gaze_generate_latency_negative 2 "tracker latency must be in [0, 1) s" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --latency-ms -1
+check gaze_generate_latency_huge 2 "tracker latency must be in [0, 1) s" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --latency-ms 1000
+check gaze_generate_noise_negative 2 "tracker noise must be in [0, 10) degrees" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --noise-deg -0.1
+check gaze_generate_noise_inf 2 "--noise-deg 'inf' is not a number" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --noise-deg inf
+check gaze_generate_dropouts_negative 2 "dropouts need a rate in [0, 100]" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --dropouts-per-s -1
+check gaze_generate_blinks_huge 2 "blinks need 0 <= per_minute <= 120" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --blinks-per-min 500
+check gaze_generate_char_deg_zero 2 "reading needs char_deg > 0" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --char-deg 0
+check gaze_generate_line_chars_small 2 "--line-chars must be 10..1000" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --line-chars 5
+check gaze_generate_line_chars_huge 2 "--line-chars must be 10..1000" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --line-chars 1e9
+check gaze_generate_pursuit_inverted 2 "pursuit needs 0 < speed_min <= speed_max" "$gz" generate --mode pursuit --seconds 1 --out "$out/g.csv" --pursuit-speed 20 5
+check gaze_generate_pursuit_one_value 2 "--pursuit-speed needs 2 value(s)" "$gz" generate --mode pursuit --seconds 1 --out "$out/g.csv" --pursuit-speed 5
+check gaze_generate_out_not_writable 1 "cannot create '$out/afile/g.csv'" "$gz" generate --mode scene --seconds 1 --out "$out/afile/g.csv"
+
+check gaze_stats_no_file 2 "stats needs exactly one FILE" "$gz" stats
+check gaze_stats_two_files 2 "stats needs exactly one FILE" "$gz" stats a.csv b.csv
+check gaze_stats_missing_file 1 "cannot open gaze file '$out/none.csv'" "$gz" stats "$out/none.csv"
+: >"$out/empty.csv"
+check gaze_stats_empty_file 1 "no header line (empty file?)" "$gz" stats "$out/empty.csv"
+printf '\001\002\377\376 not a gaze file\n' >"$out/binary.csv"
+check gaze_stats_binary_file 1 "unrecognised header" "$gz" stats "$out/binary.csv"
+printf 't_s,frame,valid,left_x,left_y,left_z,right_x,right_y,right_z\nnan,0,1,0,0,-1,0,0,-1\n0,0,1,0,0,-1e30,0,0,-1\n' >"$out/bad_rows.csv"
+check gaze_stats_only_bad_rows 1 "no usable samples" "$gz" stats "$out/bad_rows.csv"
+check gaze_stats_only_bad_rows_lines 1 "bad_rows.csv:3: skipped: left direction is not a unit vector" "$gz" stats "$out/bad_rows.csv"
+check gaze_stats_directory 1 "$out" "$gz" stats "$out"
+check gaze_generate_for_truncation 0 "wrote 2000 samples" "$gz" generate --mode fixation --seconds 2 --rate 1000 --seed 2 --out "$out/fix.csv"
+head -c 50000 "$out/fix.csv" >"$out/truncated.csv"
+check gaze_stats_truncated_file 0 "1 bad rows skipped" "$gz" stats "$out/truncated.csv"
+check gaze_stats_format_unknown 2 "--format must be auto, project, pupil or tobii" "$gz" stats "$out/fix.csv" --format matlab
+check gaze_stats_format_mismatch 1 "lacks the 'Recording timestamp' column" "$gz" stats "$out/fix.csv" --format tobii
+check gaze_stats_lambda_zero 2 "must be > 0" "$gz" stats "$out/fix.csv" --lambda 0
+check gaze_stats_lambda_nan 2 "--lambda 'nan' is not a number" "$gz" stats "$out/fix.csv" --lambda nan
+check gaze_stats_char_deg_negative 2 "must be > 0" "$gz" stats "$out/fix.csv" --reading --char-deg -1
+
+check gaze_list_extra_argument 2 "list takes no arguments" "$gz" list now
+
+check gaze_hid_decode_no_descriptor 2 "hid-decode needs --descriptor FILE" "$gz" hid-decode
+check gaze_hid_decode_descriptor_missing 1 "cannot open '$out/none.hex'" "$gz" hid-decode --descriptor "$out/none.hex"
+: >"$out/empty.hex"
+check gaze_hid_decode_descriptor_empty 1 "report descriptor is empty" "$gz" hid-decode --descriptor "$out/empty.hex"
+printf '05 1\n' >"$out/odd.hex"
+check gaze_hid_decode_descriptor_odd_hex 1 "hex token '1' is not whole bytes" "$gz" hid-decode --descriptor "$out/odd.hex"
+head -c 5000 /dev/zero | tr '\000' '\300' >"$out/huge.bin"
+check gaze_hid_decode_descriptor_huge 1 "more than the 4096" "$gz" hid-decode --descriptor "$out/huge.bin"
+printf '05 01 09 02 A1 01 09 30 09 31 15 81 25 7F 75 08 95 02 81 06 C0\n' >"$out/mouse.hex"
+check gaze_hid_decode_not_an_eye_tracker 0 "not an eye tracker" "$gz" hid-decode --descriptor "$out/mouse.hex"
+d="$data/eyetracker_descriptor.hex"
+check gaze_hid_decode_report_missing 1 "cannot open '$out/none.hex'" "$gz" hid-decode --descriptor "$d" --report "$out/none.hex"
+check gaze_hid_decode_report_empty 1 "empty" "$gz" hid-decode --descriptor "$d" --report "$out/empty.hex"
+{ cat "$data/eyetracker_report.hex"; printf ' 00\n'; } >"$out/long_report.hex"
+check gaze_hid_decode_report_too_long 1 "42 bytes" "$gz" hid-decode --descriptor "$d" --report "$out/long_report.hex"
+sed 's/^01/09/' "$data/eyetracker_report.hex" >"$out/other_id.hex"
+check gaze_hid_decode_report_unknown_id 1 "report ID 9" "$gz" hid-decode --descriptor "$d" --report "$out/other_id.hex"
+printf '03 00 00 00 00 00 00 00 00\n' >"$out/zero_screen.hex"
+check gaze_hid_decode_feature_zero_screen 1 "not positive" "$gz" hid-decode --descriptor "$d" --feature "$out/zero_screen.hex"
+printf '03 01\n' >"$out/short_feature.hex"
+check gaze_hid_decode_feature_truncated 1 "\"feature\": {\"error\"" "$gz" hid-decode --descriptor "$d" --feature "$out/short_feature.hex"
+
+check gaze_record_no_device 2 "record needs --device ID and --out FILE" "$gz" record --out "$out/r.csv"
+check gaze_record_seconds_negative 2 "--seconds must be >= 0" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --seconds -1
+check gaze_record_seconds_nan 2 "--seconds 'nan' is not a number" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --seconds nan
+check gaze_record_screen_zero 2 "--screen-mm needs a positive width and height" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --screen-mm 0 300
+check gaze_record_screen_one_value 2 "--screen-mm needs 2 value(s)" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --screen-mm 500
+check gaze_record_device_not_an_id 1 "is neither a path, an index nor VID:PID" "$gz" record --device banana --out "$out/r.csv"
+check gaze_record_device_index_out_of_range 1 "device index 99999 is out of range" "$gz" record --device 99999 --out "$out/r.csv"
+check gaze_record_device_bad_vid_pid 1 "is not VID:PID in hex" "$gz" record --device zz:yy --out "$out/r.csv"
+check gaze_record_device_absent_vid_pid 1 "no eye-tracker collection" "$gz" record --device 1234:5678 --out "$out/r.csv"
+
+echo "$count checks, $fails failed"
+[ "$fails" -eq 0 ]

@@ -1,0 +1,43 @@
+#!/bin/sh
+# docs/bad-input.md, "Device faults": the tools under injected device faults (WRSFOV_FAULT, see
+# vk::FaultInjection) stop with exit status 1 and a message that names the fault, never crash or hang.
+# usage: cli_device_faults.sh WRSFOV_BENCH WRSFOV_DEMO OUT_DIR
+set -u
+bench=$1 demo=$2 out=$3
+rm -rf "$out"
+mkdir -p "$out"
+fails=0 count=0
+check() {  # check NAME EXPECTED_RC PATTERN FAULT COMMAND...
+    name=$1 want=$2 pattern=$3 fault=$4
+    shift 4
+    count=$((count + 1))
+    WRSFOV_FAULT="$fault" timeout 120 "$@" >"$out/$name.log" 2>&1
+    rc=$?
+    if [ "$rc" -ne "$want" ]; then
+        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
+    fi
+    if [ -n "$pattern" ] && ! grep -q -F -- "$pattern" "$out/$name.log"; then
+        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
+    fi
+    echo "ok   $name"
+}
+demo_args() { echo "--size 16x16 --frames 3 --out $out/demo_$1"; }
+bench_args() {
+    echo "--scenes text --methods fov,wrs --fovea 5 --modes mip --size 32x32 --frames 3 --warmup 1 --out $out/bench_$1"
+}
+
+# shellcheck disable=SC2046  # the argument lists are split on purpose
+check demo_fault_spec_malformed 1 "WRSFOV_FAULT='alloc=1' is not alloc:N and/or lost:N" "alloc=1" "$demo" $(demo_args spec)
+check demo_no_fault 0 "wrote" "" "$demo" $(demo_args none)
+check demo_oom_first_allocation 1 "compositor frame parameters: vkAllocateMemory" "alloc:1" "$demo" $(demo_args oom1)
+check demo_oom_swapchain_image 1 "VK_ERROR_OUT_OF_DEVICE_MEMORY" "alloc:8" "$demo" $(demo_args oom8)
+check demo_oom_during_frames 1 "VK_ERROR_OUT_OF_DEVICE_MEMORY" "alloc:20" "$demo" $(demo_args oom20)
+check demo_lost_at_start 1 "VK_ERROR_DEVICE_LOST" "lost:1" "$demo" $(demo_args lost1)
+check demo_lost_while_compositing 1 "the Vulkan device was lost (VK_ERROR_DEVICE_LOST): this compositor refuses" \
+    "lost:10" "$demo" $(demo_args lost10)
+check demo_lost_in_a_readback 1 "queue submission failed: VK_ERROR_DEVICE_LOST" "lost:12" "$demo" $(demo_args lost12)
+check bench_oom_first_allocation 1 "compositor frame parameters: vkAllocateMemory" "alloc:1" "$bench" $(bench_args oom1)
+check bench_lost_in_a_frame 1 "VK_ERROR_DEVICE_LOST" "lost:10" "$bench" $(bench_args lost10)
+
+echo "$count checks, $fails failed"
+[ "$fails" -eq 0 ]
