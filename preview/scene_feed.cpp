@@ -1,0 +1,126 @@
+#include "preview/scene_feed.h"
+
+namespace wrsfov::preview {
+
+namespace {
+constexpr SceneKind kScenes[] = {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic};
+}  // namespace
+
+std::string_view toString(SceneKind s) {
+    switch (s) {
+        case SceneKind::Text:
+            return "text";
+        case SceneKind::Atrium:
+            return "atrium";
+        case SceneKind::Dynamic:
+            return "dynamic";
+    }
+    return "?";
+}
+
+std::optional<SceneKind> parseScene(std::string_view name) {
+    for (SceneKind s : kScenes)
+        if (toString(s) == name) return s;
+    return std::nullopt;
+}
+
+SceneKind nextScene(SceneKind s) {
+    return s == SceneKind::Text ? SceneKind::Atrium : s == SceneKind::Atrium ? SceneKind::Dynamic : SceneKind::Text;
+}
+
+Result<std::unique_ptr<SceneFeed>> SceneFeed::create(vk::Context& ctx, const SceneFeedOptions& o) {
+    if (o.width < 32 || o.height < 32) return Error{1, "scene: images must be at least 32x32 per eye"};
+    std::unique_ptr<SceneFeed> f(new SceneFeed(ctx, o));
+    if (o.scene == SceneKind::Text) {
+        scenes::TextOptions to;
+        to.width = o.width;
+        to.height = o.height;
+        to.seed = o.seed;
+        f->text_ = std::make_unique<scenes::TextScene>(to);
+    } else {
+        scenes::AtriumOptions ao;
+        ao.width = o.width;
+        ao.height = o.height;
+        ao.dynamic = o.scene == SceneKind::Dynamic;
+        ao.path = o.path;
+        auto r = scenes::AtriumRenderer::create(ctx, ao);
+        if (!r) return r.error();
+        f->atrium_ = std::move(*r);
+    }
+    return f;
+}
+
+layers::Fov SceneFeed::fov(int eye) const {
+    return text_ ? scenes::textFov(text_->options(), eye) : scenes::atriumFov(eye);
+}
+
+scenes::TextLayout SceneFeed::textLayout() const { return text_ ? text_->options().layout : scenes::TextLayout{}; }
+
+Result<HostStereoApp*> SceneFeed::app(Compositor& target) {
+    auto it = apps_.find(&target);
+    if (it != apps_.end()) return it->second.get();
+    HostStereoApp::Options a;
+    a.width = options_.width;
+    a.height = options_.height;
+    if (text_) {
+        a.depth = layers::Format::R32F;
+        a.nearZ = text_->options().nearZ;
+        a.farZ = text_->options().farZ;
+    } else {
+        const scenes::AtriumOptions& ao = atrium_->options();
+        a.depth = layers::Format::D32F;
+        a.motion = layers::Format::RGBA16F;
+        a.nearZ = ao.nearZ;
+        a.farZ = ao.farZ;
+        a.reversedZ = ao.reversedZ;
+    }
+    auto made = HostStereoApp::create(target, a);
+    if (!made) return made.error();
+    HostStereoApp* p = made->get();
+    apps_[&target] = std::move(*made);
+    return p;
+}
+
+Status SceneFeed::submit(std::span<Compositor* const> targets, uint64_t frameIndex, double t, double prevT,
+                         const std::array<layers::EyeGaze, 2>& gaze) {
+    std::array<EyeSubmission, 2> eyes;
+    for (int e = 0; e < 2; ++e) {
+        eyes[e].fov = fov(e);
+        eyes[e].gaze = gaze[e];
+        if (text_) {
+            eyes[e].color = text_->color(e);
+            eyes[e].depth = text_->depth(e);
+        }
+    }
+    for (Compositor* target : targets) {
+        auto a = app(*target);
+        if (!a) return a.error();
+        HostStereoApp& app = **a;
+        if (text_) {
+            if (Status s = app.submit(frameIndex, t, eyes); !s) return s;
+            continue;
+        }
+        // The atrium renders straight into this target's swapchain images (acquire, wait, render,
+        // release), as a Vulkan application would.
+        layers::Swapchain* sc[3] = {&app.color(), app.depth(), app.motion()};
+        uint32_t idx[3] = {};
+        Status s;
+        int acquired = 0;
+        for (; acquired < 3 && s; ++acquired) {
+            auto i = sc[acquired]->acquire();
+            if (!i) {
+                s = i.error();
+                break;
+            }
+            idx[acquired] = *i;
+            s = sc[acquired]->wait();
+        }
+        if (s) s = atrium_->render(t, prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
+        for (int i = 0; i < acquired; ++i) (void)sc[i]->release();
+        if (!s) return s;
+        if (Status e = target->endFrame(app.frameEnd(frameIndex, t, eyes)); !e) return e;
+    }
+    return {};
+}
+
+}  // namespace wrsfov::preview

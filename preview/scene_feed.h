@@ -1,0 +1,59 @@
+// The preview's application side: makes each frame of a built-in scene (text, atrium, dynamic) and
+// submits it, with the frame's gaze, to one or more compositors (the method shown and, when the
+// view needs it, the unfoveated reference), each through its own swapchains.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "compositor/compositor.h"
+#include "compositor/host_app.h"
+#include "layers/frame.h"
+#include "scenes/atrium.h"
+#include "scenes/text.h"
+
+namespace wrsfov::preview {
+
+/// The built-in scenes the preview shows (scenes/).
+enum class SceneKind : uint8_t { Text, Atrium, Dynamic };
+std::string_view toString(SceneKind s);
+std::optional<SceneKind> parseScene(std::string_view name);
+SceneKind nextScene(SceneKind s);
+
+struct SceneFeedOptions {
+    SceneKind scene = SceneKind::Text;
+    scenes::CameraPath path = scenes::CameraPath::Lateral;  ///< atrium and dynamic only
+    uint32_t width = 0, height = 0;                         ///< per eye
+    uint32_t seed = 1;
+};
+
+class SceneFeed {
+public:
+    static Result<std::unique_ptr<SceneFeed>> create(vk::Context& ctx, const SceneFeedOptions& options);
+
+    /// Makes the frame at scene time `t` (motion from `prevT`) and ends frame `frameIndex` on each
+    /// target with `gaze`. Every target sees the same images.
+    Status submit(std::span<Compositor* const> targets, uint64_t frameIndex, double t, double prevT,
+                  const std::array<layers::EyeGaze, 2>& gaze);
+
+    layers::Fov fov(int eye) const;
+    const SceneFeedOptions& options() const { return options_; }
+    /// The text scene's layout (what the reading generator follows); the default layout otherwise.
+    scenes::TextLayout textLayout() const;
+
+private:
+    SceneFeed(vk::Context& ctx, const SceneFeedOptions& o) : ctx_(ctx), options_(o) {}
+    Result<HostStereoApp*> app(Compositor& target);
+
+    vk::Context& ctx_;
+    SceneFeedOptions options_;
+    std::unique_ptr<scenes::TextScene> text_;
+    std::unique_ptr<scenes::AtriumRenderer> atrium_;
+    std::map<Compositor*, std::unique_ptr<HostStereoApp>> apps_;  // one set of swapchains per target
+};
+
+}  // namespace wrsfov::preview
