@@ -3,20 +3,8 @@
 set -u
 bin=$1 data=$2 out=$3
 mkdir -p "$out"
-fails=0
-check() {  # check NAME EXPECTED_RC PATTERN COMMAND...
-    name=$1 want=$2 pattern=$3
-    shift 3
-    "$@" >"$out/$name.log" 2>&1
-    rc=$?
-    if [ "$rc" -ne "$want" ]; then
-        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    if [ -n "$pattern" ] && ! grep -q -- "$pattern" "$out/$name.log"; then
-        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    echo "ok   $name"
-}
+. "$(dirname "$0")/../cli_check.sh"
+check() { cli_check "$@"; }  # check NAME EXPECTED_RC PATTERN COMMAND...
 
 check generate 0 "wrote 10000 samples" "$bin" generate --mode fixation --seconds 10 --rate 1000 --seed 3 \
     --out "$out/fix.csv" --plot "$out/fix.png"

@@ -6,20 +6,12 @@ set -u
 bench=$1 demo=$2 gz=$3 data=$4 out=$5
 rm -rf "$out"
 mkdir -p "$out"
-fails=0 count=0
+. "$(dirname "$0")/../cli_check.sh"
+CLI_FIXED=1
 check() {  # check NAME EXPECTED_RC PATTERN COMMAND...
-    name=$1 want=$2 pattern=$3
+    n=$1 w=$2 p=$3
     shift 3
-    count=$((count + 1))
-    timeout 60 "$@" >"$out/$name.log" 2>&1
-    rc=$?
-    if [ "$rc" -ne "$want" ]; then
-        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    if [ -n "$pattern" ] && ! grep -q -F -- "$pattern" "$out/$name.log"; then
-        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    echo "ok   $name"
+    cli_check "$n" "$w" "$p" timeout 60 "$@"
 }
 : >"$out/afile"  # a regular file where a directory is needed
 

@@ -6,20 +6,12 @@ set -u
 bench=$1 demo=$2 out=$3
 rm -rf "$out"
 mkdir -p "$out"
-fails=0 count=0
+. "$(dirname "$0")/../cli_check.sh"
+CLI_FIXED=1
 check() {  # check NAME EXPECTED_RC PATTERN FAULT COMMAND...
-    name=$1 want=$2 pattern=$3 fault=$4
+    n=$1 w=$2 p=$3 f=$4
     shift 4
-    count=$((count + 1))
-    WRSFOV_FAULT="$fault" timeout 120 "$@" >"$out/$name.log" 2>&1
-    rc=$?
-    if [ "$rc" -ne "$want" ]; then
-        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    if [ -n "$pattern" ] && ! grep -q -F -- "$pattern" "$out/$name.log"; then
-        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    echo "ok   $name"
+    cli_check "$n" "$w" "$p" env WRSFOV_FAULT="$f" timeout 120 "$@"
 }
 demo_args() { echo "--size 16x16 --frames 3 --out $out/demo_$1"; }
 bench_args() {

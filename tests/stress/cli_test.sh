@@ -4,20 +4,8 @@ set -u
 bin=$1 out=$2
 rm -rf "$out"
 mkdir -p "$out"
-fails=0
-check() {  # check NAME EXPECTED_RC PATTERN COMMAND...
-    name=$1 want=$2 pattern=$3
-    shift 3
-    "$@" >"$out/$name.log" 2>&1
-    rc=$?
-    if [ "$rc" -ne "$want" ]; then
-        echo "FAIL $name: exit $rc, expected $want"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    if [ -n "$pattern" ] && ! grep -q -- "$pattern" "$out/$name.log"; then
-        echo "FAIL $name: output lacks '$pattern'"; cat "$out/$name.log"; fails=$((fails + 1)); return
-    fi
-    echo "ok   $name"
-}
+. "$(dirname "$0")/../cli_check.sh"
+check() { cli_check "$@"; }  # check NAME EXPECTED_RC PATTERN COMMAND...
 
 check small_run 0 "All [0-9]* checks pass" "$bin" --quick --frames 3000 --pixels 4 --gpu-frames 30 --gpu-width 4 \
     --formats chosen,f32,wsum16 --out "$out/report"
