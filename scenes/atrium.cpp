@@ -1,5 +1,6 @@
 #include "scenes/atrium.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
@@ -27,6 +28,15 @@ glm::mat4 movingBox(int i, double t) {
 }
 constexpr int kMovingBoxes = 3;
 }  // namespace
+
+float atriumLight(const AtriumOptions& o, double t) {
+    if (!o.dynamic) return 1.0f;
+    // The room light dims to 60 % over 0.1 s at t = 1 s and comes back over 0.1 s at t = 2.2 s
+    // (and so on every 3 s): a scene change that neither depth nor motion vectors announce.
+    const double c = std::fmod(t, 3.0);
+    const double down = std::clamp((c - 1.0) / 0.1, 0.0, 1.0), up = std::clamp((c - 2.2) / 0.1, 0.0, 1.0);
+    return float(1.0 - 0.4 * (down - up));
+}
 
 layers::Fov atriumFov(int eye) { return hmdFov(eye); }
 
@@ -407,6 +417,7 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
         cam.prev_view_proj = proj * cam.prev_view;
         cam.viewport = glm::vec4(W, H, options_.nearZ, options_.farZ);
         cam.eye_pos = glm::vec4(glm::vec3(glm::inverse(cam.view)[3]), options_.reversedZ ? 1.0f : 0.0f);
+        cam.light = glm::vec4(atriumLight(options_, t), 0.0f, 0.0f, 0.0f);
         std::memcpy(cameras_[e].mapped(), &cam, sizeof(cam));
     }
     VkFormat colorViewFormat = cf;

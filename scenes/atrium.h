@@ -26,13 +26,17 @@ enum class CameraPath : uint8_t {
 
 struct AtriumOptions {
     uint32_t width = 256, height = 256;  ///< per eye
-    bool dynamic = false;                ///< moving boxes that occlude and disocclude the room
+    bool dynamic = false;                ///< moving boxes that occlude and disocclude the room, a light change
     CameraPath path = CameraPath::Lateral;
     float ipd = 0.063f;                  ///< metres
     float nearZ = 0.05f, farZ = 100.0f;
     bool reversedZ = false;
     bool monitor = false;                ///< one symmetric 76° x 60° view for both eyes (no disparity)
 };
+
+/// Scale of the room light at time t: 1, except in the `dynamic` scene, whose light dims to 0.6 at
+/// t = 1 s and recovers at t = 2.2 s, every 3 s (0.1 s ramps).
+float atriumLight(const AtriumOptions& o, double t);
 
 /// Per-eye asymmetric field of view of the stereo camera (HMD-like; mirrored between eyes).
 layers::Fov atriumFov(int eye);

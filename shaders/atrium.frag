@@ -49,7 +49,7 @@ void main() {
     }
     vec3 n = normalize(v_normal);
     vec3 l = normalize(vec3(0.3, 1.0, 0.5));
-    float light = 0.45 + 0.55 * max(dot(n, l), 0.0);
+    float light = cam.light.x * (0.45 + 0.55 * max(dot(n, l), 0.0));
     out_color = vec4(base * light, 1.0);
 
     vec2 cur = gl_FragCoord.xy;

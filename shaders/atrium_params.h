@@ -14,6 +14,7 @@ struct AtriumCamera {
     vec4 eye_pos;         // world position of the eye, w: reversed-Z (1) or not (0)
     mat4 view;            // world -> view, this frame (linear depth)
     mat4 prev_view;       // world -> view, previous frame
+    vec4 light;           // x: scale of the room light (the `dynamic` scene dims it), yzw: pad
 };
 
 // Per draw: object transform now and one frame ago, material.
@@ -25,7 +26,7 @@ struct AtriumDraw {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::AtriumCamera) == 4 * 64 + 32);
+static_assert(sizeof(wrsfov::gpu::AtriumCamera) == 4 * 64 + 48);
 static_assert(sizeof(wrsfov::gpu::AtriumDraw) == 128);
 #endif
 
