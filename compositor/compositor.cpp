@@ -9,6 +9,7 @@
 #include "foveate_spv.h"
 #include "load_spv.h"
 #include "pyramid_spv.h"
+#include "retain_spv.h"
 #include "taa_spv.h"
 #include "wrs_spv.h"
 
@@ -22,10 +23,20 @@ std::string_view toString(Method m) {
             return "fov";
         case Method::FovTaa:
             return "fov+taa";
+        case Method::WrsPaper:
+            return "wrs-paper";
         case Method::Wrs:
             return "wrs";
+        case Method::Oracle:
+            return "oracle";
     }
     return "?";
+}
+std::string_view toString(EqualQuality e) { return e == EqualQuality::Merge ? "merge" : "reservoir"; }
+std::optional<Method> parseMethod(std::string_view name) {
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle})
+        if (name == toString(m)) return m;
+    return std::nullopt;
 }
 std::string_view toString(FoveationMode m) {
     switch (m) {
@@ -52,7 +63,7 @@ std::string_view toString(ChangeMetric m) {
 
 namespace {
 
-enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kTaa, kCopy, kShaderCount };
+enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kShaderCount };
 enum Binding : uint32_t {
     kFrame = 0,
     kColor = 1,
@@ -94,7 +105,9 @@ Status checkConfig(const CompositorConfig& c) {
     if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return refuse("fallback fovea size must be in (0°, 180°]");
     if (bad(c.depthTau, 0.0f, 1e6f)) return refuse("depth tolerance must be positive and finite");
     // Enums may come from casts of file or command-line values: out-of-range ones are refused, not guessed.
-    if (uint8_t(c.method) > uint8_t(Method::Wrs)) return refuse("method must be fov, fov+taa or wrs");
+    if (uint8_t(c.method) > uint8_t(Method::Oracle))
+        return refuse("method must be fov, fov+taa, wrs-paper, wrs or oracle");
+    if (uint8_t(c.equalQuality) > uint8_t(EqualQuality::Reservoir)) return refuse("equal-quality rule must be merge or reservoir");
     if (uint8_t(c.foveation) > uint8_t(FoveationMode::Gauss))
         return refuse("foveation mode must be none, mip or gauss");
     if (uint8_t(c.change) > uint8_t(ChangeMetric::DeltaE94)) return refuse("change metric must be off, lstar or de94");
@@ -110,10 +123,16 @@ uint64_t trafficBytes(const CompositorConfig& c, uint32_t w, uint32_t h, bool de
         const double taps = c.foveation == FoveationMode::Mip ? 4 : 16;
         for (int k = 1; k < WRS_LEVELS; ++k) b += px / std::pow(4.0, k) * (taps * 16 + 16);
     }
+    const bool retain = c.method == Method::Wrs || c.method == Method::Oracle;
     const bool temporal = c.method != Method::Fov;
     const bool pyramid = c.foveation != FoveationMode::None;
-    b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + (temporal ? 16 : 4));  // foveate: level 0 + 2 bilinear levels
-    if (c.method == Method::Wrs) b += px * (16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
+    if (retain && !pyramid)  // the fingerprint's box pyramid
+        for (int k = 1; k < WRS_LEVELS; ++k) b += px / std::pow(4.0, k) * (4 * 16 + 16);
+    if (!retain) b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + (temporal ? 16 : 4));  // foveate: level 0 + 2 levels
+    if (c.method == Method::WrsPaper) b += px * (16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
+    // retain: level 0, up to 2 bilinear levels + the fingerprint taps, reservoir in (up to 2 on a
+    // retry, counted once) and out, output.
+    if (retain) b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + 4 * 16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
     if (c.method == Method::FovTaa) b += px * (16 + 16 + (motion ? 8 : 0) + 16 + 4);
     return uint64_t(b);
 }
@@ -232,7 +251,8 @@ Status Compositor::init() {
     };
     const Code code[kShaderCount] = {{load_spv, sizeof(load_spv)},       {pyramid_spv, sizeof(pyramid_spv)},
                                      {foveate_spv, sizeof(foveate_spv)}, {wrs_spv, sizeof(wrs_spv)},
-                                     {taa_spv, sizeof(taa_spv)},         {copy_spv, sizeof(copy_spv)}};
+                                     {taa_spv, sizeof(taa_spv)},         {copy_spv, sizeof(copy_spv)},
+                                     {retain_spv, sizeof(retain_spv)}};
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
@@ -429,10 +449,12 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         config_ = pending_;
         configPending_ = false;
     }
-    const bool wrs = config_.method == Method::Wrs;
+    const bool wrsPaper = config_.method == Method::WrsPaper;
+    const bool retain = config_.method == Method::Wrs || config_.method == Method::Oracle;
     const bool taa = config_.method == Method::FovTaa;
-    const bool temporal = wrs || taa;  // a pass with history in the reservoir buffers
-    const bool pyramid = config_.foveation != FoveationMode::None;
+    const bool temporal = wrsPaper || retain || taa;  // a pass with history in the reservoir buffers
+    // `retain` needs level 4 for its fingerprint whatever the foveation (a box pyramid for `none`).
+    const bool pyramid = config_.foveation != FoveationMode::None || retain;
 
     stats_ = FrameStats{};
     stats_.frameIndex = frame.frameIndex;
@@ -509,7 +531,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     stamp(2);
     if (pyramid) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kPyramid, {config_.foveation == FoveationMode::Mip ? 1u : 2u, 0, 0, 0}));
+                          pipeline(kPyramid, {config_.foveation == FoveationMode::Gauss ? 2u : 1u, 0, 0, 0}));
         for (uint32_t level = 1; level < WRS_LEVELS; ++level) {
             gpu::LevelPush push{level, 0, 0, 0};
             vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
@@ -519,12 +541,20 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         }
     }
     stamp(3);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
-    vkCmdDispatch(cb, gx, gy, WRS_EYES);
-    computeBarrier(cb);
+    if (!retain) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
+        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        computeBarrier(cb);
+    }
     stamp(4);
-    if (wrs) {
+    if (retain) {
+        const uint32_t rule = config_.method == Method::Oracle ? gpu::WRS_RULE_ORACLE : uint32_t(config_.equalQuality);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule}));
+        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        computeBarrier(cb);
+    } else if (wrsPaper) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kWrs, {hasMotion, hasDepth, uint32_t(config_.change), config_.bernoulli}));
         vkCmdDispatch(cb, gx, gy, WRS_EYES);

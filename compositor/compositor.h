@@ -5,14 +5,17 @@
 //   1. load     – decode the submitted colour to linear, sanitize, linearize depth
 //   2. pyramid  – levels 1..4 (box for `mip`, [1 3 3 1] Gaussian for `gauss`; skipped for `none`)
 //   3. foveate  – eccentricity, foveated colour, weight p̂ (method `fov` writes the output here)
-//   4. wrs      – reprojection, depth flush, biased combine, reservoir store, output (method `wrs`)
+//   4. wrs      – reprojection, depth flush, biased combine, reservoir store, output (`wrs-paper`)
 //      or taa   – reprojected history clipped to the neighbourhood's variance box (method `fov+taa`)
+//   3+4. retain – foveation fused with quality-aware retention (methods `wrs` and `oracle`): no
+//                 candidate buffer; the pyramid is built for every foveation mode (fingerprint)
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,14 +31,23 @@
 
 namespace wrsfov {
 
-/// fov: foveation only; fovTaa: foveation + TAA baseline (Karis/Salvi); wrs: foveation + WRS.
-enum class Method : uint8_t { Fov, FovTaa, Wrs };
+/// fov: foveation only; fovTaa: foveation + TAA baseline (Karis/Salvi); wrsPaper: foveation + WRS
+/// as published (eq. 6 + eq. 7); wrs: foveation + quality-aware retention (wrs_common.h, the
+/// default); oracle: keeps whichever of history and candidate is closer to the submitted
+/// (unfoveated) colour, the ceiling of any keep-or-replace rule with wrs's reprojection. The oracle
+/// exists for evaluation only: it needs the full-rate image, which a foveated renderer never has.
+enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle };
+/// What `wrs` does with a candidate of the same quality as the kept sample (shader WRS_RULE_*).
+enum class EqualQuality : uint8_t { Merge = 0, Reservoir = 1 };
 /// Values equal the shader constants WRS_FOV_*.
 enum class FoveationMode : uint8_t { None = 0, Mip = 1, Gauss = 2 };
 /// Values equal the shader constants WRS_CHANGE_*.
 enum class ChangeMetric : uint8_t { Off = 0, LStar = 1, DeltaE94 = 2 };
 
 std::string_view toString(Method m);
+std::string_view toString(EqualQuality e);
+/// "fov", "fov+taa", "wrs-paper", "wrs", "oracle"; nullopt for anything else.
+std::optional<Method> parseMethod(std::string_view name);
 std::string_view toString(FoveationMode m);
 std::string_view toString(ChangeMetric m);
 
@@ -48,8 +60,9 @@ struct CompositorConfig {
     float foveaDeg = 5.0f;           ///< fovea diameter in degrees (r_f = foveaDeg / 2)
     float midPeripheryDeg = 15.0f;   ///< mid-periphery diameter (r_m = 7.5°)
     float fallbackFoveaDeg = 20.0f;  ///< fovea diameter used while gaze is invalid (view centre)
-    ChangeMetric change = ChangeMetric::LStar;
-    bool bernoulli = true;           ///< eq. 6 survival bias of the history
+    ChangeMetric change = ChangeMetric::LStar;  ///< wrs-paper: the eq. 7 change term
+    bool bernoulli = true;           ///< wrs-paper: eq. 6 survival bias of the history
+    EqualQuality equalQuality = EqualQuality::Merge;  ///< wrs: equal-quality candidates
     float depthTau = 0.05f;          ///< relative depth difference that flushes history
     uint32_t seed = 1;
     /// Append a copy kernel moving the frame's estimated traffic (trafficBytes) to every frame's

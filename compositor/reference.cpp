@@ -26,7 +26,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const uint W = size0.x, H = size0.y;
     const uint frame = params.size.z, seed = params.size.w;
     const uint mode = uint(config_.foveation);
-    const bool wrs = config_.method == Method::Wrs;
+    const bool wrs = config_.method == Method::WrsPaper;
+    const bool retain = config_.method == Method::Wrs || config_.method == Method::Oracle;
     const bool taa = config_.method == Method::FovTaa;
 
     for (uint eye = 0; eye < 2; ++eye) {
@@ -54,8 +55,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             return pyr[wrs_level_offset(size0, level) + q.y * sl.x + q.x];
         };
 
-        // Pass 2: pyramid.
-        if (mode != WRS_FOV_NONE) {
+        // Pass 2: pyramid (methods wrs and oracle need level 4 for every mode: a box pyramid for `none`).
+        if (mode != WRS_FOV_NONE || retain) {
             for (uint level = 1; level < uint(WRS_LEVELS); ++level) {
                 uvec2 src = wrs_level_size(size0, level - 1u), dst = wrs_level_size(size0, level);
                 auto tap = [&](uvec2 d, ivec2 o) { return at(level - 1u, wrs_down_tap(d, o, src)); };
@@ -63,7 +64,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     for (uint x = 0; x < dst.x; ++x) {
                         uvec2 d(x, y);
                         vec4 r;
-                        if (mode == WRS_FOV_MIP) {
+                        if (mode != WRS_FOV_GAUSS) {
                             r = wrs_down_box(tap(d, ivec2(0, 0)), tap(d, ivec2(1, 0)), tap(d, ivec2(0, 1)),
                                              tap(d, ivec2(1, 1)));
                         } else {
@@ -73,7 +74,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                                            tap(d, ivec2(1, j - 1)), tap(d, ivec2(2, j - 1)));
                             r = wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]);
                         }
-                        at(level, d) = r;
+                        at(level, d) = wrs_pyramid_texel(r, level);
                     }
             }
         }
@@ -104,7 +105,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 glm::u8vec4 o = encodeOutput(vec3(c));
                 std::memcpy(out_[eye].data.data() + (std::size_t(y) * W + x) * 4, &o, 4);
             }
-        if (!wrs && !taa) continue;
+        if (!wrs && !taa && !retain) continue;
 
         prev_[eye] = history_ && res_[eye].size() == std::size_t(W) * H ? res_[eye]
                                                                          : std::vector<uvec4>(std::size_t(W) * H, uvec4(0u));
@@ -143,7 +144,87 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             continue;
         }
 
-        // Pass 4: temporal WRS.
+        if (retain) {
+            // Pass 3+4 of wrs / oracle (shaders/retain.comp): candidate, tracked history, retention.
+            const uint rule = config_.method == Method::Oracle ? WRS_RULE_ORACLE : uint(config_.equalQuality);
+            auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
+                if (level == 0u) {
+                    vec4 c = at(0u, p);
+                    lo = min(lo, vec3(c));
+                    hi = max(hi, vec3(c));
+                    arange = 0.0f;
+                    return c;
+                }
+                uvec2 sl = wrs_level_size(size0, level);
+                uvec2 i0, i1;
+                vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+                vec4 t[4] = {at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)), at(level, i1)};
+                for (const vec4& c : t) {
+                    lo = min(lo, vec3(c));
+                    hi = max(hi, vec3(c));
+                }
+                arange = std::max(std::max(t[0].w, t[1].w), std::max(t[2].w, t[3].w)) -
+                         std::min(std::min(t[0].w, t[1].w), std::min(t[2].w, t[3].w));
+                return wrs_bilinear(t[0], t[1], t[2], t[3], f);
+            };
+            trace_[eye].assign(std::size_t(W) * H, Trace{});
+            for (uint y = 0; y < H; ++y)
+                for (uint x = 0; x < W; ++x) {
+                    uvec2 p(x, y);
+                    std::size_t idx = std::size_t(y) * W + x;
+                    vec3 ray = wrs_pixel_ray(x, y, W, H, ep.fov_tan);
+                    float e = wrs_eccentricity_deg(ray, vec3(ep.gaze));
+                    float r_f = ep.gaze.w;
+                    vec3 lv = wrs_foveation_levels(mode, e, r_f, params.tuning.x);
+                    RetainInput c;
+                    c.lo = vec3(WRS_HALF_MAX);
+                    c.hi = vec3(0.0f);
+                    float unused;
+                    vec4 col = sampleRange(uint(lv.x), p, c.lo, c.hi, unused);
+                    if (lv.z > 0.0f) col = wrs_blend(col, sampleRange(uint(lv.y), p, c.lo, c.hi, unused), lv.z);
+                    vec4 ref = at(0u, p);
+                    bool valid = ref.w > 0.5f;
+                    c.color = vec3(col);
+                    c.q = valid ? (mode == WRS_FOV_NONE ? wrs_sample_weight(e, r_f) : wrs_level_quality(lv)) : 0.0f;
+                    vec3 flo(0.0f), fhi(0.0f);
+                    c.fp = sampleRange(WRS_FP_LEVEL, p, flo, fhi, c.fp_range).w;
+                    c.z = hasDepth ? zlin[idx] : 0.0f;
+                    vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) : vec3(0.0f);
+                    c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
+                    vec2 pos;
+                    uvec2 q;
+                    bool has_history = wrs_track_start(p, size0, mv, pos, q);
+                    Tracked h = wrs_unpack_tracked(prev_[eye][std::size_t(q.y) * W + q.x]);
+                    vec2 d = wrs_track_offset(q, h.d, pos);
+                    if (has_history && !wrs_track_inside(d)) {
+                        uvec2 q2;
+                        has_history = wrs_track_retry(q, d, size0, q2);
+                        h = wrs_unpack_tracked(prev_[eye][std::size_t(q2.y) * W + q2.x]);
+                        d = wrs_track_offset(q2, h.d, pos);
+                        has_history = has_history && wrs_track_inside(d);
+                        q = q2;
+                    }
+                    has_history = has_history && wrs_tracked_valid(h);
+                    float dz = wrs_finite(mv.z) ? mv.z : 0.0f;
+                    if (hasDepth && has_history && rule != WRS_RULE_ORACLE &&
+                        wrs_depth_flush(h.z, c.z, dz, params.tuning.y))
+                        has_history = false;
+                    uint hash = wrs_hash(x, y, eye, frame, seed);
+                    float rnd = wrs_hash_unit(hash);
+                    Trace& t = trace_[eye][idx];
+                    Tracked r = wrs_retain(rule, has_history, h, d, c, vec3(ref), rnd, t.outcome, t.margin);
+                    res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(hash));
+                    t.hadHistory = has_history;
+                    t.keep = t.outcome == WRS_OUT_KEPT || t.outcome == WRS_OUT_MERGED;
+                    t.rnd = rnd;
+                    t.source = q.y * W + q.x;
+                    glm::u8vec4 o = encodeOutput(r.color);
+                    std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
+                }
+            continue;
+        }
+
+        // Pass 4: temporal WRS as published (wrs-paper).
         trace_[eye].assign(std::size_t(W) * H, Trace{});
         for (uint y = 0; y < H; ++y)
             for (uint x = 0; x < W; ++x) {
@@ -177,7 +258,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
             }
     }
-    history_ = wrs || taa;
+    history_ = wrs || taa || retain;
 }
 
 }  // namespace wrsfov

@@ -29,11 +29,15 @@ public:
         float rnd = 0;
         float threshold = 0;  ///< history kept iff rnd <= threshold (wrs_keep_threshold)
         uint32_t source = 0;  ///< pixel index the history was read from (after reprojection)
+        /// Methods wrs and oracle: the outcome (WRS_OUT_*) and how close its deciding comparison
+        /// was to the threshold, relative (wrs_retain).
+        uint32_t outcome = 0;
+        float margin = 1.0f;
     };
 
     explicit Reference(const CompositorConfig& config) : config_(config) {}
 
-    /// Runs load, pyramid, foveate and (method wrs) the temporal combine for both eyes.
+    /// Runs load, pyramid, foveate and the temporal pass of the configured method for both eyes.
     void step(const gpu::FrameParams& params, const std::array<EyeInput, 2>& eyes);
 
     void setConfig(const CompositorConfig& config) { config_ = config; }

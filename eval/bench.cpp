@@ -552,7 +552,9 @@ cv::Scalar methodColour(Method m) {
     switch (m) {
     case Method::Fov: return {40, 40, 220};
     case Method::FovTaa: return {40, 160, 40};
+    case Method::WrsPaper: return {150, 150, 150};
     case Method::Wrs: return {200, 90, 20};
+    case Method::Oracle: return {170, 40, 170};
     }
     return {0, 0, 0};
 }

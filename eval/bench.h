@@ -22,7 +22,7 @@ std::optional<SceneKind> parseScene(std::string_view name);
 
 struct BenchOptions {
     std::vector<SceneKind> scenes{SceneKind::Text, SceneKind::Atrium};
-    std::vector<Method> methods{Method::Fov, Method::FovTaa, Method::Wrs};
+    std::vector<Method> methods{Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle};
     std::vector<float> foveas{5.0f, 7.5f, 10.0f};  ///< diameters in degrees
     std::vector<FoveationMode> modes{FoveationMode::Mip, FoveationMode::Gauss};
     uint32_t width = 320, height = 288;  ///< per eye

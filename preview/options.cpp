@@ -11,7 +11,7 @@ namespace wrsfov::preview {
 namespace {
 
 constexpr PreviewMethod kMethods[] = {PreviewMethod::Reference, PreviewMethod::Fov, PreviewMethod::FovTaa,
-                                      PreviewMethod::Wrs};
+                                      PreviewMethod::WrsPaper, PreviewMethod::Wrs};
 constexpr scenes::CameraPath kPaths[] = {scenes::CameraPath::Static, scenes::CameraPath::Lateral,
                                          scenes::CameraPath::Turn};
 
@@ -52,6 +52,8 @@ std::string_view toString(PreviewMethod m) {
             return "fov";
         case PreviewMethod::FovTaa:
             return "fov+taa";
+        case PreviewMethod::WrsPaper:
+            return "wrs-paper";
         case PreviewMethod::Wrs:
             return "wrs";
     }
@@ -95,9 +97,10 @@ float nextFovea(float deg) {
 
 CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, float foveaDeg, uint32_t seed) {
     CompositorConfig c;
-    c.method = method == PreviewMethod::Wrs      ? Method::Wrs
-               : method == PreviewMethod::FovTaa ? Method::FovTaa
-                                                 : Method::Fov;
+    c.method = method == PreviewMethod::Wrs        ? Method::Wrs
+               : method == PreviewMethod::WrsPaper ? Method::WrsPaper
+               : method == PreviewMethod::FovTaa   ? Method::FovTaa
+                                                   : Method::Fov;
     c.foveation = method == PreviewMethod::Reference ? FoveationMode::None : mode;
     c.foveaDeg = foveaDeg;
     c.seed = seed;
@@ -129,7 +132,7 @@ Result<PreviewOptions> parseArguments(int argc, const char* const* argv) {
             o.path = *p;
         } else if (a == "--method") {
             auto m = parseMethod(v);
-            if (!m) return argError("--method wants reference, fov, fov+taa or wrs, got '" + std::string(v) + "'");
+            if (!m) return argError("--method wants reference, fov, fov+taa, wrs-paper or wrs, got '" + std::string(v) + "'");
             o.method = *m;
         } else if (a == "--fovea") {
             char* end = nullptr;
@@ -220,7 +223,7 @@ std::string usage() {
            "  --size WxH            per-eye image size (default 320x288)\n"
            "  --scene NAME          atrium | dynamic | text (default atrium)\n"
            "  --path NAME           camera path of atrium/dynamic: static | lateral | turn (default lateral)\n"
-           "  --method NAME         reference | fov | fov+taa | wrs (default wrs)\n"
+           "  --method NAME         reference | fov | fov+taa | wrs-paper | wrs (default wrs)\n"
            "  --fovea DEG           fovea diameter in degrees (default 5; the F key steps 5, 7.5, 10)\n"
            "  --mode NAME           foveation: mip | gauss (default mip)\n"
            "  --gaze SOURCE         mouse | generator | hid[:DEVICE] | file:PATH | fixed:AZ,EL (default mouse)\n"
@@ -239,7 +242,7 @@ std::string usage() {
 
 std::string keyHelp() {
     return "keys:\n"
-           "  1 2 3 4   method: reference, FOV, FOV+TAA, WRS      M  next method\n"
+           "  1 2 3 4 5 method: reference, FOV, FOV+TAA, WRS-paper, WRS   M  next method\n"
            "  F         fovea size 5 -> 7.5 -> 10 degrees         G  foveation mip <-> gauss\n"
            "  N         scene text -> atrium -> dynamic           P  camera path static -> lateral -> turn\n"
            "  V         view stereo -> left -> right -> compare -> error\n"

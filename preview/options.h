@@ -18,7 +18,7 @@
 namespace wrsfov::preview {
 
 /// What the main compositor runs: the unfoveated reference or one of the methods.
-enum class PreviewMethod : uint8_t { Reference, Fov, FovTaa, Wrs };
+enum class PreviewMethod : uint8_t { Reference, Fov, FovTaa, WrsPaper, Wrs };
 std::string_view toString(PreviewMethod m);
 std::optional<PreviewMethod> parseMethod(std::string_view name);
 PreviewMethod nextMethod(PreviewMethod m);

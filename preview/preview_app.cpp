@@ -308,6 +308,7 @@ void Session::handleKey(int key) {
         case GLFW_KEY_2:
         case GLFW_KEY_3:
         case GLFW_KEY_4:
+        case GLFW_KEY_5:
         case GLFW_KEY_M:
             method_ = key == GLFW_KEY_M ? nextMethod(method_) : PreviewMethod(key - GLFW_KEY_1);
             s = applyConfig();
@@ -423,8 +424,9 @@ std::vector<std::string> Session::statsItems() const {
         };
         pass("load", st.gpu.load);
         if (method_ != PreviewMethod::Reference) pass("pyramid", st.gpu.pyramid);
-        pass("foveate", st.gpu.foveate);
-        if (method_ == PreviewMethod::Wrs) pass("wrs", st.gpu.temporal);
+        if (method_ != PreviewMethod::Wrs) pass("foveate", st.gpu.foveate);
+        if (method_ == PreviewMethod::WrsPaper) pass("wrs-paper", st.gpu.temporal);
+        if (method_ == PreviewMethod::Wrs) pass("retain", st.gpu.temporal);
         if (method_ == PreviewMethod::FovTaa) pass("taa", st.gpu.temporal);
         pass("total", st.gpu.total);
     } else {

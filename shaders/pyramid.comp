@@ -1,5 +1,6 @@
 // Pass 2 (foveation modes mip and gauss): build pyramid level `level` from level - 1.
-// FILTER 1: 2x2 box (mip chain); FILTER 2: separable [1 3 3 1]/8 (Gaussian pyramid).
+// FILTER 1: 2x2 box (mip chain); FILTER 2: separable [1 3 3 1]/8 (Gaussian pyramid). Level 4
+// carries its L* in alpha (wrs_pyramid_texel).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
@@ -34,5 +35,5 @@ void main() {
         }
         r = wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]);
     }
-    pyramid[pyramid_index(eye, level, d)] = r;
+    pyramid[pyramid_index(eye, level, d)] = wrs_pyramid_texel(r, level);
 }

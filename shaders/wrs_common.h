@@ -319,8 +319,9 @@ WRS_FN uint wrs_hash(uint x, uint y, uint eye, uint frame, uint seed) {
     return wrs_pcg(frame ^ h);
 }
 // 24 random bits as a float in [0, 1): exact on both sides.
+WRS_FN float wrs_hash_unit(uint h) { return float(h >> 8u) * (1.0f / 16777216.0f); }
 WRS_FN float wrs_rand(uint x, uint y, uint eye, uint frame, uint seed) {
-    return float(wrs_hash(x, y, eye, frame, seed) >> 8u) * (1.0f / 16777216.0f);
+    return wrs_hash_unit(wrs_hash(x, y, eye, frame, seed));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -447,6 +448,261 @@ WRS_FN Reservoir wrs_combine(bool has_history, Reservoir hist, vec3 cur_color, f
     r.w_sum = clamp(total, WRS_WSUM_MIN, WRS_WSUM_MAX);
     r.M = min(hist.M + 1u, WRS_M_MAX);
     r.z = z_cur;
+    return r;
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// Quality-aware retention (method `wrs`; `wrs-paper` above is the published rule, kept as the
+// baseline). Departures from the paper's eq. 6–7, with the measurements behind them, are in
+// docs/retention.md:
+//   - a sample's quality is the shading rate it was foveated at, q = mix(4^-a, 4^-b, t) for the
+//     levels (a, b, t) of wrs_foveation_levels (1 in the fovea, 1/64 at 8x8, 1/256 at 16x16);
+//     with foveation `none` (the application foveated) it is the paper's p̂;
+//   - a candidate of higher quality replaces the kept sample, a lower one never does, and equal
+//     ones are merged (running mean, weight capped at 16 candidates) or, optionally, go through
+//     the A-Chao combine of eq. 6;
+//   - the change test compares a fingerprint of the scene around the sample (L* of pyramid level 4,
+//     16x16 pixels, identical for a sharp and a foveated image of the same scene) with the one
+//     stored when the sample was taken, so a shading-rate change is never a change;
+//   - the kept sample carries its sub-pixel offset and follows the motion vectors; a sample that
+//     leaves its pixel's footprint is looked up in the neighbouring pixel, else it is no history.
+// ---------------------------------------------------------------------------------------------
+
+const uint WRS_RULE_MERGE = 0u;      // equal quality: running mean (default)
+const uint WRS_RULE_RESERVOIR = 1u;  // equal quality: A-Chao combine with the eq. 6 bias
+const uint WRS_RULE_ORACLE = 2u;     // evaluation only: keep whichever is closer to the reference
+
+// Pyramid level whose L* is the change-test fingerprint (the pyramid pass stores L* in its alpha).
+const uint WRS_FP_LEVEL = 4u;
+// Alpha of a written pyramid texel: levels below WRS_FP_LEVEL keep the filtered validity (unused),
+// level WRS_FP_LEVEL holds its L*, the change-test fingerprint of method `wrs`.
+WRS_FN vec4 wrs_pyramid_texel(vec4 filtered, uint level) {
+    if (level == WRS_FP_LEVEL) return vec4(filtered.x, filtered.y, filtered.z, wrs_linear_to_lab(vec3(filtered)).x);
+    return filtered;
+}
+// Fingerprint storage: 8 bits, 2.55 codes per L* unit (L* 0..100 -> 0..255, above white saturates).
+const float WRS_FP_SCALE = 2.55f;
+// Change-test noise model, in L*: half a fingerprint code (0.196) + the largest L* step of one 8-bit
+// sRGB input code (0.40, at mid grey: a 16x16 block moving by a whole code) = 0.6. The pyramid
+// holds fp32, so fp16 adds nothing; bilinear resampling adds nothing for a sample that never moved
+// (same weights), and for one that moved the L* range of the four level-4 taps is added.
+const float WRS_FP_TOL = 0.6f;
+// Relative quality difference below which two samples count as equal (fp16 stores q to 2^-11).
+const float WRS_Q_EQUAL = 0.0009765625f;  // 2^-10
+// The merged weight is capped at this many candidates: the mean follows a slow change within ~16 frames.
+const float WRS_MERGE_CAP = 16.0f;
+// Offsets are stored as signed 8-bit, 254 codes per pixel, so |d| <= 0.5 maps to -127..127.
+const float WRS_OFFSET_SCALE = 254.0f;
+
+// Flags of a tracked reservoir.
+const uint WRS_FLAG_MOVED = 1u;  // the sample has moved relative to the pixel grid since it was taken
+
+struct Tracked {
+    vec3 color;   // the kept sample (or the mean of equal-quality samples), linear RGB
+    float q;      // its quality, > 0 for a usable reservoir
+    float w_sum;  // weight of the merged mean (merge) or the biased sum (reservoir), > 0
+    float fp;     // fingerprint (L*) when the sample was taken, quantised to 1 / WRS_FP_SCALE
+    uint flags;   // WRS_FLAG_*
+    float z;      // linear depth of the pixel when the reservoir was written (0 unknown)
+    vec2 d;       // sample position minus pixel centre, in pixels, each in [-0.5, 0.5]
+};
+
+// Quality of a sample foveated with levels lv = (a, b, t): the shading rate, 4^-level, blended.
+WRS_FN float wrs_level_quality(vec3 lv) {
+    float qa = 1.0f / float(1u << (2u * uint(lv.x)));
+    float qb = 1.0f / float(1u << (2u * uint(lv.y)));
+    return qa + (qb - qa) * lv.z;
+}
+
+WRS_FN uint wrs_fp_code(float lstar) { return uint(clamp(floor(lstar * WRS_FP_SCALE + 0.5f), 0.0f, 255.0f)); }
+WRS_FN float wrs_fp_value(uint code) { return float(code) / WRS_FP_SCALE; }
+
+WRS_FN uint wrs_offset_code(float d, float u) {
+    int c = clamp(int(floor(d * WRS_OFFSET_SCALE + u)), -127, 127);
+    return uint(c) & 0xffu;
+}
+WRS_FN float wrs_offset_value(uint code) {
+    int c = int(code & 0xffu);
+    if (c > 127) c -= 256;
+    return float(c) / WRS_OFFSET_SCALE;
+}
+
+// Packed storage, 16 bytes per pixel like the paper's reservoir (README "Reservoir layout"):
+//   word 0: colour R | G           (fp16, fp16)
+//   word 1: colour B | q           (fp16, fp16)
+//   word 2: w_sum | fp | flags     (fp16, uint8, uint8)
+//   word 3: z | dx | dy            (fp16, snorm8 x 254, snorm8 x 254)
+// The offset is quantised with a dither `u` in [0, 1) (floor(d * 254 + u)), so that a slow
+// sub-pixel drift accumulates in expectation instead of being rounded away every frame.
+WRS_FN uvec4 wrs_pack_tracked(Tracked r, vec2 u) {
+    uvec4 p;
+    p.x = wrs_f32_to_f16(r.color.x) | (wrs_f32_to_f16(r.color.y) << 16u);
+    p.y = wrs_f32_to_f16(r.color.z) | (wrs_f32_to_f16(r.q) << 16u);
+    p.z = wrs_f32_to_f16(r.w_sum) | (wrs_fp_code(r.fp) << 16u) | ((r.flags & 0xffu) << 24u);
+    p.w = wrs_f32_to_f16(r.z) | (wrs_offset_code(r.d.x, u.x) << 16u) | (wrs_offset_code(r.d.y, u.y) << 24u);
+    return p;
+}
+WRS_FN Tracked wrs_unpack_tracked(uvec4 p) {
+    Tracked r;
+    r.color = vec3(wrs_f16_to_f32(p.x & 0xffffu), wrs_f16_to_f32(p.x >> 16u), wrs_f16_to_f32(p.y & 0xffffu));
+    r.q = wrs_f16_to_f32(p.y >> 16u);
+    r.w_sum = wrs_f16_to_f32(p.z & 0xffffu);
+    r.fp = wrs_fp_value((p.z >> 16u) & 0xffu);
+    r.flags = p.z >> 24u;
+    r.z = wrs_f16_to_f32(p.w & 0xffffu);
+    r.d = vec2(wrs_offset_value(p.w >> 16u), wrs_offset_value(p.w >> 24u));
+    return r;
+}
+// Usable as history: finite, positive quality and weight. All-zero storage (no history) fails.
+WRS_FN bool wrs_tracked_valid(Tracked r) {
+    return wrs_finite3(r.color) && wrs_finite(r.q) && r.q > 0.0f && wrs_finite(r.w_sum) && r.w_sum > 0.0f &&
+           wrs_finite(r.z);
+}
+
+// The two dither values of a pixel's offset quantisation, from the low 8 bits of its frame hash
+// (wrs_rand uses the high 24): (4 bits + 0.5) / 16 each.
+WRS_FN vec2 wrs_offset_dither(uint hash) {
+    return vec2((float(hash & 15u) + 0.5f) / 16.0f, (float((hash >> 4u) & 15u) + 0.5f) / 16.0f);
+}
+
+// Tracked reprojection, step 1: the previous position of pixel p's centre (pos = centre + mv; a
+// non-finite motion is zero motion) and the pixel q it falls in. False when it is off-screen.
+WRS_FN bool wrs_track_start(uvec2 p, uvec2 size, vec3 mv, WRS_OUT(vec2) pos, WRS_OUT(uvec2) q) {
+    bool finite_xy = wrs_finite(mv.x) && wrs_finite(mv.y);
+    vec2 m = finite_xy ? vec2(mv.x, mv.y) : vec2(0.0f, 0.0f);
+    pos = vec2(p) + vec2(0.5f, 0.5f) + m;
+    q = p;
+    if (!(pos.x >= 0.0f && pos.y >= 0.0f && pos.x < float(size.x) && pos.y < float(size.y))) return false;
+    q = uvec2(floor(pos));
+    return true;
+}
+// Step 2: the offset of the sample kept at pixel q (stored offset dq) from pos, i.e. where that
+// sample now sits relative to p's centre. Inside p's footprint iff both components are in [-0.5, 0.5].
+WRS_FN vec2 wrs_track_offset(uvec2 q, vec2 dq, vec2 pos) { return vec2(q) + vec2(0.5f, 0.5f) + dq - pos; }
+WRS_FN bool wrs_track_inside(vec2 d) { return abs(d.x) <= 0.5f && abs(d.y) <= 0.5f; }
+// Step 3, when q's sample is outside: the neighbour of q towards which it drifted out (one step
+// back on each violating axis), if on-screen. Its sample is then tested with steps 2 and 3.
+WRS_FN bool wrs_track_retry(uvec2 q, vec2 d, uvec2 size, WRS_OUT(uvec2) q2) {
+    ivec2 r = ivec2(q);
+    if (d.x > 0.5f) r.x -= 1;
+    if (d.x < -0.5f) r.x += 1;
+    if (d.y > 0.5f) r.y -= 1;
+    if (d.y < -0.5f) r.y += 1;
+    q2 = uvec2(clamp(r, ivec2(0, 0), ivec2(size) - ivec2(1, 1)));
+    return r.x >= 0 && r.y >= 0 && r.x < int(size.x) && r.y < int(size.y);
+}
+
+// The candidate of one pixel as the retention rule sees it (`Candidate` names the buffer block).
+struct RetainInput {
+    vec3 color;   // foveated colour, linear RGB
+    float q;      // its quality (0 when the input pixel was not finite: it never replaces history)
+    vec3 lo;      // per-channel min and max of the pyramid taps it was blended from
+    vec3 hi;
+    float fp;     // fingerprint now (L*, unquantised) at the pixel
+    float fp_range;  // L* range of the four fingerprint taps
+    bool moved;   // this pixel has non-zero motion this frame
+    float z;      // linear depth now (0 unknown)
+};
+
+// Outcomes of wrs_retain, for statistics and tests.
+const uint WRS_OUT_FRESH = 0u;     // no usable history: the candidate
+const uint WRS_OUT_CHANGED = 1u;   // the change test flushed the history: the candidate
+const uint WRS_OUT_BETTER = 2u;    // the candidate is of higher quality: the candidate
+const uint WRS_OUT_KEPT = 3u;      // the history is of higher quality (or won the combine): kept
+const uint WRS_OUT_MERGED = 4u;    // equal quality: merged
+const uint WRS_OUT_OUTSIDE = 5u;   // equal quality, history outside the candidate's taps: the candidate
+
+WRS_FN Tracked wrs_tracked_from(RetainInput c, float w_sum) {
+    Tracked r;
+    r.color = c.color;
+    r.q = c.q;
+    r.w_sum = w_sum;
+    r.fp = wrs_fp_value(wrs_fp_code(c.fp));
+    r.flags = 0u;
+    r.z = c.z;
+    r.d = vec2(0.0f, 0.0f);
+    return r;
+}
+
+// Squared distance of two linear colours after sRGB encoding (the oracle's measure).
+WRS_FN float wrs_srgb_dist2(vec3 a, vec3 b) {
+    vec3 d = wrs_linear_to_srgb3(a) - wrs_linear_to_srgb3(b);
+    return dot(d, d);
+}
+
+// One retention step for one pixel. `h` is the tracked history (used iff has_history), `d_new` its
+// offset from this pixel's centre now, `ref` the unfoveated colour (oracle only), `rnd` in [0, 1)
+// (reservoir only). `margin` returns how close the deciding comparison was to its threshold, in
+// that comparison's own relative units, so tests can tell a rounding difference from a bug.
+WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, RetainInput c, vec3 ref, float rnd,
+                          WRS_OUT(uint) outcome, WRS_OUT(float) margin) {
+    Tracked fresh = wrs_tracked_from(c, max(c.q, WRS_WSUM_MIN));
+    margin = 1.0f;
+    outcome = WRS_OUT_FRESH;
+    if (!has_history) return fresh;
+    Tracked kept = h;
+    kept.d = d_new;
+    kept.z = c.z;
+    if (c.moved) kept.flags = h.flags | WRS_FLAG_MOVED;
+    if (rule == WRS_RULE_ORACLE) {
+        float dh = wrs_srgb_dist2(h.color, ref);
+        float dc = wrs_srgb_dist2(c.color, ref);
+        margin = abs(dh - dc) / max(max(dh, dc), 1e-12f);
+        outcome = dh < dc ? WRS_OUT_KEPT : WRS_OUT_BETTER;
+        return dh < dc ? kept : fresh;
+    }
+    // Change test against the fingerprint the sample was taken with.
+    bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved;
+    float tol = WRS_FP_TOL + (moved ? c.fp_range : 0.0f);
+    float diff = abs(h.fp - c.fp);
+    margin = abs(diff - tol) / 100.0f;
+    // The stored code may itself sit on a rounding boundary of the fingerprint.
+    float frac_fp = fract(c.fp * WRS_FP_SCALE);
+    if (diff > tol) {
+        outcome = WRS_OUT_CHANGED;
+        return fresh;
+    }
+    // Quality.
+    float hi_q = h.q * (1.0f + WRS_Q_EQUAL), lo_q = h.q * (1.0f - WRS_Q_EQUAL);
+    margin = min(margin, min(abs(c.q - hi_q), abs(c.q - lo_q)) / h.q);
+    margin = min(margin, abs(frac_fp - 0.5f) / (WRS_FP_SCALE * 100.0f));
+    if (c.q > hi_q) {
+        outcome = WRS_OUT_BETTER;
+        return fresh;
+    }
+    if (c.q < lo_q) {
+        outcome = WRS_OUT_KEPT;
+        return kept;
+    }
+    if (rule == WRS_RULE_RESERVOIR) {
+        WRS_PRECISE float w1 = wrs_biased_history_weight(h.w_sum, c.q, 0.0f, true);
+        WRS_PRECISE float total = w1 + c.q;
+        WRS_PRECISE float lhs = rnd * total;
+        margin = min(margin, abs(rnd - w1 / total));
+        bool keep = lhs <= w1;
+        Tracked r = keep ? kept : fresh;
+        r.w_sum = clamp(total, WRS_WSUM_MIN, WRS_MERGE_CAP * c.q);
+        outcome = keep ? WRS_OUT_KEPT : WRS_OUT_BETTER;
+        return r;
+    }
+    // Merge, unless the history lies outside what the candidate's own taps allow (one 8-bit step of
+    // slack): then the scene under an equal-quality sample has changed in a way the coarse
+    // fingerprint missed (a moving object of the same brightness), and the candidate is taken.
+    vec3 slack = vec3(1.0f / 255.0f, 1.0f / 255.0f, 1.0f / 255.0f);
+    vec3 to_lo = abs(h.color - (c.lo - slack)), to_hi = abs(h.color - (c.hi + slack));
+    margin = min(margin, min(min(min(to_lo.x, to_lo.y), to_lo.z), min(min(to_hi.x, to_hi.y), to_hi.z)) /
+                             max(max(max(h.color.x, h.color.y), h.color.z), 1.0f));
+    if (any(lessThan(h.color, c.lo - slack)) || any(greaterThan(h.color, c.hi + slack))) {
+        outcome = WRS_OUT_OUTSIDE;
+        return fresh;
+    }
+    WRS_PRECISE float t = c.q / (h.w_sum + c.q);
+    Tracked r = kept;
+    r.color = h.color + (c.color - h.color) * t;
+    r.d = d_new * (1.0f - t);
+    r.w_sum = min(h.w_sum + c.q, WRS_MERGE_CAP * c.q);
+    outcome = WRS_OUT_MERGED;
     return r;
 }
 

@@ -124,7 +124,7 @@ Result<GpuResult> runGpu(vk::Context& ctx, const GpuOptions& options) {
     const uint32_t W = res.width, H = res.height;
 
     CompositorConfig cfg;
-    cfg.method = Method::Wrs;
+    cfg.method = Method::WrsPaper;
     cfg.foveation = FoveationMode::None;
     cfg.foveaDeg = 5.0f;
     cfg.change = ChangeMetric::LStar;

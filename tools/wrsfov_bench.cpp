@@ -21,7 +21,7 @@ namespace {
 
 void usage() {
     std::printf(
-        "usage: wrsfov-bench [--out DIR] [--scenes text,atrium,dynamic] [--methods fov,fov+taa,wrs]\n"
+        "usage: wrsfov-bench [--out DIR] [--scenes text,atrium,dynamic] [--methods fov,fov+taa,wrs-paper,wrs,oracle]\n"
         "                    [--fovea 5,7.5,10] [--modes mip,gauss] [--size WxH] [--frames N] [--warmup N]\n"
         "                    [--heavy-every N] [--path static|lateral|turn] [--change off|lstar|de94] [--seed N]\n"
         "                    [--monitor] [--quick] [--sequence DIR]\n"
@@ -101,10 +101,9 @@ int main(int argc, char** argv) {
         } else if (a == "--methods") {
             o.methods.clear();
             for (auto& s : split(v)) {
-                if (s == "fov") o.methods.push_back(Method::Fov);
-                else if (s == "fov+taa") o.methods.push_back(Method::FovTaa);
-                else if (s == "wrs") o.methods.push_back(Method::Wrs);
-                else err = "unknown method '" + s + "' (fov, fov+taa, wrs)";
+                auto m = parseMethod(s);
+                if (!m) err = "unknown method '" + s + "' (fov, fov+taa, wrs-paper, wrs, oracle)";
+                else o.methods.push_back(*m);
             }
         } else if (a == "--fovea") {
             o.foveas.clear();

@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<HostStereoApp> apps[3];
     for (int i = 0; i < 3; ++i) {
         CompositorConfig cfg;
-        cfg.method = i == 2 ? Method::Wrs : Method::Fov;
+        cfg.method = i == 2 ? Method::Wrs : Method::Fov;  // wrs: the default retention rule
         cfg.foveation = i == 0 ? FoveationMode::None : o.mode;
         cfg.foveaDeg = o.foveaDeg;
         cfg.seed = o.seed;

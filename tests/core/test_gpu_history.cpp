@@ -21,7 +21,7 @@ protected:
 
     CompositorConfig exactConfig() const {
         CompositorConfig cfg;
-        cfg.method = Method::Wrs;
+        cfg.method = Method::WrsPaper;
         cfg.foveation = FoveationMode::None;  // candidate = input colour
         cfg.change = ChangeMetric::Off;
         cfg.bernoulli = false;

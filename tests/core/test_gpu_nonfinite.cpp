@@ -68,6 +68,7 @@ protected:
 
 TEST_F(NonFinite, PoisonedInputsNeverReachReservoirsOrOutputs) {
     CompositorConfig cfg;
+    cfg.method = Method::WrsPaper;  // the published rule's reservoir layout (wrs: test_gpu_retain.cpp)
     cfg.foveaDeg = 10.0f;
     cfg.seed = 11;
     auto comp = Compositor::create(context(), cfg);
@@ -182,6 +183,7 @@ TEST_F(NonFinite, PoisonedFirstFrameStillInitialisesSanely) {
     // No history to fall back on: invalid candidates start reservoirs with the floor weight, and the
     // next valid frame replaces them.
     CompositorConfig cfg;
+    cfg.method = Method::WrsPaper;  // the published rule's reservoir layout (wrs: test_gpu_retain.cpp)
     cfg.foveaDeg = 10.0f;
     auto comp = Compositor::create(context(), cfg);
     ASSERT_TRUE(comp.ok());

@@ -16,7 +16,7 @@ class Bench : public GpuTest {};
 TEST_F(Bench, WrsBeatsFovNearGazeAtFiveDegrees) {
     eval::BenchOptions o;
     o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
-    o.methods = {Method::Fov, Method::Wrs};
+    o.methods = {Method::Fov, Method::WrsPaper};
     o.foveas = {5.0f};
     o.modes = {FoveationMode::Mip};
     o.width = 160;

@@ -30,7 +30,7 @@ eval::BenchOptions smallSweep() {
     o.warmup = 1;
     o.heavyEvery = 1;
     o.seed = 3;
-    o.methods = {Method::Fov, Method::FovTaa, Method::Wrs};
+    o.methods = {Method::Fov, Method::FovTaa, Method::WrsPaper};
     o.foveas = {5.0f};
     o.modes = {FoveationMode::Mip};
     o.path = scenes::CameraPath::Lateral;

@@ -74,7 +74,7 @@ void expectSane(Compositor& comp, const std::string& what) {
     for (uint32_t e = 0; e < 2; ++e) {
         ASSERT_EQ(r[e].size(), std::size_t(comp.width()) * comp.height()) << what;
         const std::string eye = what + (e == 0 ? " (left)" : " (right)");
-        if (comp.config().method == Method::Wrs) {
+        if (comp.config().method == Method::WrsPaper) {
             expectReservoirsSane(r[e], eye);
         } else if (comp.config().method == Method::FovTaa) {
             // The TAA history in the same buffers: linear RGB as three fp32 and a 1.

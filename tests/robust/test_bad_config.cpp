@@ -48,7 +48,7 @@ std::vector<ConfigRow> refusedRows() {
         r.push_back({std::string(f.name) + "_just_too_large",
                      [m = f.member, v = f.tooLarge](CompositorConfig& c) { c.*m = v; }, f.message});
     }
-    for (uint8_t v : {uint8_t(3), uint8_t(255)}) {
+    for (uint8_t v : {uint8_t(5), uint8_t(255)}) {
         const std::string n = std::to_string(v);
         r.push_back({"method_" + n, [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
         r.push_back(
@@ -72,7 +72,7 @@ bool sameConfig(const CompositorConfig& a, const CompositorConfig& b) {
 }
 
 TwinChain& chain() {
-    static TwinChain c(CompositorConfig{.foveaDeg = 10.0f, .seed = 23}, LaneFormats{});
+    static TwinChain c(CompositorConfig{.method = Method::WrsPaper, .foveaDeg = 10.0f, .seed = 23}, LaneFormats{});
     return c;
 }
 

@@ -415,7 +415,7 @@ std::vector<SanitizeRow> sanitizeRows() {
 
 struct SanitizeLane {
     SanitizeLane() : lane(context(), config(), LaneFormats{}), ref(config()) {}
-    static CompositorConfig config() { return CompositorConfig{.foveaDeg = 10.0f, .seed = 13}; }
+    static CompositorConfig config() { return CompositorConfig{.method = Method::WrsPaper, .foveaDeg = 10.0f, .seed = 13}; }
     Lane lane;
     Reference ref;
     uint64_t next = 1;
@@ -492,7 +492,7 @@ INSTANTIATE_TEST_SUITE_P(BadValue, Sanitize, ::testing::ValuesIn(sanitizeRows())
 // ---- Accepted -----------------------------------------------------------------------------------
 
 TwinChain& acceptedChain() {
-    static TwinChain c(CompositorConfig{.foveaDeg = 7.5f, .seed = 17}, LaneFormats{});
+    static TwinChain c(CompositorConfig{.method = Method::WrsPaper, .foveaDeg = 7.5f, .seed = 17}, LaneFormats{});
     return c;
 }
 
@@ -518,7 +518,7 @@ TEST_F(BadValueAccepted, FrameTimeMayRepeat) {
 TEST_F(BadValueAccepted, FrameTimeNegativeHugeAndTheLastFrameIndex) {
     // Only the order is checked: a negative first time, a huge time, and the largest index are taken,
     // after which nothing can follow (the index cannot grow, the time cannot go back).
-    TwinChain c(CompositorConfig{.seed = 19}, LaneFormats{});
+    TwinChain c(CompositorConfig{.method = Method::WrsPaper, .seed = 19}, LaneFormats{});
     ASSERT_NO_FATAL_FAILURE(c.stepEdited("negative first time", [](Lane&, F& f) { f.time_s = -1e300; }));
     ASSERT_NO_FATAL_FAILURE(c.stepEdited("huge time", [](Lane&, F& f) { f.time_s = 1e300; }));
     c.jumpTo(std::numeric_limits<uint64_t>::max());

@@ -220,6 +220,7 @@ TEST(StressCpu, StressStepIsTheReferenceStep) {
     // reference's own candidates: bit-identical reservoirs, so the long CPU runs use the pipeline's step.
     const uint32_t W = 24, H = 20;
     CompositorConfig cfg;
+    cfg.method = Method::WrsPaper;
     cfg.foveation = FoveationMode::None;
     cfg.seed = 5;
     Reference ref(cfg);

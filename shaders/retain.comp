@@ -1,0 +1,92 @@
+// Pass 3+4 of method `wrs` (and the evaluation-only `oracle`): foveation and quality-aware
+// retention in one pass (shaders/wrs_common.h, "Quality-aware retention"). Per pixel: the foveated
+// candidate with its quality and tap range, the level-4 fingerprint, the tracked reprojection of
+// the kept sample, the depth and change tests, the retention rule, the reservoir store and the output.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "bindings.glsl"
+
+layout(constant_id = 0) const bool HAS_MOTION = false;
+layout(constant_id = 1) const bool HAS_DEPTH = false;
+layout(constant_id = 2) const uint FOV_MODE = 1u;
+layout(constant_id = 3) const uint RULE = 0u;
+layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
+
+// Bilinear sample of `level` at the centre of pixel p; widens [lo, hi] by the four taps' colours and
+// returns their alpha range in `arange` (the L* range at the fingerprint level).
+vec4 sample_level(uint eye, uint level, uvec2 p, inout vec3 lo, inout vec3 hi, out float arange) {
+    if (level == 0u) {
+        vec4 c = pyramid[pyramid_index(eye, 0u, p)];
+        lo = min(lo, c.rgb);
+        hi = max(hi, c.rgb);
+        arange = 0.0;
+        return c;
+    }
+    uvec2 size0 = frame.size.xy;
+    uvec2 sl = wrs_level_size(size0, level);
+    uvec2 i0, i1;
+    vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+    vec4 c00 = pyramid[pyramid_index(eye, level, i0)], c10 = pyramid[pyramid_index(eye, level, uvec2(i1.x, i0.y))];
+    vec4 c01 = pyramid[pyramid_index(eye, level, uvec2(i0.x, i1.y))], c11 = pyramid[pyramid_index(eye, level, i1)];
+    lo = min(lo, min(min(c00.rgb, c10.rgb), min(c01.rgb, c11.rgb)));
+    hi = max(hi, max(max(c00.rgb, c10.rgb), max(c01.rgb, c11.rgb)));
+    arange = max(max(c00.a, c10.a), max(c01.a, c11.a)) - min(min(c00.a, c10.a), min(c01.a, c11.a));
+    return wrs_bilinear(c00, c10, c01, c11, f);
+}
+
+void main() {
+    uint eye = gl_WorkGroupID.z;
+    uvec2 p = gl_GlobalInvocationID.xy;
+    uvec2 size = frame.size.xy;
+    if (any(greaterThanEqual(p, size))) return;
+    EyeParams ep = frame.eye[eye];
+    uint idx = pixel_index(eye, p);
+
+    // Candidate: foveated colour, quality and the range of the taps it came from.
+    vec3 ray = wrs_pixel_ray(p.x, p.y, size.x, size.y, ep.fov_tan);
+    float e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
+    float r_f = ep.gaze.w;
+    vec3 lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
+    RetainInput c;
+    c.lo = vec3(WRS_HALF_MAX);
+    c.hi = vec3(0.0);
+    float unused;
+    vec4 col = sample_level(eye, uint(lv.x), p, c.lo, c.hi, unused);
+    if (lv.z > 0.0) col = wrs_blend(col, sample_level(eye, uint(lv.y), p, c.lo, c.hi, unused), lv.z);
+    vec4 ref = pyramid[pyramid_index(eye, 0u, p)];
+    bool valid = ref.a > 0.5;
+    c.color = col.rgb;
+    c.q = valid ? (FOV_MODE == WRS_FOV_NONE ? wrs_sample_weight(e, r_f) : wrs_level_quality(lv)) : 0.0;
+    vec3 flo = vec3(0.0), fhi = vec3(0.0);
+    c.fp = sample_level(eye, WRS_FP_LEVEL, p, flo, fhi, c.fp_range).a;
+    c.z = HAS_DEPTH ? zlin[idx] : 0.0;
+
+    // Tracked reprojection of the kept sample.
+    vec3 mv = vec3(0.0);
+    if (HAS_MOTION) mv = texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz;
+    c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0 || mv.y != 0.0);
+    vec2 pos;
+    uvec2 q;
+    bool has_history = wrs_track_start(p, size, mv, pos, q);
+    Tracked h = wrs_unpack_tracked(res_prev[pixel_index(eye, q)]);
+    vec2 d = wrs_track_offset(q, h.d, pos);
+    if (has_history && !wrs_track_inside(d)) {
+        uvec2 q2;
+        has_history = wrs_track_retry(q, d, size, q2);
+        h = wrs_unpack_tracked(res_prev[pixel_index(eye, q2)]);
+        d = wrs_track_offset(q2, h.d, pos);
+        has_history = has_history && wrs_track_inside(d);
+    }
+    has_history = has_history && wrs_tracked_valid(h);
+    float dz = wrs_finite(mv.z) ? mv.z : 0.0;
+    if (HAS_DEPTH && has_history && RULE != WRS_RULE_ORACLE && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
+        has_history = false;
+
+    uint hash = wrs_hash(p.x, p.y, eye, frame.size.z, frame.size.w);
+    float rnd = wrs_hash_unit(hash);
+    uint outcome;
+    float margin;
+    Tracked r = wrs_retain(RULE, has_history, h, d, c, ref.rgb, rnd, outcome, margin);
+    res_cur[idx] = wrs_pack_tracked(r, wrs_offset_dither(hash));
+    store_output(eye, p, r.color);
+}
