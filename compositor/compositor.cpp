@@ -74,7 +74,9 @@ enum Binding : uint32_t {
     kCandidate = 6,
     kResPrev = 7,
     kResCur = 8,
-    kOutput = 9
+    kOutput = 9,
+    kBirthPrev = 10,
+    kBirthCur = 11
 };
 // Timestamps: start, after the copy kernel (measureCopy), after load, pyramid, foveate, wrs/taa.
 constexpr uint32_t kTimestamps = 6;
@@ -168,7 +170,7 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                 glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
     }
     p.size = glm::uvec4(width, height, uint32_t(frame.frameIndex), config.seed);
-    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, 0.0f, 0.0f);
+    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, config.trackBirth ? 1.0f : 0.0f, 0.0f);
     return p;
 }
 
@@ -201,7 +203,8 @@ Status Compositor::init() {
     setLayout_ = ctx_.createSetLayout(
         {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kDepthBuf, ssbo), binding(kCandidate, ssbo),
-         binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)});
+         binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
+         binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -306,7 +309,7 @@ VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 4> constants) {
     return pipelines_.emplace(key, vk::Pipeline(ctx_.device(), p)).first->second.get();
 }
 
-Status Compositor::resize(uint32_t width, uint32_t height) {
+Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     vkDeviceWaitIdle(ctx_.device());
     // Everything of the new size is made before anything old is released: when an allocation fails
     // (out of device memory), the compositor keeps its old size, history and output untouched. The
@@ -315,7 +318,7 @@ Status Compositor::resize(uint32_t width, uint32_t height) {
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const uint64_t pixels = uint64_t(width) * height * WRS_EYES;
     const uint64_t pyramidTexels = uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) * WRS_EYES;
-    vk::Buffer pyramid, zlin, candidate, reservoirs[2];
+    vk::Buffer pyramid, zlin, candidate, reservoirs[2], births[2];
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
@@ -324,7 +327,8 @@ Status Compositor::resize(uint32_t width, uint32_t height) {
     for (const Alloc& a :
          {Alloc{&pyramid, pyramidTexels * 16, "colour pyramid"}, Alloc{&zlin, pixels * 4, "linear depth"},
           Alloc{&candidate, pixels * 16, "candidates"}, Alloc{&reservoirs[0], pixels * 16, "reservoirs"},
-          Alloc{&reservoirs[1], pixels * 16, "reservoirs"}}) {
+          Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
+          Alloc{&births[1], birth ? pixels * 16 : 16, "births"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
         *a.buffer = std::move(*r);
@@ -357,20 +361,25 @@ Status Compositor::resize(uint32_t width, uint32_t height) {
     candidate_ = std::move(candidate);
     reservoirs_[0] = std::move(reservoirs[0]);
     reservoirs_[1] = std::move(reservoirs[1]);
+    birth_[0] = std::move(births[0]);
+    birth_[1] = std::move(births[1]);
+    birthAllocated_ = birth;
     for (uint32_t i = 0; i < 2; ++i) {
-        VkDescriptorBufferInfo bi[6] = {
+        VkDescriptorBufferInfo bi[8] = {
             {ubo_.handle(), 0, VK_WHOLE_SIZE},           {pyramid_.handle(), 0, VK_WHOLE_SIZE},
             {zlin_.handle(), 0, VK_WHOLE_SIZE},          {candidate_.handle(), 0, VK_WHOLE_SIZE},
-            {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE}, {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
-        const uint32_t bindings[6] = {kFrame, kPyramidBuf, kDepthBuf, kCandidate, kResPrev, kResCur};
-        VkWriteDescriptorSet w[7];
-        for (int k = 0; k < 6; ++k)
+            {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE}, {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE},
+            {birth_[i].handle(), 0, VK_WHOLE_SIZE},      {birth_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
+        const uint32_t bindings[8] = {kFrame,   kPyramidBuf, kDepthBuf,  kCandidate,
+                                      kResPrev, kResCur,     kBirthPrev, kBirthCur};
+        VkWriteDescriptorSet w[9];
+        for (int k = 0; k < 8; ++k)
             w[k] =
                 vk::bufferWrite(sets_[i], bindings[k],
                                 k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[k]);
         VkDescriptorImageInfo oi{VK_NULL_HANDLE, output_.arrayView(), VK_IMAGE_LAYOUT_GENERAL};
-        w[6] = vk::imageWrite(sets_[i], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
-        vkUpdateDescriptorSets(ctx_.device(), 7, w, 0, nullptr);
+        w[8] = vk::imageWrite(sets_[i], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
+        vkUpdateDescriptorSets(ctx_.device(), 9, w, 0, nullptr);
     }
     width_ = width;
     height_ = height;
@@ -437,8 +446,8 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         }
     }
 
-    if (w != width_ || h != height_) {
-        if (Status s = resize(w, h); !s)
+    if (w != width_ || h != height_ || next.trackBirth != birthAllocated_) {
+        if (Status s = resize(w, h, next.trackBirth); !s)
             return submitError(SubmitError::DeviceFailure,
                                ctx_.deviceLost()
                                    ? std::string(kDeviceLost)
@@ -618,6 +627,20 @@ Result<HostImage> Compositor::readOutput(uint32_t eye) {
 
 Result<std::vector<glm::uvec4>> Compositor::readReservoirs(uint32_t eye) {
     if (eye >= WRS_EYES || !output_) return Error{1, "no reservoirs: eye out of range or no frame composited yet"};
+    return readBuffer(reservoirs_[current_], eye);
+}
+
+Result<std::vector<glm::vec4>> Compositor::readBirth(uint32_t eye) {
+    if (eye >= WRS_EYES || !output_ || !birthAllocated_)
+        return Error{1, "no birth colours: eye out of range, no frame composited yet or trackBirth off"};
+    auto words = readBuffer(birth_[current_], eye);
+    if (!words) return words.error();
+    std::vector<glm::vec4> out(words->size());
+    std::memcpy(out.data(), words->data(), out.size() * 16);
+    return out;
+}
+
+Result<std::vector<glm::uvec4>> Compositor::readBuffer(const vk::Buffer& buffer, uint32_t eye) {
     const uint64_t n = uint64_t(width_) * height_;
     auto staging = ctx_.createBuffer(n * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
     if (!staging) return staging.error();
@@ -626,7 +649,7 @@ Result<std::vector<glm::uvec4>> Compositor::readReservoirs(uint32_t eye) {
                           VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_TRANSFER_READ_BIT);
         VkBufferCopy region{eye * n * 16, 0, n * 16};
-        vkCmdCopyBuffer(cb, reservoirs_[current_].handle(), staging->handle(), 1, &region);
+        vkCmdCopyBuffer(cb, buffer.handle(), staging->handle(), 1, &region);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                           VK_ACCESS_HOST_READ_BIT);
     });

@@ -68,6 +68,10 @@ struct CompositorConfig {
     /// Append a copy kernel moving the frame's estimated traffic (trafficBytes) to every frame's
     /// submission and time it: the yardstick benchmarks report the passes against.
     bool measureCopy = false;
+    /// Evaluation (wrs-paper, wrs, oracle): keep per pixel the submitted colour at the time the
+    /// shown sample was taken (merged as the samples are), readable with readBirth(), so a
+    /// benchmark can find pixels showing a sample whose scene has changed since. 32 B/px more.
+    bool trackBirth = false;
 };
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
@@ -119,6 +123,9 @@ public:
     Result<HostImage> readOutput(uint32_t eye);
     /// The reservoirs the last frame wrote (packed, see wrs_common.h), W*H per eye.
     Result<std::vector<glm::uvec4>> readReservoirs(uint32_t eye);
+    /// CompositorConfig::trackBirth: per pixel of one eye, the linear colour submitted when the
+    /// shown sample was taken (W*H, rgb; alpha unused).
+    Result<std::vector<glm::vec4>> readBirth(uint32_t eye);
     /// Replaces the history the next frame reads (tests use it to line up with the reference).
     Status writeReservoirs(uint32_t eye, const std::vector<glm::uvec4>& packed);
     /// The output image (2 layers, layer = eye), in VK_IMAGE_LAYOUT_GENERAL.
@@ -131,7 +138,8 @@ public:
 private:
     explicit Compositor(vk::Context& context) : ctx_(context) {}
     Status init();
-    Status resize(uint32_t width, uint32_t height);
+    Status resize(uint32_t width, uint32_t height, bool birth);
+    Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
     VkPipeline pipeline(int shader, std::array<uint32_t, 4> constants);
     Result<HostImage> readImageLayer(uint32_t layer);
 
@@ -159,6 +167,8 @@ private:
     vk::Buffer ubo_;
     vk::Buffer pyramid_, zlin_, candidate_;
     vk::Buffer reservoirs_[2];
+    vk::Buffer birth_[2];  // trackBirth: ping-pong like the reservoirs (16 B each when off)
+    bool birthAllocated_ = false;
     vk::Buffer copySrc_, copyDst_;  // the copy kernel's buffers (measureCopy)
     uint32_t current_ = 0;  // reservoirs_[current_] holds the latest frame's reservoirs
     bool historyValid_ = false;

@@ -192,19 +192,24 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) : vec3(0.0f);
                     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
                     vec2 pos;
-                    uvec2 q;
-                    bool has_history = wrs_track_start(p, size0, mv, pos, q);
-                    Tracked h = wrs_unpack_tracked(prev_[eye][std::size_t(q.y) * W + q.x]);
-                    vec2 d = wrs_track_offset(q, h.d, pos);
-                    if (has_history && !wrs_track_inside(d)) {
-                        uvec2 q2;
-                        has_history = wrs_track_retry(q, d, size0, q2);
-                        h = wrs_unpack_tracked(prev_[eye][std::size_t(q2.y) * W + q2.x]);
-                        d = wrs_track_offset(q2, h.d, pos);
-                        has_history = has_history && wrs_track_inside(d);
-                        q = q2;
+                    ivec2 base;
+                    const bool on_screen = wrs_track_start(p, size0, mv, pos, base);
+                    bool has_history = false;
+                    Tracked h = wrs_unpack_tracked(uvec4(0u));
+                    vec2 d(0.0f);
+                    uvec2 q = p;
+                    for (uint k = 0; k < 4u && on_screen; ++k) {
+                        uvec2 qk;
+                        if (!wrs_track_tap(base, k, size0, qk)) continue;
+                        Tracked hk = wrs_unpack_tracked(prev_[eye][std::size_t(qk.y) * W + qk.x]);
+                        vec2 dk = wrs_track_offset(qk, hk.d, pos);
+                        if (!wrs_tracked_valid(hk) || !wrs_track_inside(dk)) continue;
+                        if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
+                        has_history = true;
+                        h = hk;
+                        d = dk;
+                        q = qk;
                     }
-                    has_history = has_history && wrs_tracked_valid(h);
                     float dz = wrs_finite(mv.z) ? mv.z : 0.0f;
                     if (hasDepth && has_history && rule != WRS_RULE_ORACLE &&
                         wrs_depth_flush(h.z, c.z, dz, params.tuning.y))
@@ -213,7 +218,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     float rnd = wrs_hash_unit(hash);
                     Trace& t = trace_[eye][idx];
                     Tracked r = wrs_retain(rule, has_history, h, d, c, vec3(ref), rnd, t.outcome, t.margin);
-                    res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(hash));
+                    res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));
                     t.hadHistory = has_history;
                     t.keep = t.outcome == WRS_OUT_KEPT || t.outcome == WRS_OUT_MERGED;
                     t.rnd = rnd;

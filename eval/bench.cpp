@@ -245,6 +245,7 @@ double shadingFraction(FoveationMode mode, const cv::Mat& ecc, float rf, float r
 
 struct Accum {
     double mse = 0, nearMse = 0, eccMse = 0, ssim = 0, flip = 0, shading = 0;
+    double staleSe = 0, staleFovSe = 0, stalePx = 0, stalePxTotal = 0;
     int n = 0, heavy = 0;
     std::vector<double> load, pyramid, foveate, temporal, total, copy;
     TemporalInstability instab[2];
@@ -255,6 +256,97 @@ cv::Mat toBgr8(const HostImage& img) {
     cv::Mat bgr;
     cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
     return bgr;
+}
+
+bool tracksBirth(Method m) { return m == Method::WrsPaper || m == Method::Wrs || m == Method::Oracle; }
+
+// Stale pixels of one eye: the colour submitted when the shown sample was taken (birth, linear) is
+// more than 4/255 outside the range of the 3x3 neighbourhood of the submitted colour now (ref,
+// sRGB 8-bit; the neighbourhood covers the sample's sub-pixel offset). Adds the squared errors of
+// the method's output and of fov's output over those pixels.
+void addStale(const std::vector<glm::vec4>& birth, const HostImage& ref, const HostImage& out, const HostImage& fovOut,
+              Accum& a) {
+    const int W = int(ref.width), H = int(ref.height);
+    const auto* r = reinterpret_cast<const uint8_t*>(ref.data.data());
+    const auto* o = reinterpret_cast<const uint8_t*>(out.data.data());
+    const auto* fo = reinterpret_cast<const uint8_t*>(fovOut.data.data());
+    const float tol = 4.0f / 255.0f;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * W + x;
+            const glm::vec3 b = gpu::wrs_linear_to_srgb3(glm::vec3(birth[i]));
+            bool stale = false;
+            for (int c = 0; c < 3 && !stale; ++c) {
+                float lo = 1.0f, hi = 0.0f;
+                for (int j = -1; j <= 1; ++j)
+                    for (int k = -1; k <= 1; ++k) {
+                        const int xx = std::clamp(x + k, 0, W - 1), yy = std::clamp(y + j, 0, H - 1);
+                        const float v = r[(std::size_t(yy) * W + xx) * 4 + c] / 255.0f;
+                        lo = std::min(lo, v);
+                        hi = std::max(hi, v);
+                    }
+                stale = b[c] < lo - tol || b[c] > hi + tol;
+            }
+            a.stalePxTotal += 1;
+            if (!stale) continue;
+            a.stalePx += 1;
+            for (int c = 0; c < 3; ++c) {
+                const double ref8 = r[i * 4 + c] / 255.0, d = o[i * 4 + c] / 255.0 - ref8, df = fo[i * 4 + c] / 255.0 - ref8;
+                a.staleSe += d * d / 3.0;
+                a.staleFovSe += df * df / 3.0;
+            }
+        }
+}
+
+// Where the gaze of an eye meets the image, in pixels (may lie outside).
+cv::Point gazePixel(const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
+    const glm::vec3 g(ep.gaze);
+    if (!(g.z < 0.0f)) return {int(w) / 2, int(h) / 2};
+    const float tx = g.x / -g.z, ty = g.y / -g.z;
+    const float u = (tx - ep.fov_tan.x) / (ep.fov_tan.y - ep.fov_tan.x), v = (ep.fov_tan.z - ty) / (ep.fov_tan.z - ep.fov_tan.w);
+    return {int(std::lround(u * w)), int(std::lround(v * h))};
+}
+
+constexpr int kCropW = 96, kCropH = 72, kZoom = 3;  // crops are magnified 3x, nearest neighbour
+
+// A kCropW x kCropH crop around `centre` (clamped into the image), magnified, with markers for the
+// gaze now (white cross) and a second ago (yellow circle) and a label.
+cv::Mat cropTile(const cv::Mat& img, cv::Point centre, cv::Point then, cv::Point now, const std::string& label) {
+    const int cw = std::min(kCropW, img.cols), ch = std::min(kCropH, img.rows);
+    const cv::Rect roi(std::clamp(centre.x - cw / 2, 0, img.cols - cw), std::clamp(centre.y - ch / 2, 0, img.rows - ch), cw, ch);
+    cv::Mat big;
+    cv::resize(img(roi), big, {cw * kZoom, ch * kZoom}, 0, 0, cv::INTER_NEAREST);
+    auto at = [&](cv::Point p) { return (p - roi.tl()) * kZoom + cv::Point(kZoom / 2, kZoom / 2); };
+    cv::circle(big, at(then), 9, {0, 230, 255}, 1, cv::LINE_AA);
+    cv::drawMarker(big, at(now), {255, 255, 255}, cv::MARKER_CROSS, 14, 1, cv::LINE_AA);
+    if (!label.empty()) {
+        cv::rectangle(big, {0, 0}, {big.cols, 18}, {0, 0, 0}, cv::FILLED);
+        cv::putText(big, label, {4, 13}, cv::FONT_HERSHEY_SIMPLEX, 0.42, {255, 255, 255}, 1, cv::LINE_AA);
+    }
+    return big;
+}
+
+cv::Mat flipColour(const cv::Mat& map) {
+    cv::Mat m8, c;
+    map.convertTo(m8, CV_8U, 255.0);
+    cv::applyColorMap(m8, c, cv::COLORMAP_MAGMA);
+    return c;
+}
+
+// The FLIP colour scale as a tile of crop size: 0 at the bottom, 1 at the top.
+cv::Mat flipColourBar() {
+    const int w = kCropW * kZoom, h = kCropH * kZoom;
+    cv::Mat ramp(h, 1, CV_32F);
+    for (int y = 0; y < h; ++y) ramp.at<float>(y, 0) = 1.0f - float(y) / float(h - 1);
+    cv::Mat bar = flipColour(ramp), tile(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
+    cv::resize(bar, bar, {40, h}, 0, 0, cv::INTER_NEAREST);
+    bar.copyTo(tile(cv::Rect(20, 0, 40, h)));
+    cv::putText(tile, "FLIP 1", {68, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
+    cv::putText(tile, "0.5", {68, h / 2 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
+    cv::putText(tile, "0", {68, h - 4}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
+    cv::putText(tile, "error maps below each image;", {68, h / 2 + 40}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1, cv::LINE_AA);
+    cv::putText(tile, "cross: gaze now, circle: 1 s ago", {68, h / 2 + 58}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1, cv::LINE_AA);
+    return tile;
 }
 
 }  // namespace
@@ -298,6 +390,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.seed = o.seed;
                     cc.change = o.change;
                     cc.measureCopy = i >= 0;
+                    cc.trackBirth = i >= 0 && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();
                     auto a = HostStereoApp::create(**c, appOpt);
@@ -309,6 +402,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     runs.push_back(std::move(run));
                 }
                 double prevT = 0;
+                std::vector<cv::Point> gazePx;  // the left eye's gaze in pixels, per frame (crops)
                 for (int f = 0; f < o.frames; ++f) {
                     const double t = f / frames->fps();
                     std::array<EyeSubmission, 2> eyes;
@@ -319,6 +413,13 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
                     }
                     HostImage ref[2];
+                    // Monitor mode submits one view as both eyes: the left eye's metrics stand for both.
+                    const int evalEyes = o.monitor ? 1 : 2;
+                    cv::Mat ecc[2];
+                    double shading[2] = {0, 0};
+                    int fovRun = -1;
+                    for (std::size_t r = 1; r < runs.size(); ++r)
+                        if (runs[r].method == Method::Fov) fovRun = int(r);
                     for (std::size_t r = 0; r < runs.size(); ++r) {
                         Run& run = runs[r];
                         if (Status s = run.app->submit(uint64_t(f + 1), t, eyes); !s)
@@ -331,9 +432,17 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         if (r == 0) {
                             ref[0] = run.last[0];
                             ref[1] = run.last[1];
+                            gazePx.push_back(gazePixel(run.comp->lastParams().eye[0], o.width, o.height));
+                            // Eccentricity and shading work are the same for every method of the cell.
+                            for (int e = 0; e < evalEyes; ++e) {
+                                const gpu::EyeParams& ep = run.comp->lastParams().eye[e];
+                                ecc[e] = eccentricityMap(o.width, o.height, ep);
+                                if (f >= o.warmup)
+                                    shading[e] = shadingFraction(mode, ecc[e], ep.gaze.w, run.comp->lastParams().tuning.x);
+                            }
                             continue;
                         }
-                        for (int e = 0; e < 2; ++e) run.acc.instab[e].addFrame(ref[e], run.last[e]);
+                        for (int e = 0; e < evalEyes; ++e) run.acc.instab[e].addFrame(ref[e], run.last[e]);
                         if (f < o.warmup) continue;
                         const FrameStats& st = run.comp->stats();
                         if (st.gpu.valid) {
@@ -345,25 +454,30 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             run.acc.copy.push_back(st.gpu.copy);
                         }
                         const bool heavy = (f - o.warmup) % std::max(1, o.heavyEvery) == 0;
-                        for (int e = 0; e < 2; ++e) {
+                        for (int e = 0; e < evalEyes; ++e) {
                             const gpu::EyeParams& ep = run.comp->lastParams().eye[e];
-                            cv::Mat ecc = eccentricityMap(o.width, o.height, ep);
                             run.acc.mse += mseFromPsnr(psnr(ref[e], run.last[e]));
                             // Near-gaze PSNR is NaN only when no pixel lies within 10° (gaze far outside the
                             // view); such an eye-frame adds nothing there (counted as zero error).
-                            double np = nearGazePsnr(ref[e], run.last[e], ecc);
+                            double np = nearGazePsnr(ref[e], run.last[e], ecc[e]);
                             run.acc.nearMse += std::isnan(np) ? 0.0 : mseFromPsnr(np);
-                            run.acc.eccMse += eccentricityWeightedMse(ref[e], run.last[e], ecc);
-                            run.acc.shading +=
-                                shadingFraction(mode, ecc, ep.gaze.w, run.comp->lastParams().tuning.x);
+                            run.acc.eccMse += eccentricityWeightedMse(ref[e], run.last[e], ecc[e]);
+                            run.acc.shading += shading[e];
                             if (heavy) {
                                 run.acc.ssim += ssim(ref[e], run.last[e]);
                                 FlipOptions fo{pixelsPerDegreeAtCentre(o.width, ep.fov_tan)};
                                 run.acc.flip += flip(ref[e], run.last[e], fo).mean;
+                                // fov runs before the temporal methods (methods in option order), so its
+                                // output of this frame is there when fov is listed first.
+                                if (tracksBirth(run.method) && fovRun >= 0 && fovRun < int(r)) {
+                                    auto birth = run.comp->readBirth(uint32_t(e));
+                                    if (!birth) return birth.error();
+                                    addStale(*birth, ref[e], run.last[e], runs[fovRun].last[e], run.acc);
+                                }
                             }
                         }
-                        run.acc.n += 2;
-                        if (heavy) run.acc.heavy += 2;
+                        run.acc.n += evalEyes;
+                        if (heavy) run.acc.heavy += evalEyes;
                     }
                 }
                 double fovTotal = 0;
@@ -385,42 +499,55 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     c.eccMse = a.eccMse / std::max(1, a.n);
                     c.ssim = a.ssim / std::max(1, a.heavy);
                     c.flip = a.flip / std::max(1, a.heavy);
-                    c.temporal = 0.5 * (a.instab[0].mean() + a.instab[1].mean());
+                    c.temporal = o.monitor ? a.instab[0].mean() : 0.5 * (a.instab[0].mean() + a.instab[1].mean());
                     c.fovTotalMs = fovTotal;
+                    c.mse = a.mse / std::max(1, a.n);
+                    c.nearMse = a.nearMse / std::max(1, a.n);
+                    if (a.stalePxTotal > 0) {
+                        c.staleFraction = a.stalePx / a.stalePxTotal;
+                        c.staleMse = a.stalePx > 0 ? a.staleSe / a.stalePx : 0.0;
+                        c.staleFovMse = a.stalePx > 0 ? a.staleFovSe / a.stalePx : 0.0;
+                    }
                     results.push_back(c);
                 }
-                // Crops around the left eye's gaze at the last frame, for the smallest fovea.
-                if (!o.cropDir.empty() && fovea == o.foveas.front()) {
-                    const gpu::EyeParams& ep = runs[0].comp->lastParams().eye[0];
-                    cv::Mat ecc = eccentricityMap(o.width, o.height, ep);
-                    cv::Point minLoc;
-                    cv::minMaxLoc(ecc, nullptr, nullptr, &minLoc, nullptr);
-                    const int cw = std::min<int>(int(o.width), 192), ch = std::min<int>(int(o.height), 160);
-                    cv::Rect roi(std::clamp(minLoc.x - cw / 2, 0, int(o.width) - cw),
-                                 std::clamp(minLoc.y - ch / 2, 0, int(o.height) - ch), cw, ch);
-                    std::vector<cv::Mat> top, bottom;
-                    for (std::size_t r = 0; r < runs.size(); ++r) {
-                        cv::Mat img = toBgr8(runs[r].last[0])(roi).clone();
-                        std::string label = r == 0 ? "reference" : std::string(toString(runs[r].method));
-                        cv::putText(img, label, {4, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 255}, 1, cv::LINE_AA);
-                        top.push_back(img);
-                        cv::Mat map;
-                        if (r == 0) {
-                            map = cv::Mat(ch, cw, CV_8UC3, cv::Scalar(0, 0, 0));
-                            cv::putText(map, "FLIP error (0..1)", {4, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.45,
-                                        {255, 255, 255}, 1, cv::LINE_AA);
-                        } else {
-                            FlipOptions fo{pixelsPerDegreeAtCentre(o.width, ep.fov_tan)};
-                            cv::Mat fm = flip(runs[0].last[0], runs[r].last[0], fo).map(roi), fm8;
-                            fm.convertTo(fm8, CV_8U, 255.0);
-                            cv::applyColorMap(fm8, map, cv::COLORMAP_MAGMA);
-                        }
-                        bottom.push_back(map);
+                // Retention efficiency against fov and the oracle of this cell.
+                const std::size_t first = results.size() - (runs.size() - 1);
+                const CellResult *fovCell = nullptr, *oracleCell = nullptr;
+                for (std::size_t k = first; k < results.size(); ++k) {
+                    if (results[k].method == Method::Fov) fovCell = &results[k];
+                    if (results[k].method == Method::Oracle) oracleCell = &results[k];
+                }
+                if (fovCell && oracleCell) {
+                    const double gain = fovCell->mse - oracleCell->mse, gainNear = fovCell->nearMse - oracleCell->nearMse;
+                    for (std::size_t k = first; k < results.size(); ++k) {
+                        if (gain > 0) results[k].eta = (fovCell->mse - results[k].mse) / gain;
+                        if (gainNear > 0) results[k].etaNear = (fovCell->nearMse - results[k].nearMse) / gainNear;
                     }
-                    cv::Mat t, b, all;
-                    cv::hconcat(top, t);
-                    cv::hconcat(bottom, b);
-                    cv::vconcat(t, b, all);
+                }
+                // Crops of the left eye's last frame for the smallest fovea: around the point the gaze
+                // left about a second ago (where kept samples make the difference) and at the gaze.
+                if (!o.cropDir.empty() && fovea == o.foveas.front() && !gazePx.empty()) {
+                    const int back = std::min<int>(int(gazePx.size()) - 1, int(std::lround(frames->fps())));
+                    const cv::Point then = gazePx[gazePx.size() - 1 - back], now = gazePx.back();
+                    FlipOptions fo{pixelsPerDegreeAtCentre(o.width, runs[0].comp->lastParams().eye[0].fov_tan)};
+                    std::vector<cv::Mat> flipMaps(runs.size());
+                    for (std::size_t r = 1; r < runs.size(); ++r) flipMaps[r] = flip(runs[0].last[0], runs[r].last[0], fo).map;
+                    std::vector<cv::Mat> rows;
+                    for (const auto& [centre, what] : {std::pair{then, std::string("1 s ago")}, std::pair{now, std::string("now")}}) {
+                        std::vector<cv::Mat> images, maps;
+                        for (std::size_t r = 0; r < runs.size(); ++r) {
+                            const std::string label = r == 0 ? "reference" : std::string(toString(runs[r].method));
+                            images.push_back(cropTile(toBgr8(runs[r].last[0]), centre, then, now, label + " (" + what + ")"));
+                            maps.push_back(r == 0 ? flipColourBar() : cropTile(flipColour(flipMaps[r]), centre, then, now, ""));
+                        }
+                        cv::Mat top, bottom;
+                        cv::hconcat(images, top);
+                        cv::hconcat(maps, bottom);
+                        rows.push_back(top);
+                        rows.push_back(bottom);
+                    }
+                    cv::Mat all;
+                    cv::vconcat(rows, all);
                     std::ostringstream name;
                     name << o.cropDir << "/crops_" << toString(scene) << "_" << toString(mode) << "_" << fovea
                          << ".png";
@@ -484,7 +611,7 @@ float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene,
     if (std::isnan(target)) return 0.0f;
     float best = 0.0f;
     for (const auto& c : results)
-        if (c.scene == scene && c.mode == mode && c.method == Method::Wrs && c.nearPsnr >= target &&
+        if (c.scene == scene && c.mode == mode && c.method == Method::Wrs && c.foveaDeg < 10.0f && c.nearPsnr >= target &&
             (best == 0.0f || c.foveaDeg < best))
             best = c.foveaDeg;
     return best;
@@ -503,7 +630,7 @@ struct Series {
 
 cv::Mat chart(const std::string& title, const std::string& xLabel, const std::string& yLabel,
               const std::vector<Series>& series) {
-    const int W = 720, H = 480, L = 70, R = 20, T = 60, B = 60;
+    const int W = 720, H = 500, L = 70, R = 20, T = 80, B = 60;
     cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
     for (const auto& s : series)
@@ -530,8 +657,8 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
     }
     cv::putText(img, title, {L, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1, cv::LINE_AA);
     cv::putText(img, xLabel, {W / 2 - 80, H - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {0, 0, 0}, 1, cv::LINE_AA);
-    cv::putText(img, yLabel, {5, T - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
-    int lx = W / 2;  // legend: one row in the top margin
+    cv::putText(img, yLabel, {5, T - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+    int lx = L;  // legend: one row in the top margin
     for (const auto& s : series) {
         for (std::size_t i = 0; i < s.points.size(); ++i) {
             if (!std::isfinite(s.points[i].y)) continue;
@@ -541,9 +668,9 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
                 cv::putText(img, s.labels[i], map(s.points[i]) + cv::Point(6, -6), cv::FONT_HERSHEY_SIMPLEX, 0.38,
                             s.colour, 1, cv::LINE_AA);
         }
-        cv::circle(img, {lx, T - 14}, 5, s.colour, -1, cv::LINE_AA);
-        cv::putText(img, s.name, {lx + 10, T - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
-        lx += 110;
+        cv::circle(img, {lx, 42}, 5, s.colour, -1, cv::LINE_AA);
+        cv::putText(img, s.name, {lx + 10, 46}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+        lx += 20 + 9 * int(s.name.size()) + 20;
     }
     return img;
 }
@@ -575,69 +702,142 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                    const std::string& deviceName) {
     std::ofstream csv(dir + "/results.csv");
     if (!csv) return Error{1, "cannot write " + dir + "/results.csv"};
+    csv.precision(7);
     csv << "scene,method,mode,fovea_deg,frames,load_ms,pyramid_ms,foveate_ms,temporal_ms,total_ms,per_eye_ms,"
            "copy_ms,traffic_bytes,ratio_to_copy,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
-           "temporal_instability\n";
+           "temporal_instability,mse,near_gaze_mse,eta,eta_near_gaze,stale_fraction,stale_mse,stale_fov_mse\n";
     for (const auto& c : results)
         csv << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg << ','
             << c.frames << ',' << c.gpu.load << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal
             << ',' << c.gpu.total << ',' << c.gpu.total / 2 << ',' << c.copyMs << ',' << c.trafficBytes << ','
             << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.fovTotalMs << ',' << c.shadingFraction << ','
             << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
-            << '\n';
+            << ',' << c.mse << ',' << c.nearMse << ',' << c.eta << ',' << c.etaNear << ',' << c.staleFraction << ','
+            << c.staleMse << ',' << c.staleFovMse << '\n';
+
+    auto find = [&](SceneKind scene, FoveationMode mode, Method m, float fovea) -> const CellResult* {
+        for (const auto& c : results)
+            if (c.scene == scene && c.mode == mode && c.method == m && c.foveaDeg == fovea) return &c;
+        return nullptr;
+    };
+    const bool cpuDevice = deviceName.find("llvmpipe") != std::string::npos || deviceName.find("lavapipe") != std::string::npos;
 
     std::ofstream md(dir + "/table.md");
     if (!md) return Error{1, "cannot write " + dir + "/table.md"};
-    md << "# wrsfov benchmark\n\n" << o.width << "x" << o.height << (o.monitor ? " (monitor mode: one 76x60 degree view as both eyes)" : " per eye") << ", " << o.frames << " frames at 90 Hz ("
-       << o.warmup << " warm-up), device " << deviceName
-       << ". Gaze: synthetic reading (text) and free viewing (atrium). Metrics against the unfoveated "
-          "reference of the same frames, both eyes; SSIM and FLIP every "
-       << o.heavyEvery << "th frame. Times are GPU medians per frame for both eyes; ×copy is the ratio to a "
-          "copy kernel moving the same bytes in the same run, ×fov the ratio to FOV in the same cell.\n";
+    md << "# wrsfov benchmark\n\n" << o.width << "x" << o.height
+       << (o.monitor ? " (monitor mode: one 76x60 degree view as both eyes)" : " per eye (HMD stereo)") << ", "
+       << o.frames << " frames at 90 Hz (" << o.warmup << " warm-up). Times measured on **" << deviceName << "**"
+       << (cpuDevice ? " — Mesa lavapipe, a CPU renderer: absolute times say little about a GPU, ratios in the same "
+                       "run (×copy, ×fov) say more"
+                     : "")
+       << ".\n";
     if (std::find(o.scenes.begin(), o.scenes.end(), SceneKind::Sequence) != o.scenes.end())
         md << "\nScene `sequence`: the frames of " << o.sequenceDir
            << " at the fps of its sequence.json, gaze from its gaze.csv (synthetic free viewing without one).\n";
+
+    // Summary first: per scene and mode, each method against fov at the smallest fovea.
+    md << "\n## Summary\n\n";
+    const float f0 = o.foveas.front();
+    for (SceneKind scene : o.scenes)
+        for (FoveationMode mode : o.modes) {
+            const CellResult* fov = find(scene, mode, Method::Fov, f0);
+            if (!fov) continue;
+            md << "- **" << toString(scene) << ", " << toString(mode) << ", fovea " << fmt(f0, 1) << "°**: ";
+            const CellResult* oracle = find(scene, mode, Method::Oracle, f0);
+            if (oracle)
+                md << "the oracle bound gains " << fmt(oracle->psnr - fov->psnr) << " dB full / "
+                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov. ";
+            bool firstM = true;
+            for (Method m : o.methods) {
+                if (m == Method::Fov || m == Method::Oracle) continue;
+                const CellResult* c = find(scene, mode, m, f0);
+                if (!c) continue;
+                const double dFull = c->psnr - fov->psnr, dNear = c->nearPsnr - fov->nearPsnr;
+                md << (firstM ? "" : "; ") << "`" << toString(m) << "` "
+                   << (dNear > 0.05 ? "beats" : dNear < -0.05 ? "loses to" : "ties") << " fov by " << fmt(dFull)
+                   << " dB full / " << fmt(dNear) << " dB near gaze";
+                if (!std::isnan(c->eta) || !std::isnan(c->etaNear))
+                    md << " (η " << fmt(c->eta) << " / " << fmt(c->etaNear) << ")";
+                md << " at " << fmt(c->gpu.total / fov->gpu.total) << "× fov's GPU time";
+                if (!std::isnan(c->staleMse) && c->staleFraction > 0)
+                    md << ", stale-pixel MSE " << fmt(c->staleMse, 5) << " vs fov " << fmt(c->staleFovMse, 5);
+                firstM = false;
+            }
+            md << ".\n";
+        }
+
+    md << "\n## Columns\n\n"
+          "- *near PSNR*: PSNR (dB, sRGB 8-bit) over pixels within 10° of the gaze; *PSNR* over the whole image.\n"
+          "- *η* / *η near*: retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, "
+          "whole image / within 10°: 0 = no better than fov, 1 = as good as the oracle (which keeps, per pixel, "
+          "whichever of history and candidate is closer to the reference). n/a without fov and oracle, or when "
+          "the oracle gains nothing.\n"
+          "- *SSIM*, *FLIP* (NVIDIA FLIP, 0..1, lower is better): every "
+       << o.heavyEvery
+       << "th counted frame. *ecc-MSE*: MSE weighted by the cone-density falloff of eccentricity.\n"
+          "- *temporal*: temporal instability, the mean absolute frame-to-frame change of the output where the "
+          "reference did not change (0..1; lower is steadier).\n"
+          "- *stale*: share of pixels showing a sample whose submitted colour when taken is more than 4/255 "
+          "outside the 3×3 neighbourhood of the submitted colour now (methods that keep samples); *stale MSE* "
+          "the method's MSE over those pixels, *fov there* fov's MSE over the same pixels (every "
+       << o.heavyEvery
+       << "th frame).\n"
+          "- *GPU ms*: median GPU time per frame, both eyes; *×copy*: against a copy kernel moving the same "
+          "bytes in the same submission; *×fov*: against fov in the same cell; *shading*: the fraction of "
+          "full-rate shading the foveation represents.\n";
+
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
             md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"
-               << "| method | fovea | near-gaze PSNR | PSNR | SSIM | FLIP | ecc-MSE | temporal | GPU ms | ×copy | ×fov | "
-                  "shading |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+               << "| method | fovea | near PSNR | PSNR | η | η near | SSIM | FLIP | ecc-MSE | temporal | stale | "
+                  "stale MSE | fov there | GPU ms | ×copy | ×fov | shading |\n"
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
             for (const auto& c : results) {
                 if (c.scene != scene || c.mode != mode) continue;
                 md << "| " << toString(c.method) << " | " << fmt(c.foveaDeg, 1) << "° | " << fmt(c.nearPsnr) << " | "
-                   << fmt(c.psnr) << " | " << fmt(c.ssim, 4) << " | " << fmt(c.flip, 4) << " | " << fmt(c.eccMse, 5)
-                   << " | " << fmt(c.temporal, 4) << " | " << fmt(c.gpu.total, 3) << " | "
-                   << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.fovTotalMs) << " | "
+                   << fmt(c.psnr) << " | " << fmt(c.eta) << " | " << fmt(c.etaNear) << " | " << fmt(c.ssim, 4)
+                   << " | " << fmt(c.flip, 4) << " | " << fmt(c.eccMse, 5) << " | " << fmt(c.temporal, 5) << " | "
+                   << (std::isnan(c.staleFraction) ? std::string("n/a") : fmt(100 * c.staleFraction, 3) + " %")
+                   << " | " << fmt(c.staleMse, 5) << " | " << fmt(c.staleFovMse, 5) << " | " << fmt(c.gpu.total, 3)
+                   << " | " << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.fovTotalMs) << " | "
                    << fmt(c.shadingFraction, 3) << " |\n";
             }
             float eq = equalQualityFovea(results, scene, mode);
-            md << "\nEqual-quality fovea size (smallest WRS fovea with near-gaze PSNR ≥ FOV at 10°): "
+            md << "\nEqual-quality fovea (smallest wrs fovea below 10° with near-gaze PSNR ≥ fov at 10°): "
                << (eq > 0 ? fmt(eq, 1) + "°" : std::string("none in this sweep")) << "\n";
         }
 
-    // Error against run time, and error against fovea size, per scene (first mode).
-    for (SceneKind scene : o.scenes) {
-        std::vector<Series> vsTime, vsFovea;
-        for (Method m : o.methods) {
-            Series st{std::string(toString(m)), methodColour(m)}, sf{std::string(toString(m)), methodColour(m)};
-            sf.line = true;
-            for (const auto& c : results) {
-                if (c.scene != scene || c.method != m || c.mode != o.modes.front()) continue;
-                st.points.push_back({c.gpu.total, c.nearPsnr});
-                st.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
-                sf.points.push_back({c.foveaDeg, c.nearPsnr});
+    // Per scene and mode: error against run time, against fovea size, and η per method.
+    for (SceneKind scene : o.scenes)
+        for (FoveationMode mode : o.modes) {
+            std::vector<Series> vsTime, vsFovea, eta;
+            for (Method m : o.methods) {
+                Series st{std::string(toString(m)), methodColour(m)}, sf{std::string(toString(m)), methodColour(m)};
+                Series se{std::string(toString(m)), methodColour(m)};
+                sf.line = true;
+                for (const auto& c : results) {
+                    if (c.scene != scene || c.method != m || c.mode != mode) continue;
+                    st.points.push_back({c.gpu.total, c.nearPsnr});
+                    st.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
+                    sf.points.push_back({c.foveaDeg, c.nearPsnr});
+                    se.points.push_back({c.eta, c.etaNear});
+                    se.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
+                }
+                vsTime.push_back(st);
+                vsFovea.push_back(sf);
+                eta.push_back(se);
             }
-            vsTime.push_back(st);
-            vsFovea.push_back(sf);
+            const std::string s(toString(scene)), m(toString(mode)), tag = s + "_" + m;
+            cv::imwrite(dir + "/error_vs_time_" + tag + ".png",
+                        chart(s + " (" + m + "): near-gaze PSNR against GPU time", "GPU ms per frame (both eyes)",
+                              "near-gaze PSNR (dB)", vsTime));
+            cv::imwrite(dir + "/error_vs_fovea_" + tag + ".png",
+                        chart(s + " (" + m + "): near-gaze PSNR against fovea size", "fovea diameter (deg)",
+                              "near-gaze PSNR (dB)", vsFovea));
+            cv::imwrite(dir + "/eta_" + tag + ".png",
+                        chart(s + " (" + m + "): retention efficiency (1 = oracle, 0 = fov)", "eta, whole image",
+                              "eta, within 10 deg", eta));
         }
-        std::string s(toString(scene)), md0(toString(o.modes.front()));
-        cv::imwrite(dir + "/error_vs_time_" + s + ".png",
-                    chart(s + " (" + md0 + "): near-gaze PSNR against GPU time", "GPU ms per frame (both eyes)",
-                          "near-gaze PSNR (dB)", vsTime));
-        cv::imwrite(dir + "/error_vs_fovea_" + s + ".png",
-                    chart(s + " (" + md0 + "): near-gaze PSNR against fovea size", "fovea diameter (deg)",
-                          "near-gaze PSNR (dB)", vsFovea));
-    }
     return {};
 }
 

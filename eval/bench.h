@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,15 @@ struct CellResult {
     double trafficBytes = 0;  ///< estimated bytes the passes read and write per frame
     double shadingFraction = 0;  ///< full-rate shading work the foveation represents (1 = none saved)
     double psnr = 0, ssim = 0, nearPsnr = 0, eccMse = 0, flip = 0, temporal = 0;
+    double mse = 0, nearMse = 0;  ///< mean squared error (sRGB, 0..1), full image and within 10° of gaze
+    /// Retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, full image and
+    /// near gaze; NaN without fov and oracle in the cell or when the oracle gains nothing.
+    double eta = std::numeric_limits<double>::quiet_NaN(), etaNear = std::numeric_limits<double>::quiet_NaN();
+    /// Stale pixels (wrs-paper, wrs, oracle; NaN otherwise): pixels showing a sample whose submitted
+    /// colour when taken lies more than 4/255 outside the 3x3 neighbourhood of the submitted colour
+    /// now. Their share of all pixels, the method's MSE over them and fov's MSE over the same pixels.
+    double staleFraction = std::numeric_limits<double>::quiet_NaN();
+    double staleMse = std::numeric_limits<double>::quiet_NaN(), staleFovMse = std::numeric_limits<double>::quiet_NaN();
     double fovTotalMs = 0;    ///< the `fov` method's median total in the same cell (for ratios)
 };
 

@@ -17,6 +17,9 @@ layout(std430, set = 0, binding = 5) buffer LinearDepth { float zlin[]; };
 layout(std430, set = 0, binding = 6) buffer Candidate { vec4 candidate[]; };
 layout(std430, set = 0, binding = 7) readonly buffer ReservoirPrev { uvec4 res_prev[]; };
 layout(std430, set = 0, binding = 8) writeonly buffer ReservoirCur { uvec4 res_cur[]; };
+// Evaluation only (frame.tuning.z != 0): the submitted linear colour when the shown sample was taken.
+layout(std430, set = 0, binding = 10) readonly buffer BirthPrev { vec4 birth_prev[]; };
+layout(std430, set = 0, binding = 11) writeonly buffer BirthCur { vec4 birth_cur[]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 

@@ -66,18 +66,25 @@ void main() {
     if (HAS_MOTION) mv = texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz;
     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0 || mv.y != 0.0);
     vec2 pos;
-    uvec2 q;
-    bool has_history = wrs_track_start(p, size, mv, pos, q);
-    Tracked h = wrs_unpack_tracked(res_prev[pixel_index(eye, q)]);
-    vec2 d = wrs_track_offset(q, h.d, pos);
-    if (has_history && !wrs_track_inside(d)) {
-        uvec2 q2;
-        has_history = wrs_track_retry(q, d, size, q2);
-        h = wrs_unpack_tracked(res_prev[pixel_index(eye, q2)]);
-        d = wrs_track_offset(q2, h.d, pos);
-        has_history = has_history && wrs_track_inside(d);
+    ivec2 base;
+    bool on_screen = wrs_track_start(p, size, mv, pos, base);
+    bool has_history = false;
+    Tracked h;
+    vec2 d = vec2(0.0);
+    uvec2 q = p;
+    for (uint k = 0u; k < 4u && on_screen; ++k) {
+        uvec2 qk;
+        if (!wrs_track_tap(base, k, size, qk)) continue;
+        Tracked hk = wrs_unpack_tracked(res_prev[pixel_index(eye, qk)]);
+        vec2 dk = wrs_track_offset(qk, hk.d, pos);
+        if (!wrs_tracked_valid(hk) || !wrs_track_inside(dk)) continue;
+        if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
+        has_history = true;
+        h = hk;
+        d = dk;
+        q = qk;
     }
-    has_history = has_history && wrs_tracked_valid(h);
+    if (!has_history) h = wrs_unpack_tracked(uvec4(0u));
     float dz = wrs_finite(mv.z) ? mv.z : 0.0;
     if (HAS_DEPTH && has_history && RULE != WRS_RULE_ORACLE && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
         has_history = false;
@@ -87,6 +94,13 @@ void main() {
     uint outcome;
     float margin;
     Tracked r = wrs_retain(RULE, has_history, h, d, c, ref.rgb, rnd, outcome, margin);
-    res_cur[idx] = wrs_pack_tracked(r, wrs_offset_dither(hash));
+    res_cur[idx] = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     store_output(eye, p, r.color);
+    if (frame.tuning.z != 0.0) {
+        vec4 b = vec4(ref.rgb, 0.0);
+        vec4 hb = birth_prev[pixel_index(eye, q)];
+        if (outcome == WRS_OUT_KEPT) b = hb;
+        if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * (c.q / (h.w_sum + c.q));
+        birth_cur[idx] = b;
+    }
 }

@@ -492,7 +492,7 @@ const float WRS_FP_TOL = 0.6f;
 const float WRS_Q_EQUAL = 0.0009765625f;  // 2^-10
 // The merged weight is capped at this many candidates: the mean follows a slow change within ~16 frames.
 const float WRS_MERGE_CAP = 16.0f;
-// Offsets are stored as signed 8-bit, 254 codes per pixel, so |d| <= 0.5 maps to -127..127.
+// Offsets are stored as signed 8-bit, 254 codes per pixel: d in [-0.5, 0.5) maps to -127..126.
 const float WRS_OFFSET_SCALE = 254.0f;
 
 // Flags of a tracked reservoir.
@@ -519,7 +519,8 @@ WRS_FN uint wrs_fp_code(float lstar) { return uint(clamp(floor(lstar * WRS_FP_SC
 WRS_FN float wrs_fp_value(uint code) { return float(code) / WRS_FP_SCALE; }
 
 WRS_FN uint wrs_offset_code(float d, float u) {
-    int c = clamp(int(floor(d * WRS_OFFSET_SCALE + u)), -127, 127);
+    // -127..126: the footprint is half-open, [-0.5, 0.5), so +127/254 = 0.5 would leave it.
+    int c = clamp(int(floor(d * WRS_OFFSET_SCALE + u)), -127, 126);
     return uint(c) & 0xffu;
 }
 WRS_FN float wrs_offset_value(uint code) {
@@ -533,8 +534,7 @@ WRS_FN float wrs_offset_value(uint code) {
 //   word 1: colour B | q           (fp16, fp16)
 //   word 2: w_sum | fp | flags     (fp16, uint8, uint8)
 //   word 3: z | dx | dy            (fp16, snorm8 x 254, snorm8 x 254)
-// The offset is quantised with a dither `u` in [0, 1) (floor(d * 254 + u)), so that a slow
-// sub-pixel drift accumulates in expectation instead of being rounded away every frame.
+// The offset is quantised with a dither `u` in [0, 1) (floor(d * 254 + u)): wrs_offset_dither.
 WRS_FN uvec4 wrs_pack_tracked(Tracked r, vec2 u) {
     uvec4 p;
     p.x = wrs_f32_to_f16(r.color.x) | (wrs_f32_to_f16(r.color.y) << 16u);
@@ -560,37 +560,44 @@ WRS_FN bool wrs_tracked_valid(Tracked r) {
            wrs_finite(r.z);
 }
 
-// The two dither values of a pixel's offset quantisation, from the low 8 bits of its frame hash
-// (wrs_rand uses the high 24): (4 bits + 0.5) / 16 each.
-WRS_FN vec2 wrs_offset_dither(uint hash) {
-    return vec2((float(hash & 15u) + 0.5f) / 16.0f, (float((hash >> 4u) & 15u) + 0.5f) / 16.0f);
+// The dither of the offset quantisation: the same for every pixel of a frame (from the hash of the
+// frame alone), so that under uniform motion all samples round alike and their lattice stays
+// intact (a per-pixel dither lets neighbours drift apart by 1/254 px per frame, and the half-open
+// footprints then see doubles and holes), and different from frame to frame, so that a slow
+// sub-pixel drift still accumulates in expectation instead of being rounded away.
+WRS_FN vec2 wrs_offset_dither(uint frame, uint seed) {
+    uint h = wrs_hash(0u, 0u, 0u, frame, seed);
+    return vec2((float(h & 255u) + 0.5f) / 256.0f, (float((h >> 8u) & 255u) + 0.5f) / 256.0f);
 }
 
-// Tracked reprojection, step 1: the previous position of pixel p's centre (pos = centre + mv; a
-// non-finite motion is zero motion) and the pixel q it falls in. False when it is off-screen.
-WRS_FN bool wrs_track_start(uvec2 p, uvec2 size, vec3 mv, WRS_OUT(vec2) pos, WRS_OUT(uvec2) q) {
+// Tracked reprojection. Each reservoir's sample sits at its pixel's centre + d, |d| < 0.5. Pixel p
+// looks for the sample now inside its footprint: its centre's previous position pos = centre + mv
+// (a non-finite motion is zero motion), and a sample stored at pixel q, now at q + 0.5 + d_q in the
+// previous frame, is inside iff q + 0.5 + d_q − pos is in [−0.5, 0.5)² (half-open, so a sample is
+// inside exactly one footprint). Only the 2x2 pixels from base = floor(pos − 0.5) can hold one.
+// Returns false when pos is off-screen: that pixel has no history.
+WRS_FN bool wrs_track_start(uvec2 p, uvec2 size, vec3 mv, WRS_OUT(vec2) pos, WRS_OUT(ivec2) base) {
     bool finite_xy = wrs_finite(mv.x) && wrs_finite(mv.y);
     vec2 m = finite_xy ? vec2(mv.x, mv.y) : vec2(0.0f, 0.0f);
     pos = vec2(p) + vec2(0.5f, 0.5f) + m;
-    q = p;
+    base = ivec2(p);
     if (!(pos.x >= 0.0f && pos.y >= 0.0f && pos.x < float(size.x) && pos.y < float(size.y))) return false;
-    q = uvec2(floor(pos));
+    base = ivec2(floor(pos - vec2(0.5f, 0.5f)));
     return true;
 }
-// Step 2: the offset of the sample kept at pixel q (stored offset dq) from pos, i.e. where that
-// sample now sits relative to p's centre. Inside p's footprint iff both components are in [-0.5, 0.5].
+// The k-th (0..3) pixel of the 2x2 block; false when it is off-screen.
+WRS_FN bool wrs_track_tap(ivec2 base, uint k, uvec2 size, WRS_OUT(uvec2) q) {
+    ivec2 t = base + ivec2(int(k & 1u), int(k >> 1u));
+    q = uvec2(clamp(t, ivec2(0, 0), ivec2(size) - ivec2(1, 1)));
+    return t.x >= 0 && t.y >= 0 && t.x < int(size.x) && t.y < int(size.y);
+}
+// Where the sample kept at pixel q (offset dq) sits now relative to p's centre.
 WRS_FN vec2 wrs_track_offset(uvec2 q, vec2 dq, vec2 pos) { return vec2(q) + vec2(0.5f, 0.5f) + dq - pos; }
-WRS_FN bool wrs_track_inside(vec2 d) { return abs(d.x) <= 0.5f && abs(d.y) <= 0.5f; }
-// Step 3, when q's sample is outside: the neighbour of q towards which it drifted out (one step
-// back on each violating axis), if on-screen. Its sample is then tested with steps 2 and 3.
-WRS_FN bool wrs_track_retry(uvec2 q, vec2 d, uvec2 size, WRS_OUT(uvec2) q2) {
-    ivec2 r = ivec2(q);
-    if (d.x > 0.5f) r.x -= 1;
-    if (d.x < -0.5f) r.x += 1;
-    if (d.y > 0.5f) r.y -= 1;
-    if (d.y < -0.5f) r.y += 1;
-    q2 = uvec2(clamp(r, ivec2(0, 0), ivec2(size) - ivec2(1, 1)));
-    return r.x >= 0 && r.y >= 0 && r.x < int(size.x) && r.y < int(size.y);
+WRS_FN bool wrs_track_inside(vec2 d) { return d.x >= -0.5f && d.x < 0.5f && d.y >= -0.5f && d.y < 0.5f; }
+// Of two samples inside the footprint (possible where neighbouring samples drifted unevenly), the
+// higher quality one, then the one nearer the centre: is `a` preferred over `b`?
+WRS_FN bool wrs_track_prefer(float qa, vec2 da, float qb, vec2 db) {
+    return qa > qb || (qa == qb && dot(da, da) < dot(db, db));
 }
 
 // The candidate of one pixel as the retention rule sees it (`Candidate` names the buffer block).

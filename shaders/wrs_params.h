@@ -19,7 +19,7 @@ struct EyeParams {
 struct FrameParams {
     EyeParams eye[2];
     uvec4 size;    // x: width, y: height (both eyes), z: frame index, w: seed
-    vec4 tuning;   // x: r_m (degrees), y: tau_depth (relative), zw: pad
+    vec4 tuning;   // x: r_m (degrees), y: tau_depth (relative), z: 1 to track birth colours, w: pad
 };
 
 // Push constants of the pyramid pass: which level is being written.
