@@ -198,7 +198,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     Tracked h = wrs_unpack_tracked(uvec4(0u));
                     vec2 d(0.0f);
                     uvec2 q = p;
-                    for (uint k = 0; k < 4u && on_screen; ++k) {
+                    const uint taps = c.moved ? 4u : 1u;  // as retain.comp: without motion, the pixel's own
+                    for (uint k = 0; k < taps && on_screen; ++k) {
                         uvec2 qk;
                         if (!wrs_track_tap(base, k, size0, qk)) continue;
                         Tracked hk = wrs_unpack_tracked(prev_[eye][std::size_t(qk.y) * W + qk.x]);

@@ -212,6 +212,7 @@ Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptio
         ao.dynamic = scene == SceneKind::Dynamic;
         ao.path = o.path;
         ao.monitor = o.monitor;
+        ao.fovDeg = o.hmdFovDeg;
         auto af = AtriumFrames::create(ctx, ao);
         if (!af) return af.error();
         setup.frames = std::move(*af);
@@ -334,18 +335,24 @@ cv::Mat flipColour(const cv::Mat& map) {
 }
 
 // The FLIP colour scale as a tile of crop size: 0 at the bottom, 1 at the top.
-cv::Mat flipColourBar() {
-    const int w = kCropW * kZoom, h = kCropH * kZoom;
+cv::Mat flipColourBar(int w, int h) {
     cv::Mat ramp(h, 1, CV_32F);
     for (int y = 0; y < h; ++y) ramp.at<float>(y, 0) = 1.0f - float(y) / float(h - 1);
     cv::Mat bar = flipColour(ramp), tile(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
-    cv::resize(bar, bar, {40, h}, 0, 0, cv::INTER_NEAREST);
-    bar.copyTo(tile(cv::Rect(20, 0, 40, h)));
-    cv::putText(tile, "FLIP 1", {68, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
-    cv::putText(tile, "0.5", {68, h / 2 + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
-    cv::putText(tile, "0", {68, h - 4}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
-    cv::putText(tile, "error maps below each image;", {68, h / 2 + 40}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1, cv::LINE_AA);
-    cv::putText(tile, "cross: gaze now, circle: 1 s ago", {68, h / 2 + 58}, cv::FONT_HERSHEY_SIMPLEX, 0.38, {255, 255, 255}, 1, cv::LINE_AA);
+    const int bw = std::min(40, w / 4);
+    cv::resize(bar, bar, {bw, h}, 0, 0, cv::INTER_NEAREST);
+    bar.copyTo(tile(cv::Rect(bw / 2, 0, bw, h)));
+    const int tx = bw * 2 - bw / 2 + 6;
+    auto text = [&](const char* t, int y, double scale) {
+        cv::putText(tile, t, {tx, y}, cv::FONT_HERSHEY_SIMPLEX, scale, {255, 255, 255}, 1, cv::LINE_AA);
+    };
+    text("FLIP 1", 14, 0.45);
+    text("0.5", h / 2 + 5, 0.45);
+    text("0", h - 4, 0.45);
+    if (h >= 200) {  // the key, where it fits
+        text("error maps below the images", h / 2 + 40, 0.38);
+        text("+ gaze now, o 1 s ago", h / 2 + 58, 0.38);
+    }
     return tile;
 }
 
@@ -420,8 +427,15 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     int fovRun = -1;
                     for (std::size_t r = 1; r < runs.size(); ++r)
                         if (runs[r].method == Method::Fov) fovRun = int(r);
+                    // The copy kernel doubles a frame's GPU work: it runs on every copyEvery-th counted frame.
+                    const bool copyFrame = f >= o.warmup && (f - o.warmup) % std::max(1, o.copyEvery) == 0;
                     for (std::size_t r = 0; r < runs.size(); ++r) {
                         Run& run = runs[r];
+                        if (r > 0 && run.comp->config().measureCopy != copyFrame) {
+                            CompositorConfig cc = run.comp->config();
+                            cc.measureCopy = copyFrame;
+                            if (Status s = run.comp->setConfig(cc); !s) return s.error();
+                        }
                         if (Status s = run.app->submit(uint64_t(f + 1), t, eyes); !s)
                             return benchError("bench: frame " + std::to_string(f) + " refused: " + s.message());
                         for (uint32_t e = 0; e < 2; ++e) {
@@ -451,7 +465,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             run.acc.foveate.push_back(st.gpu.foveate);
                             run.acc.temporal.push_back(st.gpu.temporal);
                             run.acc.total.push_back(st.gpu.total);
-                            run.acc.copy.push_back(st.gpu.copy);
+                            if (copyFrame) run.acc.copy.push_back(st.gpu.copy);
                         }
                         const bool heavy = (f - o.warmup) % std::max(1, o.heavyEvery) == 0;
                         for (int e = 0; e < evalEyes; ++e) {
@@ -538,7 +552,8 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         for (std::size_t r = 0; r < runs.size(); ++r) {
                             const std::string label = r == 0 ? "reference" : std::string(toString(runs[r].method));
                             images.push_back(cropTile(toBgr8(runs[r].last[0]), centre, then, now, label + " (" + what + ")"));
-                            maps.push_back(r == 0 ? flipColourBar() : cropTile(flipColour(flipMaps[r]), centre, then, now, ""));
+                            maps.push_back(r == 0 ? flipColourBar(images[0].cols, images[0].rows)
+                                                  : cropTile(flipColour(flipMaps[r]), centre, then, now, ""));
                         }
                         cv::Mat top, bottom;
                         cv::hconcat(images, top);
@@ -686,6 +701,16 @@ cv::Scalar methodColour(Method m) {
     return {0, 0, 0};
 }
 
+// Pixel density at the view centre of the atrium scenes for these options.
+double centrePixelsPerDegree(const BenchOptions& o) {
+    scenes::AtriumOptions ao;
+    ao.monitor = o.monitor;
+    ao.fovDeg = o.hmdFovDeg;
+    const layers::Fov f = scenes::atriumFov(ao, 0);
+    return pixelsPerDegreeAtCentre(o.width, glm::vec4(std::tan(f.angleLeft), std::tan(f.angleRight),
+                                                      std::tan(f.angleUp), std::tan(f.angleDown)));
+}
+
 std::string fmt(double v, int prec = 2) {
     if (std::isinf(v)) return "inf";
     if (std::isnan(v)) return "n/a";
@@ -725,7 +750,12 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     std::ofstream md(dir + "/table.md");
     if (!md) return Error{1, "cannot write " + dir + "/table.md"};
     md << "# wrsfov benchmark\n\n" << o.width << "x" << o.height
-       << (o.monitor ? " (monitor mode: one 76x60 degree view as both eyes)" : " per eye (HMD stereo)") << ", "
+       << (o.monitor ? " (monitor mode: one 76x60 degree view as both eyes)"
+                     : o.hmdFovDeg > 0 ? " per eye (HMD stereo, the central " + fmt(o.hmdFovDeg, 0) + "°x" +
+                                            fmt(o.hmdFovDeg, 0) + "° of each eye's view)"
+                                      : std::string(" per eye (HMD stereo)"))
+       << ", " << fmt(centrePixelsPerDegree(o), 1)
+       << " px/deg at the view centre (atrium, dynamic; text has its own layout), "
        << o.frames << " frames at 90 Hz (" << o.warmup << " warm-up). Times measured on **" << deviceName << "**"
        << (cpuDevice ? " — Mesa lavapipe, a CPU renderer: absolute times say little about a GPU, ratios in the same "
                        "run (×copy, ×fov) say more"

@@ -22,20 +22,24 @@ std::string_view toString(SceneKind s);
 std::optional<SceneKind> parseScene(std::string_view name);
 
 struct BenchOptions {
-    std::vector<SceneKind> scenes{SceneKind::Text, SceneKind::Atrium};
+    std::vector<SceneKind> scenes{SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic};
     std::vector<Method> methods{Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle};
     std::vector<float> foveas{5.0f, 7.5f, 10.0f};  ///< diameters in degrees
     std::vector<FoveationMode> modes{FoveationMode::Mip, FoveationMode::Gauss};
     uint32_t width = 320, height = 288;  ///< per eye
     int frames = 90;                     ///< per cell, at 90 Hz
     int warmup = 10;                     ///< frames before timings and metrics count
-    int heavyEvery = 10;                 ///< SSIM and FLIP on every n-th counted frame
+    int heavyEvery = 10;                 ///< SSIM, FLIP and stale pixels on every n-th counted frame
+    int copyEvery = 1;                   ///< the same-bytes copy kernel on every n-th counted frame
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;
     /// Built-in scenes in monitor mode: one symmetric 76° x 60° view (the paper's desktop setting)
     /// submitted as both views, instead of the HMD's stereo pair.
     bool monitor = false;
+    /// HMD stereo of atrium and dynamic: > 0 uses a symmetric square field of view of this many
+    /// degrees per eye instead of the HMD's own (AtriumOptions::fovDeg).
+    float hmdFovDeg = 0.0f;
     /// SceneKind::Sequence: the sequence directory. Its frames are the reference as submitted (at
     /// full quality), its gaze comes from gaze.csv (synthetic free viewing without one), frame f is
     /// displayed at f / fps of the json. width/height must be the sequence's, frames <= its frame count.

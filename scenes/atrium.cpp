@@ -40,7 +40,14 @@ float atriumLight(const AtriumOptions& o, double t) {
 
 layers::Fov atriumFov(int eye) { return hmdFov(eye); }
 
-layers::Fov atriumFov(const AtriumOptions& o, int eye) { return o.monitor ? monitorFov() : atriumFov(eye); }
+layers::Fov atriumFov(const AtriumOptions& o, int eye) {
+    if (o.monitor) return monitorFov();
+    if (o.fovDeg > 0.0f) {
+        const float h = 0.5f * o.fovDeg * kDeg;
+        return layers::Fov{-h, h, h, -h};
+    }
+    return atriumFov(eye);
+}
 
 layers::Fov monitorFov() {
     layers::Fov f;

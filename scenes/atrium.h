@@ -32,6 +32,10 @@ struct AtriumOptions {
     float nearZ = 0.05f, farZ = 100.0f;
     bool reversedZ = false;
     bool monitor = false;                ///< one symmetric 76° x 60° view for both eyes (no disparity)
+    /// HMD stereo only: > 0 replaces the HMD's asymmetric field of view by a symmetric square one of
+    /// this many degrees per eye (the central part of the HMD view), e.g. to reach a pixel density
+    /// at a size a CPU renderer can afford.
+    float fovDeg = 0.0f;
 };
 
 /// Scale of the room light at time t: 1, except in the `dynamic` scene, whose light dims to 0.6 at
@@ -40,7 +44,8 @@ float atriumLight(const AtriumOptions& o, double t);
 
 /// Per-eye asymmetric field of view of the stereo camera (HMD-like; mirrored between eyes).
 layers::Fov atriumFov(int eye);
-/// The field of view of one eye of the scene: atriumFov(eye), or monitorFov() in monitor mode.
+/// The field of view of one eye of the scene: atriumFov(eye), monitorFov() in monitor mode, or the
+/// symmetric square AtriumOptions::fovDeg.
 layers::Fov atriumFov(const AtriumOptions& o, int eye);
 /// Monitor mode of the built-in scenes: one symmetric view of 76° x 60° (the paper's desktop
 /// setting of about 70-80° horizontally), submitted as both views.

@@ -51,14 +51,21 @@ void main() {
     c.lo = vec3(WRS_HALF_MAX);
     c.hi = vec3(0.0);
     float unused;
-    vec4 col = sample_level(eye, uint(lv.x), p, c.lo, c.hi, unused);
-    if (lv.z > 0.0) col = wrs_blend(col, sample_level(eye, uint(lv.y), p, c.lo, c.hi, unused), lv.z);
+    float range_a, range_b;
+    vec4 col_a = sample_level(eye, uint(lv.x), p, c.lo, c.hi, range_a);
+    vec4 col = col_a;
+    if (lv.z > 0.0) col = wrs_blend(col_a, sample_level(eye, uint(lv.y), p, c.lo, c.hi, range_b), lv.z);
     vec4 ref = pyramid[pyramid_index(eye, 0u, p)];
     bool valid = ref.a > 0.5;
     c.color = col.rgb;
     c.q = valid ? (FOV_MODE == WRS_FOV_NONE ? wrs_sample_weight(e, r_f) : wrs_level_quality(lv)) : 0.0;
-    vec3 flo = vec3(0.0), fhi = vec3(0.0);
-    c.fp = sample_level(eye, WRS_FP_LEVEL, p, flo, fhi, c.fp_range).a;
+    if (uint(lv.x) == WRS_FP_LEVEL) {  // the far periphery samples the fingerprint level already
+        c.fp = col_a.a;
+        c.fp_range = range_a;
+    } else {
+        vec3 flo = vec3(0.0), fhi = vec3(0.0);
+        c.fp = sample_level(eye, WRS_FP_LEVEL, p, flo, fhi, c.fp_range).a;
+    }
     c.z = HAS_DEPTH ? zlin[idx] : 0.0;
 
     // Tracked reprojection of the kept sample.
@@ -72,7 +79,10 @@ void main() {
     Tracked h;
     vec2 d = vec2(0.0);
     uvec2 q = p;
-    for (uint k = 0u; k < 4u && on_screen; ++k) {
+    // Without motion only the pixel's own sample can be inside its footprint (footprints are disjoint
+    // and every stored offset lies inside its own): one read instead of four, the same result.
+    uint taps = c.moved ? 4u : 1u;
+    for (uint k = 0u; k < taps && on_screen; ++k) {
         uvec2 qk;
         if (!wrs_track_tap(base, k, size, qk)) continue;
         Tracked hk = wrs_unpack_tracked(res_prev[pixel_index(eye, qk)]);

@@ -23,11 +23,19 @@ void usage() {
     std::printf(
         "usage: wrsfov-bench [--out DIR] [--scenes text,atrium,dynamic] [--methods fov,fov+taa,wrs-paper,wrs,oracle]\n"
         "                    [--fovea 5,7.5,10] [--modes mip,gauss] [--size WxH] [--frames N] [--warmup N]\n"
-        "                    [--heavy-every N] [--path static|lateral|turn] [--change off|lstar|de94] [--seed N]\n"
-        "                    [--monitor] [--quick] [--sequence DIR]\n"
+        "                    [--heavy-every N] [--copy-every N] [--path static|lateral|turn] [--change off|lstar|de94]\n"
+        "                    [--seed N] [--monitor] [--hmd-fov DEG] [--quick] [--sequence DIR]\n"
         "       wrsfov-bench --write-sequence DIR --scenes NAME [--size WxH] [--frames N] [--path P] [--seed N]\n"
         "--monitor: the built-in scenes in monitor mode (one symmetric 76x60 degree view as both eyes)\n"
         "  instead of the stereo HMD views.\n"
+        "--hmd-fov DEG: HMD stereo (atrium, dynamic) with a symmetric DEG x DEG view per eye, the central part\n"
+        "  of the HMD's, to reach a pixel density at a size the device can afford.\n"
+        "Defaults: scenes text,atrium,dynamic; every method; fovea 5,7.5,10; modes mip,gauss; 320x288; 90 frames\n"
+        "  (10 warm-up); path lateral (atrium, dynamic); change lstar (wrs-paper's eq. 7 term); seed 1.\n"
+        "--heavy-every N: SSIM, FLIP and the stale-pixel count on every N-th counted frame (default 10).\n"
+        "--copy-every N: the same-bytes copy kernel on every N-th counted frame (default 1); it doubles the\n"
+        "  GPU work of the frames it runs in, and its median over fewer frames is as good a yardstick.\n"
+        "--change: the eq. 7 change term of wrs-paper (off, lstar, de94).\n"
         "--quick: a CI-sized sweep (text and atrium, 160x144, 24 frames, fovea 5 and 10, mip).\n"
         "--sequence DIR: evaluate the frames of a sequence directory (docs/sequence.md) as scene\n"
         "  `sequence` (alone unless --scenes is given); size, frames and fps come from its sequence.json,\n"
@@ -56,7 +64,7 @@ int main(int argc, char** argv) {
     eval::BenchOptions o;
     std::string out = "out/bench";
     std::string writeDir;
-    bool scenesGiven = false, sizeGiven = false, framesGiven = false, warmupGiven = false;
+    bool scenesGiven = false, sizeGiven = false, framesGiven = false, warmupGiven = false, quick = false;
     std::string err;
     for (int i = 1; i < argc && err.empty(); ++i) {
         std::string a = argv[i];
@@ -69,6 +77,7 @@ int main(int argc, char** argv) {
             continue;
         }
         if (a == "--quick") {
+            quick = true;
             o.width = 160;
             o.height = 144;
             o.frames = 24;
@@ -139,6 +148,14 @@ int main(int argc, char** argv) {
         } else if (a == "--heavy-every") {
             if (!parseInt(v, 1, 100000, n)) err = "--heavy-every wants a positive integer";
             o.heavyEvery = int(n);
+        } else if (a == "--hmd-fov") {
+            char* end = nullptr;
+            const float d = std::strtof(v, &end);
+            if (*end || !std::isfinite(d) || d < 10 || d > 120) err = "--hmd-fov wants degrees in 10..120";
+            o.hmdFovDeg = d;
+        } else if (a == "--copy-every") {
+            if (!parseInt(v, 1, 100000, n)) err = "--copy-every wants a positive integer";
+            o.copyEvery = int(n);
         } else if (a == "--seed") {
             if (!parseInt(v, 0, 0xffffffffL, n)) err = "--seed wants a non-negative integer";
             o.seed = uint32_t(n);
@@ -158,6 +175,7 @@ int main(int argc, char** argv) {
             err = "unknown option " + a;
         }
     }
+    if (quick && !scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
     if (err.empty() && !o.sequenceDir.empty()) {
         // The sequence brings its own size and length.
         auto info = eval::readSequenceInfo(o.sequenceDir);

@@ -1,9 +1,11 @@
 // wrsfov-stress: long runs of the reservoir update over adversarial streams, on the CPU reference
 // (every storage format of the precision study) and on the GPU in lockstep with the reference.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <optional>
 #include <set>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include "compositor/vk_context.h"
 #include "stress/report.h"
+#include "stress/retain_stress.h"
 
 namespace st = wrsfov::stress;
 
@@ -213,6 +216,15 @@ int main(int argc, char** argv) {
         gpu = std::move(*r);
     }
 
+    // Method wrs: the same streams through the tracked layout and the retention rule.
+    std::vector<st::RetainStats> retain;
+    if (frames > 0) {
+        const uint64_t rf = std::min<uint64_t>(frames, quick ? 20000 : 200000);
+        std::fprintf(stderr, "[retain] %llu frames x %llu pixels per stream and rule\n", (unsigned long long)rf,
+                     (unsigned long long)pixels);
+        retain = st::runRetainStress(rf, uint32_t(pixels), uint32_t(seed));
+    }
+
     st::ReportInput in;
     in.cpu = cpu ? &*cpu : nullptr;
     in.gpu = gpu ? &*gpu : nullptr;
@@ -220,15 +232,22 @@ int main(int argc, char** argv) {
     in.checks = st::evaluate(in.cpu, in.gpu);
     in.commandLine = commandLine;
     in.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::fputs(st::markdownReport(in).c_str(), stdout);
+    const std::string retainMd = retain.empty() ? std::string() : st::retainMarkdown(retain);
+    std::fputs((st::markdownReport(in) + retainMd).c_str(), stdout);
     if (out) {
         if (wrsfov::Status s = st::writeReport(in, *out); !s) {
             std::fprintf(stderr, "wrsfov-stress: %s\n", s.message().c_str());
             return 1;
         }
+        if (!retain.empty()) {
+            std::ofstream(*out + "/report.md", std::ios::app) << retainMd;
+            std::ofstream(*out + "/retain.csv") << st::retainCsv(retain);
+        }
         std::fprintf(stderr, "report written to %s\n", out->c_str());
     }
     for (const st::Check& c : in.checks)
         if (!c.pass) return 1;
+    for (const st::RetainStats& r : retain)
+        if (!r.pass()) return 1;
     return 0;
 }

@@ -596,5 +596,151 @@ TEST(Hash, DeterministicSensitiveToEveryInputAndUniform) {
     EXPECT_LT(std::fabs(corr), 4.0 / std::sqrt(double(m)));
 }
 
+// ---- Quality-aware retention (method wrs) ----
+
+RetainInput retainInput(vec3 c, float q, float fp, float range = 0.0f, bool moved = false) {
+    RetainInput in;
+    in.color = c;
+    in.q = q;
+    in.lo = c - vec3(0.05f);
+    in.hi = c + vec3(0.05f);
+    in.fp = fp;
+    in.fp_range = range;
+    in.moved = moved;
+    in.z = 0.0f;
+    return in;
+}
+
+Tracked tracked(vec3 c, float q, float fp) {
+    Tracked t;
+    t.color = c;
+    t.q = q;
+    t.w_sum = q;
+    t.fp = wrs_fp_value(wrs_fp_code(fp));
+    t.flags = 0u;
+    t.z = 0.0f;
+    t.d = vec2(0.0f);
+    return t;
+}
+
+TEST(Retention, PackedLayoutRoundTrips) {
+    Tracked t = tracked(vec3(0.25f, 0.5f, 0.75f), 1.0f / 64.0f, 53.3f);
+    t.w_sum = 0.125f;
+    t.flags = WRS_FLAG_MOVED;
+    t.z = 3.5f;
+    t.d = vec2(-0.5f, 0.25f);
+    const Tracked u = wrs_unpack_tracked(wrs_pack_tracked(t, vec2(0.5f)));
+    EXPECT_EQ(u.color, t.color);
+    EXPECT_EQ(u.q, t.q);
+    EXPECT_EQ(u.w_sum, t.w_sum);
+    EXPECT_NEAR(u.fp, 53.3f, 0.5f / WRS_FP_SCALE);
+    EXPECT_EQ(u.flags, WRS_FLAG_MOVED);
+    EXPECT_EQ(u.z, 3.5f);
+    EXPECT_EQ(u.d.x, -0.5f);
+    EXPECT_NEAR(u.d.y, 0.25f, 1.0f / WRS_OFFSET_SCALE);
+    // Offsets stay inside the half-open footprint whatever the dither: -127..126 codes.
+    for (float d : {-0.5f, -0.2f, 0.0f, 0.49999f})
+        for (float u0 : {0.0f, 0.5f, 0.999f}) {
+            const float back = wrs_offset_value(wrs_offset_code(d, u0));
+            EXPECT_TRUE(back >= -0.5f && back < 0.5f) << d << " " << u0;
+            EXPECT_LE(std::fabs(back - d), 1.0f / WRS_OFFSET_SCALE);
+        }
+    // All-zero storage is "no history".
+    EXPECT_FALSE(wrs_tracked_valid(wrs_unpack_tracked(uvec4(0u))));
+}
+
+TEST(Retention, DitheredOffsetsFollowASlowDriftInExpectation) {
+    // A sample drifting 0.001 px per frame (a quarter of a code) for 1000 frames ends 1 px away
+    // (wrapped into the footprint by the tracking, here just accumulated) with a frame-varying dither.
+    float d = -0.5f;
+    for (uint f = 0; f < 900; ++f) d = wrs_offset_value(wrs_offset_code(d + 0.001f, wrs_offset_dither(f, 1u).x));
+    EXPECT_NEAR(d, 0.4f, 0.05f);
+}
+
+TEST(Retention, RuleOutcomes) {
+    const vec3 grey(0.3f);
+    uint outcome;
+    float margin;
+    Tracked h = tracked(grey, 1.0f, 50.0f);
+    // Lower-quality candidate: the sharp sample is kept (and moves with its offset).
+    Tracked r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.1f, 0.0f), retainInput(vec3(0.31f), 1.0f / 256.0f, 50.1f), grey, 0.5f,
+                           outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    EXPECT_EQ(r.color, grey);
+    EXPECT_EQ(r.d.x, 0.1f);
+    // The scene changed beyond the noise model: the candidate, whatever the qualities.
+    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), retainInput(vec3(0.31f), 1.0f / 256.0f, 50.0f + WRS_FP_TOL + 0.2f), grey,
+                   0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_CHANGED);
+    // ... but a moved sample gets the fingerprint taps' range on top.
+    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f),
+                   retainInput(vec3(0.31f), 1.0f / 256.0f, 50.0f + WRS_FP_TOL + 0.2f, 1.0f, true), grey, 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    // Higher quality replaces.
+    Tracked low = tracked(grey, 1.0f / 64.0f, 50.0f);
+    r = wrs_retain(WRS_RULE_MERGE, true, low, vec2(0.0f), retainInput(vec3(0.32f), 1.0f, 50.0f), grey, 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_BETTER);
+    EXPECT_EQ(r.color, vec3(0.32f));
+    // Equal quality merges: running mean, offset towards the centre, weight capped at 16 candidates.
+    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.2f, 0.0f), retainInput(vec3(0.32f), 1.0f, 50.0f), grey, 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_MERGED);
+    EXPECT_NEAR(r.color.x, 0.31f, 1e-6f);
+    EXPECT_NEAR(r.d.x, 0.1f, 1e-6f);
+    EXPECT_EQ(r.w_sum, 2.0f);
+    for (int i = 0; i < 40; ++i)
+        r = wrs_retain(WRS_RULE_MERGE, true, r, vec2(0.0f), retainInput(vec3(0.32f), 1.0f, 50.0f), grey, 0.5f, outcome, margin);
+    EXPECT_EQ(r.w_sum, WRS_MERGE_CAP);
+    // ... unless the history lies outside what the candidate's taps allow.
+    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), retainInput(vec3(0.5f), 1.0f, 50.0f), grey, 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_OUTSIDE);
+    // Reservoir option: A-Chao with the eq. 6 bias among equals.
+    r = wrs_retain(WRS_RULE_RESERVOIR, true, h, vec2(0.0f), retainInput(vec3(0.32f), 1.0f, 50.0f), grey, 0.2f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);  // keep iff rnd <= w1 / (w1 + q) = (1/2) / (3/2) = 1/3
+    r = wrs_retain(WRS_RULE_RESERVOIR, true, h, vec2(0.0f), retainInput(vec3(0.32f), 1.0f, 50.0f), grey, 0.4f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_BETTER);
+    // Oracle: whichever is closer to the reference.
+    r = wrs_retain(WRS_RULE_ORACLE, true, h, vec2(0.0f), retainInput(vec3(0.6f), 1.0f, 50.0f), vec3(0.32f), 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    // An invalid candidate (q = 0) never replaces history.
+    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), retainInput(vec3(0.0f), 0.0f, 50.0f), grey, 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+}
+
+TEST(Retention, MillionAdversarialStepsKeepTheInvariants) {
+    // Stability of the new layout (docs/stability.md): w_sum is bounded by construction (<= 16 q <= 16,
+    // fp16-safe), there is no counter to saturate; adversarial candidates (qualities from 1 to 0 and
+    // denormal, colours 0 to 65504, fingerprints jumping) must never make a stored reservoir
+    // non-finite, give it q <= 0 while valid, or w_sum above the cap. Seeded, 10^6 steps per rule.
+    std::mt19937 rng(4242);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const float qs[] = {1.0f, 1.0f / 64.0f, 1.0f / 256.0f, 0.0f, 1e-40f, 0.37f};
+    const float cs[] = {0.0f, 0.3f, 1.0f, 65504.0f, 1e-8f};
+    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR, WRS_RULE_ORACLE}) {
+        uvec4 stored(0u);
+        uint64_t bad = 0, valid = 0;
+        for (uint f = 0; f < 1000000u; ++f) {
+            const Tracked h = wrs_unpack_tracked(stored);
+            const bool has = wrs_tracked_valid(h);
+            valid += has;
+            const float q = qs[rng() % 6], c = cs[rng() % 5];
+            RetainInput in = retainInput(vec3(c, c * 0.5f, 0.2f), q, u(rng) < 0.01f ? 100.0f * u(rng) : 50.0f, u(rng), u(rng) < 0.5f);
+            in.lo = min(in.lo, in.color);
+            in.hi = max(in.hi, in.color);
+            uint outcome;
+            float margin;
+            const vec2 d(u(rng) - 0.5f, u(rng) - 0.5f);
+            const Tracked r = wrs_retain(rule, has, h, d, in, vec3(0.3f), u(rng), outcome, margin);
+            stored = wrs_pack_tracked(r, wrs_offset_dither(f, 1u));
+            const Tracked back = wrs_unpack_tracked(stored);
+            bad += !(wrs_finite3(back.color) && std::isfinite(back.q) && std::isfinite(back.w_sum) && back.q >= 0.0f &&
+                     back.w_sum >= 0.0f && back.w_sum <= WRS_MERGE_CAP * std::max(back.q, 1.0f) * 1.001f);
+        }
+        std::printf("rule %u: 10^6 steps, %llu with usable history, %llu invariant violations\n", rule,
+                    (unsigned long long)valid, (unsigned long long)bad);
+        EXPECT_EQ(bad, 0u);
+        EXPECT_GT(valid, 500000u);
+    }
+}
+
 }  // namespace
 }  // namespace wrsfov::gpu

@@ -144,7 +144,8 @@ INSTANTIATE_TEST_SUITE_P(
     DeviceFault, OomAtResize,
     ::testing::Values(OomRow{"colour_pyramid", 1, "colour pyramid"}, OomRow{"linear_depth", 2, "linear depth"},
                       OomRow{"candidates", 3, "candidates"}, OomRow{"reservoirs_first", 4, "reservoirs"},
-                      OomRow{"reservoirs_second", 5, "reservoirs"}, OomRow{"output_image", 6, "output image"}),
+                      OomRow{"reservoirs_second", 5, "reservoirs"}, OomRow{"births_first", 6, "births"},
+                      OomRow{"births_second", 7, "births"}, OomRow{"output_image", 8, "output image"}),
     [](const ::testing::TestParamInfo<OomRow>& i) { return i.param.name; });
 
 class DeviceFaultOom : public GpuTest {};
