@@ -199,17 +199,34 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec2 d(0.0f);
                     uvec2 q = p;
                     const uint taps = c.moved ? 4u : 1u;  // as retain.comp: without motion, the pixel's own
+                    bool has_near = false;
+                    Tracked hn = h;
+                    vec2 dn(0.0f);
+                    uvec2 qn = p;
                     for (uint k = 0; k < taps && on_screen; ++k) {
                         uvec2 qk;
                         if (!wrs_track_tap(base, k, size0, qk)) continue;
                         Tracked hk = wrs_unpack_tracked(prev_[eye][std::size_t(qk.y) * W + qk.x]);
                         vec2 dk = wrs_track_offset(qk, hk.d, pos);
-                        if (!wrs_tracked_valid(hk) || !wrs_track_inside(dk)) continue;
-                        if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
+                        if (!wrs_tracked_valid(hk)) continue;
+                        if (wrs_track_inside(dk)) {
+                            if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
+                            has_history = true;
+                            h = hk;
+                            d = dk;
+                            q = qk;
+                        } else if (wrs_track_near(dk) && (!has_near || wrs_track_prefer(hk.q, dk, hn.q, dn))) {
+                            has_near = true;
+                            hn = hk;
+                            dn = dk;
+                            qn = qk;
+                        }
+                    }
+                    if (!has_history && has_near) {
                         has_history = true;
-                        h = hk;
-                        d = dk;
-                        q = qk;
+                        h = hn;
+                        d = wrs_track_snap(dn);
+                        q = qn;
                     }
                     float dz = wrs_finite(mv.z) ? mv.z : 0.0f;
                     if (hasDepth && has_history && rule != WRS_RULE_ORACLE &&

@@ -82,17 +82,34 @@ void main() {
     // Without motion only the pixel's own sample can be inside its footprint (footprints are disjoint
     // and every stored offset lies inside its own): one read instead of four, the same result.
     uint taps = c.moved ? 4u : 1u;
+    bool has_near = false;
+    Tracked hn;
+    vec2 dn = vec2(0.0);
+    uvec2 qn = p;
     for (uint k = 0u; k < taps && on_screen; ++k) {
         uvec2 qk;
         if (!wrs_track_tap(base, k, size, qk)) continue;
         Tracked hk = wrs_unpack_tracked(res_prev[pixel_index(eye, qk)]);
         vec2 dk = wrs_track_offset(qk, hk.d, pos);
-        if (!wrs_tracked_valid(hk) || !wrs_track_inside(dk)) continue;
-        if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
+        if (!wrs_tracked_valid(hk)) continue;
+        if (wrs_track_inside(dk)) {
+            if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
+            has_history = true;
+            h = hk;
+            d = dk;
+            q = qk;
+        } else if (wrs_track_near(dk) && (!has_near || wrs_track_prefer(hk.q, dk, hn.q, dn))) {
+            has_near = true;
+            hn = hk;
+            dn = dk;
+            qn = qk;
+        }
+    }
+    if (!has_history && has_near) {
         has_history = true;
-        h = hk;
-        d = dk;
-        q = qk;
+        h = hn;
+        d = wrs_track_snap(dn);
+        q = qn;
     }
     if (!has_history) h = wrs_unpack_tracked(uvec4(0u));
     float dz = wrs_finite(mv.z) ? mv.z : 0.0;

@@ -594,6 +594,16 @@ WRS_FN bool wrs_track_tap(ivec2 base, uint k, uvec2 size, WRS_OUT(uvec2) q) {
 // Where the sample kept at pixel q (offset dq) sits now relative to p's centre.
 WRS_FN vec2 wrs_track_offset(uvec2 q, vec2 dq, vec2 pos) { return vec2(q) + vec2(0.5f, 0.5f) + dq - pos; }
 WRS_FN bool wrs_track_inside(vec2 d) { return d.x >= -0.5f && d.x < 0.5f && d.y >= -0.5f && d.y < 0.5f; }
+// Fallback when no sample is inside p's footprint: a sample within a quarter pixel of it (|d| < 0.75
+// per axis), moved onto the footprint's edge. Motion vectors are fp16 in most applications, and their
+// per-pixel rounding (up to 1/256 px at 4..8 px of motion) makes neighbouring samples drift apart:
+// without the fallback the gaps open holes that show the blurred candidate (and flicker), with it a
+// sample is shown at most a quarter pixel from where it belongs (nearest-pixel reprojection: half).
+WRS_FN bool wrs_track_near(vec2 d) { return abs(d.x) < 0.75f && abs(d.y) < 0.75f; }
+WRS_FN vec2 wrs_track_snap(vec2 d) {
+    const float hi = 126.0f / WRS_OFFSET_SCALE;  // the largest stored offset below 0.5
+    return clamp(d, vec2(-0.5f, -0.5f), vec2(hi, hi));
+}
 // Of two samples inside the footprint (possible where neighbouring samples drifted unevenly), the
 // higher quality one, then the one nearer the centre: is `a` preferred over `b`?
 WRS_FN bool wrs_track_prefer(float qa, vec2 da, float qb, vec2 db) {

@@ -1,11 +1,46 @@
 #!/usr/bin/env bash
-# The main job on its built-in default: installs what is missing, builds, and runs wrsfov-bench on
-# the `text` and `atrium` scenes (FOV, FOV+TAA and WRS; fovea 5°, 7.5°, 10°; mip and gauss), which
-# writes the report to out/report/: table.md, results.csv, error-vs-time and error-vs-fovea plots,
-# and crops with FLIP error maps. Extra arguments go to wrsfov-bench (see --help).
+# The main job on its built-in default: installs what is missing, builds, and runs wrsfov-bench at a
+# pixel density where foveation matters, 300 frames (3.3 s of gaze) per cell, fovea 5°, foveation mip:
+#   out/report/monitor/  monitor mode (the paper's 76°x60° desktop setting) at 1024x768, scene text
+#                        (reading): fov, wrs-paper, wrs and the oracle bound
+#   out/report/hmd/      HMD stereo at 12.1 px/deg (the central 40°x40° of each eye, 504x504), scene
+#                        dynamic (moving boxes, a light change, lateral head motion): fov, fov+taa,
+#                        wrs-paper, wrs and the oracle
+# Each has table.md (summary first), results.csv, plots and crops; out/report/index.md links them.
+# With arguments, runs one wrsfov-bench with them instead (see wrsfov-bench --help), into out/report.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh build
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
-./build/tools/wrsfov-bench --out out/report "$@"
-echo "== report in $(pwd)/out/report (table.md, results.csv, *.png)"
+bench=./build/tools/wrsfov-bench
+if [ "$#" -gt 0 ]; then
+  "$bench" --out out/report "$@"
+  echo "== report in $(pwd)/out/report (table.md, results.csv, *.png)"
+  exit 0
+fi
+rm -rf out/report
+mkdir -p out/report
+start=$(date +%s)
+common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
+echo "== 1/2: monitor mode, text, 1024x768"
+"$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle "${common[@]}" \
+  --out out/report/monitor | grep -E '^\[|^wrsfov-bench'
+echo "== 2/2: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
+"$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle \
+  "${common[@]}" --out out/report/hmd | grep -E '^\[|^wrsfov-bench'
+{
+  echo "# wrsfov report"
+  echo
+  echo "Two cells at a pixel density where foveation matters, $(($(date +%s) - start)) s on this machine:"
+  echo
+  echo "- [monitor mode, text (reading), 1024x768](monitor/table.md)"
+  echo "- [HMD stereo, dynamic scene, 12.1 px/deg](hmd/table.md)"
+  echo
+  for cell in monitor hmd; do
+    echo "## $cell"
+    echo
+    sed -n '/^## Summary/,/^## Columns/p' "out/report/$cell/table.md" | sed '1d;$d'
+  done
+} > out/report/index.md
+cat out/report/index.md
+echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/)"
