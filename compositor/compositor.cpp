@@ -339,7 +339,8 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     oci.width = width;
     oci.height = height;
     oci.layers = WRS_EYES;
-    oci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+    oci.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                VK_IMAGE_USAGE_SAMPLED_BIT;
     auto out = ctx_.createImage(oci);
     if (!out) return named("output image", out.error());
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
@@ -488,6 +489,18 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         ii[4 + eye] = {sampler_.get(), v.motion ? view(v.motion->subImage) : dummy_.layerView(0),
                        VK_IMAGE_LAYOUT_GENERAL};
     }
+    // The same images, field of view and gaze in both views (a monitor, a mono preview): the passes
+    // run once and the right eye gets copies, output and history alike, so a later stereo frame
+    // finds the history it would have had.
+    // Not for the rules that draw random numbers (wrs-paper, wrs with the reservoir rule): their
+    // hash includes the eye, so two identical views legitimately select differently.
+    const bool eyeRandom = config_.method == Method::WrsPaper ||
+                           (config_.method == Method::Wrs && config_.equalQuality == EqualQuality::Reservoir);
+    const bool mono = !eyeRandom && ii[0].imageView == ii[1].imageView && ii[2].imageView == ii[3].imageView &&
+                      ii[4].imageView == ii[5].imageView &&
+                      std::memcmp(&params_.eye[0], &params_.eye[1], sizeof(gpu::EyeParams)) == 0;
+    const uint32_t eyes = mono ? 1u : uint32_t(WRS_EYES);
+    stats_.monoViews = mono;
     VkWriteDescriptorSet wr[3];
     for (uint32_t k = 0; k < 3; ++k)
         wr[k] = vk::imageWrite(set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
@@ -535,7 +548,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     }
     stamp(1);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kLoad, {hasDepth, 0, 0, 0}));
-    vkCmdDispatch(cb, gx, gy, WRS_EYES);
+    vkCmdDispatch(cb, gx, gy, eyes);
     computeBarrier(cb);
     stamp(2);
     if (pyramid) {
@@ -545,7 +558,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
             gpu::LevelPush push{level, 0, 0, 0};
             vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
             glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(w, h), level);
-            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), WRS_EYES);
+            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), eyes);
             computeBarrier(cb);
         }
     }
@@ -553,7 +566,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     if (!retain) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
-        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        vkCmdDispatch(cb, gx, gy, eyes);
         computeBarrier(cb);
     }
     stamp(4);
@@ -561,17 +574,32 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         const uint32_t rule = config_.method == Method::Oracle ? gpu::WRS_RULE_ORACLE : uint32_t(config_.equalQuality);
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule}));
-        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        vkCmdDispatch(cb, gx, gy, eyes);
         computeBarrier(cb);
     } else if (wrsPaper) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kWrs, {hasMotion, hasDepth, uint32_t(config_.change), config_.bernoulli}));
-        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        vkCmdDispatch(cb, gx, gy, eyes);
         computeBarrier(cb);
     } else if (taa) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {hasMotion, 0, 0, 0}));
-        vkCmdDispatch(cb, gx, gy, WRS_EYES);
+        vkCmdDispatch(cb, gx, gy, eyes);
         computeBarrier(cb);
+    }
+    if (mono) {
+        // Right eye = left eye: output layer, and the history this frame wrote.
+        VkImageCopy ic{};
+        ic.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        ic.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1};
+        ic.extent = {w, h, 1};
+        vkCmdCopyImage(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &ic);
+        const VkDeviceSize eyeBytes = VkDeviceSize(w) * h * 16;
+        const VkBufferCopy bc{0, eyeBytes, eyeBytes};
+        if (temporal) vkCmdCopyBuffer(cb, reservoirs_[1 - current_].handle(), reservoirs_[1 - current_].handle(), 1, &bc);
+        if (temporal && birthAllocated_) vkCmdCopyBuffer(cb, birth_[1 - current_].handle(), birth_[1 - current_].handle(), 1, &bc);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     }
     stamp(5);
     VK_CHECK(vkEndCommandBuffer(cb));

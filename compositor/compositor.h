@@ -92,6 +92,9 @@ struct FrameStats {
     bool usedDepth = false;
     bool usedMotion = false;
     bool historyReset = false;  ///< this frame started without history (first frame, size/method change)
+    /// Both views were the same (same images, field of view and gaze): the passes ran for the left
+    /// eye only and its output and history were copied to the right eye.
+    bool monoViews = false;
 };
 
 /// Builds the shader parameter block of a frame (gaze fallback included). Used by the compositor

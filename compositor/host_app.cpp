@@ -38,7 +38,7 @@ Status HostStereoApp::write(const std::array<EyeSubmission, 2>& eyes) {
         auto idx = sc->acquire();
         if (!idx) return idx.error();
         if (Status s = sc->wait(); !s) return s;
-        for (uint32_t eye = 0; eye < 2; ++eye) {
+        for (uint32_t eye = 0; eye < (options_.monoView ? 1u : 2u); ++eye) {
             const HostImage* img = get(eyes[eye]);
             if (!img) return Error{static_cast<int>(layers::SwapchainError::WriteOutOfRange),
                                    "eye " + std::to_string(eye) + " has no image for a swapchain the app created"};
@@ -63,15 +63,16 @@ layers::FrameEndInfo HostStereoApp::frameEnd(uint64_t frameIndex, double time_s,
     f.time_s = time_s;
     layers::ProjectionLayer layer;
     for (uint32_t eye = 0; eye < 2; ++eye) {
+        const uint32_t src = options_.monoView ? 0u : eye;
         layers::ProjectionView v;
-        v.fov = eyes[eye].fov;
-        v.color = {color_.get(), {0, 0, w, h}, eye};
+        v.fov = eyes[src].fov;
+        v.color = {color_.get(), {0, 0, w, h}, src};
         if (depth_)
-            v.depth = layers::DepthInfo{{depth_.get(), {0, 0, w, h}, eye}, options_.nearZ, options_.farZ,
+            v.depth = layers::DepthInfo{{depth_.get(), {0, 0, w, h}, src}, options_.nearZ, options_.farZ,
                                         options_.reversedZ};
-        if (motion_) v.motion = layers::MotionInfo{{motion_.get(), {0, 0, w, h}, eye}};
+        if (motion_) v.motion = layers::MotionInfo{{motion_.get(), {0, 0, w, h}, src}};
         layer.views.push_back(v);
-        f.gaze[eye] = eyes[eye].gaze;
+        f.gaze[eye] = eyes[src].gaze;
     }
     f.layers.push_back(std::move(layer));
     return f;

@@ -31,6 +31,9 @@ public:
         std::optional<layers::Format> motion;
         float nearZ = 0.1f, farZ = 100.0f;
         bool reversedZ = false;
+        /// One view shown to both eyes (a monitor, a mono preview): only eye 0's images are written
+        /// and both views reference them, which lets the compositor do the work once.
+        bool monoView = false;
     };
     /// Creates the swapchains on `compositor`; fails with the swapchain error.
     static Result<std::unique_ptr<HostStereoApp>> create(Compositor& compositor, const Options& options);

@@ -81,6 +81,7 @@ public:
         a.depth = layers::Format::R32F;
         a.nearZ = scene_->options().nearZ;
         a.farZ = scene_->options().farZ;
+        a.monoView = scene_->options().monitor;  // one view as both eyes: the compositor works once
         return a;
     }
     const scenes::TextLayout& layout() const { return scene_->options().layout; }
@@ -143,6 +144,7 @@ public:
         a.nearZ = options_.nearZ;
         a.farZ = options_.farZ;
         a.reversedZ = options_.reversedZ;
+        a.monoView = options_.monitor;
         return a;
     }
 

@@ -24,10 +24,10 @@ start=$(date +%s)
 common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
 echo "== 1/2: monitor mode, text, 1024x768"
 "$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle "${common[@]}" \
-  --out out/report/monitor | grep -E '^\[|^wrsfov-bench'
+  --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 2/2: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle \
-  "${common[@]}" --out out/report/hmd | grep -E '^\[|^wrsfov-bench'
+  "${common[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
 {
   echo "# wrsfov report"
   echo

@@ -242,5 +242,61 @@ TEST_F(Retain, BirthColoursFindStaleSamples) {
     EXPECT_FALSE(lane(Method::Wrs).comp->readBirth(0).ok());  // trackBirth off: refused, not garbage
 }
 
+TEST_F(Retain, MonoViewsRunOnceAndMatchStereo) {
+    // One view shown to both eyes (monitor mode): the compositor runs the passes for the left eye and
+    // copies output and history; the result must be what two identical stereo views give, byte for
+    // byte, and a stereo frame afterwards must continue from the copied history as from its own.
+    for (Method m : {Method::Wrs, Method::Oracle, Method::WrsPaper, Method::FovTaa, Method::Fov}) {
+        CompositorConfig cfg;
+        cfg.method = m;
+        cfg.foveaDeg = 5.0f;
+        cfg.seed = 9;
+        cfg.trackBirth = m != Method::FovTaa && m != Method::Fov;
+        auto mono = Compositor::create(context(), cfg), stereo = Compositor::create(context(), cfg);
+        ASSERT_TRUE(mono.ok() && stereo.ok());
+        HostStereoApp::Options o;
+        o.width = W;
+        o.height = H;
+        o.color = layers::Format::RGBA16F;
+        o.depth = layers::Format::R32F;
+        o.motion = layers::Format::RG16F;
+        auto stereoApp = HostStereoApp::create(**stereo, o);
+        auto stereoOnMono = HostStereoApp::create(**mono, o);
+        o.monoView = true;
+        auto monoApp = HostStereoApp::create(**mono, o);
+        ASSERT_TRUE(stereoApp.ok() && monoApp.ok() && stereoOnMono.ok());
+        RandomScene rs(31);
+        for (uint64_t f = 1; f <= 12; ++f) {
+            std::array<EyeFrame, 2> eyes;
+            eyes[0].fov = fov();
+            eyes[0].color = texture(0.3f * f, 0.1f * f, 1.0f);
+            eyes[0].depth = rs.depth(layers::Format::R32F, W, H);
+            eyes[0].motion = motionImage(-0.3f, -0.1f);
+            eyes[0].gaze = {gazeAtPixel(40 + 3 * f, 50), true, 1.0f};
+            eyes[1] = eyes[0];
+            const bool lastStereo = f == 12;  // the mono compositor gets a stereo frame at the end
+            ASSERT_TRUE((lastStereo ? **stereoOnMono : **monoApp).submit(f, f / 90.0, eyes).ok());
+            ASSERT_TRUE((*stereoApp)->submit(f, f / 90.0, eyes).ok());
+            // wrs-paper draws per-eye random numbers: identical views are still run per eye.
+            EXPECT_EQ((*mono)->stats().monoViews, !lastStereo && m != Method::WrsPaper) << toString(m) << " frame " << f;
+            EXPECT_FALSE((*stereo)->stats().monoViews);
+            for (uint32_t e = 0; e < 2; ++e) {
+                const auto a = (*mono)->readOutput(e)->data, b = (*stereo)->readOutput(e)->data;
+                std::size_t diff = 0, first = 0;
+                for (std::size_t i = 0; i < a.size(); ++i)
+                    if (a[i] != b[i] && diff++ == 0) first = i;
+                EXPECT_EQ(diff, 0u) << toString(m) << " frame " << f << " eye " << e << ": output bytes differ, first at pixel "
+                                    << (first / 4) % W << "," << (first / 4) / W;
+                if (m != Method::Fov)  // fov keeps no history
+                    EXPECT_TRUE(*(*mono)->readReservoirs(e) == *(*stereo)->readReservoirs(e))
+                    << toString(m) << " frame " << f << " eye " << e << ": reservoirs differ";
+                if (cfg.trackBirth)
+                    EXPECT_TRUE(*(*mono)->readBirth(e) == *(*stereo)->readBirth(e)) << "births differ";
+            }
+            if (HasFailure()) return;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace wrsfov::test
