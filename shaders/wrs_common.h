@@ -662,6 +662,12 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
     kept.d = d_new;
     kept.z = c.z;
     if (c.moved) kept.flags = h.flags | WRS_FLAG_MOVED;
+    // An invalid candidate (non-finite input: q = 0) never replaces history, not even through the
+    // change test (a large enough poisoned patch would move the fingerprint).
+    if (!(c.q > 0.0f)) {
+        outcome = WRS_OUT_KEPT;
+        return kept;
+    }
     if (rule == WRS_RULE_ORACLE) {
         float dh = wrs_srgb_dist2(h.color, ref);
         float dc = wrs_srgb_dist2(c.color, ref);

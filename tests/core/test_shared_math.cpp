@@ -704,6 +704,12 @@ TEST(Retention, RuleOutcomes) {
     // An invalid candidate (q = 0) never replaces history.
     r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), retainInput(vec3(0.0f), 0.0f, 50.0f), grey, 0.5f, outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    // ... not even when the poisoned patch moved the fingerprint (wrsfov-stress, streams invalid/nonfinite).
+    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR, WRS_RULE_ORACLE}) {
+        r = wrs_retain(rule, true, h, vec2(0.0f), retainInput(vec3(0.0f), 0.0f, 0.0f), grey, 0.5f, outcome, margin);
+        EXPECT_EQ(outcome, WRS_OUT_KEPT) << rule;
+        EXPECT_EQ(r.color, grey);
+    }
 }
 
 TEST(Retention, MillionAdversarialStepsKeepTheInvariants) {
