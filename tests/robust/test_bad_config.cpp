@@ -55,6 +55,8 @@ std::vector<ConfigRow> refusedRows() {
             {"foveation_" + n, [v](CompositorConfig& c) { c.foveation = FoveationMode(v); }, "foveation mode must be"});
         r.push_back(
             {"change_metric_" + n, [v](CompositorConfig& c) { c.change = ChangeMetric(v); }, "change metric must be"});
+        r.push_back({"equal_quality_" + n, [v](CompositorConfig& c) { c.equalQuality = EqualQuality(v); },
+                     "equal-quality rule must be"});
     }
     return r;
 }
@@ -68,7 +70,8 @@ bool sameConfig(const CompositorConfig& a, const CompositorConfig& b) {
     return a.method == b.method && a.foveation == b.foveation && bits(a.foveaDeg) == bits(b.foveaDeg) &&
            bits(a.midPeripheryDeg) == bits(b.midPeripheryDeg) && bits(a.fallbackFoveaDeg) == bits(b.fallbackFoveaDeg) &&
            a.change == b.change && a.bernoulli == b.bernoulli && bits(a.depthTau) == bits(b.depthTau) &&
-           a.seed == b.seed && a.measureCopy == b.measureCopy;
+           a.seed == b.seed && a.measureCopy == b.measureCopy && a.equalQuality == b.equalQuality &&
+           a.trackBirth == b.trackBirth;
 }
 
 TwinChain& chain() {
