@@ -763,6 +763,11 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                        "run (×copy, ×fov) say more"
                      : "")
        << ".\n";
+    if (o.monitor)
+        md << "\nIn monitor mode both views are one image: every method but `wrs-paper` runs the passes once and "
+              "copies the result to the right eye; `wrs-paper` draws different random numbers per eye and runs "
+              "both, so its GPU time is not comparable with the others' here (compare in HMD stereo); the copy "
+              "kernel moves two eyes' bytes, so the others' ×copy is about half what it would be in stereo.\n";
     if (std::find(o.scenes.begin(), o.scenes.end(), SceneKind::Sequence) != o.scenes.end())
         md << "\nScene `sequence`: the frames of " << o.sequenceDir
            << " at the fps of its sequence.json, gaze from its gaze.csv (synthetic free viewing without one).\n";
