@@ -817,8 +817,8 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                 if (!c) continue;
                 const double dFull = c->psnr - fov->psnr, dNear = c->nearPsnr - fov->nearPsnr;
                 md << (firstM ? "" : "; ") << "`" << toString(m) << "` "
-                   << (dNear > 0.05 ? "beats" : dNear < -0.05 ? "loses to" : "ties") << " fov by " << fmt(dFull)
-                   << " dB full / " << fmt(dNear) << " dB near gaze";
+                   << (dNear > 0.05 ? "beats fov by " : dNear < -0.05 ? "loses to fov by " : "ties with fov, ")
+                   << fmt(dFull) << " dB full / " << fmt(dNear) << " dB near gaze";
                 if (!std::isnan(c->eta) || !std::isnan(c->etaNear))
                     md << " (η " << fmt(c->eta) << " / " << fmt(c->etaNear) << ")";
                 md << " at " << fmt(c->gpu.total / fov->gpu.total) << "× fov's GPU time";
