@@ -132,8 +132,8 @@ uint64_t trafficBytes(const CompositorConfig& c, uint32_t w, uint32_t h, bool de
         for (int k = 1; k < WRS_LEVELS; ++k) b += px / std::pow(4.0, k) * (4 * 16 + 16);
     if (!retain) b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + (temporal ? 16 : 4));  // foveate: level 0 + 2 levels
     if (c.method == Method::WrsPaper) b += px * (16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
-    // retain: level 0, up to 2 bilinear levels + the fingerprint taps, reservoir in (up to 2 on a
-    // retry, counted once) and out, output.
+    // retain: level 0, up to 2 bilinear levels + the fingerprint taps, reservoir in (up to 4 taps of
+    // a 2x2 block under motion, neighbours' reads shared, counted once) and out, output.
     if (retain) b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + 4 * 16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
     if (c.method == Method::FovTaa) b += px * (16 + 16 + (motion ? 8 : 0) + 16 + 4);
     return uint64_t(b);

@@ -150,21 +150,14 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
                 if (level == 0u) {
                     vec4 c = at(0u, p);
-                    lo = min(lo, vec3(c));
-                    hi = max(hi, vec3(c));
-                    arange = 0.0f;
+                    arange = wrs_taps_range(c, c, c, c, lo, hi);
                     return c;
                 }
                 uvec2 sl = wrs_level_size(size0, level);
                 uvec2 i0, i1;
                 vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
                 vec4 t[4] = {at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)), at(level, i1)};
-                for (const vec4& c : t) {
-                    lo = min(lo, vec3(c));
-                    hi = max(hi, vec3(c));
-                }
-                arange = std::max(std::max(t[0].w, t[1].w), std::max(t[2].w, t[3].w)) -
-                         std::min(std::min(t[0].w, t[1].w), std::min(t[2].w, t[3].w));
+                arange = wrs_taps_range(t[0], t[1], t[2], t[3], lo, hi);
                 return wrs_bilinear(t[0], t[1], t[2], t[3], f);
             };
             trace_[eye].assign(std::size_t(W) * H, Trace{});
@@ -194,46 +187,23 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec2 pos;
                     ivec2 base;
                     const bool on_screen = wrs_track_start(p, size0, mv, pos, base);
-                    bool has_history = false;
-                    Tracked h = wrs_unpack_tracked(uvec4(0u));
-                    vec2 d(0.0f);
-                    uvec2 q = p;
                     const uint taps = c.moved ? 4u : 1u;  // as retain.comp: without motion, the pixel's own
-                    bool has_near = false;
-                    Tracked hn = h;
-                    vec2 dn(0.0f);
-                    uvec2 qn = p;
+                    TrackState ts = wrs_track_begin(p);
                     for (uint k = 0; k < taps && on_screen; ++k) {
                         uvec2 qk;
                         if (!wrs_track_tap(base, k, size0, qk)) continue;
                         Tracked hk = wrs_unpack_tracked(prev_[eye][std::size_t(qk.y) * W + qk.x]);
-                        vec2 dk = wrs_track_offset(qk, hk.d, pos);
-                        if (!wrs_tracked_valid(hk)) continue;
-                        if (wrs_track_inside(dk)) {
-                            if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
-                            has_history = true;
-                            h = hk;
-                            d = dk;
-                            q = qk;
-                        } else if (wrs_track_near(dk) && (!has_near || wrs_track_prefer(hk.q, dk, hn.q, dn))) {
-                            has_near = true;
-                            hn = hk;
-                            dn = dk;
-                            qn = qk;
-                        }
+                        wrs_track_consider(ts, hk, wrs_track_offset(qk, hk.d, pos), qk);
                     }
-                    if (!has_history && has_near) {
-                        has_history = true;
-                        h = hn;
-                        d = wrs_track_snap(dn);
-                        q = qn;
-                    }
+                    Tracked h;
+                    vec2 d;
+                    uvec2 q;
+                    bool has_history = wrs_track_end(ts, h, d, q);
                     float dz = wrs_finite(mv.z) ? mv.z : 0.0f;
                     if (hasDepth && has_history && rule != WRS_RULE_ORACLE &&
                         wrs_depth_flush(h.z, c.z, dz, params.tuning.y))
                         has_history = false;
-                    uint hash = wrs_hash(x, y, eye, frame, seed);
-                    float rnd = wrs_hash_unit(hash);
+                    float rnd = wrs_rand(x, y, eye, frame, seed);
                     Trace& t = trace_[eye][idx];
                     Tracked r = wrs_retain(rule, has_history, h, d, c, vec3(ref), rnd, t.outcome, t.margin);
                     res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));

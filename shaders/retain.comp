@@ -17,9 +17,7 @@ layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1)
 vec4 sample_level(uint eye, uint level, uvec2 p, inout vec3 lo, inout vec3 hi, out float arange) {
     if (level == 0u) {
         vec4 c = pyramid[pyramid_index(eye, 0u, p)];
-        lo = min(lo, c.rgb);
-        hi = max(hi, c.rgb);
-        arange = 0.0;
+        arange = wrs_taps_range(c, c, c, c, lo, hi);
         return c;
     }
     uvec2 size0 = frame.size.xy;
@@ -28,9 +26,7 @@ vec4 sample_level(uint eye, uint level, uvec2 p, inout vec3 lo, inout vec3 hi, o
     vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
     vec4 c00 = pyramid[pyramid_index(eye, level, i0)], c10 = pyramid[pyramid_index(eye, level, uvec2(i1.x, i0.y))];
     vec4 c01 = pyramid[pyramid_index(eye, level, uvec2(i0.x, i1.y))], c11 = pyramid[pyramid_index(eye, level, i1)];
-    lo = min(lo, min(min(c00.rgb, c10.rgb), min(c01.rgb, c11.rgb)));
-    hi = max(hi, max(max(c00.rgb, c10.rgb), max(c01.rgb, c11.rgb)));
-    arange = max(max(c00.a, c10.a), max(c01.a, c11.a)) - min(min(c00.a, c10.a), min(c01.a, c11.a));
+    arange = wrs_taps_range(c00, c10, c01, c11, lo, hi);
     return wrs_bilinear(c00, c10, c01, c11, f);
 }
 
@@ -50,7 +46,6 @@ void main() {
     RetainInput c;
     c.lo = vec3(WRS_HALF_MAX);
     c.hi = vec3(0.0);
-    float unused;
     float range_a, range_b;
     vec4 col_a = sample_level(eye, uint(lv.x), p, c.lo, c.hi, range_a);
     vec4 col = col_a;
@@ -75,49 +70,25 @@ void main() {
     vec2 pos;
     ivec2 base;
     bool on_screen = wrs_track_start(p, size, mv, pos, base);
-    bool has_history = false;
-    Tracked h;
-    vec2 d = vec2(0.0);
-    uvec2 q = p;
     // Without motion only the pixel's own sample can be inside its footprint (footprints are disjoint
     // and every stored offset lies inside its own): one read instead of four, the same result.
     uint taps = c.moved ? 4u : 1u;
-    bool has_near = false;
-    Tracked hn;
-    vec2 dn = vec2(0.0);
-    uvec2 qn = p;
+    TrackState ts = wrs_track_begin(p);
     for (uint k = 0u; k < taps && on_screen; ++k) {
         uvec2 qk;
         if (!wrs_track_tap(base, k, size, qk)) continue;
         Tracked hk = wrs_unpack_tracked(res_prev[pixel_index(eye, qk)]);
-        vec2 dk = wrs_track_offset(qk, hk.d, pos);
-        if (!wrs_tracked_valid(hk)) continue;
-        if (wrs_track_inside(dk)) {
-            if (has_history && !wrs_track_prefer(hk.q, dk, h.q, d)) continue;
-            has_history = true;
-            h = hk;
-            d = dk;
-            q = qk;
-        } else if (wrs_track_near(dk) && (!has_near || wrs_track_prefer(hk.q, dk, hn.q, dn))) {
-            has_near = true;
-            hn = hk;
-            dn = dk;
-            qn = qk;
-        }
+        wrs_track_consider(ts, hk, wrs_track_offset(qk, hk.d, pos), qk);
     }
-    if (!has_history && has_near) {
-        has_history = true;
-        h = hn;
-        d = wrs_track_snap(dn);
-        q = qn;
-    }
-    if (!has_history) h = wrs_unpack_tracked(uvec4(0u));
+    Tracked h;
+    vec2 d;
+    uvec2 q;
+    bool has_history = wrs_track_end(ts, h, d, q);
     float dz = wrs_finite(mv.z) ? mv.z : 0.0;
     if (HAS_DEPTH && has_history && RULE != WRS_RULE_ORACLE && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
         has_history = false;
 
-    uint hash = wrs_hash(p.x, p.y, eye, frame.size.z, frame.size.w);
-    float rnd = wrs_hash_unit(hash);
+    float rnd = wrs_rand(p.x, p.y, eye, frame.size.z, frame.size.w);
     uint outcome;
     float margin;
     Tracked r = wrs_retain(RULE, has_history, h, d, c, ref.rgb, rnd, outcome, margin);
@@ -127,7 +98,7 @@ void main() {
         vec4 b = vec4(ref.rgb, 0.0);
         vec4 hb = birth_prev[pixel_index(eye, q)];
         if (outcome == WRS_OUT_KEPT) b = hb;
-        if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * (c.q / (h.w_sum + c.q));
+        if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * wrs_merge_weight(h.w_sum, c.q);
         birth_cur[idx] = b;
     }
 }

@@ -319,9 +319,8 @@ WRS_FN uint wrs_hash(uint x, uint y, uint eye, uint frame, uint seed) {
     return wrs_pcg(frame ^ h);
 }
 // 24 random bits as a float in [0, 1): exact on both sides.
-WRS_FN float wrs_hash_unit(uint h) { return float(h >> 8u) * (1.0f / 16777216.0f); }
 WRS_FN float wrs_rand(uint x, uint y, uint eye, uint frame, uint seed) {
-    return wrs_hash_unit(wrs_hash(x, y, eye, frame, seed));
+    return float(wrs_hash(x, y, eye, frame, seed) >> 8u) * (1.0f / 16777216.0f);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -610,6 +609,67 @@ WRS_FN bool wrs_track_prefer(float qa, vec2 da, float qb, vec2 db) {
     return qa > qb || (qa == qb && dot(da, da) < dot(db, db));
 }
 
+// The 2x2 lookup, fed one tap at a time (wrs_track_consider), then read (wrs_track_end): the best
+// sample inside the footprint, else the best near it (snapped onto the footprint's edge).
+struct TrackState {
+    bool has_inside;
+    Tracked h;
+    vec2 d;
+    uvec2 q;
+    bool has_near;
+    Tracked hn;
+    vec2 dn;
+    uvec2 qn;
+};
+WRS_FN TrackState wrs_track_begin(uvec2 p) {
+    TrackState s;
+    s.has_inside = false;
+    s.h = wrs_unpack_tracked(uvec4(0u, 0u, 0u, 0u));
+    s.d = vec2(0.0f, 0.0f);
+    s.q = p;
+    s.has_near = false;
+    s.hn = s.h;
+    s.dn = s.d;
+    s.qn = p;
+    return s;
+}
+// The sample hk stored at tap qk, now at offset dk from the pixel's centre.
+WRS_FN void wrs_track_consider(WRS_INOUT(TrackState) s, Tracked hk, vec2 dk, uvec2 qk) {
+    if (!wrs_tracked_valid(hk)) return;
+    if (wrs_track_inside(dk)) {
+        if (s.has_inside && !wrs_track_prefer(hk.q, dk, s.h.q, s.d)) return;
+        s.has_inside = true;
+        s.h = hk;
+        s.d = dk;
+        s.q = qk;
+    } else if (wrs_track_near(dk) && (!s.has_near || wrs_track_prefer(hk.q, dk, s.hn.q, s.dn))) {
+        s.has_near = true;
+        s.hn = hk;
+        s.dn = dk;
+        s.qn = qk;
+    }
+}
+// The history found (false: none; then h is all-zero, d = 0 and q the pixel itself), its offset
+// and the pixel it was stored at.
+WRS_FN bool wrs_track_end(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS_OUT(uvec2) q) {
+    bool use_near = !s.has_inside && s.has_near;
+    h = use_near ? s.hn : s.h;
+    d = use_near ? wrs_track_snap(s.dn) : s.d;
+    q = use_near ? s.qn : s.q;
+    return s.has_inside || s.has_near;
+}
+
+// Per-channel min and max of four pyramid taps, widened into [lo, hi]; returns the range of their
+// alpha (at the fingerprint level: the L* range).
+WRS_FN float wrs_taps_range(vec4 a, vec4 b, vec4 c, vec4 d, WRS_INOUT(vec3) lo, WRS_INOUT(vec3) hi) {
+    lo = min(lo, min(min(vec3(a), vec3(b)), min(vec3(c), vec3(d))));
+    hi = max(hi, max(max(vec3(a), vec3(b)), max(vec3(c), vec3(d))));
+    return max(max(a.w, b.w), max(c.w, d.w)) - min(min(a.w, b.w), min(c.w, d.w));
+}
+
+// Weight of the candidate in an equal-quality merge: a running mean over w_sum's worth of samples.
+WRS_FN float wrs_merge_weight(float w_sum, float q) { return q / (w_sum + q); }
+
 // The candidate of one pixel as the retention rule sees it (`Candidate` names the buffer block).
 struct RetainInput {
     vec3 color;   // foveated colour, linear RGB
@@ -720,7 +780,7 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
         outcome = WRS_OUT_OUTSIDE;
         return fresh;
     }
-    WRS_PRECISE float t = c.q / (h.w_sum + c.q);
+    float t = wrs_merge_weight(h.w_sum, c.q);
     Tracked r = kept;
     r.color = h.color + (c.color - h.color) * t;
     r.d = d_new * (1.0f - t);

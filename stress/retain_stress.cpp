@@ -42,10 +42,10 @@ std::vector<RetainStats> runRetainStress(uint64_t frames, uint32_t pixels, uint3
                     const Tracked h = wrs_unpack_tracked(stored);
                     bool has = wrs_tracked_valid(h);
                     if (has && wrs_depth_flush(h.z, c.z, 0.0f, kDepthTau)) has = false;
-                    const uint32_t hash = wrs_hash(px, 0u, 0u, uint32_t(f), seed);
                     uint32_t outcome;
                     float margin;
-                    const Tracked r = wrs_retain(rule, has, h, vec2(0.0f), c, c.color, wrs_hash_unit(hash), outcome, margin);
+                    const Tracked r = wrs_retain(rule, has, h, vec2(0.0f), c, c.color, wrs_rand(px, 0u, 0u, uint32_t(f), seed),
+                                                 outcome, margin);
                     stored = wrs_pack_tracked(r, wrs_offset_dither(uint32_t(f), seed));
                     const Tracked b = wrs_unpack_tracked(stored);
                     st.pixelFrames++;
