@@ -412,6 +412,11 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 }
                 double prevT = 0;
                 std::vector<cv::Point> gazePx;  // the left eye's gaze in pixels, per frame (crops)
+                // Monitor mode submits one view as both eyes: the left eye's metrics stand for both.
+                const int evalEyes = o.monitor ? 1 : 2;
+                int fovRun = -1;  // fov's run, for the stale-pixel comparison
+                for (std::size_t r = 1; r < runs.size(); ++r)
+                    if (runs[r].method == Method::Fov) fovRun = int(r);
                 for (int f = 0; f < o.frames; ++f) {
                     const double t = f / frames->fps();
                     std::array<EyeSubmission, 2> eyes;
@@ -422,13 +427,8 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
                     }
                     HostImage ref[2];
-                    // Monitor mode submits one view as both eyes: the left eye's metrics stand for both.
-                    const int evalEyes = o.monitor ? 1 : 2;
                     cv::Mat ecc[2];
                     double shading[2] = {0, 0};
-                    int fovRun = -1;
-                    for (std::size_t r = 1; r < runs.size(); ++r)
-                        if (runs[r].method == Method::Fov) fovRun = int(r);
                     // The copy kernel doubles a frame's GPU work: it runs on every copyEvery-th counted frame.
                     const bool copyFrame = f >= o.warmup && (f - o.warmup) % std::max(1, o.copyEvery) == 0;
                     for (std::size_t r = 0; r < runs.size(); ++r) {
