@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <chrono>
 
 #include "compositor/swapchain_vk.h"
 #include "copy_spv.h"
 #include "foveate_spv.h"
-#include "load_spv.h"
 #include "pyramid_spv.h"
 #include "retain_spv.h"
 #include "taa_spv.h"
@@ -63,23 +63,25 @@ std::string_view toString(ChangeMetric m) {
 
 namespace {
 
-enum Shader : int { kLoad, kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kShaderCount };
+enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kShaderCount };
 enum Binding : uint32_t {
     kFrame = 0,
     kColor = 1,
     kDepth = 2,
     kMotion = 3,
-    kPyramidBuf = 4,
-    kDepthBuf = 5,
+    kPyramidBuf = 4,  // binding 5 (a linear-depth buffer) is gone: passes linearize where they read
     kCandidate = 6,
     kResPrev = 7,
     kResCur = 8,
     kOutput = 9,
     kBirthPrev = 10,
-    kBirthCur = 11
+    kBirthCur = 11,
+    kSrgbTable = 12
 };
-// Timestamps: start, after the copy kernel (measureCopy), after load, pyramid, foveate, wrs/taa.
-constexpr uint32_t kTimestamps = 6;
+// Timestamps: the frame's start, after pyramid, foveate, wrs/taa/retain; then before and after a copy
+// kernel, in a submission of its own (measureCopy).
+constexpr uint32_t kFrameStamps = 4;
+constexpr uint32_t kTimestamps = kFrameStamps + 2;
 
 Error submitError(SubmitError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
 
@@ -95,6 +97,18 @@ uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 void computeBarrier(VkCommandBuffer cb) {
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+// Sizes and texel bytes of what a view submits (TrafficInputs).
+TrafficInputs trafficInputs(const layers::ProjectionView& v) {
+    TrafficInputs in;
+    in.width = v.color.rect.width;
+    in.height = v.color.rect.height;
+    auto bytes = [](const layers::SubImage& s) { return uint32_t(layers::bytesPerTexel(s.swapchain->info().format)); };
+    in.colorBytes = bytes(v.color);
+    if (v.depth) in.depthBytes = bytes(v.depth->subImage);
+    if (v.motion) in.motionBytes = bytes(v.motion->subImage);
+    return in;
 }
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -118,25 +132,59 @@ Status checkConfig(const CompositorConfig& c) {
 
 }  // namespace
 
-uint64_t trafficBytes(const CompositorConfig& c, uint32_t w, uint32_t h, bool depth, bool motion) {
-    const double px = double(w) * h * WRS_EYES;
-    double b = px * (4 + 16 + (depth ? 4 + 4 : 0));  // load: colour (+ depth) in, level 0 (+ linear depth) out
-    if (c.foveation != FoveationMode::None) {
-        const double taps = c.foveation == FoveationMode::Mip ? 4 : 16;
-        for (int k = 1; k < WRS_LEVELS; ++k) b += px / std::pow(4.0, k) * (taps * 16 + 16);
+double Traffic::perPixel() const {
+    double b = 0;
+    for (const PassTraffic& p : passes) b += p.read + p.write;
+    return b;
+}
+
+Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
+    const glm::uvec2 size0(std::max(in.width, 1u), std::max(in.height, 1u));
+    const double px = double(size0.x) * size0.y;
+    constexpr double kTexel = 8;  // a pyramid texel: fp16 RGBA
+    double level[WRS_LEVELS] = {};  // pyramid texels of each level per level-0 pixel
+    for (uint32_t k = 1; k < WRS_LEVELS; ++k) {
+        const glm::uvec2 s = gpu::wrs_level_size(size0, k);
+        level[k] = double(s.x) * s.y / px;
     }
+    // Stored and sampled: the levels from wrs_first_stored_level up (mip: 3 and 4; none: 4).
+    const uint32_t first = gpu::wrs_first_stored_level(uint32_t(c.foveation));
+    double levels = 0;
+    for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
     const bool retain = c.method == Method::Wrs || c.method == Method::Oracle;
     const bool temporal = c.method != Method::Fov;
-    const bool pyramid = c.foveation != FoveationMode::None;
-    if (retain && !pyramid)  // the fingerprint's box pyramid
-        for (int k = 1; k < WRS_LEVELS; ++k) b += px / std::pow(4.0, k) * (4 * 16 + 16);
-    if (!retain) b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + (temporal ? 16 : 4));  // foveate: level 0 + 2 levels
-    if (c.method == Method::WrsPaper) b += px * (16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
-    // retain: level 0, up to 2 bilinear levels + the fingerprint taps, reservoir in (up to 4 taps of
-    // a 2x2 block under motion, neighbours' reads shared, counted once) and out, output.
-    if (retain) b += px * (16 + (pyramid ? 2 * 4 * 16 : 0) + 4 * 16 + 16 + (depth ? 4 : 0) + (motion ? 8 : 0) + 16 + 4);
-    if (c.method == Method::FovTaa) b += px * (16 + 16 + (motion ? 8 : 0) + 16 + 4);
-    return uint64_t(b);
+    const bool pyramid = c.foveation != FoveationMode::None || retain;
+    const bool usesDepth = c.method == Method::WrsPaper || retain;
+    const bool usesMotion = temporal;
+    const double depth = usesDepth ? in.depthBytes : 0, motion = usesMotion ? in.motionBytes : 0;
+    const double birth = c.trackBirth && (c.method == Method::WrsPaper || retain) ? 16 : 0;
+    const double levelsRead = pyramid ? levels * kTexel : 0;  // every stored level is sampled somewhere
+
+    Traffic t;
+    if (pyramid) {
+        // mip: one dispatch, colour in, the stored levels out. gauss: level 1 from the colour, level k from k - 1.
+        const bool gauss = c.foveation == FoveationMode::Gauss;
+        const double below = gauss ? (level[1] + level[2] + level[3]) * kTexel : 0;
+        t.passes.push_back({"pyramid", in.colorBytes + below, levels * kTexel});
+    }
+    if (!retain)
+        t.passes.push_back({"foveate", in.colorBytes + levelsRead, temporal ? 16.0 : 4.0});  // candidate or output
+    const double history = 16, output = 4;
+    if (c.method == Method::WrsPaper)
+        t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
+                            history + output + birth});
+    if (c.method == Method::FovTaa) t.passes.push_back({"taa", 16 + history + motion, history + output});
+    if (retain)  // the fingerprint level is among the stored ones in every mode
+        t.passes.push_back({"retain", in.colorBytes + levelsRead + history + depth + motion + birth, history + output + birth});
+    t.floor = in.colorBytes + output + (temporal ? 2 * history + depth + motion : 0);
+    return t;
+}
+
+uint64_t trafficBytes(const CompositorConfig& c, const TrafficInputs& in) {
+    return uint64_t(traffic(c, in).perPixel() * double(in.width) * in.height * WRS_EYES);
+}
+uint64_t floorBytes(const CompositorConfig& c, const TrafficInputs& in) {
+    return uint64_t(traffic(c, in).floor * double(in.width) * in.height * WRS_EYES);
 }
 
 gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::FrameEndInfo& frame, uint32_t width,
@@ -202,9 +250,9 @@ Status Compositor::init() {
     const VkDescriptorType ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, image = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
     setLayout_ = ctx_.createSetLayout(
         {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
-         binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kDepthBuf, ssbo), binding(kCandidate, ssbo),
+         binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
-         binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo)});
+         binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -213,7 +261,7 @@ Status Compositor::init() {
 
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 12},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 12},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 14},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 3;
@@ -252,15 +300,24 @@ Status Compositor::init() {
         const uint32_t* words;
         size_t bytes;
     };
-    const Code code[kShaderCount] = {{load_spv, sizeof(load_spv)},       {pyramid_spv, sizeof(pyramid_spv)},
-                                     {foveate_spv, sizeof(foveate_spv)}, {wrs_spv, sizeof(wrs_spv)},
-                                     {taa_spv, sizeof(taa_spv)},         {copy_spv, sizeof(copy_spv)},
-                                     {retain_spv, sizeof(retain_spv)}};
+    const Code code[kShaderCount] = {{pyramid_spv, sizeof(pyramid_spv)}, {foveate_spv, sizeof(foveate_spv)},
+                                     {wrs_spv, sizeof(wrs_spv)},         {taa_spv, sizeof(taa_spv)},
+                                     {copy_spv, sizeof(copy_spv)},       {retain_spv, sizeof(retain_spv)}};
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
     if (!ubo) return named("compositor frame parameters", ubo.error());
     ubo_ = std::move(*ubo);
+    const auto& table = gpu::wrs_srgb8_table();
+    auto srgb = ctx_.createBuffer(sizeof(table), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+    if (!srgb) return named("sRGB decode table", srgb.error());
+    srgbTable_ = std::move(*srgb);
+    std::memcpy(srgbTable_.mapped(), table.data(), sizeof(table));
+    for (VkDescriptorSet set : sets_) {
+        VkDescriptorBufferInfo bi{srgbTable_.handle(), 0, VK_WHOLE_SIZE};
+        VkWriteDescriptorSet w = vk::bufferWrite(set, kSrgbTable, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi);
+        vkUpdateDescriptorSets(dev, 1, &w, 0, nullptr);
+    }
 
     vk::ImageCreateInfo dci;
     dci.format = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -290,6 +347,30 @@ Status Compositor::init() {
     return {};
 }
 
+double Compositor::timeCopy(uint64_t bytes) {
+    const uint32_t count = uint32_t(std::min<uint64_t>(bytes / 2, copySrc_.size()) / 16);
+    const uint32_t groupsTotal = std::max<uint32_t>((count + 63) / 64, 1);
+    const uint32_t cgx = std::min<uint32_t>(groupsTotal, 65535), cgy = (groupsTotal + cgx - 1) / cgx;
+    const auto submitted = std::chrono::steady_clock::now();
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        vkCmdResetQueryPool(cb, queries_.get(), kFrameStamps, 2);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
+                                nullptr);
+        vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
+        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_.get(), kFrameStamps);
+        vkCmdDispatch(cb, cgx, cgy, 1);
+        vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), kFrameStamps + 1);
+    });
+    if (ctx_.isCpuDevice())  // see PassTimes::hostTimed
+        return s ? std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count() : 0.0;
+    uint64_t ts[2];
+    if (!s || vkGetQueryPoolResults(ctx_.device(), queries_.get(), kFrameStamps, 2, sizeof(ts), ts, sizeof(uint64_t),
+                                    VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) != VK_SUCCESS)
+        return 0.0;
+    return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
+}
+
 VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 4> constants) {
     std::array<uint32_t, 5> key{uint32_t(shader), constants[0], constants[1], constants[2], constants[3]};
     auto it = pipelines_.find(key);
@@ -317,16 +398,17 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     const VkBufferUsageFlags usage =
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const uint64_t pixels = uint64_t(width) * height * WRS_EYES;
-    const uint64_t pyramidTexels = uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) * WRS_EYES;
-    vk::Buffer pyramid, zlin, candidate, reservoirs[2], births[2];
+    // Levels 1..4 only (level 0 is the submitted image), fp16 RGBA.
+    const uint64_t pyramidTexels =
+        (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES;
+    vk::Buffer pyramid, candidate, reservoirs[2], births[2];
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
         const char* what;
     };
     for (const Alloc& a :
-         {Alloc{&pyramid, pyramidTexels * 16, "colour pyramid"}, Alloc{&zlin, pixels * 4, "linear depth"},
-          Alloc{&candidate, pixels * 16, "candidates"}, Alloc{&reservoirs[0], pixels * 16, "reservoirs"},
+         {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"}, Alloc{&reservoirs[0], pixels * 16, "reservoirs"},
           Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
           Alloc{&births[1], birth ? pixels * 16 : 16, "births"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
@@ -358,7 +440,6 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
 
     output_ = std::move(*out);
     pyramid_ = std::move(pyramid);
-    zlin_ = std::move(zlin);
     candidate_ = std::move(candidate);
     reservoirs_[0] = std::move(reservoirs[0]);
     reservoirs_[1] = std::move(reservoirs[1]);
@@ -366,21 +447,20 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     birth_[1] = std::move(births[1]);
     birthAllocated_ = birth;
     for (uint32_t i = 0; i < 2; ++i) {
-        VkDescriptorBufferInfo bi[8] = {
+        VkDescriptorBufferInfo bi[7] = {
             {ubo_.handle(), 0, VK_WHOLE_SIZE},           {pyramid_.handle(), 0, VK_WHOLE_SIZE},
-            {zlin_.handle(), 0, VK_WHOLE_SIZE},          {candidate_.handle(), 0, VK_WHOLE_SIZE},
-            {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE}, {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE},
-            {birth_[i].handle(), 0, VK_WHOLE_SIZE},      {birth_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
-        const uint32_t bindings[8] = {kFrame,   kPyramidBuf, kDepthBuf,  kCandidate,
-                                      kResPrev, kResCur,     kBirthPrev, kBirthCur};
-        VkWriteDescriptorSet w[9];
-        for (int k = 0; k < 8; ++k)
+            {candidate_.handle(), 0, VK_WHOLE_SIZE},     {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE},
+            {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
+            {birth_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
+        const uint32_t bindings[7] = {kFrame, kPyramidBuf, kCandidate, kResPrev, kResCur, kBirthPrev, kBirthCur};
+        VkWriteDescriptorSet w[8];
+        for (int k = 0; k < 7; ++k)
             w[k] =
                 vk::bufferWrite(sets_[i], bindings[k],
                                 k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[k]);
         VkDescriptorImageInfo oi{VK_NULL_HANDLE, output_.arrayView(), VK_IMAGE_LAYOUT_GENERAL};
-        w[8] = vk::imageWrite(sets_[i], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
-        vkUpdateDescriptorSets(ctx_.device(), 9, w, 0, nullptr);
+        w[7] = vk::imageWrite(sets_[i], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
+        vkUpdateDescriptorSets(ctx_.device(), 8, w, 0, nullptr);
     }
     width_ = width;
     height_ = height;
@@ -420,9 +500,11 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     const bool hasDepth = layer.views[0].depth.has_value();
     const bool hasMotion = layer.views[0].motion.has_value();
     const CompositorConfig& next = configPending_ ? pending_ : config_;
+    const TrafficInputs trafficIn = trafficInputs(layer.views[0]);
     if (next.measureCopy) {
-        // Half the frame's traffic is read and half written: the copy moves the same bytes.
-        const uint64_t half = (trafficBytes(next, w, h, hasDepth, hasMotion) / 2 + 15) / 16 * 16;
+        // Half the frame's traffic is read and half written: the copy moves the same bytes. The floor
+        // copy moves a prefix of the same buffers (the floor is part of the traffic).
+        const uint64_t half = (trafficBytes(next, trafficIn) / 2 + 15) / 16 * 16;
         if (copySrc_.size() != half) {
             vkDeviceWaitIdle(ctx_.device());
             const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -512,7 +594,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     VK_CHECK(vkBeginCommandBuffer(cb, &bi));
     const bool timing = ctx_.timestampPeriodNs() > 0;
-    if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kTimestamps);
+    if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kFrameStamps);
     {
         // Whatever the application wrote (uploads, its own rendering) and the last frame's
         // readbacks are done before the passes read or overwrite them.
@@ -534,42 +616,32 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
     // The same-bytes copy kernel first, so that it runs in the same state as the passes.
     stamp(0);
-    if (config_.measureCopy && timing) {
-        const uint32_t count = uint32_t(copySrc_.size() / 16);
-        const uint32_t groupsTotal = (count + 63) / 64;
-        const uint32_t cgx = std::min<uint32_t>(groupsTotal, 65535), cgy = (groupsTotal + cgx - 1) / cgx;
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
-        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
-                                nullptr);
-        vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
-        vkCmdDispatch(cb, cgx, cgy, 1);
-        computeBarrier(cb);
-        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
-    }
-    stamp(1);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kLoad, {hasDepth, 0, 0, 0}));
-    vkCmdDispatch(cb, gx, gy, eyes);
-    computeBarrier(cb);
-    stamp(2);
     if (pyramid) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kPyramid, {config_.foveation == FoveationMode::Gauss ? 2u : 1u, 0, 0, 0}));
-        for (uint32_t level = 1; level < WRS_LEVELS; ++level) {
+        const bool gauss = config_.foveation == FoveationMode::Gauss;
+        const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
+        // mip: every level in one dispatch of 16x16-pixel tiles; gauss: one dispatch per level.
+        const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
+        const uint32_t tile = 2 * WRS_GROUP_X;
+        for (uint32_t level = 1; level <= dispatches; ++level) {
             gpu::LevelPush push{level, 0, 0, 0};
             vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
             glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(w, h), level);
-            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), eyes);
+            if (gauss)
+                vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), eyes);
+            else
+                vkCmdDispatch(cb, groups(w, tile), groups(h, tile), eyes);
             computeBarrier(cb);
         }
     }
-    stamp(3);
+    stamp(1);
     if (!retain) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
         vkCmdDispatch(cb, gx, gy, eyes);
         computeBarrier(cb);
     }
-    stamp(4);
+    stamp(2);
     if (retain) {
         const uint32_t rule = config_.method == Method::Oracle ? gpu::WRS_RULE_ORACLE : uint32_t(config_.equalQuality);
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
@@ -601,14 +673,16 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     }
-    stamp(5);
+    stamp(3);
     VK_CHECK(vkEndCommandBuffer(cb));
 
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
     VkFence f = frameFence_.get();
+    const auto submitted = std::chrono::steady_clock::now();
     VkResult r = ctx_.submitBatch(si, f);
+    const double hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count();
     vkResetFences(ctx_.device(), 1, &f);
     if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
     if (r != VK_SUCCESS)
@@ -616,17 +690,26 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                            std::string("the device failed while compositing: ") + vk::resultString(r));
 
     if (timing) {
-        uint64_t ts[kTimestamps];
-        if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kTimestamps, sizeof(ts), ts, sizeof(uint64_t),
+        uint64_t ts[kFrameStamps];
+        if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kFrameStamps, sizeof(ts), ts, sizeof(uint64_t),
                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
             double ms = ctx_.timestampPeriodNs() * 1e-6;
-            stats_.gpu.copy = config_.measureCopy ? double(ts[1] - ts[0]) * ms : 0.0;
-            stats_.gpu.load = double(ts[2] - ts[1]) * ms;
-            stats_.gpu.pyramid = double(ts[3] - ts[2]) * ms;
-            stats_.gpu.foveate = double(ts[4] - ts[3]) * ms;
-            stats_.gpu.temporal = double(ts[5] - ts[4]) * ms;
-            stats_.gpu.total = double(ts[5] - ts[1]) * ms;
+            stats_.gpu.pyramid = double(ts[1] - ts[0]) * ms;
+            stats_.gpu.foveate = double(ts[2] - ts[1]) * ms;
+            stats_.gpu.temporal = double(ts[3] - ts[2]) * ms;
+            stats_.gpu.total = double(ts[3] - ts[0]) * ms;
             stats_.gpu.valid = true;
+        }
+        if (ctx_.isCpuDevice()) {  // see PassTimes::hostTimed
+            stats_.gpu.total = hostMs;
+            stats_.gpu.hostTimed = true;
+        }
+        if (config_.measureCopy) {
+            // The yardsticks, each in a submission of its own after the frame: lavapipe moves time
+            // between adjacent dispatches of one submission, which made a copy recorded before the
+            // passes read as a fraction of what it costs alone.
+            stats_.gpu.copy = timeCopy(trafficBytes(config_, trafficIn) / WRS_EYES * eyes);
+            stats_.gpu.copyFloor = timeCopy(floorBytes(config_, trafficIn) / WRS_EYES * eyes);
         }
     }
     if (temporal) {

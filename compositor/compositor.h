@@ -1,13 +1,14 @@
 // The stereo compositor: takes a frame end (layers/frame.h), runs the per-eye passes on the GPU,
 // both eyes in one dispatch per pass, and keeps the output and the reservoirs.
 //
-// Passes, in the order they run (shaders/):
-//   1. load     – decode the submitted colour to linear, sanitize, linearize depth
-//   2. pyramid  – levels 1..4 (box for `mip`, [1 3 3 1] Gaussian for `gauss`; skipped for `none`)
-//   3. foveate  – eccentricity, foveated colour, weight p̂ (method `fov` writes the output here)
-//   4. wrs      – reprojection, depth flush, biased combine, reservoir store, output (`wrs-paper`)
+// Passes, in the order they run (shaders/); level 0 and linear depth are never stored, each pass
+// decodes the submitted images where it reads them:
+//   1. pyramid  – levels 1..4 from the submitted colour, fp16 (box for `mip`, all levels in one
+//                 dispatch; [1 3 3 1] Gaussian for `gauss`, one dispatch per level; skipped for `none`)
+//   2. foveate  – eccentricity, foveated colour, weight p̂ (method `fov` writes the output here)
+//   3. wrs      – reprojection, depth flush, biased combine, reservoir store, output (`wrs-paper`)
 //      or taa   – reprojected history clipped to the neighbourhood's variance box (method `fov+taa`)
-//   3+4. retain – foveation fused with quality-aware retention (methods `wrs` and `oracle`): no
+//   2+3. retain – foveation fused with quality-aware retention (methods `wrs` and `oracle`): no
 //                 candidate buffer; the pyramid is built for every foveation mode (fingerprint)
 #pragma once
 
@@ -65,8 +66,8 @@ struct CompositorConfig {
     EqualQuality equalQuality = EqualQuality::Merge;  ///< wrs: equal-quality candidates
     float depthTau = 0.05f;          ///< relative depth difference that flushes history
     uint32_t seed = 1;
-    /// Append a copy kernel moving the frame's estimated traffic (trafficBytes) to every frame's
-    /// submission and time it: the yardstick benchmarks report the passes against.
+    /// After every frame, time two copy kernels, each alone in a submission: one moving the frame's
+    /// traffic (trafficBytes), one the method's floor (floorBytes): the yardsticks benchmarks report against.
     bool measureCopy = false;
     /// Evaluation (wrs-paper, wrs, oracle): keep per pixel the submitted colour at the time the
     /// shown sample was taken (merged as the samples are), readable with readBirth(), so a
@@ -75,15 +76,43 @@ struct CompositorConfig {
 };
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
+/// On a CPU device (Mesa lavapipe) timestamps do not bracket the dispatches between them: a pass's
+/// time lands in a later interval, and a lone dispatch reads as almost free (a 14 MB copy stamped
+/// 0.08 ms that takes 2 ms). There `total` and the copies are the host's wall-clock time from submission
+/// to completion (`hostTimed`), which for a CPU driver is the work itself; per-pass values stay
+/// timestamps and only say where work was recorded. On GPUs every value is a timestamp difference.
 struct PassTimes {
-    double load = 0, pyramid = 0, foveate = 0, temporal = 0, total = 0;  ///< temporal: the wrs or taa pass
-    double copy = 0;  ///< the same-bytes copy kernel right after the passes (CompositorConfig::measureCopy)
+    double pyramid = 0, foveate = 0, temporal = 0, total = 0;  ///< temporal: the wrs, taa or retain pass
+    double copy = 0;       ///< copy kernel moving the frame's traffic (CompositorConfig::measureCopy)
+    double copyFloor = 0;  ///< copy kernel moving the method's floor bytes (measureCopy)
     bool valid = false;
+    bool hostTimed = false;  ///< total and copies are host wall-clock times (CPU device)
 };
 
-/// Estimated bytes the passes of a frame read and write for both eyes, each texel counted once
-/// (layouts in shaders/bindings.glsl): what the copy kernel moves, half read and half written.
-uint64_t trafficBytes(const CompositorConfig& config, uint32_t width, uint32_t height, bool depth, bool motion);
+/// What one view of a frame gives the passes: size and bytes per texel of each submitted image
+/// (0 where the view has none).
+struct TrafficInputs {
+    uint32_t width = 0, height = 0;
+    uint32_t colorBytes = 4, depthBytes = 0, motionBytes = 0;
+};
+/// Bytes one pass reads and writes per pixel of one view, from its bindings and formats
+/// (shaders/bindings.glsl), each texel of each binding counted once: the memory traffic of the pass
+/// with caches that hold a neighbourhood (bilinear, 2x2 and 3x3 taps), not the number of loads.
+struct PassTraffic {
+    std::string pass;
+    double read = 0, write = 0;
+};
+struct Traffic {
+    std::vector<PassTraffic> passes;
+    /// What the method cannot avoid: the colour in and the output out, and for methods with history
+    /// the reservoir read and written (2 x 16 B) and the depth and motion they use.
+    double floor = 0;
+    double perPixel() const;  ///< all passes, read + write, per pixel of one view
+};
+Traffic traffic(const CompositorConfig& config, const TrafficInputs& in);
+/// Traffic of a whole frame (both views), in bytes: what the copy kernel moves, half read, half written.
+uint64_t trafficBytes(const CompositorConfig& config, const TrafficInputs& in);
+uint64_t floorBytes(const CompositorConfig& config, const TrafficInputs& in);
 
 struct FrameStats {
     uint64_t frameIndex = 0;
@@ -144,6 +173,8 @@ private:
     Status resize(uint32_t width, uint32_t height, bool birth);
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
     VkPipeline pipeline(int shader, std::array<uint32_t, 4> constants);
+    /// GPU milliseconds of the copy kernel moving `bytes` (half read, half written), alone in a submission.
+    double timeCopy(uint64_t bytes);
     Result<HostImage> readImageLayer(uint32_t layer);
 
     vk::Context& ctx_;
@@ -168,7 +199,8 @@ private:
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;
-    vk::Buffer pyramid_, zlin_, candidate_;
+    vk::Buffer srgbTable_;  // wrs_srgb8_table(), read by load_color
+    vk::Buffer pyramid_, candidate_;
     vk::Buffer reservoirs_[2];
     vk::Buffer birth_[2];  // trackBirth: ping-pong like the reservoirs (16 B each when off)
     bool birthAllocated_ = false;

@@ -36,13 +36,14 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         const bool hasDepth = in.depth.has_value();
         const bool hasMotion = in.motion.has_value();
 
-        // Pass 1: load.
+        // Level 0 and linear depth: what every pass decodes from the submitted images (load_color,
+        // load_depth in shaders/bindings.glsl).
         std::vector<vec4> pyr(wrs_pyramid_texels(size0));
         std::vector<float> zlin(std::size_t(W) * H, 0.0f);
         for (uint y = 0; y < H; ++y)
             for (uint x = 0; x < W; ++x) {
                 vec3 c = vec3(in.color.fetch(x, y));
-                if (ep.color_rect.z != 0u) c = wrs_srgb_to_linear3(c);
+                if (ep.color_rect.z != 0u) c = wrs_srgb8_to_linear3(c);
                 bool valid;
                 c = wrs_sanitize_color(c, valid);
                 pyr[y * W + x] = vec4(c, valid ? 1.0f : 0.0f);
@@ -55,7 +56,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             return pyr[wrs_level_offset(size0, level) + q.y * sl.x + q.x];
         };
 
-        // Pass 2: pyramid (methods wrs and oracle need level 4 for every mode: a box pyramid for `none`).
+        // Pass 1: pyramid levels 1..4 (methods wrs and oracle need level 4 for every mode: a box pyramid for `none`).
         if (mode != WRS_FOV_NONE || retain) {
             for (uint level = 1; level < uint(WRS_LEVELS); ++level) {
                 uvec2 src = wrs_level_size(size0, level - 1u), dst = wrs_level_size(size0, level);
@@ -74,12 +75,15 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                                            tap(d, ivec2(1, j - 1)), tap(d, ivec2(2, j - 1)));
                             r = wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]);
                         }
-                        at(level, d) = wrs_pyramid_texel(r, level);
+                        // Stored as fp16 (pyramid.comp), and the next level is built from that.
+                        vec4 t = wrs_pyramid_texel(r, level);
+                        at(level, d) = vec4(wrs_round_f16(t.x), wrs_round_f16(t.y), wrs_round_f16(t.z),
+                                            wrs_round_f16(t.w));
                     }
             }
         }
 
-        // Pass 3: foveate.
+        // Pass 2: foveate.
         auto sampleLevel = [&](uint level, uvec2 p) {
             if (level == 0u) return at(0u, p);
             uvec2 sl = wrs_level_size(size0, level);
@@ -111,7 +115,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                                                          : std::vector<uvec4>(std::size_t(W) * H, uvec4(0u));
         res_[eye].assign(std::size_t(W) * H, uvec4(0u));
         if (taa) {
-            // Pass 4 of FOV+TAA.
+            // Pass 3 of FOV+TAA.
             auto histAt = [&](uvec2 q) {
                 uvec4 h = prev_[eye][std::size_t(q.y) * W + q.x];
                 return vec4(uintBitsToFloat(h.x), uintBitsToFloat(h.y), uintBitsToFloat(h.z), 0.0f);
@@ -145,7 +149,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         }
 
         if (retain) {
-            // Pass 3+4 of wrs / oracle (shaders/retain.comp): candidate, tracked history, retention.
+            // Pass 2 of wrs / oracle (shaders/retain.comp): candidate, tracked history, retention.
             const uint rule = config_.method == Method::Oracle ? WRS_RULE_ORACLE : uint(config_.equalQuality);
             auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
                 if (level == 0u) {
@@ -217,7 +221,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             continue;
         }
 
-        // Pass 4: temporal WRS as published (wrs-paper).
+        // Pass 3: temporal WRS as published (wrs-paper).
         trace_[eye].assign(std::size_t(W) * H, Trace{});
         for (uint y = 0; y < H; ++y)
             for (uint x = 0; x < W; ++x) {

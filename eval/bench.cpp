@@ -250,7 +250,8 @@ struct Accum {
     double mse = 0, nearMse = 0, eccMse = 0, ssim = 0, flip = 0, shading = 0;
     double staleSe = 0, staleFovSe = 0, stalePx = 0, stalePxTotal = 0;
     int n = 0, heavy = 0;
-    std::vector<double> load, pyramid, foveate, temporal, total, copy;
+    std::vector<double> pyramid, foveate, temporal, total, copy, copyFloor;
+    bool mono = false;  ///< the passes ran once for both views (FrameStats::monoViews)
     TemporalInstability instab[2];
 };
 
@@ -375,6 +376,8 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
         SceneFrames* frames = setup->frames.get();
         gaze::SyntheticSource* gazeSource = setup->gaze.get();
         const HostStereoApp::Options appOpt = frames->appOptions();
+        auto texel = [](std::optional<layers::Format> f) { return f ? uint32_t(layers::bytesPerTexel(*f)) : 0u; };
+        const TrafficInputs trafficIn{o.width, o.height, texel(appOpt.color), texel(appOpt.depth), texel(appOpt.motion)};
 
         for (FoveationMode mode : o.modes) {
             for (float fovea : o.foveas) {
@@ -399,7 +402,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.seed = o.seed;
                     cc.change = o.change;
                     cc.measureCopy = i >= 0;
-                    cc.trackBirth = i >= 0 && tracksBirth(cc.method);
+                    cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();
                     auto a = HostStereoApp::create(**c, appOpt);
@@ -461,13 +464,16 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         for (int e = 0; e < evalEyes; ++e) run.acc.instab[e].addFrame(ref[e], run.last[e]);
                         if (f < o.warmup) continue;
                         const FrameStats& st = run.comp->stats();
+                        run.acc.mono = st.monoViews;
                         if (st.gpu.valid) {
-                            run.acc.load.push_back(st.gpu.load);
                             run.acc.pyramid.push_back(st.gpu.pyramid);
                             run.acc.foveate.push_back(st.gpu.foveate);
                             run.acc.temporal.push_back(st.gpu.temporal);
                             run.acc.total.push_back(st.gpu.total);
-                            if (copyFrame) run.acc.copy.push_back(st.gpu.copy);
+                            if (copyFrame) {
+                                run.acc.copy.push_back(st.gpu.copy);
+                                run.acc.copyFloor.push_back(st.gpu.copyFloor);
+                            }
                         }
                         const bool heavy = (f - o.warmup) % std::max(1, o.heavyEvery) == 0;
                         for (int e = 0; e < evalEyes; ++e) {
@@ -485,7 +491,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                                 run.acc.flip += flip(ref[e], run.last[e], fo).mean;
                                 // fov runs before the temporal methods (methods in option order), so its
                                 // output of this frame is there when fov is listed first.
-                                if (tracksBirth(run.method) && fovRun >= 0 && fovRun < int(r)) {
+                                if (o.staleStats && tracksBirth(run.method) && fovRun >= 0 && fovRun < int(r)) {
                                     auto birth = run.comp->readBirth(uint32_t(e));
                                     if (!birth) return birth.error();
                                     addStale(*birth, ref[e], run.last[e], runs[fovRun].last[e], run.acc);
@@ -504,11 +510,13 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     Accum& a = run.acc;
                     CellResult c{scene, run.method, mode, fovea};
                     c.frames = o.frames - o.warmup;
-                    c.gpu = {median(a.load), median(a.pyramid), median(a.foveate), median(a.temporal),
-                             median(a.total), median(a.copy), !a.total.empty()};
-                    c.trafficBytes = double(trafficBytes(run.comp->config(), o.width, o.height,
-                                                         appOpt.depth.has_value(), appOpt.motion.has_value()));
+                    c.gpu = {median(a.pyramid), median(a.foveate), median(a.temporal), median(a.total),
+                             median(a.copy),    median(a.copyFloor), !a.total.empty()};
+                    c.traffic = traffic(run.comp->config(), trafficIn);
+                    // Identical views run the passes once (monitor mode, FrameStats::monoViews); so does the copy.
+                    c.trafficBytes = double(trafficBytes(run.comp->config(), trafficIn)) / (a.mono ? 2 : 1);
                     c.copyMs = median(a.copy);
+                    c.copyFloorMs = median(a.copyFloor);
                     c.shadingFraction = a.shading / std::max(1, a.n);
                     c.psnr = psnrFromMse(a.mse / std::max(1, a.n));
                     c.nearPsnr = psnrFromMse(a.nearMse / std::max(1, a.n));
@@ -749,6 +757,29 @@ std::string fmt(double v, int prec = 2) {
     return s.str();
 }
 
+// Bytes per pass per method (they depend on the method, the mode and the inputs, not the scene
+// content), the floor, and the times against both copy kernels.
+void writeTrafficSection(std::ostream& md, const std::vector<CellResult>& results) {
+    md << "\n## Traffic\n\n"
+          "Bytes each pass reads and writes per pixel of one view, from its bindings and formats (shaders/), "
+          "every texel of every binding counted once (the memory traffic with caches that hold a bilinear or 3×3 "
+          "neighbourhood). The *floor* is what the method cannot avoid: the colour in and the output out, and for "
+          "methods with history the 16-byte reservoir read and written and the depth and motion they use. Times "
+          "are medians over the same cells as above; *copy* moves the method's bytes, *copy floor* the floor's, "
+          "in the same submissions.\n\n"
+          "| scene | mode | method | passes (read + write, B/px) | B/px | floor B/px | ×floor | GPU ms | ×copy | "
+          "×copy floor |\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const CellResult& c : results) {
+        std::string passes;
+        for (const PassTraffic& p : c.traffic.passes)
+            passes += (passes.empty() ? "" : ", ") + p.pass + " " + fmt(p.read, 1) + " + " + fmt(p.write, 1);
+        md << "| " << toString(c.scene) << " | " << toString(c.mode) << " | " << toString(c.method) << " | " << passes
+           << " | " << fmt(c.traffic.perPixel(), 1) << " | " << fmt(c.traffic.floor, 1) << " | "
+           << fmt(c.traffic.perPixel() / c.traffic.floor) << " | " << fmt(c.gpu.total, 3) << " | "
+           << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.copyFloorMs) << " |\n";
+    }
+}
+
 }  // namespace
 
 Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o, const std::string& dir,
@@ -756,15 +787,17 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     std::ofstream csv(dir + "/results.csv");
     if (!csv) return Error{1, "cannot write " + dir + "/results.csv"};
     csv.precision(7);
-    csv << "scene,method,mode,fovea_deg,frames,load_ms,pyramid_ms,foveate_ms,temporal_ms,total_ms,per_eye_ms,"
-           "copy_ms,traffic_bytes,ratio_to_copy,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
+    csv << "scene,method,mode,fovea_deg,frames,pyramid_ms,foveate_ms,temporal_ms,total_ms,per_eye_ms,"
+           "copy_ms,copy_floor_ms,traffic_bytes,bytes_per_px,floor_bytes_per_px,ratio_to_floor_bytes,ratio_to_copy,"
+           "ratio_to_copy_floor,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
            "temporal_instability,mse,near_gaze_mse,eta,eta_near_gaze,stale_fraction,stale_mse,stale_fov_mse\n";
     for (const auto& c : results)
         csv << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg << ','
-            << c.frames << ',' << c.gpu.load << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal
-            << ',' << c.gpu.total << ',' << c.gpu.total / 2 << ',' << c.copyMs << ',' << c.trafficBytes << ','
-            << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.fovTotalMs << ',' << c.shadingFraction << ','
-            << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
+            << c.frames << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal << ',' << c.gpu.total
+            << ',' << c.gpu.total / 2 << ',' << c.copyMs << ',' << c.copyFloorMs << ',' << c.trafficBytes << ','
+            << c.traffic.perPixel() << ',' << c.traffic.floor << ',' << c.traffic.perPixel() / c.traffic.floor << ','
+            << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << c.gpu.total / c.fovTotalMs << ','
+            << c.shadingFraction << ',' << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
             << ',' << c.mse << ',' << c.nearMse << ',' << c.eta << ',' << c.etaNear << ',' << c.staleFraction << ','
             << c.staleMse << ',' << c.staleFovMse << '\n';
 
@@ -790,10 +823,10 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                      : "")
        << ".\n";
     if (o.monitor)
-        md << "\nIn monitor mode both views are one image: every method but `wrs-paper` runs the passes once and "
-              "copies the result to the right eye; `wrs-paper` draws different random numbers per eye and runs "
-              "both, so its GPU time is not comparable with the others' here (compare in HMD stereo); the copy "
-              "kernel moves two eyes' bytes, so the others' ×copy is about half what it would be in stereo.\n";
+        md << "\nIn monitor mode both views are one image: every method but `wrs-paper` runs the passes (and the "
+              "copy kernels) once and copies the result to the right eye; `wrs-paper` draws different random "
+              "numbers per eye and runs both, so its GPU time is not comparable with the others' here (compare in "
+              "HMD stereo).\n";
     if (std::find(o.scenes.begin(), o.scenes.end(), SceneKind::Sequence) != o.scenes.end())
         md << "\nScene `sequence`: the frames of " << o.sequenceDir
            << " at the fps of its sequence.json, gaze from its gaze.csv (synthetic free viewing without one).\n";
@@ -846,15 +879,16 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
        << o.heavyEvery
        << "th frame).\n"
           "- *GPU ms*: median GPU time per frame, both eyes; *×copy*: against a copy kernel moving the same "
-          "bytes in the same submission; *×fov*: against fov in the same cell; *shading*: the fraction of "
-          "full-rate shading the foveation represents.\n";
+          "bytes in the same submission; *×copy floor*: against a copy kernel moving only the method's floor "
+          "bytes (see Traffic); *×fov*: against fov in the same cell; *B/px*: bytes the passes read and write per "
+          "pixel of one view; *shading*: the fraction of full-rate shading the foveation represents.\n";
 
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
             md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"
                << "| method | fovea | near PSNR | PSNR | η | η near | SSIM | FLIP | ecc-MSE | temporal | stale | "
-                  "stale MSE | fov there | GPU ms | ×copy | ×fov | shading |\n"
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+                  "stale MSE | fov there | GPU ms | ×copy | ×copy floor | ×fov | B/px | shading |\n"
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
             for (const auto& c : results) {
                 if (c.scene != scene || c.mode != mode) continue;
                 md << "| " << toString(c.method) << " | " << fmt(c.foveaDeg, 1) << "° | " << fmt(c.nearPsnr) << " | "
@@ -862,13 +896,16 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                    << " | " << fmt(c.flip, 4) << " | " << fmt(c.eccMse, 5) << " | " << fmt(c.temporal, 5) << " | "
                    << (std::isnan(c.staleFraction) ? std::string("n/a") : fmt(100 * c.staleFraction, 3) + " %")
                    << " | " << fmt(c.staleMse, 5) << " | " << fmt(c.staleFovMse, 5) << " | " << fmt(c.gpu.total, 3)
-                   << " | " << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.fovTotalMs) << " | "
+                   << " | " << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.copyFloorMs) << " | "
+                   << fmt(c.gpu.total / c.fovTotalMs) << " | " << fmt(c.traffic.perPixel(), 1) << " | "
                    << fmt(c.shadingFraction, 3) << " |\n";
             }
             float eq = equalQualityFovea(results, scene, mode);
             md << "\nEqual-quality fovea (smallest wrs fovea below 10° with near-gaze PSNR ≥ fov at 10°): "
                << (eq > 0 ? fmt(eq, 1) + "°" : std::string("none in this sweep")) << "\n";
         }
+
+    writeTrafficSection(md, results);
 
     // Per scene and mode: error against run time, against fovea size, and η per method.
     for (SceneKind scene : o.scenes)
@@ -901,6 +938,55 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                         chart(s + " (" + m + "): retention efficiency (1 = oracle, 0 = fov)", "eta, whole image",
                               "eta, within 10 deg", eta));
         }
+    return {};
+}
+
+Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOptions& o, const std::string& dir,
+                          const std::string& deviceName) {
+    std::ofstream csv(dir + "/scaling.csv");
+    std::ofstream md(dir + "/scaling.md");
+    if (!csv || !md) return Error{1, "cannot write " + dir + "/scaling.{csv,md}"};
+    csv.precision(7);
+    csv << "width,height,scene,method,mode,megapixels_per_frame,total_ms,copy_ms,copy_floor_ms,bytes_per_px,"
+           "floor_bytes_per_px,ratio_to_fov,ratio_to_copy,ratio_to_copy_floor,ns_per_px\n";
+    const bool cpuDevice = deviceName.find("llvmpipe") != std::string::npos || deviceName.find("lavapipe") != std::string::npos;
+    md << "# wrsfov scaling\n\nTime and bytes per frame at " << steps.size() << " sizes, "
+       << (o.monitor ? "monitor mode" : "HMD stereo (both eyes)") << ", fovea " << fmt(o.foveas.front(), 1)
+       << "°, foveation " << toString(o.modes.front()) << ", " << o.frames - o.warmup << " counted frames per cell, "
+       << "stale-pixel tracking off (the passes as an application gets them). Measured on **" << deviceName << "**"
+       << (cpuDevice ? " — Mesa lavapipe, a CPU renderer: its timestamps do not bracket dispatches, so times are the "
+                       "host's wall clock from submission to completion (PassTimes::hostTimed), and a CPU computes "
+                       "rather than moves bytes; ratios in the same run say more than absolute times"
+                     : "")
+       << ".\n\n*ns/px*: time per pixel of both views: flat when the cost grows linearly with pixels. *×copy*: "
+          "against a copy kernel moving the method's bytes, *×copy floor*: the floor's; each size's table.md "
+          "(in its WxH directory) has the bytes per pass under Traffic.\n\n"
+          "| size per eye | method | GPU ms | ns/px | ×fov | B/px | floor B/px | copy ms | ×copy | copy floor ms | "
+          "×copy floor |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    std::map<Method, Series> series;
+    for (const ScalingStep& st : steps)
+        for (const CellResult& c : st.cells) {
+            const double px = double(st.width) * st.height * 2;  // both views
+            const double nsPx = c.gpu.total * 1e6 / px;
+            csv << st.width << ',' << st.height << ',' << toString(c.scene) << ',' << toString(c.method) << ','
+                << toString(c.mode) << ',' << px / 1e6 << ',' << c.gpu.total << ',' << c.copyMs << ',' << c.copyFloorMs
+                << ',' << c.traffic.perPixel() << ',' << c.traffic.floor << ',' << c.gpu.total / c.fovTotalMs << ','
+                << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << nsPx << '\n';
+            md << "| " << st.width << "×" << st.height << " | " << toString(c.method) << " | " << fmt(c.gpu.total, 2)
+               << " | " << fmt(nsPx, 1) << " | " << fmt(c.gpu.total / c.fovTotalMs) << " | "
+               << fmt(c.traffic.perPixel(), 1) << " | " << fmt(c.traffic.floor, 1) << " | " << fmt(c.copyMs, 2)
+               << " | " << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.copyFloorMs, 2) << " | "
+               << fmt(c.gpu.total / c.copyFloorMs) << " |\n";
+            auto it = series.find(c.method);
+            if (it == series.end())
+                it = series.emplace(c.method, Series{std::string(toString(c.method)), methodColour(c.method)}).first;
+            it->second.line = true;
+            it->second.points.push_back({px / 1e6, c.gpu.total});
+        }
+    std::vector<Series> all;
+    for (auto& [m, s] : series) all.push_back(s);
+    cv::imwrite(dir + "/scaling.png", chart("GPU time per frame against pixels (both views)", "megapixels per frame",
+                                            "GPU ms per frame", all));
     return {};
 }
 

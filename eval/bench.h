@@ -30,7 +30,10 @@ struct BenchOptions {
     int frames = 90;                     ///< per cell, at 90 Hz
     int warmup = 10;                     ///< frames before timings and metrics count
     int heavyEvery = 10;                 ///< SSIM, FLIP and stale pixels on every n-th counted frame
-    int copyEvery = 1;                   ///< the same-bytes copy kernel on every n-th counted frame
+    int copyEvery = 1;                   ///< the copy kernels on every n-th counted frame
+    /// Stale-pixel statistics: wrs-paper, wrs and the oracle keep birth colours (trackBirth, 32 B/px
+    /// more traffic and the time it takes). Off for timing runs: the passes as an application gets them.
+    bool staleStats = true;
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;
@@ -57,7 +60,9 @@ struct CellResult {
     int frames = 0;
     PassTimes gpu;            ///< medians, ms per frame for both eyes
     double copyMs = 0;        ///< same-bytes copy kernel in the same submissions, median ms
-    double trafficBytes = 0;  ///< estimated bytes the passes read and write per frame
+    double copyFloorMs = 0;   ///< copy kernel moving the method's floor bytes, same submissions, median ms
+    double trafficBytes = 0;  ///< bytes the passes read and write per frame (what the copy kernel moves)
+    Traffic traffic;          ///< per pass, bytes per pixel of one view, and the method's floor
     double shadingFraction = 0;  ///< full-rate shading work the foveation represents (1 = none saved)
     double psnr = 0, ssim = 0, nearPsnr = 0, eccMse = 0, flip = 0, temporal = 0;
     double mse = 0, nearMse = 0;  ///< mean squared error (sRGB, 0..1), full image and within 10° of gaze
@@ -84,6 +89,15 @@ Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions&
 /// The smallest WRS fovea whose near-gaze PSNR is at least FOV's at 10° (same scene and mode);
 /// 0 when none is (or the sweep lacks the cells).
 float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene, FoveationMode mode);
+
+/// One size of a scaling sweep (wrsfov-bench --scaling): its cells.
+struct ScalingStep {
+    uint32_t width = 0, height = 0;
+    std::vector<CellResult> cells;
+};
+/// Writes scaling.csv, scaling.md and scaling.png (time and bytes against pixels per method) into `dir`.
+Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOptions& options, const std::string& dir,
+                          const std::string& deviceName);
 
 /// Writes results.csv, table.md, error_vs_time.png and error_vs_fovea.png into `dir`.
 Status writeReport(const std::vector<CellResult>& results, const BenchOptions& options, const std::string& dir,

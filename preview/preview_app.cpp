@@ -422,7 +422,6 @@ std::vector<std::string> Session::statsItems() const {
         auto pass = [&](const char* name, double ms) {
             items.push_back(std::string(name) + " " + fmt("%.3f", ms) + " | " + fmt("%.3f", ms / 2));
         };
-        pass("load", st.gpu.load);
         if (method_ != PreviewMethod::Reference) pass("pyramid", st.gpu.pyramid);
         if (method_ != PreviewMethod::Wrs) pass("foveate", st.gpu.foveate);
         if (method_ == PreviewMethod::WrsPaper) pass("wrs-paper", st.gpu.temporal);
@@ -475,7 +474,7 @@ std::string Session::summary() const {
                     ", " + std::string(toString(method_)) + ", fovea " + fmt("%g", fovea_) + " deg, " +
                     std::string(toString(mode_)) + ", gaze " + toString(gazeSpec_) + ")";
     if (st.gpu.valid)
-        s += "; GPU ms (both eyes) load " + fmt("%.3f", st.gpu.load) + " pyramid " + fmt("%.3f", st.gpu.pyramid) +
+        s += "; GPU ms (both eyes) pyramid " + fmt("%.3f", st.gpu.pyramid) +
              " foveate " + fmt("%.3f", st.gpu.foveate) + " temporal " + fmt("%.3f", st.gpu.temporal) + " total " +
              fmt("%.3f", st.gpu.total);
     s += "; swapchain " + std::to_string(presenter_->extent().width) + "x" +

@@ -1,5 +1,8 @@
-// Descriptor set 0, shared by the per-eye passes (load, pyramid, foveate, wrs). Each eye's images
-// are bound as element [eye] of an array and indexed with gl_WorkGroupID.z (dynamically uniform).
+// Descriptor set 0, shared by the per-eye passes (pyramid, foveate, wrs, taa, retain). Each eye's
+// images are bound as element [eye] of an array and indexed with gl_WorkGroupID.z (dynamically
+// uniform). Level 0 and linear depth are never stored: every pass decodes the submitted images
+// where it reads them (load_color, load_depth), which costs 4 B/px per reading pass instead of a
+// 16 B/px write and read of a level-0 buffer.
 #ifndef WRSFOV_BINDINGS_GLSL
 #define WRSFOV_BINDINGS_GLSL
 
@@ -10,9 +13,9 @@ layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
 layout(set = 0, binding = 1) uniform sampler2D colorIn[2];   // RGBA8 (sRGB viewed as UNORM), RGBA16F
 layout(set = 0, binding = 2) uniform sampler2D depthIn[2];   // D32F / R32F, [0, 1]
 layout(set = 0, binding = 3) uniform sampler2D motionIn[2];  // RG16F / RGBA16F, pixels (+ dz)
-// Colour pyramid, linear RGB + validity in alpha, eye-major then level-major (wrs_level_offset).
-layout(std430, set = 0, binding = 4) buffer Pyramid { vec4 pyramid[]; };
-layout(std430, set = 0, binding = 5) buffer LinearDepth { float zlin[]; };
+// Colour pyramid levels 1..WRS_LEVELS-1, linear RGB + alpha (wrs_pyramid_texel) as fp16 RGBA
+// (wrs_f32_to_f16 each), eye-major then level-major (wrs_level_offset less level 0).
+layout(std430, set = 0, binding = 4) buffer Pyramid { uvec2 pyramid[]; };
 // Foveated candidate: linear RGB and its weight p̂ (0 when the input pixel was not finite).
 layout(std430, set = 0, binding = 6) buffer Candidate { vec4 candidate[]; };
 layout(std430, set = 0, binding = 7) readonly buffer ReservoirPrev { uvec4 res_prev[]; };
@@ -20,6 +23,8 @@ layout(std430, set = 0, binding = 8) writeonly buffer ReservoirCur { uvec4 res_c
 // Evaluation only (frame.tuning.z != 0): the submitted linear colour when the shown sample was taken.
 layout(std430, set = 0, binding = 10) readonly buffer BirthPrev { vec4 birth_prev[]; };
 layout(std430, set = 0, binding = 11) writeonly buffer BirthCur { vec4 birth_cur[]; };
+// Linear value of each 8-bit sRGB code (wrs_srgb8_table), written once by the compositor.
+layout(std430, set = 0, binding = 12) readonly buffer SrgbTable { float srgb_table[256]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
@@ -28,7 +33,36 @@ uint pixel_index(uint eye, uvec2 p) { return (eye * frame.size.y + p.y) * frame.
 uint pyramid_index(uint eye, uint level, uvec2 q) {
     uvec2 size0 = frame.size.xy;
     uvec2 sl = wrs_level_size(size0, level);
-    return eye * wrs_pyramid_texels(size0) + wrs_level_offset(size0, level) + q.y * sl.x + q.x;
+    uint level0 = size0.x * size0.y;
+    return eye * (wrs_pyramid_texels(size0) - level0) + wrs_level_offset(size0, level) - level0 + q.y * sl.x + q.x;
+}
+// Level >= 1: fp16 to fp32 is exact, so unpackHalf2x16 agrees with wrs_f16_to_f32 on the CPU.
+vec4 pyr_read(uint eye, uint level, uvec2 q) {
+    uvec2 h = pyramid[pyramid_index(eye, level, q)];
+    return vec4(unpackHalf2x16(h.x), unpackHalf2x16(h.y));
+}
+// Rounds to nearest even by hand (packHalf2x16 leaves the rounding to the implementation).
+uvec2 pyr_pack(vec4 v) {
+    return uvec2(wrs_f32_to_f16(v.x) | (wrs_f32_to_f16(v.y) << 16u), wrs_f32_to_f16(v.z) | (wrs_f32_to_f16(v.w) << 16u));
+}
+vec4 pyr_unpack(uvec2 h) { return vec4(unpackHalf2x16(h.x), unpackHalf2x16(h.y)); }
+void pyr_write(uint eye, uint level, uvec2 q, uvec2 packed_texel) { pyramid[pyramid_index(eye, level, q)] = packed_texel; }
+
+// Level 0 at pixel p of the eye's rectangle: linear RGB, sanitized, validity (1 or 0) in alpha.
+vec4 load_color(uint eye, uvec2 p) {
+    EyeParams ep = frame.eye[eye];
+    vec3 c = texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0).rgb;
+    if (ep.color_rect.z != 0u)
+        c = vec3(srgb_table[wrs_srgb8_code(c.r)], srgb_table[wrs_srgb8_code(c.g)], srgb_table[wrs_srgb8_code(c.b)]);
+    bool valid;
+    c = wrs_sanitize_color(c, valid);
+    return vec4(c, valid ? 1.0 : 0.0);
+}
+// Linear view depth at pixel p (only where the view has depth).
+float load_depth(uint eye, uvec2 p) {
+    EyeParams ep = frame.eye[eye];
+    float d = texelFetch(depthIn[eye], ivec2(p + ep.depth_rect.xy), 0).r;
+    return wrs_linear_depth(d, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
 }
 void store_output(uint eye, uvec2 p, vec3 linear_rgb) {
     imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_linear_to_srgb3(linear_rgb), 1.0));

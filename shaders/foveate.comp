@@ -1,4 +1,4 @@
-// Pass 3: per pixel eccentricity, foveated colour (blend of pyramid levels) and sample weight p̂.
+// Pass 2: per pixel eccentricity, foveated colour (blend of pyramid levels) and sample weight p̂.
 // Method `fov` (WRITE_OUTPUT) stores the result as the output; `wrs` hands it to the wrs pass.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -8,14 +8,15 @@ layout(constant_id = 0) const uint FOV_MODE = 1u;
 layout(constant_id = 1) const bool WRITE_OUTPUT = false;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
-vec4 sample_level(uint eye, uint level, uvec2 p) {
-    if (level == 0u) return pyramid[pyramid_index(eye, 0u, p)];
+// `level0`: the pixel's own decoded colour (load_color), read once per pixel.
+vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0) {
+    if (level == 0u) return level0;
     uvec2 size0 = frame.size.xy;
     uvec2 sl = wrs_level_size(size0, level);
     uvec2 i0, i1;
     vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
-    return wrs_bilinear(pyramid[pyramid_index(eye, level, i0)], pyramid[pyramid_index(eye, level, uvec2(i1.x, i0.y))],
-                        pyramid[pyramid_index(eye, level, uvec2(i0.x, i1.y))], pyramid[pyramid_index(eye, level, i1)], f);
+    return wrs_bilinear(pyr_read(eye, level, i0), pyr_read(eye, level, uvec2(i1.x, i0.y)),
+                        pyr_read(eye, level, uvec2(i0.x, i1.y)), pyr_read(eye, level, i1), f);
 }
 
 void main() {
@@ -28,9 +29,10 @@ void main() {
     float e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
     float r_f = ep.gaze.w;
     vec3 lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
-    vec4 c = sample_level(eye, uint(lv.x), p);
-    if (lv.z > 0.0) c = wrs_blend(c, sample_level(eye, uint(lv.y), p), lv.z);
-    bool valid = pyramid[pyramid_index(eye, 0u, p)].a > 0.5;
+    vec4 level0 = load_color(eye, p);
+    vec4 c = sample_level(eye, uint(lv.x), p, level0);
+    if (lv.z > 0.0) c = wrs_blend(c, sample_level(eye, uint(lv.y), p, level0), lv.z);
+    bool valid = level0.a > 0.5;
     float w = valid ? wrs_sample_weight(e, r_f) : 0.0;
 
     if (WRITE_OUTPUT) {

@@ -7,6 +7,8 @@
 #define WRSFOV_GLSL_CPP_H
 
 #ifdef __cplusplus
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 

@@ -1,39 +1,113 @@
-// Pass 2 (foveation modes mip and gauss): build pyramid level `level` from level - 1.
-// FILTER 1: 2x2 box (mip chain); FILTER 2: separable [1 3 3 1]/8 (Gaussian pyramid). Level 4
-// carries its L* in alpha (wrs_pyramid_texel).
+// Pass 1: the colour pyramid, levels 1..4, read straight from the submitted colour (level 0 is never
+// stored) and written as fp16 RGBA. Level 4 carries its L* in alpha (wrs_pyramid_texel).
+//
+// FILTER 1 (`mip`, and the fingerprint pyramid of `wrs` under `none`): 2x2 box, all levels in one
+// dispatch; only the levels the mode samples are stored (3 and 4 for `mip`, 4 for `none`). A 16x16 tile of level 0 is exactly the support of one level-4 texel (clamped taps stay
+// inside their tile), so a group of 8x8 invocations builds its tile's 8x8, 4x4, 2x2 and 1x1 texels
+// in shared memory, one barrier per level, as single-pass downsamplers do.
+// FILTER 2 (`gauss`): separable [1 3 3 1]/8, whose support crosses tiles; one dispatch per level.
+// Level 1 (push.level == 1) stages the 18x18 level-0 texels of its 8x8 output tile in shared memory,
+// each decoded once; levels 2..4 read the level below from the buffer.
+// Shared and stored values are the fp16-rounded ones, so each level is built from exactly what the
+// CPU reference (compositor/reference.cpp) builds it from.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
 
 layout(constant_id = 0) const uint FILTER = 1u;
+layout(constant_id = 1) const uint FIRST_STORED = 1u;  // wrs_first_stored_level of the foveation mode
 layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
+const uint GAUSS_SPAN = 2u * WRS_GROUP_X + 2u;  // level-0 texels behind 8 level-1 texels: taps -1..2
+shared vec4 s_texels[GAUSS_SPAN * GAUSS_SPAN];
+
+// Rounds a filtered texel to its stored fp16 value and writes it where the level has that texel and
+// the foveation mode samples the level.
+vec4 store_texel(uint eye, uint level, uvec2 d, vec4 filtered) {
+    uvec2 h = pyr_pack(wrs_pyramid_texel(filtered, level));
+    if (level >= FIRST_STORED && all(lessThan(d, wrs_level_size(frame.size.xy, level)))) pyr_write(eye, level, d, h);
+    return pyr_unpack(h);
+}
+
+void mip_chain(uint eye) {
+    uvec2 t = gl_LocalInvocationID.xy;
+    uvec2 g = gl_WorkGroupID.xy;
+    uvec2 size0 = frame.size.xy;
+    uvec2 d = g * 8u + t;
+    vec4 r = wrs_down_box(load_color(eye, wrs_down_tap(d, ivec2(0, 0), size0)),
+                          load_color(eye, wrs_down_tap(d, ivec2(1, 0), size0)),
+                          load_color(eye, wrs_down_tap(d, ivec2(0, 1), size0)),
+                          load_color(eye, wrs_down_tap(d, ivec2(1, 1), size0)));
+    s_texels[t.y * 8u + t.x] = store_texel(eye, 1u, d, r);
+    barrier();
+    uint n = 4u;  // texels per tile side at `level`
+    for (uint level = 2u; level < uint(WRS_LEVELS); ++level, n /= 2u) {
+        bool inside = all(lessThan(t, uvec2(n)));
+        vec4 v = vec4(0.0);
+        if (inside) {
+            uvec2 src = wrs_level_size(size0, level - 1u);
+            uvec2 dd = g * n + t;
+            uvec2 origin = g * (2u * n);  // this tile's first texel at level - 1
+            // Clamped taps stay in the tile: 2*dd <= tap <= 2*dd + 1 and origin <= src - 1.
+            uvec2 a = wrs_down_tap(dd, ivec2(0, 0), src) - origin, b = wrs_down_tap(dd, ivec2(1, 0), src) - origin;
+            uvec2 c = wrs_down_tap(dd, ivec2(0, 1), src) - origin, e = wrs_down_tap(dd, ivec2(1, 1), src) - origin;
+            uint w = 2u * n;
+            v = store_texel(eye, level, dd,
+                            wrs_down_box(s_texels[a.y * w + a.x], s_texels[b.y * w + b.x], s_texels[c.y * w + c.x],
+                                         s_texels[e.y * w + e.x]));
+        }
+        barrier();
+        if (inside) s_texels[t.y * n + t.x] = v;
+        barrier();
+    }
+}
+
+void gauss_level1(uint eye) {
+    uvec2 t = gl_LocalInvocationID.xy;
+    uvec2 size0 = frame.size.xy;
+    uvec2 first = gl_WorkGroupID.xy * 8u;  // the tile's first level-1 texel
+    ivec2 origin = ivec2(2u * first) - ivec2(1, 1);
+    for (uint i = gl_LocalInvocationIndex; i < GAUSS_SPAN * GAUSS_SPAN; i += WRS_GROUP_X * WRS_GROUP_Y) {
+        ivec2 s = clamp(origin + ivec2(i % GAUSS_SPAN, i / GAUSS_SPAN), ivec2(0), ivec2(size0) - ivec2(1));
+        s_texels[i] = load_color(eye, uvec2(s));
+    }
+    barrier();
+    uvec2 d = first + t;
+    if (any(greaterThanEqual(d, wrs_level_size(size0, 1u)))) return;
+    // Tap (2d + o) sits at local 2t + o + 1; its clamped value was staged there.
+    vec4 rows[4];
+    for (uint j = 0u; j < 4u; ++j) {
+        uint row = (2u * t.y + j) * GAUSS_SPAN + 2u * t.x;
+        rows[j] = wrs_binomial_row(s_texels[row], s_texels[row + 1u], s_texels[row + 2u], s_texels[row + 3u]);
+    }
+    store_texel(eye, 1u, d, wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]));
+}
+
 vec4 tap(uint eye, uint level, uvec2 d, ivec2 o, uvec2 src_size) {
-    return pyramid[pyramid_index(eye, level, wrs_down_tap(d, o, src_size))];
+    return pyr_read(eye, level, wrs_down_tap(d, o, src_size));
+}
+
+void gauss_level(uint eye, uint level) {
+    uvec2 d = gl_GlobalInvocationID.xy;
+    if (any(greaterThanEqual(d, wrs_level_size(frame.size.xy, level)))) return;
+    uvec2 src_size = wrs_level_size(frame.size.xy, level - 1u);
+    uint src = level - 1u;
+    vec4 rows[4];
+    for (int j = 0; j < 4; ++j) {
+        rows[j] = wrs_binomial_row(tap(eye, src, d, ivec2(-1, j - 1), src_size), tap(eye, src, d, ivec2(0, j - 1), src_size),
+                                   tap(eye, src, d, ivec2(1, j - 1), src_size), tap(eye, src, d, ivec2(2, j - 1), src_size));
+    }
+    store_texel(eye, level, d, wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]));
 }
 
 void main() {
     uint eye = gl_WorkGroupID.z;
-    uint level = push.level;
-    uvec2 d = gl_GlobalInvocationID.xy;
-    uvec2 dst_size = wrs_level_size(frame.size.xy, level);
-    if (any(greaterThanEqual(d, dst_size))) return;
-    uvec2 src_size = wrs_level_size(frame.size.xy, level - 1u);
-    uint src = level - 1u;
-    vec4 r;
     if (FILTER == 1u) {
-        r = wrs_down_box(tap(eye, src, d, ivec2(0, 0), src_size), tap(eye, src, d, ivec2(1, 0), src_size),
-                         tap(eye, src, d, ivec2(0, 1), src_size), tap(eye, src, d, ivec2(1, 1), src_size));
+        mip_chain(eye);
+    } else if (push.level == 1u) {
+        gauss_level1(eye);
     } else {
-        vec4 rows[4];
-        for (int j = 0; j < 4; ++j) {
-            rows[j] = wrs_binomial_row(tap(eye, src, d, ivec2(-1, j - 1), src_size),
-                                       tap(eye, src, d, ivec2(0, j - 1), src_size),
-                                       tap(eye, src, d, ivec2(1, j - 1), src_size),
-                                       tap(eye, src, d, ivec2(2, j - 1), src_size));
-        }
-        r = wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]);
+        gauss_level(eye, push.level);
     }
-    pyramid[pyramid_index(eye, level, d)] = wrs_pyramid_texel(r, level);
 }

@@ -1,4 +1,4 @@
-// Pass 3+4 of method `wrs` (and the evaluation-only `oracle`): foveation and quality-aware
+// Pass 2 of method `wrs` (and the evaluation-only `oracle`): foveation and quality-aware
 // retention in one pass (shaders/wrs_common.h, "Quality-aware retention"). Per pixel: the foveated
 // candidate with its quality and tap range, the level-4 fingerprint, the tracked reprojection of
 // the kept sample, the depth and change tests, the retention rule, the reservoir store and the output.
@@ -14,18 +14,18 @@ layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1)
 
 // Bilinear sample of `level` at the centre of pixel p; widens [lo, hi] by the four taps' colours and
 // returns their alpha range in `arange` (the L* range at the fingerprint level).
-vec4 sample_level(uint eye, uint level, uvec2 p, inout vec3 lo, inout vec3 hi, out float arange) {
+// `level0`: the pixel's own decoded colour (load_color), read once per pixel.
+vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, inout vec3 hi, out float arange) {
     if (level == 0u) {
-        vec4 c = pyramid[pyramid_index(eye, 0u, p)];
-        arange = wrs_taps_range(c, c, c, c, lo, hi);
-        return c;
+        arange = wrs_taps_range(level0, level0, level0, level0, lo, hi);
+        return level0;
     }
     uvec2 size0 = frame.size.xy;
     uvec2 sl = wrs_level_size(size0, level);
     uvec2 i0, i1;
     vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
-    vec4 c00 = pyramid[pyramid_index(eye, level, i0)], c10 = pyramid[pyramid_index(eye, level, uvec2(i1.x, i0.y))];
-    vec4 c01 = pyramid[pyramid_index(eye, level, uvec2(i0.x, i1.y))], c11 = pyramid[pyramid_index(eye, level, i1)];
+    vec4 c00 = pyr_read(eye, level, i0), c10 = pyr_read(eye, level, uvec2(i1.x, i0.y));
+    vec4 c01 = pyr_read(eye, level, uvec2(i0.x, i1.y)), c11 = pyr_read(eye, level, i1);
     arange = wrs_taps_range(c00, c10, c01, c11, lo, hi);
     return wrs_bilinear(c00, c10, c01, c11, f);
 }
@@ -47,10 +47,10 @@ void main() {
     c.lo = vec3(WRS_HALF_MAX);
     c.hi = vec3(0.0);
     float range_a, range_b;
-    vec4 col_a = sample_level(eye, uint(lv.x), p, c.lo, c.hi, range_a);
+    vec4 ref = load_color(eye, p);
+    vec4 col_a = sample_level(eye, uint(lv.x), p, ref, c.lo, c.hi, range_a);
     vec4 col = col_a;
-    if (lv.z > 0.0) col = wrs_blend(col_a, sample_level(eye, uint(lv.y), p, c.lo, c.hi, range_b), lv.z);
-    vec4 ref = pyramid[pyramid_index(eye, 0u, p)];
+    if (lv.z > 0.0) col = wrs_blend(col_a, sample_level(eye, uint(lv.y), p, ref, c.lo, c.hi, range_b), lv.z);
     bool valid = ref.a > 0.5;
     c.color = col.rgb;
     c.q = valid ? (FOV_MODE == WRS_FOV_NONE ? wrs_sample_weight(e, r_f) : wrs_level_quality(lv)) : 0.0;
@@ -59,9 +59,9 @@ void main() {
         c.fp_range = range_a;
     } else {
         vec3 flo = vec3(0.0), fhi = vec3(0.0);
-        c.fp = sample_level(eye, WRS_FP_LEVEL, p, flo, fhi, c.fp_range).a;
+        c.fp = sample_level(eye, WRS_FP_LEVEL, p, ref, flo, fhi, c.fp_range).a;
     }
-    c.z = HAS_DEPTH ? zlin[idx] : 0.0;
+    c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
 
     // Tracked reprojection of the kept sample.
     vec3 mv = vec3(0.0);

@@ -1,4 +1,4 @@
-// Pass 4 of the FOV+TAA baseline: reproject the previous output with the motion vectors (bilinear),
+// Pass 3 of the FOV+TAA baseline: reproject the previous output with the motion vectors (bilinear),
 // clip it to the variance box of the current foveated 3x3 neighbourhood in YCoCg, blend with
 // alpha 0.1. History is linear RGB in the reservoir buffers (same 16 bytes per pixel).
 #version 450

@@ -1,4 +1,4 @@
-// Pass 4: temporal weighted reservoir sampling per pixel (paper §4, DESIGN §3): reproject the
+// Pass 3: temporal weighted reservoir sampling per pixel (paper §4, DESIGN §3): reproject the
 // previous reservoir by the motion vector, flush on a depth jump, bias (eq. 7), combine (Alg. 2),
 // store the reservoir and output its sample.
 #version 450
@@ -20,7 +20,7 @@ void main() {
     uint idx = pixel_index(eye, p);
 
     vec4 cand = candidate[idx];
-    float z_cur = HAS_DEPTH ? zlin[idx] : 0.0;
+    float z_cur = HAS_DEPTH ? load_depth(eye, p) : 0.0;
 
     uvec2 q = p;
     float dz = 0.0;
@@ -39,5 +39,5 @@ void main() {
     res_cur[idx] = wrs_pack(r);
     store_output(eye, p, r.color);
     if (frame.tuning.z != 0.0)
-        birth_cur[idx] = keep ? birth_prev[pixel_index(eye, q)] : vec4(pyramid[pyramid_index(eye, 0u, p)].rgb, 0.0);
+        birth_cur[idx] = keep ? birth_prev[pixel_index(eye, q)] : vec4(load_color(eye, p).rgb, 0.0);
 }

@@ -144,6 +144,16 @@ WRS_FN vec3 wrs_foveation_levels(uint mode, float e, float r_f, float r_m) {
     return vec3(float(WRS_LEVELS - 1), float(WRS_LEVELS - 1), 0.0f);
 }
 
+// The lowest pyramid level above 0 that a mode's wrs_foveation_levels ever returns: `mip` blends
+// level 0 with the 8x8 (3) and 16x16 (4) rates only, `gauss` any level, and `none` none (method
+// `wrs` still reads level 4, its fingerprint). Levels below it are built (the chain needs them) but
+// never stored.
+WRS_FN uint wrs_first_stored_level(uint mode) {
+    if (mode == WRS_FOV_MIP) return 3u;
+    if (mode == WRS_FOV_GAUSS) return 1u;
+    return uint(WRS_LEVELS) - 1u;
+}
+
 // Pyramid level sizes: each level halves, rounding up, never below 1.
 WRS_FN uvec2 wrs_level_size(uvec2 size0, uint level) {
     uvec2 s = size0;
@@ -205,6 +215,29 @@ WRS_FN float wrs_linear_to_srgb(float c) {
 WRS_FN vec3 wrs_srgb_to_linear3(vec3 c) {
     return vec3(wrs_srgb_to_linear(c.x), wrs_srgb_to_linear(c.y), wrs_srgb_to_linear(c.z));
 }
+// An 8-bit sRGB code (0..255) decodes through a table of 256 linear values, the same on both sides:
+// the GPU reads it from a buffer the compositor fills from wrs_srgb8_table() (bindings.glsl,
+// load_color), the CPU reference indexes it directly. Exact and alike where a pow per channel differs
+// in the last bit between the two, which the fp16 pyramid would turn into a whole fp16 step.
+WRS_FN uint wrs_srgb8_code(float unorm) { return uint(clamp(floor(unorm * 255.0f + 0.5f), 0.0f, 255.0f)); }
+#ifdef __cplusplus
+// Computed in double precision, rounded once to float.
+inline const std::array<float, 256>& wrs_srgb8_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int k = 0; k < 256; ++k) {
+            const double c = k / 255.0;
+            t[k] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+        }
+        return t;
+    }();
+    return table;
+}
+inline vec3 wrs_srgb8_to_linear3(vec3 unorm) {
+    const auto& t = wrs_srgb8_table();
+    return vec3(t[wrs_srgb8_code(unorm.x)], t[wrs_srgb8_code(unorm.y)], t[wrs_srgb8_code(unorm.z)]);
+}
+#endif
 WRS_FN vec3 wrs_linear_to_srgb3(vec3 c) {
     return vec3(wrs_linear_to_srgb(c.x), wrs_linear_to_srgb(c.y), wrs_linear_to_srgb(c.z));
 }
@@ -483,10 +516,11 @@ WRS_FN vec4 wrs_pyramid_texel(vec4 filtered, uint level) {
 // Fingerprint storage: 8 bits, 2.55 codes per L* unit (L* 0..100 -> 0..255, above white saturates).
 const float WRS_FP_SCALE = 2.55f;
 // Change-test noise model, in L*: half a fingerprint code (0.196) + the largest L* step of one 8-bit
-// sRGB input code (0.40, at mid grey: a 16x16 block moving by a whole code) = 0.6. The pyramid
-// holds fp32, so fp16 adds nothing; bilinear resampling adds nothing for a sample that never moved
-// (same weights), and for one that moved the L* range of the four level-4 taps is added.
-const float WRS_FP_TOL = 0.6f;
+// sRGB input code (0.40, at mid grey: a 16x16 block moving by a whole code) + fp16 storage of the
+// pyramid (the level-4 L* of then and of now each rounded by at most half a step, 1/32 below
+// L* 128: 0.0625) = 0.66. Bilinear resampling adds nothing for a sample that never moved (same
+// weights), and for one that moved the L* range of the four level-4 taps is added.
+const float WRS_FP_TOL = 0.66f;
 // Relative quality difference below which two samples count as equal (fp16 stores q to 2^-11).
 const float WRS_Q_EQUAL = 0.0009765625f;  // 2^-10
 // The merged weight is capped at this many candidates: the mean follows a slow change within ~16 frames.

@@ -24,7 +24,8 @@ void usage() {
         "usage: wrsfov-bench [--out DIR] [--scenes text,atrium,dynamic] [--methods fov,fov+taa,wrs-paper,wrs,oracle]\n"
         "                    [--fovea 5,7.5,10] [--modes mip,gauss] [--size WxH] [--frames N] [--warmup N]\n"
         "                    [--heavy-every N] [--copy-every N] [--path static|lateral|turn] [--change off|lstar|de94]\n"
-        "                    [--seed N] [--monitor] [--hmd-fov DEG] [--quick] [--sequence DIR]\n"
+        "                    [--seed N] [--monitor] [--hmd-fov DEG] [--quick] [--sequence DIR] [--no-stale]\n"
+        "       wrsfov-bench --scaling 512,1024,2048 [--methods ...] [--scenes NAME] [--frames N] [--monitor] ...\n"
         "       wrsfov-bench --write-sequence DIR --scenes NAME [--size WxH] [--frames N] [--path P] [--seed N]\n"
         "--monitor: the built-in scenes in monitor mode (one symmetric 76x60 degree view as both eyes)\n"
         "  instead of the stereo HMD views.\n"
@@ -33,8 +34,13 @@ void usage() {
         "Defaults: scenes text,atrium,dynamic; every method; fovea 5,7.5,10; modes mip,gauss; 320x288; 90 frames\n"
         "  (10 warm-up); path lateral (atrium, dynamic); change lstar (wrs-paper's eq. 7 term); seed 1.\n"
         "--heavy-every N: SSIM, FLIP and the stale-pixel count on every N-th counted frame (default 10).\n"
-        "--copy-every N: the same-bytes copy kernel on every N-th counted frame (default 1); it doubles the\n"
-        "  GPU work of the frames it runs in, and its median over fewer frames is as good a yardstick.\n"
+        "--copy-every N: the copy kernels (one moving the passes' bytes, one the method's floor) after every\n"
+        "  N-th counted frame (default 1), each in a submission of its own.\n"
+        "--no-stale: no stale-pixel statistics, so wrs-paper, wrs and the oracle run without the birth\n"
+        "  buffers (32 B/px of evaluation-only traffic): the passes as an application gets them.\n"
+        "--scaling S1,S2,...: time and bytes at square sizes S per eye (one scene, the first fovea and mode;\n"
+        "  defaults: atrium, fov,fov+taa,wrs, 20 frames with 5 warm-up, --no-stale); writes scaling.md,\n"
+        "  scaling.csv, scaling.png and each size's report in DIR/SxS.\n"
         "--change: the eq. 7 change term of wrs-paper (off, lstar, de94).\n"
         "--quick: a CI-sized sweep (text and atrium, 160x144, 24 frames, fovea 5 and 10, mip).\n"
         "--sequence DIR: evaluate the frames of a sequence directory (docs/sequence.md) as scene\n"
@@ -58,13 +64,61 @@ bool parseInt(const char* v, long lo, long hi, long& out) {
     return *v && !*end && out >= lo && out <= hi;
 }
 
+// --scaling: the sweep at each size, stale tracking off, and a scaling table over all of them.
+int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_t>& sizes, const std::string& out,
+               bool framesGiven, bool warmupGiven, bool scenesGiven, bool methodsGiven,
+               std::chrono::steady_clock::time_point t0) {
+    if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
+    if (!methodsGiven) o.methods = {Method::Fov, Method::FovTaa, Method::Wrs};
+    if (!framesGiven) o.frames = 20;
+    if (!warmupGiven) o.warmup = 5;
+    o.scenes.resize(1);
+    o.foveas.resize(1);
+    o.modes.resize(1);
+    o.staleStats = false;
+    o.heavyEvery = 1000000;  // no SSIM/FLIP: this sweep is about time
+    o.progress = [&](const std::string& s) {
+        double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("[%6.1f s] %s\n", el, s.c_str());
+        std::fflush(stdout);
+    };
+    std::vector<eval::ScalingStep> steps;
+    for (uint32_t size : sizes) {
+        eval::BenchOptions so = o;
+        so.width = so.height = size;
+        const std::string dir = out + "/" + std::to_string(size) + "x" + std::to_string(size);
+        std::filesystem::create_directories(dir);
+        so.cropDir = "";
+        std::printf("wrsfov-bench: scaling %ux%u per eye, %d frames per cell -> %s\n", size, size, so.frames, dir.c_str());
+        auto results = eval::runBench(ctx, so);
+        if (!results) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", results.error().message.c_str());
+            return 1;
+        }
+        if (Status s = eval::writeReport(*results, so, dir, ctx.deviceName()); !s) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
+            return 1;
+        }
+        steps.push_back({size, size, *results});
+    }
+    if (Status s = eval::writeScalingReport(steps, o, out, ctx.deviceName()); !s) {
+        std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
+        return 1;
+    }
+    std::ifstream table(out + "/scaling.md");
+    std::printf("%s", std::string(std::istreambuf_iterator<char>(table), {}).c_str());
+    std::printf("\nwrsfov-bench: scaling report in %s (scaling.md, scaling.csv, scaling.png)\n", out.c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     eval::BenchOptions o;
     std::string out = "out/bench";
     std::string writeDir;
-    bool scenesGiven = false, sizeGiven = false, framesGiven = false, warmupGiven = false, quick = false;
+    std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
+    bool methodsGiven = false, scenesGiven = false, sizeGiven = false, framesGiven = false, warmupGiven = false, quick = false;
     std::string err;
     for (int i = 1; i < argc && err.empty(); ++i) {
         std::string a = argv[i];
@@ -74,6 +128,10 @@ int main(int argc, char** argv) {
         }
         if (a == "--monitor") {
             o.monitor = true;
+            continue;
+        }
+        if (a == "--no-stale") {
+            o.staleStats = false;
             continue;
         }
         if (a == "--quick") {
@@ -108,6 +166,7 @@ int main(int argc, char** argv) {
                 else o.scenes.push_back(*k);
             }
         } else if (a == "--methods") {
+            methodsGiven = true;
             o.methods.clear();
             for (auto& s : split(v)) {
                 auto m = parseMethod(s);
@@ -156,6 +215,14 @@ int main(int argc, char** argv) {
         } else if (a == "--copy-every") {
             if (!parseInt(v, 1, 100000, n)) err = "--copy-every wants a positive integer";
             o.copyEvery = int(n);
+        } else if (a == "--scaling") {
+            for (auto& s : split(v)) {
+                if (!parseInt(s.c_str(), 64, 4096, n)) {
+                    err = "--scaling wants sizes in 64..4096 (pixels per side, per eye), e.g. 512,1024,2048";
+                    break;
+                }
+                scaling.push_back(uint32_t(n));
+            }
         } else if (a == "--seed") {
             if (!parseInt(v, 0, 0xffffffffL, n)) err = "--seed wants a non-negative integer";
             o.seed = uint32_t(n);
@@ -234,6 +301,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    if (!scaling.empty()) return runScaling(**ctx, o, scaling, out, framesGiven, warmupGiven, scenesGiven, methodsGiven, t0);
     o.cropDir = out;
     o.progress = [&](const std::string& s) {
         double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

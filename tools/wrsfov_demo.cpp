@@ -237,7 +237,7 @@ int main(int argc, char** argv) {
     std::array<HostImage, 2> pages = {toHost(drawPage(o.width, o.height, 0, o.seed)),
                                       toHost(drawPage(o.width, o.height, -disparity, o.seed))};
     std::ofstream csv(o.out + "/stats.csv");
-    csv << "frame,t_s,gaze_x_px,gaze_y_px,method,load_ms,pyramid_ms,foveate_ms,temporal_ms,total_ms,"
+    csv << "frame,t_s,gaze_x_px,gaze_y_px,method,pyramid_ms,foveate_ms,temporal_ms,total_ms,"
            "psnr_left,psnr_right,near_psnr_left,near_psnr_right\n";
     double sums[3][4] = {};
     int counted = 0;
@@ -272,7 +272,7 @@ int main(int argc, char** argv) {
             const FrameStats& st = comps[i]->stats();
             Psnr pl = psnr(outs[i][0], outs[0][0], comps[i]->lastParams().eye[0]);
             Psnr pr = psnr(outs[i][1], outs[0][1], comps[i]->lastParams().eye[1]);
-            csv << f << ',' << t << ',' << g.x << ',' << g.y << ',' << names[i] << ',' << st.gpu.load << ','
+            csv << f << ',' << t << ',' << g.x << ',' << g.y << ',' << names[i] << ','
                 << st.gpu.pyramid << ',' << st.gpu.foveate << ',' << st.gpu.temporal << ',' << st.gpu.total << ','
                 << pl.full << ',' << pr.full << ',' << pl.near << ',' << pr.near << '\n';
             if (f >= 10) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -360,6 +361,29 @@ double eccentricityDouble(double tx, double ty, glm::dvec3 gaze) {
     glm::dvec3 ray = glm::normalize(glm::dvec3(tx, ty, -1.0));
     gaze = glm::normalize(gaze);
     return std::acos(std::clamp(glm::dot(ray, gaze), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+}
+
+TEST(Foveation, LevelsBelowTheFirstStoredOneAreNeverSampled) {
+    // The pyramid pass stores only levels >= wrs_first_stored_level(mode): every level a mode blends
+    // must be 0 or one of those, for any eccentricity, fovea and mid-periphery.
+    for (uint mode : {uint(WRS_FOV_NONE), uint(WRS_FOV_MIP), uint(WRS_FOV_GAUSS)}) {
+        const uint first = wrs_first_stored_level(mode);
+        std::set<uint> seen;
+        for (float r_f : {0.5f, 2.5f, 5.0f, 10.0f, 30.0f})
+            for (float r_m : {2.0f, 7.5f, 20.0f})
+                for (float e = 0.0f; e < 90.0f; e += 0.05f) {
+                    const vec3 lv = wrs_foveation_levels(mode, e, r_f, r_m);
+                    for (float l : {lv.x, lv.y}) {
+                        const uint level = uint(l);
+                        ASSERT_TRUE(level == 0u || (level >= first && level < uint(WRS_LEVELS)))
+                            << "mode " << mode << " e " << e << " r_f " << r_f << " samples level " << level;
+                        if (lv.z > 0.0f || l == lv.x) seen.insert(level);
+                    }
+                }
+        // The bound is tight: each mode reaches its first stored level (none samples only level 0).
+        if (mode != WRS_FOV_NONE) EXPECT_TRUE(seen.count(first)) << "mode " << mode;
+        else EXPECT_EQ(seen, std::set<uint>{0u});
+    }
 }
 
 TEST(Eccentricity, KnownPixelsOfAnAsymmetricView) {

@@ -81,7 +81,8 @@ TEST_P(OomAtCreate, Row) {
 
 INSTANTIATE_TEST_SUITE_P(DeviceFault, OomAtCreate,
                          ::testing::Values(OomRow{"frame_parameters", 1, "compositor frame parameters"},
-                                           OomRow{"placeholder_image", 2, "compositor placeholder image"}),
+                                           OomRow{"srgb_table", 2, "sRGB decode table"},
+                                           OomRow{"placeholder_image", 3, "compositor placeholder image"}),
                          [](const ::testing::TestParamInfo<OomRow>& i) { return i.param.name; });
 
 // A chain at kW x kH whose lanes can also submit kW2 x kH2 frames.
@@ -142,10 +143,10 @@ TEST_P(OomAtResize, Row) {
 
 INSTANTIATE_TEST_SUITE_P(
     DeviceFault, OomAtResize,
-    ::testing::Values(OomRow{"colour_pyramid", 1, "colour pyramid"}, OomRow{"linear_depth", 2, "linear depth"},
-                      OomRow{"candidates", 3, "candidates"}, OomRow{"reservoirs_first", 4, "reservoirs"},
-                      OomRow{"reservoirs_second", 5, "reservoirs"}, OomRow{"births_first", 6, "births"},
-                      OomRow{"births_second", 7, "births"}, OomRow{"output_image", 8, "output image"}),
+    ::testing::Values(OomRow{"colour_pyramid", 1, "colour pyramid"}, OomRow{"candidates", 2, "candidates"},
+                      OomRow{"reservoirs_first", 3, "reservoirs"}, OomRow{"reservoirs_second", 4, "reservoirs"},
+                      OomRow{"births_first", 5, "births"}, OomRow{"births_second", 6, "births"},
+                      OomRow{"output_image", 7, "output image"}),
     [](const ::testing::TestParamInfo<OomRow>& i) { return i.param.name; });
 
 class DeviceFaultOom : public GpuTest {};

@@ -1,0 +1,91 @@
+// The traffic model (compositor.h: traffic, trafficBytes, floorBytes): what each pass reads and
+// writes per pixel of one view, from its bindings and formats, and the floor a method cannot avoid.
+#include <gtest/gtest.h>
+
+#include "compositor/compositor.h"
+
+namespace wrsfov {
+namespace {
+
+// The report's inputs: RGBA8 sRGB colour, D32F depth, RGBA16F motion.
+TrafficInputs inputs(uint32_t w, uint32_t h, bool depth, bool motion) {
+    return TrafficInputs{w, h, 4, depth ? 4u : 0u, motion ? 8u : 0u};
+}
+
+double passBytes(const Traffic& t, const std::string& name) {
+    for (const PassTraffic& p : t.passes)
+        if (p.pass == name) return p.read + p.write;
+    return -1;
+}
+
+TEST(Traffic, WithinTheBudgetsAt1024x768) {
+    CompositorConfig wrs;
+    CompositorConfig fov;
+    fov.method = Method::Fov;
+    for (FoveationMode mode : {FoveationMode::Mip, FoveationMode::Gauss}) {
+        wrs.foveation = fov.foveation = mode;
+        const Traffic tw = traffic(wrs, inputs(1024, 768, true, true));
+        const Traffic tf = traffic(fov, inputs(1024, 768, true, true));
+        EXPECT_LE(tw.perPixel(), 64.0) << toString(mode);
+        EXPECT_LE(tf.perPixel(), 24.0) << toString(mode);
+        // Floors: colour 4 + output 4, plus reservoir 2 x 16 + depth 4 + motion 8 with history.
+        EXPECT_DOUBLE_EQ(tw.floor, 52.0);
+        EXPECT_DOUBLE_EQ(tf.floor, 8.0);
+        ASSERT_EQ(tw.passes.size(), 2u);
+        EXPECT_EQ(tw.passes[0].pass, "pyramid");
+        EXPECT_EQ(tw.passes[1].pass, "retain");
+        ASSERT_EQ(tf.passes.size(), 2u);
+        EXPECT_EQ(tf.passes[1].pass, "foveate");
+    }
+}
+
+TEST(Traffic, EveryMethodMovesAtLeastItsFloorAndTheFrameBytesFollow) {
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle})
+        for (FoveationMode mode : {FoveationMode::None, FoveationMode::Mip, FoveationMode::Gauss})
+            for (int inputsMask = 0; inputsMask < 4; ++inputsMask) {
+                CompositorConfig c;
+                c.method = m;
+                c.foveation = mode;
+                const TrafficInputs in = inputs(300, 200, inputsMask & 1, inputsMask & 2);
+                const Traffic t = traffic(c, in);
+                const std::string what = std::string(toString(m)) + "/" + std::string(toString(mode));
+                EXPECT_GE(t.perPixel(), t.floor) << what;
+                EXPECT_GT(t.floor, 0.0) << what;
+                EXPECT_NEAR(double(trafficBytes(c, in)), t.perPixel() * 300 * 200 * 2, 1.0) << what;
+                EXPECT_NEAR(double(floorBytes(c, in)), t.floor * 300 * 200 * 2, 1.0) << what;
+                // `none` builds no pyramid, except the fingerprint level of wrs and oracle.
+                const bool retain = m == Method::Wrs || m == Method::Oracle;
+                EXPECT_EQ(passBytes(t, "pyramid") > 0, mode != FoveationMode::None || retain) << what;
+            }
+}
+
+TEST(Traffic, DepthAndMotionCountOnlyWhereAMethodReadsThem) {
+    CompositorConfig c;
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs}) {
+        c.method = m;
+        const double bare = traffic(c, inputs(256, 256, false, false)).perPixel();
+        const double depth = traffic(c, inputs(256, 256, true, false)).perPixel() - bare;
+        const double motion = traffic(c, inputs(256, 256, false, true)).perPixel() - bare;
+        EXPECT_DOUBLE_EQ(depth, m == Method::WrsPaper || m == Method::Wrs ? 4.0 : 0.0) << toString(m);
+        EXPECT_DOUBLE_EQ(motion, m == Method::Fov ? 0.0 : 8.0) << toString(m);
+    }
+}
+
+TEST(Traffic, GaussReadsTheLevelsItIsBuiltFromAndBirthTrackingCosts32Bytes) {
+    CompositorConfig c;
+    c.foveation = FoveationMode::Mip;
+    const Traffic mip = traffic(c, inputs(512, 512, true, true));
+    c.foveation = FoveationMode::Gauss;
+    const Traffic gauss = traffic(c, inputs(512, 512, true, true));
+    // Levels 1, 2, 3 of 512^2 hold 1/4, 1/16, 1/64 of the pixels, 8 bytes a texel. gauss reads levels
+    // 1..3 to build the next and stores all four; mip stores only 3 and 4 (the levels it samples).
+    const double l1 = 0.25, l2 = 0.0625, l3 = 0.015625;
+    EXPECT_NEAR(passBytes(gauss, "pyramid") - passBytes(mip, "pyramid"), 8.0 * (l1 + l2 + l3) + 8.0 * (l1 + l2), 1e-9);
+    // What the foveating pass reads follows what was stored.
+    EXPECT_NEAR(passBytes(gauss, "retain") - passBytes(mip, "retain"), 8.0 * (l1 + l2), 1e-9);
+    c.trackBirth = true;
+    EXPECT_DOUBLE_EQ(traffic(c, inputs(512, 512, true, true)).perPixel() - gauss.perPixel(), 32.0);
+}
+
+}  // namespace
+}  // namespace wrsfov
