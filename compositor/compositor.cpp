@@ -218,6 +218,12 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                 glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
     }
     p.size = glm::uvec4(width, height, uint32_t(frame.frameIndex), config.seed);
+    const glm::uvec2 size0(width, height);
+    const uint32_t level0 = width * height, stored = gpu::wrs_pyramid_texels(size0) - level0;
+    for (uint32_t k = 0; k < WRS_LEVELS; ++k) {
+        const glm::uvec2 s = gpu::wrs_level_size(size0, k);
+        p.levels[k] = glm::uvec4(s, k == 0 ? 0u : gpu::wrs_level_offset(size0, k) - level0, stored);
+    }
     p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, config.trackBirth ? 1.0f : 0.0f, 0.0f);
     return p;
 }

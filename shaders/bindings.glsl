@@ -30,11 +30,11 @@ layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
 uint eye_index(uint eye) { return eye; }
 uint pixel_index(uint eye, uvec2 p) { return (eye * frame.size.y + p.y) * frame.size.x + p.x; }
+// Size of a pyramid level (wrs_level_size of the frame, from the parameter block).
+uvec2 level_size(uint level) { return frame.levels[level].xy; }
 uint pyramid_index(uint eye, uint level, uvec2 q) {
-    uvec2 size0 = frame.size.xy;
-    uvec2 sl = wrs_level_size(size0, level);
-    uint level0 = size0.x * size0.y;
-    return eye * (wrs_pyramid_texels(size0) - level0) + wrs_level_offset(size0, level) - level0 + q.y * sl.x + q.x;
+    uvec4 l = frame.levels[level];
+    return eye * l.w + l.z + q.y * l.x + q.x;
 }
 // Level >= 1: fp16 to fp32 is exact, so unpackHalf2x16 agrees with wrs_f16_to_f32 on the CPU.
 vec4 pyr_read(uint eye, uint level, uvec2 q) {

@@ -26,7 +26,7 @@ shared vec4 s_texels[GAUSS_SPAN * GAUSS_SPAN];
 // the foveation mode samples the level.
 vec4 store_texel(uint eye, uint level, uvec2 d, vec4 filtered) {
     uvec2 h = pyr_pack(wrs_pyramid_texel(filtered, level));
-    if (level >= FIRST_STORED && all(lessThan(d, wrs_level_size(frame.size.xy, level)))) pyr_write(eye, level, d, h);
+    if (level >= FIRST_STORED && all(lessThan(d, level_size(level)))) pyr_write(eye, level, d, h);
     return pyr_unpack(h);
 }
 
@@ -46,7 +46,7 @@ void mip_chain(uint eye) {
         bool inside = all(lessThan(t, uvec2(n)));
         vec4 v = vec4(0.0);
         if (inside) {
-            uvec2 src = wrs_level_size(size0, level - 1u);
+            uvec2 src = level_size(level - 1u);
             uvec2 dd = g * n + t;
             uvec2 origin = g * (2u * n);  // this tile's first texel at level - 1
             // Clamped taps stay in the tile: 2*dd <= tap <= 2*dd + 1 and origin <= src - 1.
@@ -74,7 +74,7 @@ void gauss_level1(uint eye) {
     }
     barrier();
     uvec2 d = first + t;
-    if (any(greaterThanEqual(d, wrs_level_size(size0, 1u)))) return;
+    if (any(greaterThanEqual(d, level_size(1u)))) return;
     // Tap (2d + o) sits at local 2t + o + 1; its clamped value was staged there.
     vec4 rows[4];
     for (uint j = 0u; j < 4u; ++j) {
@@ -90,8 +90,8 @@ vec4 tap(uint eye, uint level, uvec2 d, ivec2 o, uvec2 src_size) {
 
 void gauss_level(uint eye, uint level) {
     uvec2 d = gl_GlobalInvocationID.xy;
-    if (any(greaterThanEqual(d, wrs_level_size(frame.size.xy, level)))) return;
-    uvec2 src_size = wrs_level_size(frame.size.xy, level - 1u);
+    if (any(greaterThanEqual(d, level_size(level)))) return;
+    uvec2 src_size = level_size(level - 1u);
     uint src = level - 1u;
     vec4 rows[4];
     for (int j = 0; j < 4; ++j) {

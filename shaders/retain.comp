@@ -21,7 +21,7 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, ino
         return level0;
     }
     uvec2 size0 = frame.size.xy;
-    uvec2 sl = wrs_level_size(size0, level);
+    uvec2 sl = level_size(level);
     uvec2 i0, i1;
     vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
     vec4 c00 = pyr_read(eye, level, i0), c10 = pyr_read(eye, level, uvec2(i1.x, i0.y));

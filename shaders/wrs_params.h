@@ -4,6 +4,7 @@
 #define WRSFOV_WRS_PARAMS_H
 
 #include "glsl_cpp.h"
+#include "config.h"
 
 WRS_BEGIN
 
@@ -20,6 +21,10 @@ struct FrameParams {
     EyeParams eye[2];
     uvec4 size;    // x: width, y: height (both eyes), z: frame index, w: seed
     vec4 tuning;   // x: r_m (degrees), y: tau_depth (relative), z: 1 to track birth colours, w: pad
+    // Per pyramid level (wrs_level_size, wrs_level_offset, once per frame rather than per tap):
+    // xy: size; z: first texel of the level in an eye's stored pyramid (levels 1.. only, so level 1
+    // starts at 0); w: texels of an eye's stored pyramid.
+    uvec4 levels[WRS_LEVELS];
 };
 
 // Push constants of the pyramid pass: which level is being written.
@@ -34,7 +39,7 @@ WRS_END
 
 #ifdef __cplusplus
 static_assert(sizeof(wrsfov::gpu::EyeParams) == 96);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 96 + 32);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 96 + 32 + 16 * WRS_LEVELS);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 
