@@ -196,8 +196,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     for (uint k = 0; k < taps && on_screen; ++k) {
                         uvec2 qk;
                         if (!wrs_track_tap(base, k, size0, qk)) continue;
-                        Tracked hk = wrs_unpack_tracked(prev_[eye][std::size_t(qk.y) * W + qk.x]);
-                        wrs_track_consider(ts, hk, wrs_track_offset(qk, hk.d, pos), qk);
+                        wrs_track_consider(ts, prev_[eye][std::size_t(qk.y) * W + qk.x], qk, pos);
                     }
                     Tracked h;
                     vec2 d;

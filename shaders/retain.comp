@@ -77,8 +77,7 @@ void main() {
     for (uint k = 0u; k < taps && on_screen; ++k) {
         uvec2 qk;
         if (!wrs_track_tap(base, k, size, qk)) continue;
-        Tracked hk = wrs_unpack_tracked(res_prev[pixel_index(eye, qk)]);
-        wrs_track_consider(ts, hk, wrs_track_offset(qk, hk.d, pos), qk);
+        wrs_track_consider(ts, res_prev[pixel_index(eye, qk)], qk, pos);
     }
     Tracked h;
     vec2 d;

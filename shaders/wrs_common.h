@@ -643,42 +643,61 @@ WRS_FN bool wrs_track_prefer(float qa, vec2 da, float qb, vec2 db) {
     return qa > qb || (qa == qb && dot(da, da) < dot(db, db));
 }
 
+// wrs_tracked_valid on a packed reservoir, without unpacking it: fp16 to fp32 is exact, so a half is
+// finite iff its exponent is not all ones, and positive iff its sign is clear and it is not zero.
+WRS_FN bool wrs_half_finite(uint h) { return (h & 0x7c00u) != 0x7c00u; }
+WRS_FN bool wrs_half_positive(uint h) { return (h & 0x8000u) == 0u && (h & 0x7fffu) != 0u; }
+WRS_FN bool wrs_packed_tracked_valid(uvec4 p) {
+    return wrs_half_finite(p.x & 0xffffu) && wrs_half_finite(p.x >> 16u) && wrs_half_finite(p.y & 0xffffu) &&
+           wrs_half_finite(p.y >> 16u) && wrs_half_positive(p.y >> 16u) && wrs_half_finite(p.z & 0xffffu) &&
+           wrs_half_positive(p.z & 0xffffu) && wrs_half_finite(p.w & 0xffffu);
+}
+
 // The 2x2 lookup, fed one tap at a time (wrs_track_consider), then read (wrs_track_end): the best
-// sample inside the footprint, else the best near it (snapped onto the footprint's edge).
+// sample inside the footprint, else the best near it (snapped onto the footprint's edge). Candidates
+// are kept packed, and only their quality and offset unpacked, until the one taken is unpacked once.
 struct TrackState {
     bool has_inside;
-    Tracked h;
+    uvec4 h;
+    float hq;
     vec2 d;
     uvec2 q;
     bool has_near;
-    Tracked hn;
+    uvec4 hn;
+    float hnq;
     vec2 dn;
     uvec2 qn;
 };
 WRS_FN TrackState wrs_track_begin(uvec2 p) {
     TrackState s;
     s.has_inside = false;
-    s.h = wrs_unpack_tracked(uvec4(0u, 0u, 0u, 0u));
+    s.h = uvec4(0u, 0u, 0u, 0u);
+    s.hq = 0.0f;
     s.d = vec2(0.0f, 0.0f);
     s.q = p;
     s.has_near = false;
     s.hn = s.h;
+    s.hnq = 0.0f;
     s.dn = s.d;
     s.qn = p;
     return s;
 }
-// The sample hk stored at tap qk, now at offset dk from the pixel's centre.
-WRS_FN void wrs_track_consider(WRS_INOUT(TrackState) s, Tracked hk, vec2 dk, uvec2 qk) {
-    if (!wrs_tracked_valid(hk)) return;
+// The packed reservoir pk stored at tap qk, for the pixel whose centre was at pos (wrs_track_start).
+WRS_FN void wrs_track_consider(WRS_INOUT(TrackState) s, uvec4 pk, uvec2 qk, vec2 pos) {
+    if (!wrs_packed_tracked_valid(pk)) return;
+    float qual = wrs_f16_to_f32(pk.y >> 16u);
+    vec2 dk = wrs_track_offset(qk, vec2(wrs_offset_value(pk.w >> 16u), wrs_offset_value(pk.w >> 24u)), pos);
     if (wrs_track_inside(dk)) {
-        if (s.has_inside && !wrs_track_prefer(hk.q, dk, s.h.q, s.d)) return;
+        if (s.has_inside && !wrs_track_prefer(qual, dk, s.hq, s.d)) return;
         s.has_inside = true;
-        s.h = hk;
+        s.h = pk;
+        s.hq = qual;
         s.d = dk;
         s.q = qk;
-    } else if (wrs_track_near(dk) && (!s.has_near || wrs_track_prefer(hk.q, dk, s.hn.q, s.dn))) {
+    } else if (wrs_track_near(dk) && (!s.has_near || wrs_track_prefer(qual, dk, s.hnq, s.dn))) {
         s.has_near = true;
-        s.hn = hk;
+        s.hn = pk;
+        s.hnq = qual;
         s.dn = dk;
         s.qn = qk;
     }
@@ -687,7 +706,7 @@ WRS_FN void wrs_track_consider(WRS_INOUT(TrackState) s, Tracked hk, vec2 dk, uve
 // and the pixel it was stored at.
 WRS_FN bool wrs_track_end(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS_OUT(uvec2) q) {
     bool use_near = !s.has_inside && s.has_near;
-    h = use_near ? s.hn : s.h;
+    h = wrs_unpack_tracked(use_near ? s.hn : s.h);
     d = use_near ? wrs_track_snap(s.dn) : s.d;
     q = use_near ? s.qn : s.q;
     return s.has_inside || s.has_near;

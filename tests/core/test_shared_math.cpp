@@ -647,6 +647,31 @@ Tracked tracked(vec3 c, float q, float fp) {
     return t;
 }
 
+TEST(Retention, PackedValidityIsTheUnpackedValidity) {
+    // The tracked lookup tests validity on the packed reservoir (wrs_packed_tracked_valid); it must
+    // agree with wrs_tracked_valid on the unpacked fields for every bit pattern of the fp16 fields.
+    const uint specials[] = {0x0000u, 0x8000u, 0x0001u, 0x8001u, 0x03ffu, 0x0400u, 0x3c00u, 0xbc00u,
+                             0x7bffu, 0xfbffu, 0x7c00u, 0xfc00u, 0x7c01u, 0x7e00u, 0xfe00u, 0x7fffu};
+    std::mt19937 rng(77);
+    uint64_t checked = 0, valid = 0;
+    auto check = [&](uvec4 p) {
+        const bool expect = wrs_tracked_valid(wrs_unpack_tracked(p));
+        ASSERT_EQ(wrs_packed_tracked_valid(p), expect) << std::hex << p.x << " " << p.y << " " << p.z << " " << p.w;
+        checked++;
+        valid += expect;
+    };
+    for (uint field = 0; field < 6; ++field)  // R, G, B, q, w_sum, z: each special under valid others
+        for (uint h : specials) {
+            uint f[6] = {0x3800u, 0x3800u, 0x3800u, 0x3c00u, 0x4000u, 0x4100u};
+            f[field] = h;
+            ASSERT_NO_FATAL_FAILURE(check(uvec4(f[0] | (f[1] << 16u), f[2] | (f[3] << 16u),
+                                                f[4] | (0x7fu << 16u) | (1u << 24u), f[5] | (0x12u << 16u) | (0xf0u << 24u))));
+        }
+    for (int i = 0; i < 200000; ++i) ASSERT_NO_FATAL_FAILURE(check(uvec4(rng(), rng(), rng(), rng())));
+    EXPECT_GT(valid, checked / 20);  // both outcomes well represented
+    EXPECT_LT(valid, checked - checked / 20);
+}
+
 TEST(Retention, PackedLayoutRoundTrips) {
     Tracked t = tracked(vec3(0.25f, 0.5f, 0.75f), 1.0f / 64.0f, 53.3f);
     t.w_sum = 0.125f;
