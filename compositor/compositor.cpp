@@ -265,27 +265,27 @@ Status Compositor::init() {
         ctx_.createPipelineLayout(copySetLayout_.get(), sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
     const VkDescriptorSetLayout sl = setLayout_.get(), csl = copySetLayout_.get();
 
-    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
-                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 12},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 14},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 2}};
+    // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 24},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 30},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dpci.maxSets = 3;
+    dpci.maxSets = 5;
     dpci.poolSizeCount = 4;
     dpci.pPoolSizes = sizes;
     VkDescriptorPool pool;
     VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
     descriptorPool_ = vk::DescriptorPool(dev, pool);
-    VkDescriptorSetLayout layouts[3] = {sl, sl, csl};
-    VkDescriptorSet sets[3];
+    VkDescriptorSetLayout layouts[5] = {sl, sl, sl, sl, csl};
+    VkDescriptorSet sets[5];
     VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     dsai.descriptorPool = pool;
-    dsai.descriptorSetCount = 3;
+    dsai.descriptorSetCount = 5;
     dsai.pSetLayouts = layouts;
     VK_CHECK(vkAllocateDescriptorSets(dev, &dsai, sets));
-    sets_[0] = sets[0];
-    sets_[1] = sets[1];
-    copySet_ = sets[2];
+    for (int i = 0; i < 4; ++i) sets_[i] = sets[i];
+    copySet_ = sets[4];
 
     VkSamplerCreateInfo sci{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
     sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
@@ -377,13 +377,13 @@ double Compositor::timeCopy(uint64_t bytes) {
     return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
 }
 
-VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 4> constants) {
-    std::array<uint32_t, 5> key{uint32_t(shader), constants[0], constants[1], constants[2], constants[3]};
+VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 5> constants) {
+    std::array<uint32_t, 6> key{uint32_t(shader), constants[0], constants[1], constants[2], constants[3], constants[4]};
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.get();
-    VkSpecializationMapEntry entries[4];
-    for (uint32_t i = 0; i < 4; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-    VkSpecializationInfo spec{4, entries, sizeof(constants), constants.data()};
+    VkSpecializationMapEntry entries[5];
+    for (uint32_t i = 0; i < 5; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{5, entries, sizeof(constants), constants.data()};
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -452,20 +452,22 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     birth_[0] = std::move(births[0]);
     birth_[1] = std::move(births[1]);
     birthAllocated_ = birth;
-    for (uint32_t i = 0; i < 2; ++i) {
+    for (uint32_t set = 0; set < 4; ++set) {
+        // Sets 0, 1 read reservoirs[i] and write reservoirs[1 - i]; sets 2, 3 read and write reservoirs[i].
+        const uint32_t i = set % 2, o = set < 2 ? 1 - i : i;
         VkDescriptorBufferInfo bi[7] = {
             {ubo_.handle(), 0, VK_WHOLE_SIZE},           {pyramid_.handle(), 0, VK_WHOLE_SIZE},
             {candidate_.handle(), 0, VK_WHOLE_SIZE},     {reservoirs_[i].handle(), 0, VK_WHOLE_SIZE},
-            {reservoirs_[1 - i].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
-            {birth_[1 - i].handle(), 0, VK_WHOLE_SIZE}};
+            {reservoirs_[o].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
+            {birth_[o].handle(), 0, VK_WHOLE_SIZE}};
         const uint32_t bindings[7] = {kFrame, kPyramidBuf, kCandidate, kResPrev, kResCur, kBirthPrev, kBirthCur};
         VkWriteDescriptorSet w[8];
         for (int k = 0; k < 7; ++k)
             w[k] =
-                vk::bufferWrite(sets_[i], bindings[k],
+                vk::bufferWrite(sets_[set], bindings[k],
                                 k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[k]);
         VkDescriptorImageInfo oi{VK_NULL_HANDLE, output_.arrayView(), VK_IMAGE_LAYOUT_GENERAL};
-        w[7] = vk::imageWrite(sets_[i], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
+        w[7] = vk::imageWrite(sets_[set], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
         vkUpdateDescriptorSets(ctx_.device(), 8, w, 0, nullptr);
     }
     width_ = width;
@@ -562,8 +564,15 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
+    // Without motion, `wrs` and the oracle read only each pixel's own reservoir, so they update the
+    // reservoirs in place and skip the store of a pixel whose reservoir did not change (a kept sample
+    // of a still scene: most of the periphery); with motion a pixel reads its 2x2 neighbourhood and the
+    // buffers ping-pong. Not with stale tracking (its birth buffers ping-pong).
+    const bool inPlace = retain && !hasMotion && !birthAllocated_;
+    const uint32_t written = inPlace ? current_ : 1 - current_;
+    stats_.inPlace = inPlace;
     // Per-frame inputs: the last released image of each swapchain.
-    VkDescriptorSet set = sets_[current_];
+    VkDescriptorSet set = sets_[current_ + (inPlace ? 2 : 0)];
     VkDescriptorImageInfo ii[6];
     for (int eye = 0; eye < 2; ++eye) {
         const layers::ProjectionView& v = layer.views[eye];
@@ -651,7 +660,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     if (retain) {
         const uint32_t rule = config_.method == Method::Oracle ? gpu::WRS_RULE_ORACLE : uint32_t(config_.equalQuality);
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule}));
+                          pipeline(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace}));
         vkCmdDispatch(cb, gx, gy, eyes);
         computeBarrier(cb);
     } else if (wrsPaper) {
@@ -673,8 +682,8 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         vkCmdCopyImage(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &ic);
         const VkDeviceSize eyeBytes = VkDeviceSize(w) * h * 16;
         const VkBufferCopy bc{0, eyeBytes, eyeBytes};
-        if (temporal) vkCmdCopyBuffer(cb, reservoirs_[1 - current_].handle(), reservoirs_[1 - current_].handle(), 1, &bc);
-        if (temporal && birthAllocated_) vkCmdCopyBuffer(cb, birth_[1 - current_].handle(), birth_[1 - current_].handle(), 1, &bc);
+        if (temporal) vkCmdCopyBuffer(cb, reservoirs_[written].handle(), reservoirs_[written].handle(), 1, &bc);
+        if (temporal && birthAllocated_) vkCmdCopyBuffer(cb, birth_[written].handle(), birth_[written].handle(), 1, &bc);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
@@ -719,7 +728,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         }
     }
     if (temporal) {
-        current_ = 1 - current_;
+        current_ = written;
         historyValid_ = true;
     } else {
         historyValid_ = false;  // the history buffers did not follow this frame

@@ -124,6 +124,9 @@ struct FrameStats {
     /// Both views were the same (same images, field of view and gaze): the passes ran for the left
     /// eye only and its output and history were copied to the right eye.
     bool monoViews = false;
+    /// `wrs` or the oracle without motion (and without stale tracking): the reservoirs were updated in
+    /// place and only pixels whose reservoir changed were stored.
+    bool inPlace = false;
 };
 
 /// Builds the shader parameter block of a frame (gaze fallback included). Used by the compositor
@@ -172,7 +175,7 @@ private:
     Status init();
     Status resize(uint32_t width, uint32_t height, bool birth);
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
-    VkPipeline pipeline(int shader, std::array<uint32_t, 4> constants);
+    VkPipeline pipeline(int shader, std::array<uint32_t, 5> constants);
     /// GPU milliseconds of the copy kernel moving `bytes` (half read, half written), alone in a submission.
     double timeCopy(uint64_t bytes);
     Result<HostImage> readImageLayer(uint32_t layer);
@@ -188,14 +191,16 @@ private:
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;
     vk::DescriptorPool descriptorPool_;
-    VkDescriptorSet sets_[2] = {};  // ping-pong: set i reads reservoirs[i], writes reservoirs[1-i]
+    // Sets 0, 1 ping-pong (set i reads reservoirs[i], writes reservoirs[1-i]); sets 2, 3 update
+    // reservoirs[i] in place (FrameStats::inPlace).
+    VkDescriptorSet sets_[4] = {};
     vk::DescriptorSetLayout copySetLayout_;
     vk::PipelineLayout copyPipelineLayout_;
     VkDescriptorSet copySet_ = VK_NULL_HANDLE;
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 5>, vk::Pipeline> pipelines_;
+    std::map<std::array<uint32_t, 6>, vk::Pipeline> pipelines_;
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;

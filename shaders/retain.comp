@@ -10,6 +10,9 @@ layout(constant_id = 0) const bool HAS_MOTION = false;
 layout(constant_id = 1) const bool HAS_DEPTH = false;
 layout(constant_id = 2) const uint FOV_MODE = 1u;
 layout(constant_id = 3) const uint RULE = 0u;
+// Reservoirs updated in place (no motion: only the pixel's own is read; bindings 7 and 8 are the same
+// buffer): a pixel whose packed reservoir did not change is not stored.
+layout(constant_id = 4) const bool IN_PLACE = false;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 // Bilinear sample of `level` at the centre of pixel p; widens [lo, hi] by the four taps' colours and
@@ -91,7 +94,8 @@ void main() {
     uint outcome;
     float margin;
     Tracked r = wrs_retain(RULE, has_history, h, d, c, ref.rgb, rnd, outcome, margin);
-    res_cur[idx] = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
+    uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
+    if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
     store_output(eye, p, r.color);
     if (frame.tuning.z != 0.0) {
         vec4 b = vec4(ref.rgb, 0.0);

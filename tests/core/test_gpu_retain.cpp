@@ -304,5 +304,55 @@ TEST_F(Retain, MonoViewsRunOnceAndMatchStereo) {
     }
 }
 
+TEST_F(Retain, InPlaceWithoutMotionMatchesPingPong) {
+    // Without a motion image, `wrs` and the oracle update the reservoirs in place and skip the store
+    // of unchanged ones; with an all-zero motion image they ping-pong and store every pixel. The rule
+    // reads the same pixels either way, so outputs and reservoirs must agree byte for byte: static
+    // frames (kept samples, skipped stores), a gaze that moves (better samples), a light change and a
+    // depth change (flushes).
+    for (Method m : {Method::Wrs, Method::Oracle}) {
+        CompositorConfig cfg;
+        cfg.method = m;
+        cfg.foveaDeg = 5.0f;
+        cfg.seed = 3;
+        auto inPlace = Compositor::create(context(), cfg), pingPong = Compositor::create(context(), cfg);
+        ASSERT_TRUE(inPlace.ok() && pingPong.ok());
+        HostStereoApp::Options o;
+        o.width = W;
+        o.height = H;
+        o.color = layers::Format::RGBA16F;
+        o.depth = layers::Format::D32F;
+        auto appA = HostStereoApp::create(**inPlace, o);
+        o.motion = layers::Format::RG16F;
+        auto appB = HostStereoApp::create(**pingPong, o);
+        ASSERT_TRUE(appA.ok() && appB.ok());
+        RandomScene rs(5);
+        HostImage depth = rs.depth(layers::Format::D32F, W, H);
+        for (uint64_t f = 1; f <= 16; ++f) {
+            if (f == 12) depth = rs.depth(layers::Format::D32F, W, H);
+            std::array<EyeFrame, 2> a;
+            for (uint32_t e = 0; e < 2; ++e) {
+                a[e].fov = fov();
+                a[e].color = texture(0.4f, 0.2f, f >= 9 && f < 11 ? 0.6f : 1.0f);
+                a[e].depth = depth;
+                a[e].gaze = {gazeAtPixel(f < 6 ? 40 + 2 * f : 110, 60 + e), true, 1.0f};
+            }
+            std::array<EyeFrame, 2> b = a;
+            for (uint32_t e = 0; e < 2; ++e) b[e].motion = motionImage(0.0f, 0.0f);
+            ASSERT_TRUE((*appA)->submit(f, f / 90.0, a).ok());
+            ASSERT_TRUE((*appB)->submit(f, f / 90.0, b).ok());
+            EXPECT_TRUE((*inPlace)->stats().inPlace);
+            EXPECT_FALSE((*pingPong)->stats().inPlace);
+            for (uint32_t e = 0; e < 2; ++e) {
+                EXPECT_TRUE((*inPlace)->readOutput(e)->data == (*pingPong)->readOutput(e)->data)
+                    << toString(m) << " frame " << f << " eye " << e << ": outputs differ";
+                EXPECT_TRUE(*(*inPlace)->readReservoirs(e) == *(*pingPong)->readReservoirs(e))
+                    << toString(m) << " frame " << f << " eye " << e << ": reservoirs differ";
+            }
+            if (HasFailure()) return;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace wrsfov::test
