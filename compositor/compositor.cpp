@@ -1,9 +1,9 @@
 #include "compositor/compositor.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <chrono>
 
 #include "compositor/swapchain_vk.h"
 #include "copy_spv.h"
@@ -414,8 +414,8 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         const char* what;
     };
     for (const Alloc& a :
-         {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"}, Alloc{&reservoirs[0], pixels * 16, "reservoirs"},
-          Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
+         {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"},
+          Alloc{&reservoirs[0], pixels * 16, "reservoirs"}, Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
           Alloc{&births[1], birth ? pixels * 16 : 16, "births"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
@@ -629,7 +629,6 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     };
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
     const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
-    // The same-bytes copy kernel first, so that it runs in the same state as the passes.
     stamp(0);
     if (pyramid) {
         const bool gauss = config_.foveation == FoveationMode::Gauss;

@@ -64,10 +64,21 @@ bool parseInt(const char* v, long lo, long hi, long& out) {
     return *v && !*end && out >= lo && out <= hi;
 }
 
+// Prints the report's table and where it is, or why it could not be written; the exit code.
+int printReport(const Status& written, const std::string& table, const std::string& where) {
+    if (!written) {
+        std::fprintf(stderr, "wrsfov-bench: %s\n", written.message().c_str());
+        return 1;
+    }
+    std::ifstream in(table);
+    std::printf("%s", std::string(std::istreambuf_iterator<char>(in), {}).c_str());
+    std::printf("\nwrsfov-bench: %s\n", where.c_str());
+    return 0;
+}
+
 // --scaling: the sweep at each size, stale tracking off, and a scaling table over all of them.
 int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_t>& sizes, const std::string& out,
-               bool framesGiven, bool warmupGiven, bool scenesGiven, bool methodsGiven,
-               std::chrono::steady_clock::time_point t0) {
+               bool framesGiven, bool warmupGiven, bool scenesGiven, bool methodsGiven) {
     if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
     if (!methodsGiven) o.methods = {Method::Fov, Method::FovTaa, Method::Wrs};
     if (!framesGiven) o.frames = 20;
@@ -77,11 +88,6 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_
     o.modes.resize(1);
     o.staleStats = false;
     o.heavyEvery = 1000000;  // no SSIM/FLIP: this sweep is about time
-    o.progress = [&](const std::string& s) {
-        double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::printf("[%6.1f s] %s\n", el, s.c_str());
-        std::fflush(stdout);
-    };
     std::vector<eval::ScalingStep> steps;
     for (uint32_t size : sizes) {
         eval::BenchOptions so = o;
@@ -101,14 +107,8 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_
         }
         steps.push_back({size, size, *results});
     }
-    if (Status s = eval::writeScalingReport(steps, o, out, ctx.deviceName()); !s) {
-        std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
-        return 1;
-    }
-    std::ifstream table(out + "/scaling.md");
-    std::printf("%s", std::string(std::istreambuf_iterator<char>(table), {}).c_str());
-    std::printf("\nwrsfov-bench: scaling report in %s (scaling.md, scaling.csv, scaling.png)\n", out.c_str());
-    return 0;
+    return printReport(eval::writeScalingReport(steps, o, out, ctx.deviceName()), out + "/scaling.md",
+                       "scaling report in " + out + " (scaling.md, scaling.csv, scaling.png)");
 }
 
 }  // namespace
@@ -301,13 +301,13 @@ int main(int argc, char** argv) {
         return 1;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    if (!scaling.empty()) return runScaling(**ctx, o, scaling, out, framesGiven, warmupGiven, scenesGiven, methodsGiven, t0);
-    o.cropDir = out;
     o.progress = [&](const std::string& s) {
         double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         std::printf("[%6.1f s] %s\n", el, s.c_str());
         std::fflush(stdout);
     };
+    if (!scaling.empty()) return runScaling(**ctx, o, scaling, out, framesGiven, warmupGiven, scenesGiven, methodsGiven);
+    o.cropDir = out;
     std::printf("wrsfov-bench: device %s, %ux%u per eye, %d frames per cell -> %s\n", (*ctx)->deviceName().c_str(),
                 o.width, o.height, o.frames, out.c_str());
     auto results = eval::runBench(**ctx, o);
@@ -315,12 +315,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "wrsfov-bench: %s\n", results.error().message.c_str());
         return 1;
     }
-    if (Status s = eval::writeReport(*results, o, out, (*ctx)->deviceName()); !s) {
-        std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
-        return 1;
-    }
-    std::ifstream table(out + "/table.md");
-    std::printf("%s", std::string(std::istreambuf_iterator<char>(table), {}).c_str());
-    std::printf("\nwrsfov-bench: report in %s (results.csv, table.md, error_vs_*.png, crops_*.png)\n", out.c_str());
-    return 0;
+    return printReport(eval::writeReport(*results, o, out, (*ctx)->deviceName()), out + "/table.md",
+                       "report in " + out + " (results.csv, table.md, error_vs_*.png, crops_*.png)");
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "gpu_checks.h"
 
@@ -32,6 +33,17 @@ HostImage texture(float sx, float sy, float brightness) {
             img.store(x, y, glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f));
         }
     return img;
+}
+
+// A W x H app with RGBA16F colour and the given depth and motion formats.
+HostStereoApp::Options appOptions(layers::Format depth, std::optional<layers::Format> motion) {
+    HostStereoApp::Options o;
+    o.width = W;
+    o.height = H;
+    o.color = layers::Format::RGBA16F;
+    o.depth = depth;
+    o.motion = motion;
+    return o;
 }
 
 HostImage motionImage(float mx, float my) {
@@ -258,12 +270,7 @@ TEST_F(Retain, MonoViewsRunOnceAndMatchStereo) {
         cfg.trackBirth = m != Method::FovTaa && m != Method::Fov;
         auto mono = Compositor::create(context(), cfg), stereo = Compositor::create(context(), cfg);
         ASSERT_TRUE(mono.ok() && stereo.ok());
-        HostStereoApp::Options o;
-        o.width = W;
-        o.height = H;
-        o.color = layers::Format::RGBA16F;
-        o.depth = layers::Format::R32F;
-        o.motion = layers::Format::RG16F;
+        HostStereoApp::Options o = appOptions(layers::Format::R32F, layers::Format::RG16F);
         auto stereoApp = HostStereoApp::create(**stereo, o);
         auto stereoOnMono = HostStereoApp::create(**mono, o);
         o.monoView = true;
@@ -317,14 +324,8 @@ TEST_F(Retain, InPlaceWithoutMotionMatchesPingPong) {
         cfg.seed = 3;
         auto inPlace = Compositor::create(context(), cfg), pingPong = Compositor::create(context(), cfg);
         ASSERT_TRUE(inPlace.ok() && pingPong.ok());
-        HostStereoApp::Options o;
-        o.width = W;
-        o.height = H;
-        o.color = layers::Format::RGBA16F;
-        o.depth = layers::Format::D32F;
-        auto appA = HostStereoApp::create(**inPlace, o);
-        o.motion = layers::Format::RG16F;
-        auto appB = HostStereoApp::create(**pingPong, o);
+        auto appA = HostStereoApp::create(**inPlace, appOptions(layers::Format::D32F, std::nullopt));
+        auto appB = HostStereoApp::create(**pingPong, appOptions(layers::Format::D32F, layers::Format::RG16F));
         ASSERT_TRUE(appA.ok() && appB.ok());
         RandomScene rs(5);
         HostImage depth = rs.depth(layers::Format::D32F, W, H);
