@@ -36,16 +36,14 @@ uint pyramid_index(uint eye, uint level, uvec2 q) {
     uvec4 l = frame.levels[level];
     return eye * l.w + l.z + q.y * l.x + q.x;
 }
-// Level >= 1: fp16 to fp32 is exact, so unpackHalf2x16 agrees with wrs_f16_to_f32 on the CPU.
-vec4 pyr_read(uint eye, uint level, uvec2 q) {
-    uvec2 h = pyramid[pyramid_index(eye, level, q)];
-    return vec4(unpackHalf2x16(h.x), unpackHalf2x16(h.y));
-}
 // Rounds to nearest even by hand (packHalf2x16 leaves the rounding to the implementation).
 uvec2 pyr_pack(vec4 v) {
     return uvec2(wrs_f32_to_f16(v.x) | (wrs_f32_to_f16(v.y) << 16u), wrs_f32_to_f16(v.z) | (wrs_f32_to_f16(v.w) << 16u));
 }
+// fp16 to fp32 is exact, so unpackHalf2x16 agrees with wrs_f16_to_f32 on the CPU.
 vec4 pyr_unpack(uvec2 h) { return vec4(unpackHalf2x16(h.x), unpackHalf2x16(h.y)); }
+// A stored texel of level >= 1.
+vec4 pyr_read(uint eye, uint level, uvec2 q) { return pyr_unpack(pyramid[pyramid_index(eye, level, q)]); }
 void pyr_write(uint eye, uint level, uvec2 q, uvec2 packed_texel) { pyramid[pyramid_index(eye, level, q)] = packed_texel; }
 
 // Level 0 at pixel p of the eye's rectangle: linear RGB, sanitized, validity (1 or 0) in alpha.
