@@ -216,6 +216,7 @@ int main(int argc, char** argv) {
             if (!parseInt(v, 1, 100000, n)) err = "--copy-every wants a positive integer";
             o.copyEvery = int(n);
         } else if (a == "--scaling") {
+            if (split(v).empty()) err = "--scaling wants sizes in 64..4096 (pixels per side, per eye), e.g. 512,1024,2048";
             for (auto& s : split(v)) {
                 if (!parseInt(s.c_str(), 64, 4096, n)) {
                     err = "--scaling wants sizes in 64..4096 (pixels per side, per eye), e.g. 512,1024,2048";

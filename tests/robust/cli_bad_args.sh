@@ -27,6 +27,9 @@ done
 check bench_warmup_negative 2 "--warmup wants a non-negative integer" "$bench" --warmup -1
 check bench_frames_not_above_warmup 2 "--frames must exceed --warmup" "$bench" --frames 5 --warmup 5
 check bench_heavy_every_zero 2 "--heavy-every wants a positive integer" "$bench" --heavy-every 0
+for v in 10 5000 big -512 512,x ""; do
+    check "bench_scaling_'$v'" 2 "--scaling wants sizes in 64..4096" "$bench" --scaling "$v"
+done
 for v in -1 4294967296 seven ""; do
     check "bench_seed_'$v'" 2 "--seed wants a non-negative integer" "$bench" --seed "$v"
 done
