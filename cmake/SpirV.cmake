@@ -2,7 +2,8 @@
 # Compiles each compute shader with glslangValidator into a generated header
 # `<name>_spv.h` holding `static const uint32_t <name>_spv[]`, and makes them an
 # INTERFACE library so that linking it puts the headers on the include path.
-# Nothing is read from disk at run time.
+# Nothing is read from disk at run time. SPIR-V 1.0 (Vulkan 1.0), so that the compositor also
+# runs on an application's Vulkan 1.0 instance and device (an OpenXR app's, adopted by the runtime).
 function(wrsfov_add_spirv)
   cmake_parse_arguments(ARG "" "TARGET" "SOURCES;DEPENDS" ${ARGN})
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/spirv)
@@ -19,7 +20,7 @@ function(wrsfov_add_spirv)
     set(out ${out_dir}/${name}_spv.h)
     add_custom_command(
       OUTPUT ${out}
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 --quiet
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.0 --quiet
               -I${CMAKE_CURRENT_SOURCE_DIR} -I${PROJECT_SOURCE_DIR}/shaders --vn ${name}_spv -o ${out}
               ${CMAKE_CURRENT_SOURCE_DIR}/${src}
       DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${src} ${ARG_DEPENDS}

@@ -38,6 +38,11 @@ std::optional<Method> parseMethod(std::string_view name) {
         if (name == toString(m)) return m;
     return std::nullopt;
 }
+std::optional<FoveationMode> parseFoveationMode(std::string_view name) {
+    for (FoveationMode m : {FoveationMode::None, FoveationMode::Mip, FoveationMode::Gauss})
+        if (name == toString(m)) return m;
+    return std::nullopt;
+}
 std::string_view toString(FoveationMode m) {
     switch (m) {
         case FoveationMode::None:
@@ -477,8 +482,9 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     return {};
 }
 
-Result<std::unique_ptr<layers::Swapchain>> Compositor::createSwapchain(const layers::SwapchainCreateInfo& info) {
-    auto sc = VulkanSwapchain::create(ctx_, this, info);
+Result<std::unique_ptr<layers::Swapchain>> Compositor::createSwapchain(const layers::SwapchainCreateInfo& info,
+                                                                       const SwapchainImageOptions& options) {
+    auto sc = VulkanSwapchain::create(ctx_, this, info, options);
     if (!sc) return sc.error();
     return std::unique_ptr<layers::Swapchain>(std::move(*sc));
 }
@@ -618,6 +624,27 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
     }
+    // Images an application leaves in another layout (an OpenXR runtime's: colour attachment) are
+    // read in GENERAL and handed back afterwards; each image once, however many views use it.
+    std::vector<std::pair<const VulkanSwapchain*, uint32_t>> handOver;
+    for (const layers::ProjectionView& v : layer.views)
+        for (const layers::SubImage* s : {&v.color, v.depth ? &v.depth->subImage : nullptr,
+                                          v.motion ? &v.motion->subImage : nullptr}) {
+            if (!s) continue;
+            const VulkanSwapchain* vs = vkSwapchain(*s);
+            std::pair<const VulkanSwapchain*, uint32_t> img{vs, uint32_t(vs->lastReleased())};
+            if (vs->restingLayout() != VK_IMAGE_LAYOUT_GENERAL &&
+                std::find(handOver.begin(), handOver.end(), img) == handOver.end())
+                handOver.push_back(img);
+        }
+    auto transitionInputs = [&](bool toGeneral) {
+        for (auto [vs, index] : handOver) {
+            const VkImageLayout rest = vs->restingLayout();
+            vk::layoutTransition(cb, vs->image(index), vs->aspect(), vs->info().arraySize,
+                                 toGeneral ? rest : VK_IMAGE_LAYOUT_GENERAL, toGeneral ? VK_IMAGE_LAYOUT_GENERAL : rest);
+        }
+    };
+    transitionInputs(true);
     if (temporal && !historyValid_) {
         // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
         vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
@@ -688,6 +715,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     }
     stamp(3);
+    transitionInputs(false);
     VK_CHECK(vkEndCommandBuffer(cb));
 
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};

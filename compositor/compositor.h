@@ -50,6 +50,8 @@ std::string_view toString(EqualQuality e);
 /// "fov", "fov+taa", "wrs-paper", "wrs", "oracle"; nullopt for anything else.
 std::optional<Method> parseMethod(std::string_view name);
 std::string_view toString(FoveationMode m);
+/// "none", "mip", "gauss"; nullopt for anything else.
+std::optional<FoveationMode> parseFoveationMode(std::string_view name);
 std::string_view toString(ChangeMetric m);
 
 /// Refusal of a configuration (Compositor::create, Compositor::setConfig).
@@ -129,6 +131,18 @@ struct FrameStats {
     bool inPlace = false;
 };
 
+/// How a swapchain's images are made when an application renders into them with Vulkan (an OpenXR
+/// runtime handing them out): extra usage and create flags, and the layout the application leaves
+/// them in. The compositor moves the images it reads to GENERAL and back inside its own submission.
+struct SwapchainImageOptions {
+    VkImageUsageFlags usage = 0;  ///< added to what the compositor needs (sampled, transfer, attachment)
+    VkImageCreateFlags flags = 0;
+    VkImageLayout restingLayout = VK_IMAGE_LAYOUT_GENERAL;
+    /// Leave the images uninitialised until VulkanSwapchain::prepare() (an OpenXR runtime may use the
+    /// application's queue only in some calls: xrCreateSwapchain is not one of them).
+    bool deferInitialization = false;
+};
+
 /// Builds the shader parameter block of a frame (gaze fallback included). Used by the compositor
 /// and by the CPU reference, so both see the same numbers.
 gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::FrameEndInfo& frame, uint32_t width,
@@ -140,7 +154,8 @@ public:
     ~Compositor();
 
     /// A swapchain whose images live on this compositor's device.
-    Result<std::unique_ptr<layers::Swapchain>> createSwapchain(const layers::SwapchainCreateInfo& info);
+    Result<std::unique_ptr<layers::Swapchain>> createSwapchain(const layers::SwapchainCreateInfo& info,
+                                                               const SwapchainImageOptions& options = {});
 
     /// Validates and composites one frame (synchronously). A refused frame changes nothing:
     /// the error code is a layers::SubmitError.

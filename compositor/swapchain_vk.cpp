@@ -1,5 +1,7 @@
 #include "compositor/swapchain_vk.h"
 
+#include "compositor/compositor.h"
+
 #include <cstring>
 #include <string>
 
@@ -14,9 +16,11 @@ Error err(SwapchainError code, std::string msg) { return Error{static_cast<int>(
 }  // namespace
 
 Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ctx, const Compositor* owner,
-                                                                 const layers::SwapchainCreateInfo& info) {
+                                                                 const layers::SwapchainCreateInfo& info,
+                                                                 const SwapchainImageOptions& options) {
     if (Status s = layers::validateCreateInfo(info); !s) return s.error();
     std::unique_ptr<VulkanSwapchain> sc(new VulkanSwapchain(ctx, owner, info));
+    sc->restingLayout_ = options.restingLayout;
 
     vk::ImageCreateInfo ici;
     ici.format = layers::toVkFormat(info.format);
@@ -27,8 +31,10 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ct
     ici.usage |=
         info.format == Format::D32F ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
     VkFormat viewFormat = VK_FORMAT_UNDEFINED;
+    ici.usage |= options.usage;
+    ici.flags = options.flags;
     if (info.format == Format::RGBA8_SRGB) {
-        ici.flags = VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+        ici.flags |= VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
         viewFormat = VK_FORMAT_R8G8B8A8_UNORM;
     }
     for (uint32_t i = 0; i < info.imageCount; ++i) {
@@ -36,8 +42,17 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ct
         if (!img) return err(SwapchainError::DeviceFailure, img.error().message);
         sc->images_.push_back(std::move(*img));
     }
-    // Swapchain images live in GENERAL; start them there, cleared to zero.
-    Status s = ctx.submitAndWait([&](VkCommandBuffer cb) {
+    if (!options.deferInitialization)
+        if (Status s = sc->prepare(); !s) return s.error();
+    return sc;
+}
+
+Status VulkanSwapchain::prepare() {
+    if (prepared_) return {};
+    const layers::SwapchainCreateInfo& info = this->info();
+    VulkanSwapchain* sc = this;
+    // Start the images cleared to zero, in their resting layout.
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         for (auto& img : sc->images_) {
             VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
             b.srcAccessMask = 0;
@@ -56,10 +71,19 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ct
                 VkClearColorValue c{};
                 vkCmdClearColorImage(cb, img.handle(), VK_IMAGE_LAYOUT_GENERAL, &c, 1, &b.subresourceRange);
             }
+            if (sc->restingLayout_ != VK_IMAGE_LAYOUT_GENERAL) {
+                b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+                b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+                b.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+                b.newLayout = sc->restingLayout_;
+                vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0,
+                                     nullptr, 0, nullptr, 1, &b);
+            }
         }
     });
     if (!s) return err(SwapchainError::DeviceFailure, s.message());
-    return sc;
+    prepared_ = true;
+    return {};
 }
 
 Status VulkanSwapchain::write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) {
@@ -86,10 +110,12 @@ Status VulkanSwapchain::write(uint32_t index, uint32_t arrayLayer, std::span<con
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_TRANSFER_WRITE_BIT);
+        vk::layoutTransition(cb, img.handle(), img.aspect(), in.arraySize, restingLayout_, VK_IMAGE_LAYOUT_GENERAL);
         VkBufferImageCopy region{};
         region.imageSubresource = {img.aspect(), 0, arrayLayer, 1};
         region.imageExtent = {in.width, in.height, 1};
         vkCmdCopyBufferToImage(cb, staging->handle(), img.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+        vk::layoutTransition(cb, img.handle(), img.aspect(), in.arraySize, VK_IMAGE_LAYOUT_GENERAL, restingLayout_);
     });
     if (!s) return err(SwapchainError::DeviceFailure, s.message());
     return {};
@@ -102,7 +128,8 @@ Result<std::vector<std::byte>> VulkanSwapchain::read(uint32_t index, uint32_t ar
                                                         std::to_string(arrayLayer) + " is out of range");
     std::size_t bytes = std::size_t(in.width) * in.height * layers::bytesPerTexel(in.format);
     const vk::Image& img = images_[index];
-    auto r = ctx_.readImageLayer(img.handle(), img.aspect(), arrayLayer, in.width, in.height, bytes);
+    auto r = ctx_.readImageLayer(img.handle(), img.aspect(), arrayLayer, in.width, in.height, bytes, restingLayout_,
+                                 in.arraySize);
     if (!r) return err(SwapchainError::DeviceFailure, r.error().message);
     return std::move(*r);
 }

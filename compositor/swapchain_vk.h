@@ -9,11 +9,13 @@
 namespace wrsfov {
 
 class Compositor;
+struct SwapchainImageOptions;
 
 class VulkanSwapchain final : public layers::Swapchain {
 public:
     static Result<std::unique_ptr<VulkanSwapchain>> create(vk::Context& ctx, const Compositor* owner,
-                                                           const layers::SwapchainCreateInfo& info);
+                                                           const layers::SwapchainCreateInfo& info,
+                                                           const SwapchainImageOptions& options);
 
     Status write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) override;
     Result<std::vector<std::byte>> read(uint32_t index, uint32_t arrayLayer) override;
@@ -23,6 +25,12 @@ public:
     /// with the shared sRGB function, so the GPU matches the CPU reference).
     VkImageView sampledView(uint32_t index, uint32_t layer) const { return images_.at(index).layerView(layer); }
     const Compositor* owner() const { return owner_; }
+    /// The layout the images are in whenever the compositor is not reading them.
+    VkImageLayout restingLayout() const { return restingLayout_; }
+    VkImageAspectFlags aspect() const { return images_.front().aspect(); }
+    /// Clears the images and moves them to their resting layout (once; create() does it unless
+    /// SwapchainImageOptions::deferInitialization). Submits to the context's queue.
+    Status prepare();
 
 private:
     VulkanSwapchain(vk::Context& ctx, const Compositor* owner, const layers::SwapchainCreateInfo& info)
@@ -31,6 +39,8 @@ private:
     vk::Context& ctx_;
     const Compositor* owner_;
     std::vector<vk::Image> images_;
+    VkImageLayout restingLayout_ = VK_IMAGE_LAYOUT_GENERAL;
+    bool prepared_ = false;
 };
 
 }  // namespace wrsfov

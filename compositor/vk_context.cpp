@@ -48,7 +48,9 @@ Error vkError(const std::string& what, VkResult r) {
     return Error{static_cast<int>(r), what + " failed: " + resultString(r)};
 }
 
-int deviceScore(VkPhysicalDeviceType t) {
+}  // namespace
+
+int deviceTypeScore(VkPhysicalDeviceType t) {
     switch (t) {
         case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
             return 4;
@@ -62,6 +64,8 @@ int deviceScore(VkPhysicalDeviceType t) {
             return 0;
     }
 }
+
+namespace {
 
 bool hasLayer(const char* name) {
     uint32_t n = 0;
@@ -254,7 +258,7 @@ Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) 
             VkQueueFlags need = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
             if ((qf[i].queueFlags & need) != need) continue;
             if (options.queueFilter && !options.queueFilter(c.instance_, d, i)) continue;
-            int score = deviceScore(p.deviceType);
+            int score = deviceTypeScore(p.deviceType);
             if (score > best) {
                 best = score;
                 c.physical_ = d;
@@ -287,17 +291,52 @@ Result<std::unique_ptr<Context>> Context::create(const ContextOptions& options) 
         return vkError("vkCreateDevice", r);
     vkGetDeviceQueue(c.device_, c.queueFamily_, 0, &c.queue_);
 
+    if (Status s = c.initQueueObjects(); !s) return s.error();
+    return ctx;
+}
+
+Status Context::initQueueObjects() {
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pci.queueFamilyIndex = c.queueFamily_;
-    VK_CHECK(vkCreateCommandPool(c.device_, &pci, nullptr, &c.pool_));
+    pci.queueFamilyIndex = queueFamily_;
+    if (VkResult r = vkCreateCommandPool(device_, &pci, nullptr, &pool_); r != VK_SUCCESS)
+        return vkError("vkCreateCommandPool", r);
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VK_CHECK(vkCreateFence(c.device_, &fci, nullptr, &c.fence_));
+    if (VkResult r = vkCreateFence(device_, &fci, nullptr, &fence_); r != VK_SUCCESS)
+        return vkError("vkCreateFence", r);
     if (const char* spec = std::getenv("WRSFOV_FAULT"); spec && *spec) {
         auto faults = FaultInjection::parse(spec);
         if (!faults) return faults.error();
-        c.injectFaults(*faults);
+        injectFaults(*faults);
     }
+    return {};
+}
+
+Result<std::unique_ptr<Context>> Context::adopt(const AdoptedDevice& d) {
+    if (!d.instance || !d.physicalDevice || !d.device)
+        return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
+                     "adopting a device needs its VkInstance, VkPhysicalDevice and VkDevice"};
+    std::unique_ptr<Context> ctx(new Context());
+    Context& c = *ctx;
+    c.adopted_ = true;
+    c.instance_ = d.instance;
+    c.physical_ = d.physicalDevice;
+    c.device_ = d.device;
+    c.queueFamily_ = d.queueFamily;
+    vkGetPhysicalDeviceProperties(c.physical_, &c.props_);
+    vkGetPhysicalDeviceMemoryProperties(c.physical_, &c.memProps_);
+    uint32_t qn = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(c.physical_, &qn, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(qn);
+    vkGetPhysicalDeviceQueueFamilyProperties(c.physical_, &qn, qf.data());
+    if (d.queueFamily >= qn || d.queueIndex >= qf[d.queueFamily].queueCount ||
+        !(qf[d.queueFamily].queueFlags & VK_QUEUE_COMPUTE_BIT))
+        return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
+                     "queue family " + std::to_string(d.queueFamily) + " index " + std::to_string(d.queueIndex) +
+                         " is not a compute queue of the adopted device"};
+    c.timestampValidBits_ = qf[d.queueFamily].timestampValidBits;
+    vkGetDeviceQueue(c.device_, c.queueFamily_, d.queueIndex, &c.queue_);
+    if (Status s = c.initQueueObjects(); !s) return s.error();
     return ctx;
 }
 
@@ -306,14 +345,14 @@ Context::~Context() {
         vkDeviceWaitIdle(device_);
         if (fence_) vkDestroyFence(device_, fence_, nullptr);
         if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
-        vkDestroyDevice(device_, nullptr);
+        if (!adopted_) vkDestroyDevice(device_, nullptr);
     }
     if (messenger_) {
         auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
         if (fn) fn(instance_, messenger_, nullptr);
     }
-    if (instance_) vkDestroyInstance(instance_, nullptr);
+    if (instance_ && !adopted_) vkDestroyInstance(instance_, nullptr);
 }
 
 Result<uint32_t> Context::memoryType(uint32_t typeBits, VkMemoryPropertyFlags props) const {
@@ -428,17 +467,35 @@ PipelineLayout Context::createPipelineLayout(VkDescriptorSetLayout set, uint32_t
     return PipelineLayout(device_, pl);
 }
 
+void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspect, uint32_t layers,
+                      VkImageLayout from, VkImageLayout to) {
+    if (from == to) return;
+    VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {aspect, 0, 1, 0, layers};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
+                         nullptr, 1, &b);
+}
+
 Result<std::vector<std::byte>> Context::readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
-                                                       uint32_t width, uint32_t height, size_t bytes) {
+                                                       uint32_t width, uint32_t height, size_t bytes,
+                                                       VkImageLayout layout, uint32_t imageLayers) {
     auto staging = createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
     if (!staging) return staging.error();
     Status s = submitAndWait([&](VkCommandBuffer cb) {
         memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        layoutTransition(cb, image, aspect, imageLayers, layout, VK_IMAGE_LAYOUT_GENERAL);
         VkBufferImageCopy region{};
         region.imageSubresource = {aspect, 0, layer, 1};
         region.imageExtent = {width, height, 1};
         vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
+        layoutTransition(cb, image, aspect, imageLayers, VK_IMAGE_LAYOUT_GENERAL, layout);
         memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                       VK_ACCESS_HOST_READ_BIT);
     });

@@ -30,6 +30,9 @@ const char* resultString(VkResult r);
     } while (0)
 [[noreturn]] void fatal(const char* file, int line, const char* call, VkResult r);
 
+/// Preference of a device type when choosing a device: discrete > integrated > virtual > CPU > other.
+int deviceTypeScore(VkPhysicalDeviceType type);
+
 struct ContextOptions {
     /// Enable VK_LAYER_KHRONOS_validation (default: environment WRSFOV_VALIDATION=1).
     bool validation = false;
@@ -58,6 +61,15 @@ struct FaultInjection {
     uint32_t loseDevice = 0;
     /// Parses a WRSFOV_FAULT value; fails with a message on anything else.
     static Result<FaultInjection> parse(const std::string& spec);
+};
+
+/// A device made by someone else (an OpenXR application, a runtime, an engine) for Context::adopt.
+struct AdoptedDevice {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;  ///< a family with compute
+    uint32_t queueIndex = 0;
 };
 
 class Context;
@@ -164,6 +176,11 @@ using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
 void memoryBarrier(VkCommandBuffer cb, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
 
+/// Moves all `layers` of an image's first mip level from one layout to another, after all earlier
+/// work and before all later work (a full barrier: for hand-overs, not inner loops). No-op if equal.
+void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspect, uint32_t layers,
+                      VkImageLayout from, VkImageLayout to);
+
 /// One descriptor write for `count` buffers or images at `binding` of `set`.
 VkWriteDescriptorSet bufferWrite(VkDescriptorSet set, uint32_t binding, VkDescriptorType type,
                                  const VkDescriptorBufferInfo* infos, uint32_t count = 1);
@@ -175,6 +192,14 @@ public:
     /// Creates instance and device. Fails with a message naming the available devices when none
     /// fits (or the one asked for by name is not there).
     static Result<std::unique_ptr<Context>> create(const ContextOptions& options = ContextOptions::fromEnvironment());
+    /// Uses a device someone else created and keeps owning: the context makes its own command pool
+    /// and fence, never destroys the instance or device, and submits to the given queue, which the
+    /// caller must not use from another thread while the context submits (as OpenXR's
+    /// XR_KHR_vulkan_enable2 lets a runtime use the application's queue inside xrEndFrame). Instance and
+    /// device may be Vulkan 1.0 (the shaders are SPIR-V 1.0) and need no extension or optional
+    /// feature. Validation messages are not counted
+    /// (the instance's owner installs the messenger).
+    static Result<std::unique_ptr<Context>> adopt(const AdoptedDevice& device);
     ~Context();
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;
@@ -203,9 +228,12 @@ public:
     DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
     /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
     PipelineLayout createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes, VkShaderStageFlags pushStages);
-    /// Copies one layer of a (GENERAL-layout) image to host memory, after all earlier writes.
+    /// Copies one layer of an image to host memory, after all earlier writes. An image in another
+    /// layout than GENERAL (all `imageLayers` of it) goes through GENERAL and is left as it was.
     Result<std::vector<std::byte>> readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
-                                                  uint32_t width, uint32_t height, size_t bytes);
+                                                  uint32_t width, uint32_t height, size_t bytes,
+                                                  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL,
+                                                  uint32_t imageLayers = 1);
 
     /// Records with `record`, submits, waits. Returns DeviceFailure-style errors (code = VkResult).
     Status submitAndWait(const std::function<void(VkCommandBuffer)>& record);
@@ -223,6 +251,8 @@ public:
 
 private:
     Context() = default;
+    /// Command pool, fence and the WRSFOV_FAULT faults, once the device and queue are known.
+    Status initQueueObjects();
     static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                         VkDebugUtilsMessageTypeFlagsEXT types,
                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
@@ -242,6 +272,7 @@ private:
     VkCommandPool pool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;
     bool validation_ = false;
+    bool adopted_ = false;  // instance and device belong to the caller of adopt()
     std::atomic<uint32_t> validationErrors_{0};
     std::atomic<uint32_t> validationWarnings_{0};
     mutable std::mutex messagesMutex_;

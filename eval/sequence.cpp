@@ -1112,6 +1112,16 @@ Status checkImage(const HostImage& img, const SequenceInfo& info, const std::str
     return {};
 }
 
+Status writeSequenceJson(const std::string& dir, const SequenceInfo& info) {
+    const std::string path = dir + "/sequence.json";
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    const std::string text = formatSequenceInfo(info);
+    out.write(text.data(), std::streamsize(text.size()));
+    out.close();
+    if (!out) return seqError(SequenceError::WriteFailed, "cannot write " + path);
+    return {};
+}
+
 }  // namespace
 
 Result<std::unique_ptr<SequenceWriter>> SequenceWriter::create(const std::string& dir, const SequenceInfo& info) {
@@ -1120,12 +1130,7 @@ Result<std::unique_ptr<SequenceWriter>> SequenceWriter::create(const std::string
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) return seqError(SequenceError::WriteFailed, "cannot create " + dir + ": " + ec.message());
-    const std::string path = dir + "/sequence.json";
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    const std::string text = formatSequenceInfo(info);
-    out.write(text.data(), std::streamsize(text.size()));
-    out.close();
-    if (!out) return seqError(SequenceError::WriteFailed, "cannot write " + path);
+    if (Status s = writeSequenceJson(dir, info); !s) return s.error();
     std::unique_ptr<SequenceWriter> w(new SequenceWriter());
     w->dir_ = dir;
     w->info_ = info;
@@ -1197,6 +1202,15 @@ Status SequenceWriter::writeFrame(uint32_t index, const std::array<EyeSubmission
     gaze_.push_back({eyes[0].gaze, eyes[1].gaze});
     ++written_;
     return {};
+}
+
+Status SequenceWriter::close() {
+    if (written_ == 0) return seqError(SequenceError::FrameCount, "sequence " + dir_ + ": no frame was written");
+    if (written_ != info_.frameCount) {
+        info_.frameCount = written_;
+        if (Status s = writeSequenceJson(dir_, info_); !s) return s;
+    }
+    return finish();
 }
 
 Status SequenceWriter::finish() {

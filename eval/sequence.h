@@ -163,6 +163,11 @@ public:
 
     /// Writes gaze.csv (t_s = index / fps). Fails unless frameCount frames were written.
     Status finish();
+    /// Ends a recording whose length was not known in advance (created with frameCount as an upper
+    /// bound): rewrites sequence.json with frame_count = the frames written, then finish(). Fails when
+    /// no frame was written.
+    Status close();
+    uint32_t written() const { return written_; }
 
     const SequenceInfo& info() const { return info_; }
 

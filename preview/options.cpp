@@ -69,24 +69,6 @@ std::optional<PreviewMethod> parseMethod(std::string_view name) {
 
 PreviewMethod nextMethod(PreviewMethod m) { return nextOf(kMethods, m); }
 
-std::string_view toString(scenes::CameraPath p) {
-    switch (p) {
-        case scenes::CameraPath::Static:
-            return "static";
-        case scenes::CameraPath::Lateral:
-            return "lateral";
-        case scenes::CameraPath::Turn:
-            return "turn";
-    }
-    return "?";
-}
-
-std::optional<scenes::CameraPath> parsePath(std::string_view name) {
-    for (scenes::CameraPath p : kPaths)
-        if (toString(p) == name) return p;
-    return std::nullopt;
-}
-
 scenes::CameraPath nextPath(scenes::CameraPath p) { return nextOf(kPaths, p); }
 
 float nextFovea(float deg) {
@@ -127,7 +109,7 @@ Result<PreviewOptions> parseArguments(int argc, const char* const* argv) {
             if (!s) return argError("--scene wants text, atrium or dynamic, got '" + std::string(v) + "'");
             o.scene = *s;
         } else if (a == "--path") {
-            auto p = parsePath(v);
+            auto p = scenes::parseCameraPath(v);
             if (!p) return argError("--path wants static, lateral or turn, got '" + std::string(v) + "'");
             o.path = *p;
         } else if (a == "--method") {

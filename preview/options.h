@@ -23,8 +23,6 @@ std::string_view toString(PreviewMethod m);
 std::optional<PreviewMethod> parseMethod(std::string_view name);
 PreviewMethod nextMethod(PreviewMethod m);
 
-std::string_view toString(scenes::CameraPath p);
-std::optional<scenes::CameraPath> parsePath(std::string_view name);
 scenes::CameraPath nextPath(scenes::CameraPath p);
 
 /// The fovea sizes the F key steps through (diameters, degrees).

@@ -58,12 +58,36 @@ layers::Fov monitorFov() {
     return f;
 }
 
+std::optional<CameraPath> parseCameraPath(std::string_view name) {
+    if (name == "static") return CameraPath::Static;
+    if (name == "lateral") return CameraPath::Lateral;
+    if (name == "turn") return CameraPath::Turn;
+    return std::nullopt;
+}
+
+std::string_view toString(CameraPath path) {
+    switch (path) {
+        case CameraPath::Static:
+            return "static";
+        case CameraPath::Lateral:
+            return "lateral";
+        case CameraPath::Turn:
+            return "turn";
+    }
+    return "?";
+}
+
+HeadPose headPose(CameraPath path, double t) {
+    HeadPose h;
+    if (path == CameraPath::Lateral) h.position.x = 0.5f * float(std::sin(kTwoPi * t / 4.0));
+    if (path == CameraPath::Turn) h.yaw = 25.0f * kDeg * float(std::sin(kTwoPi * t / 6.0));
+    return h;
+}
+
 glm::mat4 atriumView(const AtriumOptions& o, int eye, double t) {
-    glm::vec3 head(0.0f, 1.6f, 0.0f);
-    float yaw = 0.0f;
-    if (o.path == CameraPath::Lateral) head.x = 0.5f * float(std::sin(kTwoPi * t / 4.0));
-    if (o.path == CameraPath::Turn) yaw = 25.0f * kDeg * float(std::sin(kTwoPi * t / 6.0));
-    glm::mat4 headToWorld = glm::rotate(glm::translate(glm::mat4(1.0f), head), yaw, glm::vec3(0, 1, 0));
+    const HeadPose head = headPose(o.path, t);
+    glm::mat4 headToWorld =
+        glm::rotate(glm::translate(glm::mat4(1.0f), head.position), head.yaw, glm::vec3(0, 1, 0));
     glm::mat4 eyeToWorld = glm::translate(headToWorld, glm::vec3(o.monitor ? 0.0f : (eye == 0 ? -0.5f : 0.5f) * o.ipd, 0.0f, 0.0f));
     return glm::inverse(eyeToWorld);
 }

@@ -7,6 +7,8 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -23,6 +25,19 @@ enum class CameraPath : uint8_t {
     Lateral,  ///< back-and-forth sideways motion, 0.5 m amplitude, 4 s period
     Turn,     ///< head yaw ±25°, 6 s period
 };
+
+/// "static", "lateral", "turn"; nullopt for anything else.
+std::optional<CameraPath> parseCameraPath(std::string_view name);
+std::string_view toString(CameraPath path);
+
+/// Where the head of a camera path is at time t: world position (y up, eyes 1.6 m above the
+/// floor) and yaw about +Y in radians. The atrium's cameras and the OpenXR runtime's simulated
+/// head follow the same paths.
+struct HeadPose {
+    glm::vec3 position{0.0f, 1.6f, 0.0f};
+    float yaw = 0.0f;
+};
+HeadPose headPose(CameraPath path, double t);
 
 struct AtriumOptions {
     uint32_t width = 256, height = 256;  ///< per eye

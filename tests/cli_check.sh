@@ -17,3 +17,7 @@ cli_check() {
     fi
     echo "ok   $name"
 }
+cli_summary() {
+    echo "$count checks, $fails failed"
+    [ "$fails" -eq 0 ]
+}

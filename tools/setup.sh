@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake pkg-config git
           libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools
           libglm-dev libglfw3-dev libopencv-dev libopencv-contrib-dev libhidapi-dev libgtest-dev
-          xvfb clang fonts-dejavu-core)
+          xvfb clang fonts-dejavu-core
+          libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -234,11 +234,8 @@ int main(int argc, char** argv) {
             else if (c == "de94") o.change = ChangeMetric::DeltaE94;
             else err = "unknown change metric '" + c + "' (off, lstar, de94)";
         } else if (a == "--path") {
-            std::string p = v;
-            if (p == "static") o.path = scenes::CameraPath::Static;
-            else if (p == "lateral") o.path = scenes::CameraPath::Lateral;
-            else if (p == "turn") o.path = scenes::CameraPath::Turn;
-            else err = "unknown camera path '" + p + "' (static, lateral, turn)";
+            if (auto p = scenes::parseCameraPath(v)) o.path = *p;
+            else err = "unknown camera path '" + std::string(v) + "' (static, lateral, turn)";
         } else {
             err = "unknown option " + a;
         }

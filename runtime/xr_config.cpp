@@ -1,0 +1,172 @@
+#include "runtime/xr_config.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "compositor/host_app.h"
+
+namespace wrsfov::xr {
+
+namespace {
+
+constexpr float kDeg = 3.14159265358979f / 180.0f;
+
+Error bad(std::string_view key, std::string_view value, std::string_view expected) {
+    return Error{1, "'" + std::string(key) + "' = '" + std::string(value) + "': expected " + std::string(expected)};
+}
+
+std::optional<double> number(std::string_view v) {
+    std::string s(v);
+    char* end = nullptr;
+    double d = std::strtod(s.c_str(), &end);
+    if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(d)) return std::nullopt;
+    return d;
+}
+
+std::optional<bool> boolean(std::string_view v) {
+    if (v == "1" || v == "true" || v == "on" || v == "yes") return true;
+    if (v == "0" || v == "false" || v == "off" || v == "no") return false;
+    return std::nullopt;
+}
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    return s;
+}
+
+// Every key the runtime reads; also the environment variables WRSFOV_XR_<KEY>.
+constexpr const char* kKeys[] = {"method", "fovea", "foveation", "width", "height", "fov", "ipd",
+                                 "display_hz", "pace", "frames", "record", "head", "gaze", "gaze_mode",
+                                 "gaze_seed", "gaze_file", "vergence_distance", "validation", "verbose"};
+
+}  // namespace
+
+Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v) {
+    auto num = [&](double lo, double hi) -> std::optional<double> {
+        auto d = number(v);
+        if (!d || *d < lo || *d > hi) return std::nullopt;
+        return d;
+    };
+    auto range = [&](double lo, double hi) {
+        std::ostringstream o;
+        o << "a number in [" << lo << ", " << hi << "]";
+        return o.str();
+    };
+    if (key == "method") {
+        auto m = parseMethod(v);
+        if (!m || *m == Method::Oracle) return bad(key, v, "fov, fov+taa, wrs-paper or wrs");
+        c.compositor.method = *m;
+    } else if (key == "fovea") {
+        auto d = num(0.5, 60);
+        if (!d) return bad(key, v, range(0.5, 60) + " (fovea diameter in degrees)");
+        c.compositor.foveaDeg = float(*d);
+    } else if (key == "foveation") {
+        auto m = parseFoveationMode(v);
+        if (!m) return bad(key, v, "none, mip or gauss");
+        c.compositor.foveation = *m;
+    } else if (key == "width" || key == "height") {
+        auto d = num(16, 8192);
+        if (!d || *d != std::floor(*d)) return bad(key, v, "an integer in [16, 8192]");
+        (key == "width" ? c.width : c.height) = uint32_t(*d);
+    } else if (key == "fov") {
+        if (v == "hmd") {
+            c.fov[0] = hmdFov(0);
+            c.fov[1] = hmdFov(1);
+        } else {
+            auto d = num(10, 170);
+            if (!d) return bad(key, v, "hmd or " + range(10, 170) + " (symmetric square field of view in degrees)");
+            const float h = float(*d) * 0.5f * kDeg;
+            for (auto& f : c.fov) f = layers::Fov{-h, h, h, -h};
+        }
+    } else if (key == "ipd") {
+        auto d = num(0.04, 0.08);
+        if (!d) return bad(key, v, range(0.04, 0.08) + " (metres)");
+        c.ipd_m = float(*d);
+    } else if (key == "display_hz") {
+        auto d = num(10, 240);
+        if (!d) return bad(key, v, range(10, 240));
+        c.displayHz = *d;
+    } else if (key == "pace") {
+        if (v == "realtime") c.pace = true;
+        else if (v == "free") c.pace = false;
+        else return bad(key, v, "realtime or free");
+    } else if (key == "frames") {
+        auto d = num(0, 1e9);
+        if (!d || *d != std::floor(*d)) return bad(key, v, "an integer >= 0 (0: until the application exits)");
+        c.frames = uint64_t(*d);
+    } else if (key == "record") {
+        c.record = std::string(v);
+    } else if (key == "head") {
+        auto p = scenes::parseCameraPath(v);
+        if (!p) return bad(key, v, "static, lateral or turn");
+        c.head = *p;
+    } else if (key == "gaze") {
+        if (v == "generator") c.gaze = GazeKind::Generator;
+        else if (v == "file") c.gaze = GazeKind::File;
+        else if (v == "hid") c.gaze = GazeKind::Hid;
+        else if (v == "none") c.gaze = GazeKind::None;
+        else return bad(key, v, "generator, file, hid or none");
+    } else if (key == "gaze_mode") {
+        auto m = gaze::parse_mode(v);
+        if (!m) return bad(key, v, "fixation, scene, reading or pursuit");
+        c.gazeMode = *m;
+    } else if (key == "gaze_seed") {
+        auto d = num(0, 4294967295.0);
+        if (!d || *d != std::floor(*d)) return bad(key, v, "an integer >= 0");
+        c.gazeSeed = uint64_t(*d);
+    } else if (key == "gaze_file") {
+        c.gazeFile = std::string(v);
+    } else if (key == "vergence_distance") {
+        auto d = num(0.1, 1000);
+        if (!d) return bad(key, v, range(0.1, 1000) + " (metres)");
+        c.vergenceDistance_m = float(*d);
+    } else if (key == "validation" || key == "verbose") {
+        auto b = boolean(v);
+        if (!b) return bad(key, v, "0 or 1");
+        (key == "validation" ? c.validation : c.verbose) = *b;
+    } else {
+        std::string keys;
+        for (const char* k : kKeys) keys += std::string(keys.empty() ? "" : ", ") + k;
+        return Error{1, "unknown key '" + std::string(key) + "' (keys: " + keys + ")"};
+    }
+    return {};
+}
+
+Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const char*)>& getenvFn) {
+    auto env = [&](const char* name) -> const char* { return getenvFn ? getenvFn(name) : std::getenv(name); };
+    RuntimeConfig c;
+    c.fov[0] = hmdFov(0);
+    c.fov[1] = hmdFov(1);
+    if (const char* v = env("WRSFOV_VALIDATION")) c.validation = std::string(v) == "1";
+    if (const char* path = env("WRSFOV_XR_CONFIG"); path && *path) {
+        std::ifstream in(path);
+        if (!in) return Error{1, std::string("WRSFOV_XR_CONFIG: cannot read ") + path};
+        std::string line;
+        for (int n = 1; std::getline(in, line); ++n) {
+            std::string_view l = line;
+            if (auto hash = l.find('#'); hash != std::string_view::npos) l = l.substr(0, hash);
+            l = trim(l);
+            if (l.empty()) continue;
+            const auto eq = l.find('=');
+            if (eq == std::string_view::npos)
+                return Error{1, std::string(path) + ":" + std::to_string(n) + ": expected key = value"};
+            if (Status s = applyConfigKey(c, trim(l.substr(0, eq)), trim(l.substr(eq + 1))); !s)
+                return Error{1, std::string(path) + ":" + std::to_string(n) + ": " + s.message()};
+        }
+    }
+    for (const char* key : kKeys) {
+        std::string name = "WRSFOV_XR_";
+        for (const char* k = key; *k; ++k) name += char(std::toupper(static_cast<unsigned char>(*k)));
+        if (const char* v = env(name.c_str()))
+            if (Status s = applyConfigKey(c, key, trim(v)); !s) return Error{1, name + ": " + s.message()};
+    }
+    if (c.gaze == GazeKind::File && c.gazeFile.empty())
+        return Error{1, "gaze = file needs gaze_file (WRSFOV_XR_GAZE_FILE)"};
+    return c;
+}
+
+}  // namespace wrsfov::xr

@@ -1,0 +1,62 @@
+// Configuration of the simulated-HMD OpenXR runtime: a small key = value file named by
+// WRSFOV_XR_CONFIG, then environment variables WRSFOV_XR_<KEY> (upper case) over it. Every key,
+// its default and its meaning are in docs/openxr-runtime.md; an unknown key or a bad value fails
+// xrCreateInstance with the key named.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "compositor/compositor.h"
+#include "gaze/generator.h"
+#include "layers/frame.h"
+#include "layers/status.h"
+#include "scenes/atrium.h"
+
+namespace wrsfov::xr {
+
+/// Where the eyes look.
+enum class GazeKind : uint8_t {
+    Generator,  ///< the synthetic eye-movement generator (`gaze_mode`, `gaze_seed`)
+    File,       ///< a recorded gaze file (`gaze_file`)
+    Hid,        ///< a HID eye tracker (usage page 0x12)
+    None,       ///< no gaze: the compositor's fallback (view centre, larger fovea)
+};
+
+struct RuntimeConfig {
+    CompositorConfig compositor;          ///< method, fovea, foveation (keys `method`, `fovea`, `foveation`)
+    uint32_t width = 1024, height = 1024;  ///< recommended per-eye image size
+    /// Per-eye field of view: the HMD's asymmetric 92° x 93° (hmdFov) unless `fov` gives a symmetric
+    /// square one in degrees.
+    layers::Fov fov[2];
+    float ipd_m = 0.063f;
+    double displayHz = 90.0;
+    /// realtime: xrWaitFrame sleeps to the display rate; free: no sleeping, each frame's display time
+    /// is one period after the last (deterministic recordings, fast tests).
+    bool pace = true;
+    uint64_t frames = 0;  ///< > 0: the session is asked to stop after this many frames
+    std::string record;   ///< sequence directory to record into (colour, depth, motion, gaze, output)
+    scenes::CameraPath head = scenes::CameraPath::Static;
+    GazeKind gaze = GazeKind::Generator;
+    gaze::Mode gazeMode = gaze::Mode::Scene;
+    uint64_t gazeSeed = 1;
+    std::string gazeFile;
+    /// Distance of the fixated point when the frame has no depth (metres, along the cyclopean gaze).
+    float vergenceDistance_m = 1.5f;
+    /// Count Vulkan validation messages on the instance the runtime creates (XR_KHR_vulkan_enable2):
+    /// enables VK_LAYER_KHRONOS_validation there. Default: WRSFOV_VALIDATION=1.
+    bool validation = false;
+    bool verbose = false;
+};
+
+/// Reads the file named by WRSFOV_XR_CONFIG (if set) and the WRSFOV_XR_* variables (`getenv` is
+/// injectable for tests). The error message names the file, line or variable and the key.
+Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const char*)>& getenv = nullptr);
+
+/// Applies one key (file or environment) to `config`; the message names the key and the accepted values.
+Status applyConfigKey(RuntimeConfig& config, std::string_view key, std::string_view value);
+
+}  // namespace wrsfov::xr

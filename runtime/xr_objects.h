@@ -1,0 +1,220 @@
+// Objects behind the runtime's OpenXR handles (internal to runtime/). Every handle is the address
+// of one of these objects, checked against the live-object registry before use, so a stale,
+// foreign or made-up handle is XR_ERROR_HANDLE_INVALID rather than a crash. One lock serialises
+// every call (xrWaitFrame sleeps outside it).
+#pragma once
+
+#define XR_USE_GRAPHICS_API_VULKAN
+#include <vulkan/vulkan.h>
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "compositor/compositor.h"
+#include "eval/sequence.h"
+#include "gaze/source.h"
+#include "runtime/xr_config.h"
+
+namespace wrsfov::xr {
+
+enum class ObjectType : uint8_t { Instance, Session, Space, Swapchain, ActionSet, Action };
+
+struct Object {
+    explicit Object(ObjectType t) : type(t) {}
+    virtual ~Object() = default;
+    const ObjectType type;
+};
+
+/// A rigid transform: p' = q * p + t.
+struct Pose {
+    glm::quat q{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 p{0.0f};
+};
+Pose operator*(const Pose& a, const Pose& b);
+Pose inverse(const Pose& a);
+Pose fromXr(const XrPosef& p);
+XrPosef toXr(const Pose& p);
+/// Orientation is a unit quaternion (within 1e-3) and every component finite.
+bool isValidPose(const XrPosef& p);
+
+struct Instance;
+struct Session;
+struct ActionSet;
+
+struct Action final : Object {
+    Action() : Object(ObjectType::Action) {}
+    ActionSet* set = nullptr;
+    std::string name, localizedName;
+    XrActionType actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+    std::vector<XrPath> subactionPaths;
+};
+
+struct ActionSet final : Object {
+    ActionSet() : Object(ObjectType::ActionSet) {}
+    Instance* instance = nullptr;
+    std::string name, localizedName;
+    uint32_t priority = 0;
+    bool attached = false;
+    std::vector<std::unique_ptr<Action>> actions;
+};
+
+struct Space final : Object {
+    Space() : Object(ObjectType::Space) {}
+    Session* session = nullptr;
+    bool isAction = false;
+    XrReferenceSpaceType reference = XR_REFERENCE_SPACE_TYPE_LOCAL;
+    Action* action = nullptr;
+    XrPath subaction = XR_NULL_PATH;
+    Pose poseInSpace;
+};
+
+struct Swapchain final : Object {
+    Swapchain() : Object(ObjectType::Swapchain) {}
+    Session* session = nullptr;
+    XrSwapchainCreateInfo info{};
+    layers::Format format = layers::Format::RGBA8;
+    std::unique_ptr<layers::Swapchain> images;
+    uint32_t acquiredEver = 0;  // a static swapchain may be acquired once
+};
+
+/// The eye-gaze pose of one instant in head space (the cyclopean eye at the origin).
+struct GazeState {
+    bool valid = false;
+    glm::vec3 dir{0.0f, 0.0f, -1.0f};  // cyclopean direction, head space
+    double t_s = 0.0;                  // sample time, seconds on the runtime clock
+};
+
+struct Session final : Object {
+    Session() : Object(ObjectType::Session) {}
+    Instance* instance = nullptr;
+    XrSessionState state = XR_SESSION_STATE_UNKNOWN;
+    bool running = false;
+    bool stopRequested = false;  // by the application or after `frames`
+    std::unique_ptr<vk::Context> context;
+    std::unique_ptr<Compositor> compositor;
+    std::vector<std::unique_ptr<Space>> spaces;
+    std::vector<std::unique_ptr<Swapchain>> swapchains;
+    std::vector<ActionSet*> attachedSets;
+    bool eyeGazeBound = false;  // an attached action is bound to the eye-gaze pose
+    bool synced = false;        // xrSyncActions ran while focused
+
+    // Frame loop.
+    XrTime nextDisplayTime = 0;
+    uint32_t waited = 0;  // xrWaitFrame returns not yet matched by xrBeginFrame
+    bool begun = false;
+    XrTime frameDisplayTime = 0;  // predicted display time of the waited / begun frame
+    uint64_t framesEnded = 0, framesComposited = 0, framesRefused = 0, framesDiscarded = 0;
+    std::set<int> refusalsLogged;
+
+    std::unique_ptr<gaze::GazeSource> gazeSource;
+    std::unique_ptr<eval::SequenceWriter> recorder;
+    bool recordingStopped = false;
+};
+
+struct Instance final : Object {
+    Instance() : Object(ObjectType::Instance) {}
+    RuntimeConfig config;
+    std::set<std::string> extensions;
+    std::string applicationName;
+    XrTime epoch = 0;  // the runtime clock's zero (instance creation)
+
+    std::vector<std::string> paths;  // XrPath i + 1
+    std::unordered_map<std::string, XrPath> pathIds;
+    std::deque<XrEventDataBuffer> events;
+    bool eventsLost = false;
+    uint32_t lostCount = 0;
+
+    bool graphicsRequirementsQueried = false;
+    VkPhysicalDevice graphicsDevice = VK_NULL_HANDLE;  // what xrGetVulkanGraphicsDevice*KHR returned
+    VkInstance vkInstance = VK_NULL_HANDLE;            // made by xrCreateVulkanInstanceKHR
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    std::atomic<uint32_t> vkErrors{0}, vkWarnings{0};
+
+    std::vector<std::unique_ptr<Session>> sessions;
+    std::vector<std::unique_ptr<ActionSet>> actionSets;
+    // Suggested bindings per interaction profile (the last suggestion of a profile replaces the earlier).
+    std::map<XrPath, std::vector<XrActionSuggestedBinding>> suggested;
+
+    bool enabled(const char* ext) const { return extensions.count(ext) != 0; }
+    XrPath path(const std::string& s);  // interns a well-formed path
+    std::string pathString(XrPath p) const;
+    void pushEvent(const XrEventDataBuffer& e);
+    double seconds(XrTime t) const { return double(t - epoch) * 1e-9; }
+};
+
+// ---- Registry and logging ----
+std::recursive_mutex& apiMutex();
+void registerObject(Object* o);
+void unregisterObject(Object* o);
+/// The live object of type T behind a handle, or nullptr.
+Object* findObject(const void* handle, ObjectType type);
+template <typename T, typename H>
+T* lookup(H handle, ObjectType type) {
+    return static_cast<T*>(findObject(reinterpret_cast<const void*>(handle), type));
+}
+/// One line on stderr, prefixed "[wrsfov-xr] ".
+void logLine(const std::string& line);
+XrTime nowXrTime();
+
+// ---- Entry points shared between the files (the dispatch table lives in xr_runtime.cpp) ----
+/// Ends and frees a session and everything it owns (xrDestroySession, xrDestroyInstance).
+XrResult destroySession(Session* s);
+
+// Session-level calls, implemented in xr_session.cpp.
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance, const XrSessionCreateInfo*, XrSession*);
+XRAPI_ATTR XrResult XRAPI_CALL xrDestroySession(XrSession);
+XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession, const XrSessionBeginInfo*);
+XRAPI_ATTR XrResult XRAPI_CALL xrEndSession(XrSession);
+XRAPI_ATTR XrResult XRAPI_CALL xrRequestExitSession(XrSession);
+XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateReferenceSpaces(XrSession, uint32_t, uint32_t*, XrReferenceSpaceType*);
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession, const XrReferenceSpaceCreateInfo*, XrSpace*);
+XRAPI_ATTR XrResult XRAPI_CALL xrGetReferenceSpaceBoundsRect(XrSession, XrReferenceSpaceType, XrExtent2Df*);
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession, const XrActionSpaceCreateInfo*, XrSpace*);
+XRAPI_ATTR XrResult XRAPI_CALL xrLocateSpace(XrSpace, XrSpace, XrTime, XrSpaceLocation*);
+XRAPI_ATTR XrResult XRAPI_CALL xrDestroySpace(XrSpace);
+XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainFormats(XrSession, uint32_t, uint32_t*, int64_t*);
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession, const XrSwapchainCreateInfo*, XrSwapchain*);
+XRAPI_ATTR XrResult XRAPI_CALL xrDestroySwapchain(XrSwapchain);
+XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainImages(XrSwapchain, uint32_t, uint32_t*,
+                                                          XrSwapchainImageBaseHeader*);
+XRAPI_ATTR XrResult XRAPI_CALL xrAcquireSwapchainImage(XrSwapchain, const XrSwapchainImageAcquireInfo*, uint32_t*);
+XRAPI_ATTR XrResult XRAPI_CALL xrWaitSwapchainImage(XrSwapchain, const XrSwapchainImageWaitInfo*);
+XRAPI_ATTR XrResult XRAPI_CALL xrReleaseSwapchainImage(XrSwapchain, const XrSwapchainImageReleaseInfo*);
+XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession, const XrFrameWaitInfo*, XrFrameState*);
+XRAPI_ATTR XrResult XRAPI_CALL xrBeginFrame(XrSession, const XrFrameBeginInfo*);
+XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession, const XrFrameEndInfo*);
+XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession, const XrViewLocateInfo*, XrViewState*, uint32_t, uint32_t*,
+                                             XrView*);
+// Shared with the action calls.
+/// Pose of a space in stage coordinates at `time`; false where it cannot be located.
+bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gaze = nullptr);
+GazeState gazeAt(Session& s, XrTime time);
+bool sessionFocused(const Session& s);
+
+// Two-call idiom: capacity 0 asks for the count.
+template <typename T>
+XrResult fillArray(uint32_t capacity, uint32_t* countOutput, T* out, const std::vector<T>& values) {
+    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    *countOutput = uint32_t(values.size());
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < values.size()) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!out) return XR_ERROR_VALIDATION_FAILURE;
+    for (std::size_t i = 0; i < values.size(); ++i) out[i] = values[i];
+    return XR_SUCCESS;
+}
+XrResult fillString(uint32_t capacity, uint32_t* countOutput, char* out, const std::string& value);
+
+}  // namespace wrsfov::xr

@@ -1,0 +1,906 @@
+// The runtime's session-level half: session state machine, simulated head and eyes, reference
+// and action spaces, swapchains on the application's device, frame timing, xrEndFrame's checks,
+// composition through the wrsfov compositor, and recording.
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/quaternion.hpp>
+
+#include "compositor/host_app.h"
+#include "compositor/swapchain_vk.h"
+#include "gaze/frame_gaze.h"
+#include "gaze/hid_device.h"
+#include "runtime/xr_objects.h"
+
+namespace wrsfov::xr {
+
+namespace {
+
+Instance* getInstance(XrInstance h) { return lookup<Instance>(h, ObjectType::Instance); }
+Session* getSession(XrSession h) { return lookup<Session>(h, ObjectType::Session); }
+Space* getSpace(XrSpace h) { return lookup<Space>(h, ObjectType::Space); }
+Swapchain* getSwapchain(XrSwapchain h) { return lookup<Swapchain>(h, ObjectType::Swapchain); }
+Action* getAction(XrAction h) { return lookup<Action>(h, ObjectType::Action); }
+
+constexpr float kStandingHeight = 1.6f;  // LOCAL's origin above STAGE's (scenes::HeadPose)
+constexpr uint32_t kMaxLayers = 16;
+constexpr uint32_t kMaxSize = 8192;
+
+void setState(Session* s, XrSessionState state) {
+    s->state = state;
+    XrEventDataBuffer e{XR_TYPE_EVENT_DATA_BUFFER};
+    auto* c = reinterpret_cast<XrEventDataSessionStateChanged*>(&e);
+    c->type = XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED;
+    c->next = nullptr;
+    c->session = reinterpret_cast<XrSession>(s);
+    c->state = state;
+    c->time = nowXrTime();
+    s->instance->pushEvent(e);
+    if (s->instance->config.verbose) logLine("session state " + std::to_string(int(state)));
+}
+
+/// Walks the states down to STOPPING (FOCUSED -> VISIBLE -> SYNCHRONIZED -> STOPPING).
+void beginStopping(Session* s) {
+    if (s->stopRequested) return;
+    s->stopRequested = true;
+    if (s->state == XR_SESSION_STATE_FOCUSED) setState(s, XR_SESSION_STATE_VISIBLE);
+    if (s->state == XR_SESSION_STATE_VISIBLE) setState(s, XR_SESSION_STATE_SYNCHRONIZED);
+    if (s->state == XR_SESSION_STATE_READY) setState(s, XR_SESSION_STATE_SYNCHRONIZED);
+    setState(s, XR_SESSION_STATE_STOPPING);
+}
+
+XrDuration period(const Instance& inst) { return XrDuration(std::llround(1e9 / inst.config.displayHz)); }
+
+Pose headAt(const Session& s, XrTime t) {
+    const scenes::HeadPose h = scenes::headPose(s.instance->config.head, s.instance->seconds(t));
+    return {glm::angleAxis(h.yaw, glm::vec3(0, 1, 0)), h.position};
+}
+
+Pose eyeAt(const Session& s, XrTime t, int eye) {
+    return headAt(s, t) * Pose{glm::quat(1, 0, 0, 0), {(eye == 0 ? -0.5f : 0.5f) * s.instance->config.ipd_m, 0, 0}};
+}
+
+/// Rotation taking -Z to `dir` (unit).
+glm::quat lookRotation(const glm::vec3& dir) { return glm::rotation(glm::vec3(0, 0, -1), glm::normalize(dir)); }
+
+bool boundToEyeGaze(const Session& s, const Action* a) {
+    if (!s.eyeGazeBound || !a) return false;
+    const Instance& inst = *s.instance;
+    auto profile = inst.pathIds.find("/interaction_profiles/ext/eye_gaze_interaction");
+    if (profile == inst.pathIds.end()) return false;
+    auto it = inst.suggested.find(profile->second);
+    if (it == inst.suggested.end()) return false;
+    for (const auto& b : it->second)
+        if (reinterpret_cast<const Action*>(b.action) == a) return true;
+    return false;
+}
+
+/// Both eyes' gaze for a frame shown at `t`, in each eye's space. The generator is cyclopean: both
+/// eyes are turned to the point at `vergence_distance` along its direction (binocular vergence, so the
+/// left and right directions differ as in a real HMD). A file or a tracker gives each eye as measured.
+std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t) {
+    const RuntimeConfig& c = s.instance->config;
+    std::array<layers::EyeGaze, 2> g = gaze::frame_gaze(s.gazeSource.get(), s.instance->seconds(t));
+    if (c.gaze != GazeKind::Generator) return g;
+    for (int e = 0; e < 2; ++e) {
+        if (!g[e].valid) continue;
+        const glm::vec3 fixated = glm::normalize(g[e].dir) * c.vergenceDistance_m;
+        const glm::vec3 eyePos((e == 0 ? -0.5f : 0.5f) * c.ipd_m, 0.0f, 0.0f);
+        g[e].dir = glm::normalize(fixated - eyePos);
+    }
+    return g;
+}
+
+const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
+    for (auto* n = static_cast<const XrBaseInStructure*>(next); n; n = n->next)
+        if (n->type == type) return n;
+    return nullptr;
+}
+
+}  // namespace
+
+GazeState gazeAt(Session& s, XrTime time) {
+    GazeState out;
+    if (!s.gazeSource) return out;
+    const double t = s.instance->seconds(time);
+    const gaze::GazeSample sample = s.gazeSource->sample(t);
+    glm::vec3 sum(0.0f);
+    for (const auto& e : sample.eye)
+        if (e.valid && std::isfinite(e.dir.x) && std::isfinite(e.dir.y) && std::isfinite(e.dir.z) &&
+            glm::length(e.dir) > 0.0f)
+            sum += glm::normalize(e.dir);
+    if (glm::length(sum) <= 0.0f) return out;
+    out.valid = true;
+    out.dir = glm::normalize(sum);
+    out.t_s = std::isfinite(sample.t_s) ? sample.t_s : t;
+    return out;
+}
+
+bool sessionFocused(const Session& s) { return s.running && s.state == XR_SESSION_STATE_FOCUSED; }
+
+bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gazeOut) {
+    Session& s = *space.session;
+    if (space.isAction) {
+        if (!s.synced || !boundToEyeGaze(s, space.action)) return false;
+        const GazeState g = gazeAt(s, time);
+        if (!g.valid) return false;
+        if (gazeOut) *gazeOut = g;
+        out = headAt(s, time) * Pose{lookRotation(g.dir), glm::vec3(0.0f)} * space.poseInSpace;
+        return true;
+    }
+    switch (space.reference) {
+        case XR_REFERENCE_SPACE_TYPE_VIEW:
+            out = headAt(s, time) * space.poseInSpace;
+            return true;
+        case XR_REFERENCE_SPACE_TYPE_LOCAL:
+            out = Pose{glm::quat(1, 0, 0, 0), {0, kStandingHeight, 0}} * space.poseInSpace;
+            return true;
+        default:
+            out = space.poseInSpace;  // STAGE: the world frame
+            return true;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Session
+
+XrResult destroySession(Session* s) {
+    Instance* inst = s->instance;
+    if (s->recorder) {
+        if (Status st = s->recorder->close(); !st) logLine("recording: " + st.message());
+        else logLine("recorded " + std::to_string(s->recorder->written()) + " frames to " + inst->config.record);
+        s->recorder.reset();
+    }
+    logLine("session ended: " + std::to_string(s->framesEnded) + " frames ended, " +
+            std::to_string(s->framesComposited) + " composited, " + std::to_string(s->framesRefused) +
+            " not composited, " + std::to_string(s->framesDiscarded) + " discarded; Vulkan validation: " +
+            std::to_string(inst->vkErrors.load()) + " errors, " + std::to_string(inst->vkWarnings.load()) +
+            " warnings" + (inst->messenger ? "" : " (not counted: validation off or the application's instance)"));
+    for (auto& sc : s->swapchains) unregisterObject(sc.get());
+    for (auto& sp : s->spaces) unregisterObject(sp.get());
+    s->swapchains.clear();
+    s->spaces.clear();
+    s->compositor.reset();
+    s->context.reset();
+    unregisterObject(s);
+    // The messenger goes with the session: the application may destroy its VkInstance right after.
+    if (inst->messenger) {
+        auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(inst->vkInstance, "vkDestroyDebugUtilsMessengerEXT"));
+        if (fn) fn(inst->vkInstance, inst->messenger, nullptr);
+        inst->messenger = VK_NULL_HANDLE;
+    }
+    for (auto it = inst->sessions.begin(); it != inst->sessions.end(); ++it)
+        if (it->get() == s) {
+            inst->sessions.erase(it);
+            break;
+        }
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCreateInfo* info, XrSession* out) {
+    std::lock_guard lock(apiMutex());
+    Instance* inst = getInstance(h);
+    if (!inst) return XR_ERROR_HANDLE_INVALID;
+    if (!info || !out || info->type != XR_TYPE_SESSION_CREATE_INFO || info->createFlags != 0)
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (info->systemId != 1) return XR_ERROR_SYSTEM_INVALID;
+    auto* binding = reinterpret_cast<const XrGraphicsBindingVulkanKHR*>(
+        findNext(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR));
+    if (!binding) return XR_ERROR_GRAPHICS_DEVICE_INVALID;  // only Vulkan sessions
+    if (!inst->graphicsRequirementsQueried) return XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING;
+    if (!binding->instance || !binding->physicalDevice || !binding->device ||
+        binding->physicalDevice != inst->graphicsDevice)
+        return XR_ERROR_GRAPHICS_DEVICE_INVALID;
+    if (!inst->sessions.empty()) return XR_ERROR_LIMIT_REACHED;  // one HMD, one session
+
+    auto s = std::make_unique<Session>();
+    s->instance = inst;
+    vk::AdoptedDevice dev{binding->instance, binding->physicalDevice, binding->device, binding->queueFamilyIndex,
+                          binding->queueIndex};
+    auto ctx = vk::Context::adopt(dev);
+    if (!ctx) {
+        logLine("session: " + ctx.error().message);
+        return XR_ERROR_GRAPHICS_DEVICE_INVALID;
+    }
+    s->context = std::move(*ctx);
+    auto comp = Compositor::create(*s->context, inst->config.compositor);
+    if (!comp) {
+        logLine("session: compositor: " + comp.error().message);
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
+    s->compositor = std::move(*comp);
+
+    const RuntimeConfig& c = inst->config;
+    if (c.gaze == GazeKind::Generator) {
+        gaze::GeneratorConfig g;
+        g.mode = c.gazeMode;
+        g.seed = c.gazeSeed;
+        g.seconds = 60;  // replayed in a loop
+        auto src = gaze::SyntheticSource::create(g);
+        if (!src) logLine("gaze generator: " + src.error().message + "; gaze falls back to the view centre");
+        else s->gazeSource = std::move(*src);
+    } else if (c.gaze == GazeKind::File) {
+        auto src = gaze::ReplaySource::open(c.gazeFile);
+        if (!src) logLine("gaze file: " + src.error().message + "; gaze falls back to the view centre");
+        else s->gazeSource = std::move(*src);
+    } else if (c.gaze == GazeKind::Hid) {
+        auto path = gaze::hid::resolve_device("0");
+        if (!path) logLine("HID eye tracker: " + path.error().message + "; gaze falls back to the view centre");
+        else s->gazeSource = std::make_unique<gaze::hid::HidTrackerSource>(gaze::hid::hidapi_connector(*path));
+    }
+    logLine("session on " + s->context->deviceName() + ", gaze " +
+            (s->gazeSource ? std::string(c.gaze == GazeKind::Generator ? "generator (" +
+                                                                             std::string(gaze::mode_name(c.gazeMode)) + ")"
+                                                                       : c.gaze == GazeKind::File ? "file" : "HID")
+                           : std::string("none (view centre)")));
+    registerObject(s.get());
+    *out = reinterpret_cast<XrSession>(s.get());
+    Session* raw = s.get();
+    inst->sessions.push_back(std::move(s));
+    setState(raw, XR_SESSION_STATE_IDLE);
+    setState(raw, XR_SESSION_STATE_READY);
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrDestroySession(XrSession h) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    return destroySession(s);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession h, const XrSessionBeginInfo* info) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (s->running) return XR_ERROR_SESSION_RUNNING;
+    if (info->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
+    s->running = true;
+    s->nextDisplayTime = 0;
+    s->waited = 0;
+    s->begun = false;
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrEndSession(XrSession h) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    if (s->state != XR_SESSION_STATE_STOPPING) return XR_ERROR_SESSION_NOT_STOPPING;
+    s->running = false;
+    s->synced = false;
+    setState(s, XR_SESSION_STATE_IDLE);
+    // Stopping is only ever asked for to end the session (xrRequestExitSession, `frames`).
+    setState(s, XR_SESSION_STATE_EXITING);
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrRequestExitSession(XrSession h) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    beginStopping(s);
+    return XR_SUCCESS;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spaces
+
+XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateReferenceSpaces(XrSession h, uint32_t capacity, uint32_t* countOutput,
+                                                          XrReferenceSpaceType* spaces) {
+    std::lock_guard lock(apiMutex());
+    if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
+    return fillArray<XrReferenceSpaceType>(
+        capacity, countOutput, spaces,
+        {XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL, XR_REFERENCE_SPACE_TYPE_STAGE});
+}
+
+XrResult checkReferenceType(XrReferenceSpaceType t) {
+    if (t == XR_REFERENCE_SPACE_TYPE_VIEW || t == XR_REFERENCE_SPACE_TYPE_LOCAL || t == XR_REFERENCE_SPACE_TYPE_STAGE)
+        return XR_SUCCESS;
+    return t > 0 && t < XR_REFERENCE_SPACE_TYPE_MAX_ENUM ? XR_ERROR_REFERENCE_SPACE_UNSUPPORTED
+                                                         : XR_ERROR_VALIDATION_FAILURE;
+}
+
+XrSpace addSpace(Session* s, std::unique_ptr<Space> sp) {
+    registerObject(sp.get());
+    XrSpace h = reinterpret_cast<XrSpace>(sp.get());
+    s->spaces.push_back(std::move(sp));
+    return h;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrReferenceSpaceCreateInfo* info,
+                                                      XrSpace* out) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || !out || info->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (XrResult r = checkReferenceType(info->referenceSpaceType); r != XR_SUCCESS) return r;
+    if (!isValidPose(info->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
+    auto sp = std::make_unique<Space>();
+    sp->session = s;
+    sp->reference = info->referenceSpaceType;
+    sp->poseInSpace = fromXr(info->poseInReferenceSpace);
+    *out = addSpace(s, std::move(sp));
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrGetReferenceSpaceBoundsRect(XrSession h, XrReferenceSpaceType type,
+                                                             XrExtent2Df* bounds) {
+    std::lock_guard lock(apiMutex());
+    if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
+    if (!bounds) return XR_ERROR_VALIDATION_FAILURE;
+    if (XrResult r = checkReferenceType(type); r != XR_SUCCESS) return r;
+    if (type == XR_REFERENCE_SPACE_TYPE_STAGE) {
+        *bounds = {4.0f, 4.0f};  // a 4 m x 4 m play area around the stage origin
+        return XR_SUCCESS;
+    }
+    *bounds = {0.0f, 0.0f};
+    return XR_SPACE_BOUNDS_UNAVAILABLE;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession h, const XrActionSpaceCreateInfo* info, XrSpace* out) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || !out || info->type != XR_TYPE_ACTION_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    Action* a = getAction(info->action);
+    if (!a) return XR_ERROR_HANDLE_INVALID;
+    if (a->actionType != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
+    if (info->subactionPath != XR_NULL_PATH &&
+        std::find(a->subactionPaths.begin(), a->subactionPaths.end(), info->subactionPath) == a->subactionPaths.end())
+        return XR_ERROR_PATH_UNSUPPORTED;
+    if (!isValidPose(info->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
+    auto sp = std::make_unique<Space>();
+    sp->session = s;
+    sp->isAction = true;
+    sp->action = a;
+    sp->subaction = info->subactionPath;
+    sp->poseInSpace = fromXr(info->poseInActionSpace);
+    *out = addSpace(s, std::move(sp));
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrLocateSpace(XrSpace spaceH, XrSpace baseH, XrTime time, XrSpaceLocation* location) {
+    std::lock_guard lock(apiMutex());
+    Space* space = getSpace(spaceH);
+    Space* base = getSpace(baseH);
+    if (!space || !base || space->session != base->session) return XR_ERROR_HANDLE_INVALID;
+    if (!location || location->type != XR_TYPE_SPACE_LOCATION) return XR_ERROR_VALIDATION_FAILURE;
+    if (time <= 0) return XR_ERROR_TIME_INVALID;
+    Pose a, b;
+    GazeState gaze;
+    const bool ok = spacePose(*space, time, a, &gaze) && spacePose(*base, time, b);
+    location->locationFlags = 0;
+    location->pose = toXr(Pose{});
+    if (ok) {
+        location->pose = toXr(inverse(b) * a);
+        location->locationFlags = XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
+                                  XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT;
+    }
+    for (auto* n = static_cast<XrBaseOutStructure*>(location->next); n; n = n->next) {
+        if (n->type == XR_TYPE_SPACE_VELOCITY) {
+            auto* v = reinterpret_cast<XrSpaceVelocity*>(n);
+            v->velocityFlags = 0;  // not simulated
+            v->linearVelocity = {0, 0, 0};
+            v->angularVelocity = {0, 0, 0};
+        } else if (n->type == XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT) {
+            reinterpret_cast<XrEyeGazeSampleTimeEXT*>(n)->time =
+                ok && space->isAction ? space->session->instance->epoch + XrTime(gaze.t_s * 1e9) : 0;
+        }
+    }
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrDestroySpace(XrSpace h) {
+    std::lock_guard lock(apiMutex());
+    Space* sp = getSpace(h);
+    if (!sp) return XR_ERROR_HANDLE_INVALID;
+    unregisterObject(sp);
+    auto& v = sp->session->spaces;
+    for (auto it = v.begin(); it != v.end(); ++it)
+        if (it->get() == sp) {
+            v.erase(it);
+            break;
+        }
+    return XR_SUCCESS;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Swapchains
+
+namespace {
+
+struct FormatEntry {
+    VkFormat vk;
+    layers::Format format;
+    layers::Usage usage;
+};
+// In order of preference (applications take the first they know).
+constexpr FormatEntry kFormats[] = {
+    {VK_FORMAT_R8G8B8A8_SRGB, layers::Format::RGBA8_SRGB, layers::Usage::Color},
+    {VK_FORMAT_R8G8B8A8_UNORM, layers::Format::RGBA8, layers::Usage::Color},
+    {VK_FORMAT_R16G16B16A16_SFLOAT, layers::Format::RGBA16F, layers::Usage::Color},
+    {VK_FORMAT_D32_SFLOAT, layers::Format::D32F, layers::Usage::Depth},
+    {VK_FORMAT_R32_SFLOAT, layers::Format::R32F, layers::Usage::Depth},
+    {VK_FORMAT_R16G16_SFLOAT, layers::Format::RG16F, layers::Usage::Motion},
+};
+
+}  // namespace
+
+XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainFormats(XrSession h, uint32_t capacity, uint32_t* countOutput,
+                                                           int64_t* formats) {
+    std::lock_guard lock(apiMutex());
+    if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
+    std::vector<int64_t> v;
+    for (const auto& f : kFormats) v.push_back(int64_t(f.vk));
+    return fillArray(capacity, countOutput, formats, v);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainCreateInfo* info, XrSwapchain* out) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || !out || info->type != XR_TYPE_SWAPCHAIN_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    const XrSwapchainCreateFlags knownFlags =
+        XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT | XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT;
+    if (info->createFlags & ~knownFlags) return XR_ERROR_VALIDATION_FAILURE;
+    if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT) return XR_ERROR_FEATURE_UNSUPPORTED;
+    const FormatEntry* fmt = nullptr;
+    for (const auto& f : kFormats)
+        if (int64_t(f.vk) == info->format) fmt = &f;
+    if (!fmt) return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
+    if (info->width == 0 || info->height == 0 || info->width > kMaxSize || info->height > kMaxSize ||
+        info->arraySize == 0 || info->faceCount == 0 || info->mipCount == 0 || info->sampleCount == 0)
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (info->sampleCount != 1 || info->mipCount != 1 || info->faceCount != 1 || info->arraySize > 16)
+        return XR_ERROR_FEATURE_UNSUPPORTED;  // single-sampled, one mip level, 2D (array) images
+    const bool depth = fmt->format == layers::Format::D32F;
+    if ((depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT)) ||
+        (!depth && (info->usageFlags & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)))
+        return XR_ERROR_FEATURE_UNSUPPORTED;
+
+    SwapchainImageOptions options;
+    if (info->usageFlags & XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT) options.usage |= VK_IMAGE_USAGE_STORAGE_BIT;
+    if (info->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) options.flags |= VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+    options.restingLayout =
+        depth ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    options.deferInitialization = true;  // cleared at the first acquire: xrCreateSwapchain may not use the queue
+    // What the images will be made with (swapchain_vk.cpp adds sampled, transfer and the attachment).
+    VkImageUsageFlags usage = options.usage | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                              VK_IMAGE_USAGE_TRANSFER_DST_BIT |
+                              (depth ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
+    VkImageCreateFlags flags =
+        options.flags | (fmt->format == layers::Format::RGBA8_SRGB ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0);
+    VkImageFormatProperties props;
+    if (vkGetPhysicalDeviceImageFormatProperties(s->context->physicalDevice(), fmt->vk, VK_IMAGE_TYPE_2D,
+                                                 VK_IMAGE_TILING_OPTIMAL, usage, flags, &props) != VK_SUCCESS ||
+        props.maxArrayLayers < info->arraySize || props.maxExtent.width < info->width ||
+        props.maxExtent.height < info->height)
+        return XR_ERROR_FEATURE_UNSUPPORTED;
+
+    layers::SwapchainCreateInfo ci;
+    ci.usage = fmt->usage;
+    ci.format = fmt->format;
+    ci.width = info->width;
+    ci.height = info->height;
+    ci.arraySize = info->arraySize;
+    ci.imageCount = (info->createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) ? 1 : 3;
+    auto images = s->compositor->createSwapchain(ci, options);
+    if (!images) {
+        logLine("xrCreateSwapchain: " + images.error().message);
+        return images.error().code == int(layers::SwapchainError::DeviceFailure) ? XR_ERROR_OUT_OF_MEMORY
+                                                                                  : XR_ERROR_VALIDATION_FAILURE;
+    }
+    auto sc = std::make_unique<Swapchain>();
+    sc->session = s;
+    sc->info = *info;
+    sc->info.next = nullptr;
+    sc->format = fmt->format;
+    sc->images = std::move(*images);
+    registerObject(sc.get());
+    *out = reinterpret_cast<XrSwapchain>(sc.get());
+    s->swapchains.push_back(std::move(sc));
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrDestroySwapchain(XrSwapchain h) {
+    std::lock_guard lock(apiMutex());
+    Swapchain* sc = getSwapchain(h);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    unregisterObject(sc);
+    auto& v = sc->session->swapchains;
+    for (auto it = v.begin(); it != v.end(); ++it)
+        if (it->get() == sc) {
+            v.erase(it);
+            break;
+        }
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainImages(XrSwapchain h, uint32_t capacity, uint32_t* countOutput,
+                                                          XrSwapchainImageBaseHeader* images) {
+    std::lock_guard lock(apiMutex());
+    Swapchain* sc = getSwapchain(h);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    const uint32_t n = sc->images->info().imageCount;
+    *countOutput = n;
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < n) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!images) return XR_ERROR_VALIDATION_FAILURE;
+    auto* vkImages = reinterpret_cast<XrSwapchainImageVulkanKHR*>(images);
+    for (uint32_t i = 0; i < n; ++i)
+        if (vkImages[i].type != XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR) return XR_ERROR_VALIDATION_FAILURE;
+    for (uint32_t i = 0; i < n; ++i) vkImages[i].image = sc->images->image(i);
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrAcquireSwapchainImage(XrSwapchain h, const XrSwapchainImageAcquireInfo* info,
+                                                       uint32_t* index) {
+    std::lock_guard lock(apiMutex());
+    Swapchain* sc = getSwapchain(h);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (!index || (info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO)) return XR_ERROR_VALIDATION_FAILURE;
+    if ((sc->info.createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) && sc->acquiredEver > 0)
+        return XR_ERROR_CALL_ORDER_INVALID;
+    // First use: clear the images and put them in the layout the application expects (the queue may
+    // be used here).
+    if (Status p = static_cast<VulkanSwapchain*>(sc->images.get())->prepare(); !p) {
+        logLine("xrAcquireSwapchainImage: " + p.message());
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
+    auto r = sc->images->acquire();
+    if (!r) return XR_ERROR_CALL_ORDER_INVALID;  // every image acquired and not released
+    ++sc->acquiredEver;
+    *index = *r;
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrWaitSwapchainImage(XrSwapchain h, const XrSwapchainImageWaitInfo* info) {
+    std::lock_guard lock(apiMutex());
+    Swapchain* sc = getSwapchain(h);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    // Frame end is synchronous: an acquired image is free as soon as it is acquired.
+    return sc->images->wait() ? XR_SUCCESS : XR_ERROR_CALL_ORDER_INVALID;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrReleaseSwapchainImage(XrSwapchain h, const XrSwapchainImageReleaseInfo* info) {
+    std::lock_guard lock(apiMutex());
+    Swapchain* sc = getSwapchain(h);
+    if (!sc) return XR_ERROR_HANDLE_INVALID;
+    if (info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    return sc->images->release() ? XR_SUCCESS : XR_ERROR_CALL_ORDER_INVALID;  // released twice, or not waited
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frames
+
+XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* info, XrFrameState* state) {
+    std::unique_lock lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if ((info && info->type != XR_TYPE_FRAME_WAIT_INFO) || !state || state->type != XR_TYPE_FRAME_STATE)
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    const Instance& inst = *s->instance;
+    const XrDuration p = period(inst);
+    XrTime now = nowXrTime();
+    if (s->nextDisplayTime == 0) s->nextDisplayTime = now + p;
+    XrTime display;
+    if (inst.config.pace) {
+        // A late application skips display slots rather than queueing up latency.
+        if (s->nextDisplayTime < now + p / 2) s->nextDisplayTime += ((now + p / 2 - s->nextDisplayTime) / p + 1) * p;
+        display = s->nextDisplayTime;
+        s->nextDisplayTime += p;
+        const XrTime wake = display - p;
+        if (wake > now) {
+            lock.unlock();
+            std::this_thread::sleep_for(std::chrono::nanoseconds(wake - now));
+            lock.lock();
+            s = getSession(h);  // destroyed from another thread while we slept?
+            if (!s) return XR_ERROR_HANDLE_INVALID;
+        }
+    } else {
+        display = s->nextDisplayTime;
+        s->nextDisplayTime += p;
+    }
+    ++s->waited;
+    s->frameDisplayTime = display;
+    if (s->state == XR_SESSION_STATE_READY && !s->stopRequested) {
+        setState(s, XR_SESSION_STATE_SYNCHRONIZED);
+        setState(s, XR_SESSION_STATE_VISIBLE);
+        setState(s, XR_SESSION_STATE_FOCUSED);
+    }
+    state->predictedDisplayTime = display;
+    state->predictedDisplayPeriod = p;
+    state->shouldRender =
+        s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED ? XR_TRUE : XR_FALSE;
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrBeginFrame(XrSession h, const XrFrameBeginInfo* info) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (info && info->type != XR_TYPE_FRAME_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    if (s->waited == 0) return XR_ERROR_CALL_ORDER_INVALID;
+    --s->waited;
+    if (s->begun) {
+        ++s->framesDiscarded;  // the previous frame was begun and never ended
+        return XR_FRAME_DISCARDED;
+    }
+    s->begun = true;
+    return XR_SUCCESS;
+}
+
+namespace {
+
+/// A sub-image reference of the frame end: handle, released image, array index, rectangle.
+XrResult checkSubImage(Session* s, const XrSwapchainSubImage& sub, Swapchain** out) {
+    Swapchain* sc = getSwapchain(sub.swapchain);
+    if (!sc || sc->session != s) return XR_ERROR_HANDLE_INVALID;
+    if (sc->images->lastReleased() < 0) return XR_ERROR_LAYER_INVALID;  // nothing released yet
+    if (sub.imageArrayIndex >= sc->info.arraySize) return XR_ERROR_VALIDATION_FAILURE;
+    const XrRect2Di& r = sub.imageRect;
+    if (r.offset.x < 0 || r.offset.y < 0 || r.extent.width <= 0 || r.extent.height <= 0 ||
+        int64_t(r.offset.x) + r.extent.width > int64_t(sc->info.width) ||
+        int64_t(r.offset.y) + r.extent.height > int64_t(sc->info.height))
+        return XR_ERROR_SWAPCHAIN_RECT_INVALID;
+    if (out) *out = sc;
+    return XR_SUCCESS;
+}
+
+bool validFov(const XrFovf& f) {
+    const float lim = 1.5707963f;
+    for (float a : {f.angleLeft, f.angleRight, f.angleUp, f.angleDown})
+        if (!std::isfinite(a) || std::abs(a) >= lim) return false;
+    return f.angleLeft < f.angleRight && f.angleDown < f.angleUp;
+}
+
+XrResult checkDepthInfo(Session* s, const XrCompositionLayerDepthInfoKHR& d) {
+    if (XrResult r = checkSubImage(s, d.subImage, nullptr); r != XR_SUCCESS) return r;
+    if (!(d.minDepth >= 0.0f && d.minDepth < d.maxDepth && d.maxDepth <= 1.0f)) return XR_ERROR_VALIDATION_FAILURE;
+    auto ok = [](float z) { return z > 0.0f && !std::isnan(z); };  // +inf allowed
+    if (!ok(d.nearZ) || !ok(d.farZ) || d.nearZ == d.farZ) return XR_ERROR_VALIDATION_FAILURE;
+    return XR_SUCCESS;
+}
+
+/// Everything the specification requires of a frame end, before anything is composited.
+XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
+    if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
+    if (info->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
+        return info->environmentBlendMode >= XR_ENVIRONMENT_BLEND_MODE_OPAQUE &&
+                       info->environmentBlendMode <= XR_ENVIRONMENT_BLEND_MODE_ALPHA_BLEND
+                   ? XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED
+                   : XR_ERROR_VALIDATION_FAILURE;
+    if (info->layerCount > kMaxLayers) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
+    if (info->layerCount > 0 && !info->layers) return XR_ERROR_VALIDATION_FAILURE;
+    const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    for (uint32_t i = 0; i < info->layerCount; ++i) {
+        const XrCompositionLayerBaseHeader* l = info->layers[i];
+        if (!l) return XR_ERROR_LAYER_INVALID;
+        const XrCompositionLayerFlags known = XR_COMPOSITION_LAYER_CORRECT_CHROMATIC_ABERRATION_BIT |
+                                              XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT |
+                                              XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT;
+        if (l->layerFlags & ~known) return XR_ERROR_VALIDATION_FAILURE;
+        Space* sp = getSpace(l->space);
+        if (!sp || sp->session != s) return XR_ERROR_HANDLE_INVALID;
+        if (l->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+            auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(l);
+            if (p->viewCount != 2 || !p->views) return XR_ERROR_VALIDATION_FAILURE;
+            for (uint32_t v = 0; v < 2; ++v) {
+                const XrCompositionLayerProjectionView& view = p->views[v];
+                if (view.type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+                if (!isValidPose(view.pose)) return XR_ERROR_POSE_INVALID;
+                if (!validFov(view.fov)) return XR_ERROR_VALIDATION_FAILURE;
+                if (XrResult r = checkSubImage(s, view.subImage, nullptr); r != XR_SUCCESS) return r;
+                if (auto* d = findNext(view.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); d && depthExt)
+                    if (XrResult r = checkDepthInfo(s, *reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(d));
+                        r != XR_SUCCESS)
+                        return r;
+            }
+        } else if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
+            auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(l);
+            if (q->eyeVisibility > XR_EYE_VISIBILITY_RIGHT || !std::isfinite(q->size.width) ||
+                !std::isfinite(q->size.height) || q->size.width <= 0.0f || q->size.height <= 0.0f)
+                return XR_ERROR_VALIDATION_FAILURE;
+            if (!isValidPose(q->pose)) return XR_ERROR_POSE_INVALID;
+            if (XrResult r = checkSubImage(s, q->subImage, nullptr); r != XR_SUCCESS) return r;
+        } else {
+            return XR_ERROR_LAYER_INVALID;  // cube, cylinder, equirect: not supported
+        }
+    }
+    return XR_SUCCESS;
+}
+
+/// Reads one submitted sub-image back (for recording).
+Result<HostImage> readSubImage(const layers::SubImage& sub) {
+    auto* sc = sub.swapchain;
+    auto bytes = sc->read(uint32_t(sc->lastReleased()), sub.arrayIndex);
+    if (!bytes) return bytes.error();
+    HostImage full = HostImage::make(sc->info().format, sc->info().width, sc->info().height);
+    full.data = std::move(*bytes);
+    if (sub.rect.x == 0 && sub.rect.y == 0 && sub.rect.width == full.width && sub.rect.height == full.height)
+        return full;
+    return full.crop(uint32_t(sub.rect.x), uint32_t(sub.rect.y), sub.rect.width, sub.rect.height);
+}
+
+/// Appends a composited frame to the recording: what the application submitted, our gaze, and the
+/// compositor's output (NNNNNN_{L,R}_output.png beside the sequence's files).
+void recordFrame(Session* s, const layers::FrameEndInfo& f) {
+    const RuntimeConfig& c = s->instance->config;
+    if (c.record.empty() || s->recordingStopped) return;
+    auto stop = [&](const std::string& why) {
+        logLine("recording stopped: " + why);
+        s->recordingStopped = true;
+    };
+    const layers::ProjectionLayer& layer = f.layers[0];
+    std::array<EyeSubmission, 2> eyes;
+    for (int e = 0; e < 2; ++e) {
+        const layers::ProjectionView& v = layer.views[e];
+        auto color = readSubImage(v.color);
+        if (!color) return stop(color.error().message);
+        eyes[e].color = std::move(*color);
+        if (v.depth) {
+            auto depth = readSubImage(v.depth->subImage);
+            if (!depth) return stop(depth.error().message);
+            eyes[e].depth = std::move(*depth);
+        }
+        eyes[e].fov = v.fov;
+        eyes[e].gaze = f.gaze[e];
+    }
+    if (!s->recorder) {
+        eval::SequenceInfo info;
+        info.width = eyes[0].color.width;
+        info.height = eyes[0].color.height;
+        info.frameCount = 999999;  // an upper bound: close() writes the real count
+        info.fps = c.displayHz;
+        info.color = eyes[0].color.format == layers::Format::RGBA8_SRGB ? eval::ColorFile::Png : eval::ColorFile::Exr;
+        info.fov = {layer.views[0].fov, layer.views[1].fov};
+        if (layer.views[0].depth) {
+            const auto& d = *layer.views[0].depth;
+            info.depth = eval::SequenceDepth{d.nearZ, d.farZ, d.reversedZ};
+        }
+        info.description = "recorded by the wrsfov OpenXR runtime from '" + s->instance->applicationName + "'";
+        auto w = eval::SequenceWriter::create(c.record, info);
+        if (!w) return stop(w.error().message);
+        s->recorder = std::move(*w);
+    }
+    const uint32_t index = s->recorder->written();
+    if (Status st = s->recorder->writeFrame(index, eyes); !st) return stop(st.message());
+    for (int e = 0; e < 2; ++e) {
+        auto out = s->compositor->readOutput(uint32_t(e));
+        if (!out) return stop(out.error().message);
+        if (Status st = writePng(*out, c.record + "/" + eval::frameFileName(index, e, "output.png")); !st)
+            return stop(st.message());
+    }
+}
+
+/// Runs the first stereo projection layer through the compositor.
+void compose(Session* s, const XrFrameEndInfo* info) {
+    const XrCompositionLayerProjection* proj = nullptr;
+    bool quads = false;
+    for (uint32_t i = 0; i < info->layerCount; ++i) {
+        if (info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION && !proj)
+            proj = reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[i]);
+        quads = quads || info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_QUAD;
+    }
+    if (quads && s->refusalsLogged.insert(-1).second)
+        logLine("quad layers are accepted and validated but not drawn over the projection layer");
+    if (!proj) return;
+    const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    layers::FrameEndInfo f;
+    f.frameIndex = s->framesEnded + 1;
+    f.time_s = s->instance->seconds(s->frameDisplayTime);
+    layers::ProjectionLayer layer;
+    for (uint32_t v = 0; v < 2; ++v) {
+        const XrCompositionLayerProjectionView& xv = proj->views[v];
+        layers::ProjectionView pv;
+        pv.fov = {xv.fov.angleLeft, xv.fov.angleRight, xv.fov.angleUp, xv.fov.angleDown};
+        auto sub = [](const XrSwapchainSubImage& x) {
+            layers::SubImage si;
+            si.swapchain = getSwapchain(x.swapchain)->images.get();
+            si.rect = {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
+                       uint32_t(x.imageRect.extent.height)};
+            si.arrayIndex = x.imageArrayIndex;
+            return si;
+        };
+        pv.color = sub(xv.subImage);
+        if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); n && depthExt) {
+            auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(n);
+            if (d->minDepth == 0.0f && d->maxDepth == 1.0f) {
+                // OpenXR: nearZ is the distance at minDepth. nearZ > farZ is reversed Z.
+                layers::DepthInfo di;
+                di.subImage = sub(d->subImage);
+                di.reversedZ = d->nearZ > d->farZ;
+                di.nearZ = std::min(d->nearZ, d->farZ);
+                di.farZ = std::max(d->nearZ, d->farZ);
+                pv.depth = di;
+            } else if (s->refusalsLogged.insert(-2).second) {
+                logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
+            }
+        }
+        layer.views.push_back(pv);
+    }
+    f.layers.push_back(std::move(layer));
+    const auto gaze = frameGaze(*s, s->frameDisplayTime);
+    f.gaze[0] = gaze[0];
+    f.gaze[1] = gaze[1];
+    Status st = s->compositor->endFrame(f);
+    if (!st) {
+        ++s->framesRefused;
+        if (s->refusalsLogged.insert(st.error().code).second)
+            logLine("frame " + std::to_string(f.frameIndex) + " not composited: " + st.message() +
+                    " (logged once per reason)");
+        return;
+    }
+    ++s->framesComposited;
+    recordFrame(s, f);
+}
+
+}  // namespace
+
+XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* info) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || info->type != XR_TYPE_FRAME_END_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    if (!s->begun) return XR_ERROR_CALL_ORDER_INVALID;
+    if (XrResult r = validateFrameEnd(s, info); r != XR_SUCCESS) return r;
+    compose(s, info);
+    s->begun = false;
+    ++s->framesEnded;
+    const uint64_t limit = s->instance->config.frames;
+    if (limit > 0 && s->framesEnded >= limit && !s->stopRequested) {
+        logLine("frame limit reached (" + std::to_string(limit) + "): asking the application to stop");
+        beginStopping(s);
+    }
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession h, const XrViewLocateInfo* info, XrViewState* viewState,
+                                             uint32_t capacity, uint32_t* countOutput, XrView* views) {
+    std::lock_guard lock(apiMutex());
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    if (!info || info->type != XR_TYPE_VIEW_LOCATE_INFO || !viewState || viewState->type != XR_TYPE_VIEW_STATE ||
+        !countOutput)
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (info->viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
+    Space* base = getSpace(info->space);
+    if (!base || base->session != s) return XR_ERROR_HANDLE_INVALID;
+    *countOutput = 2;
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < 2) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!views) return XR_ERROR_VALIDATION_FAILURE;
+    for (uint32_t i = 0; i < 2; ++i)
+        if (views[i].type != XR_TYPE_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+    Pose b;
+    const bool located = spacePose(*base, info->displayTime, b);
+    viewState->viewStateFlags = located ? XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+                                              XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT
+                                        : 0;
+    const RuntimeConfig& c = s->instance->config;
+    for (int e = 0; e < 2; ++e) {
+        views[e].pose = toXr(located ? inverse(b) * eyeAt(*s, info->displayTime, e) : Pose{});
+        views[e].fov = {c.fov[e].angleLeft, c.fov[e].angleRight, c.fov[e].angleUp, c.fov[e].angleDown};
+    }
+    return XR_SUCCESS;
+}
+
+}  // namespace wrsfov::xr

@@ -1,0 +1,52 @@
+#!/bin/sh
+# hello_xr (the Khronos sample client, -g Vulkan2 -vc Stereo) on the wrsfov runtime, headless, under
+# the Khronos Vulkan validation layer and the OpenXR core validation layer: it must run 300 frames,
+# exit cleanly when the runtime asks it to stop, leave 0 validation messages of either layer, and
+# record a 300-frame sequence that wrsfov-bench evaluates.
+# usage: hello_xr_test.sh RUNTIME_JSON WRSFOV_BENCH OUT_DIR
+set -u
+json="$1"
+bench="$2"
+out="$3"
+rm -rf "$out"
+mkdir -p "$out"
+. "$(dirname "$0")/../cli_check.sh"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+export XR_RUNTIME_JSON="$json"
+
+CLI_FIXED=1 cli_check runtime_list 0 "wrsfov simulated HMD" openxr_runtime_list
+
+# hello_xr quits at a key press or when stdin ends. Its stdin is a fifo that this script holds open
+# and never writes, so only the runtime's frame limit (STOPPING, then EXITING) can end the run.
+mkfifo "$out/stdin"
+exec 3<>"$out/stdin"
+run_hello() {
+    env WRSFOV_XR_WIDTH=192 WRSFOV_XR_HEIGHT=192 WRSFOV_XR_FRAMES=300 WRSFOV_XR_RECORD="$out/seq" \
+        WRSFOV_VALIDATION=1 XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
+        timeout 300 hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+}
+CLI_FIXED=1 cli_check hello_xr 0 "session ended: 300 frames ended, 300 composited, 0 not composited" run_hello
+exec 3>&-
+log="$out/hello_xr.log"
+check() {  # check NAME COMMAND...: a shell condition on the hello_xr log
+    name=$1
+    shift
+    count=$((count + 1))
+    if "$@"; then echo "ok   $name"; else echo "FAIL $name"; fails=$((fails + 1)); fi
+}
+check vulkan_validation_counted grep -q "Vulkan validation on: counting" "$log"
+check vulkan_validation_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$log"
+check openxr_validation_active grep -q "Core Validation output type" "$log"
+check openxr_validation_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$log'"
+check session_exited grep -q "XR_SESSION_STATE_IDLE->XR_SESSION_STATE_EXITING" "$log"
+check recorded grep -q "recorded 300 frames to $out/seq" "$log"
+check frame_count grep -q '"frame_count": 300' "$out/seq/sequence.json"
+check last_frame test -s "$out/seq/000299_R_color.png" -a -s "$out/seq/000299_R_output.png"
+check no_extra_frame test ! -e "$out/seq/000300_L_color.png"
+check gaze_rows test "$(wc -l < "$out/seq/gaze.csv")" -eq 301
+
+# The recording round-trips through the benchmark as scene `sequence`.
+CLI_FIXED=1 cli_check bench_sequence 0 "192x192 per eye, 300 frames" \
+    "$bench" --sequence "$out/seq" --out "$out/report" --fovea 5 --modes mip --methods fov,wrs
+check bench_rows test "$(grep -c '^sequence,' "$out/report/results.csv")" -eq 2
+cli_summary
