@@ -1,0 +1,485 @@
+// Our own OpenXR client against the runtime, through the Khronos loader: what hello_xr does not
+// do. Every call the runtime refuses, with its XrResult; the session state machine and frame
+// order; array swapchains with depth, recorded and checked; the eye-gaze action.
+// Environment (tests/xr/CMakeLists.txt): XR_RUNTIME_JSON, WRSFOV_XR_PACE=free, a small view size.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "eval/sequence.h"
+#include "tests/xr/xr_client.h"
+
+namespace wrsfov::xrtest {
+namespace {
+
+const std::vector<const char*> kExtensions = {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
+                                              XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME,
+                                              XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME};
+constexpr int64_t kSrgb = VK_FORMAT_R8G8B8A8_SRGB;
+constexpr XrSwapchainUsageFlags kColorUsage =
+    XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+
+XrPath path(XrInstance i, const char* s) {
+    XrPath p = XR_NULL_PATH;
+    EXPECT_EQ(xrStringToPath(i, s, &p), XR_SUCCESS) << s;
+    return p;
+}
+
+/// A checkerboard of `cell` pixels in two colours, RGBA8.
+std::vector<uint8_t> checker(uint32_t w, uint32_t h, uint32_t cell, uint8_t a, uint8_t b) {
+    std::vector<uint8_t> t(size_t(w) * h * 4);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const uint8_t v = ((x / cell + y / cell) % 2) ? a : b;
+            uint8_t* p = &t[(size_t(y) * w + x) * 4];
+            p[0] = v, p[1] = uint8_t(255 - v), p[2] = uint8_t(x * 255 / w), p[3] = 255;
+        }
+    return t;
+}
+
+/// Runs frames until the session is FOCUSED (READY -> begin -> first frames).
+void runToFocused(Client& c, const Swapchain& color) {
+    ASSERT_EQ(c.begin(), XR_SUCCESS);
+    for (int i = 0; i < 3; ++i) {
+        XrResult r = c.frame([&](const XrFrameState& fs) {
+            StereoLayer sl;
+            sl.build(c, fs.predictedDisplayTime, color);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{sl.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c.session, &fe);
+        });
+        ASSERT_EQ(r, XR_SUCCESS);
+    }
+}
+
+TEST(XrClient, InstanceAndSystemRefusals) {
+    // An extension the runtime does not have.
+    XrInstanceCreateInfo ici{XR_TYPE_INSTANCE_CREATE_INFO};
+    std::snprintf(ici.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "refusals");
+    ici.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
+    const char* bogus[] = {"XR_WRSFOV_no_such_extension"};
+    ici.enabledExtensionCount = 1;
+    ici.enabledExtensionNames = bogus;
+    XrInstance inst = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateInstance(&ici, &inst), XR_ERROR_EXTENSION_NOT_PRESENT);
+
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    XrSystemGetInfo sgi{XR_TYPE_SYSTEM_GET_INFO};
+    sgi.formFactor = XR_FORM_FACTOR_HANDHELD_DISPLAY;
+    XrSystemId sys = 0;
+    EXPECT_EQ(xrGetSystem(c->instance, &sgi, &sys), XR_ERROR_FORM_FACTOR_UNSUPPORTED);
+    XrSystemProperties props{XR_TYPE_SYSTEM_PROPERTIES};
+    EXPECT_EQ(xrGetSystemProperties(c->instance, 42, &props), XR_ERROR_SYSTEM_INVALID);
+    XrSystemEyeGazeInteractionPropertiesEXT eye{XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT};
+    props.next = &eye;
+    ASSERT_EQ(xrGetSystemProperties(c->instance, c->system, &props), XR_SUCCESS);
+    EXPECT_EQ(eye.supportsEyeGazeInteraction, XR_TRUE);
+    EXPECT_EQ(props.graphicsProperties.maxLayerCount, 16u);
+
+    uint32_t n = 0;
+    XrViewConfigurationView one[1] = {{XR_TYPE_VIEW_CONFIGURATION_VIEW}};
+    EXPECT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 1,
+                                                &n, one),
+              XR_ERROR_SIZE_INSUFFICIENT);
+    EXPECT_EQ(n, 2u);
+    EXPECT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO, 0,
+                                                &n, nullptr),
+              XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
+    EXPECT_EQ(c->viewWidth, 64u);  // WRSFOV_XR_WIDTH in the test's environment
+
+    XrPath p = XR_NULL_PATH;
+    EXPECT_EQ(xrStringToPath(c->instance, "/user/hand//left", &p), XR_ERROR_PATH_FORMAT_INVALID);
+    EXPECT_EQ(xrStringToPath(c->instance, "user/hand/left", &p), XR_ERROR_PATH_FORMAT_INVALID);
+    EXPECT_EQ(xrStringToPath(c->instance, "/User/hand", &p), XR_ERROR_PATH_FORMAT_INVALID);
+    char buf[64];
+    EXPECT_EQ(xrPathToString(c->instance, 987654, 64, &n, buf), XR_ERROR_PATH_INVALID);
+    const XrPath left = path(c->instance, "/user/hand/left");
+    EXPECT_EQ(path(c->instance, "/user/hand/left"), left);  // interned once
+    ASSERT_EQ(xrPathToString(c->instance, left, 64, &n, buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "/user/hand/left");
+    EXPECT_EQ(n, 16u);
+    EXPECT_EQ(xrPathToString(c->instance, left, 4, &n, buf), XR_ERROR_SIZE_INSUFFICIENT);
+
+    // Handles that are not live.
+    XrSession dead = reinterpret_cast<XrSession>(uintptr_t(0x1234));
+    EXPECT_EQ(xrBeginSession(dead, nullptr), XR_ERROR_HANDLE_INVALID);
+    XrSessionCreateInfo sci{XR_TYPE_SESSION_CREATE_INFO};
+    sci.systemId = c->system;
+    XrSession second = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateSession(c->instance, &sci, &second), XR_ERROR_GRAPHICS_DEVICE_INVALID);  // no binding
+}
+
+TEST(XrClient, SessionStateMachineAndFrameOrder) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    EXPECT_EQ(Client::states(c->poll()),
+              (std::vector<XrSessionState>{XR_SESSION_STATE_IDLE, XR_SESSION_STATE_READY}));
+    XrFrameState fs{XR_TYPE_FRAME_STATE};
+    EXPECT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_ERROR_SESSION_NOT_RUNNING);
+    XrSessionBeginInfo mono{XR_TYPE_SESSION_BEGIN_INFO};
+    mono.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO;
+    EXPECT_EQ(xrBeginSession(c->session, &mono), XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
+    ASSERT_EQ(c->begin(), XR_SUCCESS);
+    EXPECT_EQ(c->begin(), XR_ERROR_SESSION_RUNNING);
+
+    EXPECT_EQ(xrBeginFrame(c->session, nullptr), XR_ERROR_CALL_ORDER_INVALID);  // no xrWaitFrame
+    XrFrameEndInfo empty = frameEnd(1, {});
+    EXPECT_EQ(xrEndFrame(c->session, &empty), XR_ERROR_CALL_ORDER_INVALID);  // no xrBeginFrame
+    ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+    EXPECT_GT(fs.predictedDisplayTime, 0);
+    EXPECT_EQ(fs.predictedDisplayPeriod, XrDuration(11111111));  // 90 Hz
+    EXPECT_EQ(Client::states(c->poll()),
+              (std::vector<XrSessionState>{XR_SESSION_STATE_SYNCHRONIZED, XR_SESSION_STATE_VISIBLE,
+                                           XR_SESSION_STATE_FOCUSED}));
+    EXPECT_EQ(fs.shouldRender, XR_TRUE);
+    ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+    XrFrameState fs2{XR_TYPE_FRAME_STATE};
+    ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs2), XR_SUCCESS);
+    EXPECT_EQ(fs2.predictedDisplayTime - fs.predictedDisplayTime, fs.predictedDisplayPeriod);
+    EXPECT_EQ(xrBeginFrame(c->session, nullptr), XR_FRAME_DISCARDED);  // the first was never ended
+    XrFrameEndInfo none = frameEnd(fs2.predictedDisplayTime, {});
+    EXPECT_EQ(xrEndFrame(c->session, &none), XR_SUCCESS);  // zero layers is a valid frame
+
+    EXPECT_EQ(xrEndSession(c->session), XR_ERROR_SESSION_NOT_STOPPING);
+    ASSERT_EQ(xrRequestExitSession(c->session), XR_SUCCESS);
+    EXPECT_EQ(Client::states(c->poll()),
+              (std::vector<XrSessionState>{XR_SESSION_STATE_VISIBLE, XR_SESSION_STATE_SYNCHRONIZED,
+                                           XR_SESSION_STATE_STOPPING}));
+    ASSERT_EQ(xrEndSession(c->session), XR_SUCCESS);
+    EXPECT_EQ(Client::states(c->poll()),
+              (std::vector<XrSessionState>{XR_SESSION_STATE_IDLE, XR_SESSION_STATE_EXITING}));
+    EXPECT_EQ(xrEndSession(c->session), XR_ERROR_SESSION_NOT_RUNNING);
+    EXPECT_EQ(xrRequestExitSession(c->session), XR_ERROR_SESSION_NOT_RUNNING);
+}
+
+TEST(XrClient, SwapchainRefusals) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    Swapchain sc;
+    EXPECT_EQ(c->createSwapchain(VK_FORMAT_B5G6R5_UNORM_PACK16, 64, 64, 1, kColorUsage, sc),
+              XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED);
+    EXPECT_EQ(c->createSwapchain(kSrgb, 0, 64, 1, kColorUsage, sc), XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(c->createSwapchain(kSrgb, 64, 64, 0, kColorUsage, sc), XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(c->createSwapchain(kSrgb, 64, 64, 1, kColorUsage, sc, XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT),
+              XR_ERROR_FEATURE_UNSUPPORTED);
+    EXPECT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, 64, 64, 1, XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT, sc),
+              XR_ERROR_FEATURE_UNSUPPORTED);  // a depth format as colour attachment
+    XrSwapchainCreateInfo ci{XR_TYPE_SWAPCHAIN_CREATE_INFO};
+    ci.format = kSrgb, ci.width = ci.height = 64, ci.faceCount = ci.arraySize = ci.mipCount = 1;
+    ci.sampleCount = 4;
+    ci.usageFlags = kColorUsage;
+    XrSwapchain h = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateSwapchain(c->session, &ci, &h), XR_ERROR_FEATURE_UNSUPPORTED);
+    ci.sampleCount = 1;
+    ci.type = XR_TYPE_SESSION_CREATE_INFO;  // wrong structure type
+    EXPECT_EQ(xrCreateSwapchain(c->session, &ci, &h), XR_ERROR_VALIDATION_FAILURE);
+
+    ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 1, kColorUsage, sc), XR_SUCCESS);
+    ASSERT_EQ(sc.images.size(), 3u);
+    XrSwapchainImageBaseHeader wrong[3] = {{XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR}};
+    uint32_t n = 0;
+    EXPECT_EQ(xrEnumerateSwapchainImages(sc.handle, 3, &n, wrong), XR_ERROR_VALIDATION_FAILURE);
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_ERROR_CALL_ORDER_INVALID);       // nothing acquired
+    EXPECT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_ERROR_CALL_ORDER_INVALID);  // nothing waited
+    uint32_t idx[4];
+    for (int i = 0; i < 3; ++i) ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[i]), XR_SUCCESS);
+    EXPECT_EQ(idx[0], 0u);
+    EXPECT_EQ(idx[2], 2u);
+    EXPECT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[3]), XR_ERROR_CALL_ORDER_INVALID);  // all acquired
+    EXPECT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_ERROR_CALL_ORDER_INVALID);  // acquired, not waited
+    ASSERT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);
+    ASSERT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    EXPECT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_ERROR_CALL_ORDER_INVALID);  // released twice
+
+    // A static swapchain is acquired once in its life.
+    Swapchain st;
+    ASSERT_EQ(c->createSwapchain(kSrgb, 32, 32, 1, kColorUsage, st, XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT),
+              XR_SUCCESS);
+    EXPECT_EQ(st.images.size(), 1u);
+    c->writeSwapchain(st, 4, VK_IMAGE_ASPECT_COLOR_BIT, [](uint32_t) { return checker(32, 32, 4, 0, 255); });
+    EXPECT_EQ(xrAcquireSwapchainImage(st.handle, nullptr, &idx[0]), XR_ERROR_CALL_ORDER_INVALID);
+
+    ASSERT_EQ(xrDestroySwapchain(sc.handle), XR_SUCCESS);
+    EXPECT_EQ(xrDestroySwapchain(sc.handle), XR_ERROR_HANDLE_INVALID);
+    EXPECT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[0]), XR_ERROR_HANDLE_INVALID);
+}
+
+TEST(XrClient, FrameEndRefusalsChangeNothing) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    Swapchain color, unreleased, depth;
+    ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 2, kColorUsage, color), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 1, kColorUsage, unreleased), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, 64, 64, 2,
+                                 XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT,
+                                 depth),
+              XR_SUCCESS);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [](uint32_t) { return checker(64, 64, 4, 0, 255); });
+    c->writeSwapchain(depth, 4, VK_IMAGE_ASPECT_DEPTH_BIT, [](uint32_t) { return std::vector<uint8_t>(64 * 64 * 4); });
+    runToFocused(*c, color);
+
+    // Each case: a broken copy of a good frame end, its expected result.
+    struct Case {
+        const char* what;
+        std::function<void(StereoLayer&, XrFrameEndInfo&)> spoil;
+        XrResult want;
+    };
+    XrCompositionLayerCylinderKHR cylinder{XR_TYPE_COMPOSITION_LAYER_CYLINDER_KHR};
+    std::vector<const XrCompositionLayerBaseHeader*> tooMany(17);
+    const XrCompositionLayerBaseHeader* nullLayer[1] = {nullptr};
+    const XrCompositionLayerBaseHeader* cylinderLayer[1] = {
+        reinterpret_cast<const XrCompositionLayerBaseHeader*>(&cylinder)};
+    const std::vector<Case> cases = {
+        {"rect beyond the image", [](StereoLayer& s, XrFrameEndInfo&) { s.views[1].subImage.imageRect.extent.width = 65; },
+         XR_ERROR_SWAPCHAIN_RECT_INVALID},
+        {"negative rect offset", [](StereoLayer& s, XrFrameEndInfo&) { s.views[0].subImage.imageRect.offset.y = -1; },
+         XR_ERROR_SWAPCHAIN_RECT_INVALID},
+        {"array index out of range", [](StereoLayer& s, XrFrameEndInfo&) { s.views[1].subImage.imageArrayIndex = 2; },
+         XR_ERROR_VALIDATION_FAILURE},
+        {"one view", [](StereoLayer& s, XrFrameEndInfo&) { s.layer.viewCount = 1; }, XR_ERROR_VALIDATION_FAILURE},
+        {"wrong view type", [](StereoLayer& s, XrFrameEndInfo&) { s.views[0].type = XR_TYPE_VIEW; },
+         XR_ERROR_VALIDATION_FAILURE},
+        {"unnormalised pose", [](StereoLayer& s, XrFrameEndInfo&) { s.views[0].pose.orientation.w = 2.0f; },
+         XR_ERROR_POSE_INVALID},
+        {"NaN field of view", [](StereoLayer& s, XrFrameEndInfo&) { s.views[1].fov.angleUp = std::nanf(""); },
+         XR_ERROR_VALIDATION_FAILURE},
+        {"swapchain never released",
+         [&](StereoLayer& s, XrFrameEndInfo&) { s.views[1].subImage.swapchain = unreleased.handle; },
+         XR_ERROR_LAYER_INVALID},
+        {"destroyed space", [](StereoLayer& s, XrFrameEndInfo&) { s.layer.space = reinterpret_cast<XrSpace>(uintptr_t(8)); },
+         XR_ERROR_HANDLE_INVALID},
+        {"depth near == far",
+         [&](StereoLayer& s, XrFrameEndInfo&) {
+             s.depth[0].farZ = s.depth[0].nearZ;
+         },
+         XR_ERROR_VALIDATION_FAILURE},
+        {"depth range inverted", [&](StereoLayer& s, XrFrameEndInfo&) { s.depth[1].minDepth = 1.0f; },
+         XR_ERROR_VALIDATION_FAILURE},
+        {"additive blend", [](StereoLayer&, XrFrameEndInfo& f) { f.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_ADDITIVE; },
+         XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED},
+        {"display time 0", [](StereoLayer&, XrFrameEndInfo& f) { f.displayTime = 0; }, XR_ERROR_TIME_INVALID},
+        {"17 layers", [&](StereoLayer&, XrFrameEndInfo& f) { f.layerCount = 17, f.layers = tooMany.data(); },
+         XR_ERROR_LAYER_LIMIT_EXCEEDED},
+        {"null layer", [&](StereoLayer&, XrFrameEndInfo& f) { f.layers = nullLayer; }, XR_ERROR_LAYER_INVALID},
+        {"cylinder layer", [&](StereoLayer&, XrFrameEndInfo& f) { f.layers = cylinderLayer; }, XR_ERROR_LAYER_INVALID},
+        {"wrong frame end type", [](StereoLayer&, XrFrameEndInfo& f) { f.type = XR_TYPE_FRAME_STATE; },
+         XR_ERROR_VALIDATION_FAILURE},
+    };
+    for (const Case& k : cases) {
+        XrResult r = c->frame([&](const XrFrameState& fs) {
+            StereoLayer sl;
+            sl.build(*c, fs.predictedDisplayTime, color, nullptr, &depth);
+            cylinder.space = c->local;
+            std::vector<const XrCompositionLayerBaseHeader*> ls{sl.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            k.spoil(sl, fe);
+            EXPECT_EQ(xrEndFrame(c->session, &fe), k.want) << k.what;
+            // The refused frame is still open: a good frame end closes it.
+            StereoLayer good;
+            good.build(*c, fs.predictedDisplayTime, color, nullptr, &depth);
+            std::vector<const XrCompositionLayerBaseHeader*> gl{good.header()};
+            XrFrameEndInfo gf = frameEnd(fs.predictedDisplayTime, gl);
+            return xrEndFrame(c->session, &gf);
+        });
+        EXPECT_EQ(r, XR_SUCCESS) << "good frame after: " << k.what;
+    }
+}
+
+// Both eyes in one array swapchain (layer = eye), depth in another, recorded by the runtime: the
+// recording holds the right eye's own layer and the depth, and the output is the input at the gaze.
+TEST(XrClient, ArraySwapchainsWithDepthAreCompositedAndRecorded) {
+    const std::string dir = std::string(::testing::TempDir()) + "wrsfov_xr_client_rec";
+    std::filesystem::remove_all(dir);
+    setenv("WRSFOV_XR_RECORD", dir.c_str(), 1);
+    auto c = Client::create(kExtensions);
+    unsetenv("WRSFOV_XR_RECORD");
+    ASSERT_TRUE(c);
+    const uint32_t w = c->viewWidth, h = c->viewHeight;
+    Swapchain color, depth;
+    ASSERT_EQ(c->createSwapchain(kSrgb, w, h, 2, kColorUsage, color), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, w, h, 2,
+                                 XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT,
+                                 depth),
+              XR_SUCCESS);
+    const auto left = checker(w, h, 2, 20, 230), right = checker(w, h, 3, 90, 160);
+    std::vector<uint8_t> z(size_t(w) * h * 4);
+    for (uint32_t i = 0; i < w * h; ++i) {
+        const float d = 0.5f + 0.4f * float(i % w) / float(w);
+        std::memcpy(&z[i * 4], &d, 4);
+    }
+    ASSERT_EQ(c->begin(), XR_SUCCESS);
+    const int frames = 6;
+    for (int f = 0; f < frames; ++f) {
+        c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t l) { return l ? right : left; });
+        c->writeSwapchain(depth, 4, VK_IMAGE_ASPECT_DEPTH_BIT, [&](uint32_t) { return z; });
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            StereoLayer sl;
+            sl.build(*c, fs.predictedDisplayTime, color, nullptr, &depth);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{sl.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS);
+    }
+    c.reset();  // destroying the session closes the recording
+
+    auto opened = eval::SequenceReader::open(dir);
+    ASSERT_TRUE(opened) << opened.error().message;
+    auto& r = *opened;
+    EXPECT_EQ(r->info().frameCount, uint32_t(frames));
+    ASSERT_TRUE(r->info().depth.has_value());
+    EXPECT_FLOAT_EQ(r->info().depth->nearZ, 0.1f);
+    EXPECT_FALSE(r->info().depth->reversedZ);
+    auto last = r->frame(frames - 1);
+    ASSERT_TRUE(last) << last.error().message;
+    for (int e = 0; e < 2; ++e) {
+        const auto& want = e ? right : left;
+        const auto& got = last->eyes[e].color.data;
+        ASSERT_EQ(got.size(), want.size());
+        EXPECT_EQ(0, std::memcmp(got.data(), want.data(), want.size())) << "eye " << e << " is not its array layer";
+        ASSERT_TRUE(last->eyes[e].depth.has_value());
+        float d;
+        std::memcpy(&d, last->eyes[e].depth->data.data() + 4 * (w / 2), 4);
+        EXPECT_NEAR(d, 0.5f + 0.4f * float(w / 2) / float(w), 1e-6f);
+        // The fine checkerboard is blurred away from the gaze: the output differs from the input.
+        cv::Mat out = cv::imread(dir + "/" + eval::frameFileName(frames - 1, e, "output.png"));
+        ASSERT_FALSE(out.empty());
+        double diff = 0;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) diff += std::abs(double(out.at<cv::Vec3b>(y, x)[2]) - want[(y * w + x) * 4]);
+        EXPECT_GT(diff / (w * h), 10.0) << "eye " << e << " looks unfoveated";
+    }
+}
+
+TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "gameplay");
+    std::strcpy(asci.localizedActionSetName, "Gameplay");
+    XrActionSet set;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_NAME_DUPLICATED);
+    std::strcpy(asci.actionSetName, "Bad Name");
+    XrActionSet bad;
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &bad), XR_ERROR_PATH_FORMAT_INVALID);
+
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+    std::strcpy(aci.actionName, "gaze");
+    std::strcpy(aci.localizedActionName, "Gaze");
+    XrAction gaze;
+    ASSERT_EQ(xrCreateAction(set, &aci, &gaze), XR_SUCCESS);
+    aci.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+    std::strcpy(aci.actionName, "select");
+    std::strcpy(aci.localizedActionName, "Select");
+    XrAction select;
+    ASSERT_EQ(xrCreateAction(set, &aci, &select), XR_SUCCESS);
+
+    XrActionSuggestedBinding b{gaze, path(c->instance, "/user/eyes_ext/input/gaze_ext/pose")};
+    XrInteractionProfileSuggestedBinding s{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+    s.interactionProfile = path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction");
+    s.countSuggestedBindings = 1;
+    s.suggestedBindings = &b;
+    ASSERT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
+    // A boolean on the gaze pose, an unknown profile, a pose on a click: refused.
+    XrActionSuggestedBinding wrong{select, b.binding};
+    s.suggestedBindings = &wrong;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    s.interactionProfile = path(c->instance, "/interaction_profiles/acme/teapot");
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    XrActionSuggestedBinding click{gaze, path(c->instance, "/user/hand/left/input/select/click")};
+    s.interactionProfile = path(c->instance, "/interaction_profiles/khr/simple_controller");
+    s.suggestedBindings = &click;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    XrActionSuggestedBinding okClick{select, click.binding};
+    s.suggestedBindings = &okClick;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
+
+    XrActionSpaceCreateInfo spi{XR_TYPE_ACTION_SPACE_CREATE_INFO};
+    spi.action = gaze;
+    spi.poseInActionSpace.orientation.w = 1.0f;
+    XrSpace gazeSpace;
+    ASSERT_EQ(xrCreateActionSpace(c->session, &spi, &gazeSpace), XR_SUCCESS);
+    spi.action = select;
+    EXPECT_EQ(xrCreateActionSpace(c->session, &spi, &gazeSpace + 0), XR_ERROR_ACTION_TYPE_MISMATCH);
+
+    XrInteractionProfileState ips{XR_TYPE_INTERACTION_PROFILE_STATE};
+    EXPECT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips),
+              XR_ERROR_ACTIONSET_NOT_ATTACHED);
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 1;
+    att.actionSets = &set;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    EXPECT_EQ(xrAttachSessionActionSets(c->session, &att), XR_ERROR_ACTIONSETS_ALREADY_ATTACHED);
+    EXPECT_EQ(xrCreateAction(set, &aci, &select), XR_ERROR_ACTIONSETS_ALREADY_ATTACHED);
+    bool profileChanged = false;
+    for (const auto& e : c->poll()) profileChanged |= e.type == XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
+    EXPECT_TRUE(profileChanged);
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction"));
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));  // no controllers on this HMD
+
+    XrActiveActionSet active{set, XR_NULL_PATH};
+    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    EXPECT_EQ(xrSyncActions(c->session, &sync), XR_SESSION_NOT_FOCUSED);
+
+    Swapchain color;
+    ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 2, kColorUsage, color), XR_SUCCESS);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                      [&](uint32_t) { return checker(c->viewWidth, c->viewHeight, 4, 0, 255); });
+    runToFocused(*c, color);
+    ASSERT_EQ(xrSyncActions(c->session, &sync), XR_SUCCESS);
+
+    XrActionStateGetInfo gi{XR_TYPE_ACTION_STATE_GET_INFO};
+    gi.action = gaze;
+    XrActionStatePose pose{XR_TYPE_ACTION_STATE_POSE};
+    ASSERT_EQ(xrGetActionStatePose(c->session, &gi, &pose), XR_SUCCESS);
+    EXPECT_EQ(pose.isActive, XR_TRUE);
+    XrActionStateBoolean boolean{XR_TYPE_ACTION_STATE_BOOLEAN};
+    EXPECT_EQ(xrGetActionStateBoolean(c->session, &gi, &boolean), XR_ERROR_ACTION_TYPE_MISMATCH);
+    gi.action = select;
+    ASSERT_EQ(xrGetActionStateBoolean(c->session, &gi, &boolean), XR_SUCCESS);
+    EXPECT_EQ(boolean.isActive, XR_FALSE);
+
+    XrReferenceSpaceCreateInfo rci{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    rci.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace view;
+    ASSERT_EQ(xrCreateReferenceSpace(c->session, &rci, &view), XR_SUCCESS);
+    XrFrameState fs{XR_TYPE_FRAME_STATE};
+    ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+    XrEyeGazeSampleTimeEXT sampleTime{XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT};
+    XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
+    loc.next = &sampleTime;
+    ASSERT_EQ(xrLocateSpace(gazeSpace, view, fs.predictedDisplayTime, &loc), XR_SUCCESS);
+    // Valid unless the generator blinks right then; its scene mode keeps the gaze within 20 deg x 12 deg.
+    if (loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT) {
+        const XrQuaternionf q = loc.pose.orientation;
+        // -Z rotated by q: the gaze direction in the view.
+        const float fz = -(1.0f - 2.0f * (q.x * q.x + q.y * q.y));
+        EXPECT_LT(std::acos(-fz) * 180.0f / 3.14159265f, 25.0f);
+        EXPECT_GT(sampleTime.time, 0);
+        EXPECT_LE(sampleTime.time, fs.predictedDisplayTime);
+    }
+    EXPECT_EQ(xrLocateSpace(gazeSpace, view, 0, &loc), XR_ERROR_TIME_INVALID);
+    uint32_t n = 0;
+    XrBoundSourcesForActionEnumerateInfo bsi{XR_TYPE_BOUND_SOURCES_FOR_ACTION_ENUMERATE_INFO};
+    bsi.action = gaze;
+    XrPath src[2];
+    ASSERT_EQ(xrEnumerateBoundSourcesForAction(c->session, &bsi, 2, &n, src), XR_SUCCESS);
+    ASSERT_EQ(n, 1u);
+    EXPECT_EQ(src[0], b.binding);
+}
+
+}  // namespace
+}  // namespace wrsfov::xrtest
