@@ -218,9 +218,12 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                       v.depth->subImage.arrayIndex);
             e.depth_range = glm::vec4(v.depth->nearZ, v.depth->farZ, 0.0f, 0.0f);
         }
-        if (v.motion)
+        e.motion_scale = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+        if (v.motion) {
             e.motion_rect =
                 glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
+            e.motion_scale = glm::vec4(v.motion->scale, 0.0f);
+        }
     }
     p.size = glm::uvec4(width, height, uint32_t(frame.frameIndex), config.seed);
     const glm::uvec2 size0(width, height);

@@ -129,7 +129,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                             uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size0);
                             nb[j * 3 + i] = wrs_rgb_to_ycocg(vec3(cand_[eye][std::size_t(q.y) * W + q.x]));
                         }
-                    vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) : vec3(0.0f);
+                    vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                     uvec2 i0, i1;
                     vec2 f;
                     bool has = wrs_taa_reproject(p, size0, mv, i0, i1, f) && prev_[eye][std::size_t(y) * W + x].w != 0u;
@@ -186,7 +186,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec3 flo(0.0f), fhi(0.0f);
                     c.fp = sampleRange(WRS_FP_LEVEL, p, flo, fhi, c.fp_range).w;
                     c.z = hasDepth ? zlin[idx] : 0.0f;
-                    vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) : vec3(0.0f);
+                    vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
                     vec2 pos;
                     ivec2 base;
@@ -231,7 +231,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 uvec2 q = p;
                 float dz = 0.0f;
                 bool on_screen = true;
-                if (hasMotion) on_screen = wrs_reproject(p, size0, vec3(in.motion->fetch(x, y)), q, dz);
+                if (hasMotion)
+                    on_screen = wrs_reproject(p, size0, vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale), q, dz);
                 Reservoir hist = wrs_unpack(prev_[eye][std::size_t(q.y) * W + q.x]);
                 bool has_history = on_screen && wrs_reservoir_valid(hist);
                 if (hasDepth && has_history && wrs_depth_flush(hist.z, z_cur, dz, params.tuning.y)) has_history = false;

@@ -22,6 +22,7 @@ std::string_view toString(SubmitError e) {
     case SubmitError::InconsistentViews: return "InconsistentViews";
     case SubmitError::ForeignSwapchain: return "ForeignSwapchain";
     case SubmitError::DeviceFailure: return "DeviceFailure";
+    case SubmitError::InvalidMotionScale: return "InvalidMotionScale";
     }
     return "?";
 }
@@ -47,7 +48,7 @@ Status checkFov(const Fov& f, const std::string& where) {
 Status checkSubImage(const SubImage& s, Usage usage, const std::string& where) {
     if (!s.swapchain) return err(SubmitError::NullSwapchain, where + " has no swapchain");
     const SwapchainCreateInfo& info = s.swapchain->info();
-    if (info.usage != usage)
+    if (info.usage != usage && !(info.anyUse && isSupported(usage, info.format)))
         return err(SubmitError::WrongUsage, where + " uses a " + std::string(toString(info.usage)) +
                                                 " swapchain where a " + std::string(toString(usage)) + " one is needed");
     if (!isSupported(usage, info.format))
@@ -112,6 +113,9 @@ Status FrameValidator::validate(const FrameEndInfo& frame) const {
             if (Status s = checkSubImage(v.motion->subImage, Usage::Motion, eye + " motion"); !s) return s;
             if (!sameSize(v.motion->subImage.rect, v.color.rect))
                 return err(SubmitError::SizeMismatch, eye + " motion rectangle size differs from its colour");
+            const glm::vec3 k = v.motion->scale;
+            if (!std::isfinite(k.x) || !std::isfinite(k.y) || !std::isfinite(k.z))
+                return err(SubmitError::InvalidMotionScale, eye + " motion scale must be finite");
         }
     }
     const ProjectionView& l = layer.views[0];

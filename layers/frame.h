@@ -51,6 +51,10 @@ struct DepthInfo {
 /// swapchain the third channel is z_prev - z_cur (linear depth), else taken as 0.
 struct MotionInfo {
     SubImage subImage;
+    /// Multiplies each texel before use, so motion in other units needs no conversion pass: x, y in
+    /// pixels per unit, z for the third channel (0 ignores it). Pixels: (1, 1, 1). OpenXR
+    /// XR_FB_space_warp (current - previous NDC, Vulkan NDC y down): (-w/2, -h/2, 0). Must be finite.
+    glm::vec3 scale{1.0f, 1.0f, 1.0f};
 };
 
 struct ProjectionView {
@@ -98,6 +102,7 @@ enum class SubmitError : int {
     ForeignSwapchain,       ///< a swapchain made by another compositor (or another implementation)
     DeviceFailure,          ///< out of device memory (the compositor stays usable at its old size) or device
                             ///< lost (every later frame is refused: make a new Context and Compositor)
+    InvalidMotionScale,     ///< MotionInfo::scale not finite
 };
 
 std::string_view toString(SubmitError e);

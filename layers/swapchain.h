@@ -22,6 +22,9 @@ struct SwapchainCreateInfo {
     uint32_t height = 0;
     uint32_t arraySize = 1;   ///< layers per image (2 lets both eyes share one swapchain)
     uint32_t imageCount = 3;  ///< 1..8
+    /// The use is known only at frame end (OpenXR: an RGBA16F swapchain may hold colour or motion):
+    /// the swapchain may be given for any use its format allows, not only `usage`.
+    bool anyUse = false;
 };
 
 /// Refusals of swapchain calls.

@@ -495,6 +495,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
     ci.height = info->height;
     ci.arraySize = info->arraySize;
     ci.imageCount = (info->createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) ? 1 : 3;
+    ci.anyUse = true;  // an RGBA16F swapchain may carry colour or space-warp motion
     auto images = s->compositor->createSwapchain(ci, options);
     if (!images) {
         logLine("xrCreateSwapchain: " + images.error().message);
@@ -677,6 +678,20 @@ XrResult checkDepthInfo(Session* s, const XrCompositionLayerDepthInfoKHR& d) {
     return XR_SUCCESS;
 }
 
+XrResult checkSpaceWarp(Session* s, const XrCompositionLayerSpaceWarpInfoFB& w) {
+    // XR_COMPOSITION_LAYER_SPACE_WARP_INFO_FRAME_SKIP_BIT_FB (0x1) of later headers; 1.0.20 has no bits yet.
+    constexpr XrCompositionLayerSpaceWarpInfoFlagsFB kFrameSkip = 0x1;
+    if (w.layerFlags & ~kFrameSkip)
+        return XR_ERROR_VALIDATION_FAILURE;
+    if (XrResult r = checkSubImage(s, w.motionVectorSubImage, nullptr); r != XR_SUCCESS) return r;
+    if (XrResult r = checkSubImage(s, w.depthSubImage, nullptr); r != XR_SUCCESS) return r;
+    if (!isValidPose(w.appSpaceDeltaPose)) return XR_ERROR_POSE_INVALID;
+    if (!(w.minDepth >= 0.0f && w.minDepth < w.maxDepth && w.maxDepth <= 1.0f)) return XR_ERROR_VALIDATION_FAILURE;
+    auto ok = [](float z) { return z > 0.0f && !std::isnan(z); };
+    if (!ok(w.nearZ) || !ok(w.farZ) || w.nearZ == w.farZ) return XR_ERROR_VALIDATION_FAILURE;
+    return XR_SUCCESS;
+}
+
 /// Everything the specification requires of a frame end, before anything is composited.
 XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
     if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
@@ -688,6 +703,7 @@ XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
     if (info->layerCount > kMaxLayers) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
     if (info->layerCount > 0 && !info->layers) return XR_ERROR_VALIDATION_FAILURE;
     const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
     for (uint32_t i = 0; i < info->layerCount; ++i) {
         const XrCompositionLayerBaseHeader* l = info->layers[i];
         if (!l) return XR_ERROR_LAYER_INVALID;
@@ -708,6 +724,10 @@ XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
                 if (XrResult r = checkSubImage(s, view.subImage, nullptr); r != XR_SUCCESS) return r;
                 if (auto* d = findNext(view.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); d && depthExt)
                     if (XrResult r = checkDepthInfo(s, *reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(d));
+                        r != XR_SUCCESS)
+                        return r;
+                if (auto* w = findNext(view.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); w && warpExt)
+                    if (XrResult r = checkSpaceWarp(s, *reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(w));
                         r != XR_SUCCESS)
                         return r;
             }
@@ -758,6 +778,16 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f) {
             if (!depth) return stop(depth.error().message);
             eyes[e].depth = std::move(*depth);
         }
+        if (v.motion) {
+            // Recorded in pixels: the submitted texels times the layer's scale (space warp: NDC).
+            auto motion = readSubImage(v.motion->subImage);
+            if (!motion) return stop(motion.error().message);
+            HostImage m = std::move(*motion);
+            for (uint32_t y = 0; y < m.height; ++y)
+                for (uint32_t x = 0; x < m.width; ++x)
+                    m.store(x, y, glm::vec4(glm::vec3(m.fetch(x, y)) * v.motion->scale, 0.0f));
+            eyes[e].motion = std::move(m);
+        }
         eyes[e].fov = v.fov;
         eyes[e].gaze = f.gaze[e];
     }
@@ -773,6 +803,7 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f) {
             const auto& d = *layer.views[0].depth;
             info.depth = eval::SequenceDepth{d.nearZ, d.farZ, d.reversedZ};
         }
+        if (layer.views[0].motion) info.motion = eval::MotionUnits::Pixels;
         info.description = "recorded by the wrsfov OpenXR runtime from '" + s->instance->applicationName + "'";
         auto w = eval::SequenceWriter::create(c.record, info);
         if (!w) return stop(w.error().message);
@@ -801,6 +832,8 @@ void compose(Session* s, const XrFrameEndInfo* info) {
         logLine("quad layers are accepted and validated but not drawn over the projection layer");
     if (!proj) return;
     const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
+    bool locomotion = false;
     layers::FrameEndInfo f;
     f.frameIndex = s->framesEnded + 1;
     f.time_s = s->instance->seconds(s->frameDisplayTime);
@@ -818,19 +851,38 @@ void compose(Session* s, const XrFrameEndInfo* info) {
             return si;
         };
         pv.color = sub(xv.subImage);
+        // OpenXR: nearZ is the distance at minDepth; nearZ > farZ is reversed Z.
+        auto depthInfo = [&](const XrSwapchainSubImage& d, float minDepth, float maxDepth, float nearZ, float farZ) {
+            if (minDepth != 0.0f || maxDepth != 1.0f) {
+                if (s->refusalsLogged.insert(-2).second)
+                    logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
+                return;
+            }
+            layers::DepthInfo di;
+            di.subImage = sub(d);
+            di.reversedZ = nearZ > farZ;
+            di.nearZ = std::min(nearZ, farZ);
+            di.farZ = std::max(nearZ, farZ);
+            pv.depth = di;
+        };
         if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); n && depthExt) {
             auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(n);
-            if (d->minDepth == 0.0f && d->maxDepth == 1.0f) {
-                // OpenXR: nearZ is the distance at minDepth. nearZ > farZ is reversed Z.
-                layers::DepthInfo di;
-                di.subImage = sub(d->subImage);
-                di.reversedZ = d->nearZ > d->farZ;
-                di.nearZ = std::min(d->nearZ, d->farZ);
-                di.farZ = std::max(d->nearZ, d->farZ);
-                pv.depth = di;
-            } else if (s->refusalsLogged.insert(-2).second) {
-                logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
-            }
+            depthInfo(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
+        }
+        if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); n && warpExt) {
+            auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(n);
+            // Motion in NDC, current - previous (Vulkan NDC: x right, y down, [-1, 1] across the
+            // image); the compositor wants pixels to the previous position: -ndc * size / 2. The third
+            // channel is an NDC depth difference, not the linear one the compositor reads: ignored.
+            layers::MotionInfo mi;
+            mi.subImage = sub(w->motionVectorSubImage);
+            mi.scale = glm::vec3(-0.5f * float(mi.subImage.rect.width), -0.5f * float(mi.subImage.rect.height), 0.0f);
+            pv.motion = mi;
+            if (!pv.depth) depthInfo(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
+            // Artificial locomotion moved the whole layer space since the last frame; the motion
+            // vectors do not carry it, so the history no longer lines up: start it anew.
+            const Pose d = fromXr(w->appSpaceDeltaPose);
+            locomotion = locomotion || glm::length(d.p) > 1e-4f || std::abs(std::abs(d.q.w) - 1.0f) > 1e-6f;
         }
         layer.views.push_back(pv);
     }
@@ -838,6 +890,7 @@ void compose(Session* s, const XrFrameEndInfo* info) {
     const auto gaze = frameGaze(*s, s->frameDisplayTime);
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
+    if (locomotion) s->compositor->resetHistory();
     Status st = s->compositor->endFrame(f);
     if (!st) {
         ++s->framesRefused;

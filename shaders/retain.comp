@@ -68,7 +68,7 @@ void main() {
 
     // Tracked reprojection of the kept sample.
     vec3 mv = vec3(0.0);
-    if (HAS_MOTION) mv = texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz;
+    if (HAS_MOTION) mv = texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz * ep.motion_scale.xyz;
     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0 || mv.y != 0.0);
     vec2 pos;
     ivec2 base;

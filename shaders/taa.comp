@@ -23,7 +23,8 @@ void main() {
             uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size);
             nb[j * 3 + i] = wrs_rgb_to_ycocg(candidate[pixel_index(eye, q)].rgb);
         }
-    vec3 mv = HAS_MOTION ? texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz : vec3(0.0);
+    vec3 mv = HAS_MOTION ? texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz * ep.motion_scale.xyz
+                         : vec3(0.0);
     uvec2 i0, i1;
     vec2 f;
     bool has = wrs_taa_reproject(p, size, mv, i0, i1, f) && res_prev[pixel_index(eye, p)].w != 0u;

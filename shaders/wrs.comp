@@ -26,7 +26,7 @@ void main() {
     float dz = 0.0;
     bool on_screen = true;
     if (HAS_MOTION) {
-        vec3 mv = texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz;
+        vec3 mv = texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz * ep.motion_scale.xyz;
         on_screen = wrs_reproject(p, size, mv, q, dz);
     }
     Reservoir hist = wrs_unpack(res_prev[pixel_index(eye, q)]);

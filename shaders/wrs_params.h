@@ -15,6 +15,7 @@ struct EyeParams {
     uvec4 depth_rect;   // x, y offset in the depth image; z: 1 if reversed-Z; w: pad
     uvec4 motion_rect;  // x, y offset in the motion image; zw: pad
     vec4 depth_range;   // near, far (may be +inf), zw: pad
+    vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion); w: pad
 };
 
 struct FrameParams {
@@ -38,8 +39,8 @@ struct LevelPush {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::EyeParams) == 96);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 96 + 32 + 16 * WRS_LEVELS);
+static_assert(sizeof(wrsfov::gpu::EyeParams) == 112);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 112 + 32 + 16 * WRS_LEVELS);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 

@@ -311,5 +311,84 @@ TEST_F(History, DepthJumpBeyondTauFlushes) {
         }
 }
 
+// MotionInfo::scale: the same motion given in other units (NDC, current - previous, as OpenXR's
+// XR_FB_space_warp submits it) with the scale that converts it gives the output and the reservoirs,
+// bit for bit, of the motion in pixels; the NDC values read as pixels (scale 1) do not. A scale that
+// is not finite is refused.
+TEST_F(History, MotionScaleEqualsMotionInPixels) {
+    CompositorConfig cfg;  // the default method (wrs), mip foveation
+    cfg.seed = 5;
+    std::unique_ptr<Compositor> comps[3];
+    std::unique_ptr<StereoApp> apps[3];
+    for (int k = 0; k < 3; ++k) {
+        auto c = Compositor::create(context(), cfg);
+        ASSERT_TRUE(c.ok()) << c.error().message;
+        comps[k] = std::move(*c);
+        apps[k] = std::make_unique<StereoApp>(*comps[k], W, H, layers::Format::RGBA16F, std::nullopt,
+                                              layers::Format::RGBA16F);
+    }
+    // Motion in pixels whose NDC form -m * 2 / size is exact in fp16 (x: halves over 32; y: multiples
+    // of 3 over 24), so the two submissions carry the same numbers.
+    auto pixels = [](uint32_t x, uint32_t y, int frame) {
+        return glm::vec2(float(int(x + frame) % 5 - 2) + 0.5f * float(y % 2), float((int(y) % 3 - 1) * 3));
+    };
+    const glm::vec3 toPixels(-0.5f * float(W), -0.5f * float(H), 1.0f);
+    for (int frame = 1; frame <= 4; ++frame) {
+        std::array<EyeFrame, 2> px, ndc;
+        for (int e = 0; e < 2; ++e) {
+            px[e].fov = fov();
+            px[e].color = HostImage::make(layers::Format::RGBA16F, W, H);
+            px[e].motion = HostImage::make(layers::Format::RGBA16F, W, H);
+            for (uint32_t y = 0; y < H; ++y)
+                for (uint32_t x = 0; x < W; ++x) {
+                    px[e].color.store(x, y, code(int(x) - frame, int(y) + e, 0.25f));
+                    const glm::vec2 m = pixels(x, y, frame);
+                    px[e].motion->store(x, y, glm::vec4(m, 0.0f, 0.0f));
+                }
+            px[e].gaze = {gazeAt(20 + 3 * frame, 24), true, 1.0f};
+            ndc[e] = px[e];
+            for (uint32_t y = 0; y < H; ++y)
+                for (uint32_t x = 0; x < W; ++x)
+                    ndc[e].motion->store(x, y, glm::vec4(pixels(x, y, frame) / glm::vec2(toPixels), 0.0f, 0.0f));
+        }
+        ASSERT_TRUE(apps[0]->submit(frame, px).ok());
+        apps[1]->write(ndc);
+        layers::FrameEndInfo fe = apps[1]->frameEnd(frame, ndc);
+        for (auto& v : fe.layers[0].views) v.motion->scale = toPixels;
+        ASSERT_TRUE(comps[1]->endFrame(fe).ok());
+        ASSERT_TRUE(apps[2]->submit(frame, ndc).ok());  // NDC taken for pixels
+        EXPECT_TRUE(comps[1]->stats().usedMotion);
+    }
+    const Reservoirs want = readReservoirs(*comps[0]), got = readReservoirs(*comps[1]),
+                     wrong = readReservoirs(*comps[2]);
+    for (int e = 0; e < 2; ++e) {
+        size_t differ = 0, differWrong = 0;
+        for (size_t i = 0; i < want[e].size(); ++i) {
+            differ += want[e][i] != got[e][i];
+            differWrong += want[e][i] != wrong[e][i];
+        }
+        EXPECT_EQ(differ, 0u) << "eye " << e << ": reservoirs differ from the motion in pixels";
+        EXPECT_GT(differWrong, want[e].size() / 4) << "eye " << e << ": the motion never mattered";
+        auto a = comps[0]->readOutput(uint32_t(e)), b = comps[1]->readOutput(uint32_t(e));
+        ASSERT_TRUE(a.ok() && b.ok());
+        EXPECT_EQ(a->data, b->data) << "eye " << e;
+    }
+
+    // Not finite: refused with its own code, nothing changes.
+    std::array<EyeFrame, 2> again;
+    for (int e = 0; e < 2; ++e) {
+        again[e].fov = fov();
+        again[e].color = HostImage::make(layers::Format::RGBA16F, W, H);
+        again[e].motion = HostImage::make(layers::Format::RGBA16F, W, H);
+    }
+    apps[1]->write(again);
+    layers::FrameEndInfo bad = apps[1]->frameEnd(9, again);
+    bad.layers[0].views[1].motion->scale.y = std::nanf("");
+    Status s = comps[1]->endFrame(bad);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().code, int(layers::SubmitError::InvalidMotionScale));
+    EXPECT_EQ(readReservoirs(*comps[1])[0], got[0]);
+}
+
 }  // namespace
 }  // namespace wrsfov::test

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <glm/gtc/packing.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "eval/sequence.h"
@@ -17,7 +18,8 @@ namespace {
 
 const std::vector<const char*> kExtensions = {XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
                                               XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME,
-                                              XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME};
+                                              XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME,
+                                              XR_FB_SPACE_WARP_EXTENSION_NAME};
 constexpr int64_t kSrgb = VK_FORMAT_R8G8B8A8_SRGB;
 constexpr XrSwapchainUsageFlags kColorUsage =
     XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
@@ -354,6 +356,97 @@ TEST(XrClient, ArraySwapchainsWithDepthAreCompositedAndRecorded) {
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x) diff += std::abs(double(out.at<cv::Vec3b>(y, x)[2]) - want[(y * w + x) * 4]);
         EXPECT_GT(diff / (w * h), 10.0) << "eye " << e << " looks unfoveated";
+    }
+}
+
+// XR_FB_space_warp: motion in NDC (current - previous) and its depth, converted to the compositor's
+// pixels (previous = current + mv); recorded in pixels. Refusals of a bad space-warp info.
+TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
+    const std::string dir = std::string(::testing::TempDir()) + "wrsfov_xr_client_warp";
+    std::filesystem::remove_all(dir);
+    setenv("WRSFOV_XR_RECORD", dir.c_str(), 1);
+    auto c = Client::create(kExtensions);
+    unsetenv("WRSFOV_XR_RECORD");
+    ASSERT_TRUE(c);
+    const uint32_t w = c->viewWidth, h = c->viewHeight;
+    Swapchain color, motion, depth;
+    ASSERT_EQ(c->createSwapchain(kSrgb, w, h, 2, kColorUsage, color), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(VK_FORMAT_R16G16B16A16_SFLOAT, w, h, 2, kColorUsage, motion), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, w, h, 2,
+                                 XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT,
+                                 depth),
+              XR_SUCCESS);
+    // Everything moved 3 px right and 2 px up since the last frame: NDC (+6/w, -4/h); z is an NDC
+    // depth change the runtime must ignore.
+    std::vector<uint8_t> mv(size_t(w) * h * 8);
+    const uint16_t texel[4] = {glm::packHalf1x16(6.0f / float(w)), glm::packHalf1x16(-4.0f / float(h)),
+                               glm::packHalf1x16(0.25f), 0};
+    for (size_t i = 0; i < size_t(w) * h; ++i) std::memcpy(&mv[i * 8], texel, 8);
+    std::vector<uint8_t> z(size_t(w) * h * 4);
+    const float half = 0.5f;
+    for (size_t i = 0; i < size_t(w) * h; ++i) std::memcpy(&z[i * 4], &half, 4);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return checker(w, h, 4, 10, 240); });
+    c->writeSwapchain(motion, 8, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return mv; });
+    c->writeSwapchain(depth, 4, VK_IMAGE_ASPECT_DEPTH_BIT, [&](uint32_t) { return z; });
+    ASSERT_EQ(c->begin(), XR_SUCCESS);
+
+    struct Case {
+        const char* what;
+        std::function<void(XrCompositionLayerSpaceWarpInfoFB&)> spoil;
+        XrResult want;
+    };
+    const std::vector<Case> cases = {
+        {"good", [](XrCompositionLayerSpaceWarpInfoFB&) {}, XR_SUCCESS},
+        {"near == far", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.farZ = s.nearZ; }, XR_ERROR_VALIDATION_FAILURE},
+        {"empty depth range", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.minDepth = s.maxDepth; },
+         XR_ERROR_VALIDATION_FAILURE},
+        {"unknown flag", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.layerFlags = 0x80; }, XR_ERROR_VALIDATION_FAILURE},
+        {"bad delta pose", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.appSpaceDeltaPose.orientation.w = 0.5f; },
+         XR_ERROR_POSE_INVALID},
+        {"motion rect outside", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.motionVectorSubImage.imageRect.offset.x = 1; },
+         XR_ERROR_SWAPCHAIN_RECT_INVALID},
+        {"good again", [](XrCompositionLayerSpaceWarpInfoFB&) {}, XR_SUCCESS},
+    };
+    for (const Case& k : cases) {
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            StereoLayer sl;
+            sl.build(*c, fs.predictedDisplayTime, color);
+            XrCompositionLayerSpaceWarpInfoFB warp[2];
+            for (int e = 0; e < 2; ++e) {
+                warp[e] = {XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB};
+                warp[e].motionVectorSubImage = {motion.handle, {{0, 0}, {int32_t(w), int32_t(h)}}, uint32_t(e)};
+                warp[e].depthSubImage = {depth.handle, {{0, 0}, {int32_t(w), int32_t(h)}}, uint32_t(e)};
+                warp[e].appSpaceDeltaPose.orientation.w = 1.0f;
+                warp[e].minDepth = 0.0f, warp[e].maxDepth = 1.0f, warp[e].nearZ = 0.1f, warp[e].farZ = 100.0f;
+                sl.views[e].next = &warp[e];
+            }
+            k.spoil(warp[1]);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{sl.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            EXPECT_EQ(xrEndFrame(c->session, &fe), k.want) << k.what;
+            if (k.want == XR_SUCCESS) return XR_SUCCESS;
+            XrFrameEndInfo none = frameEnd(fs.predictedDisplayTime, {});
+            return xrEndFrame(c->session, &none);
+        }),
+                  XR_SUCCESS);
+    }
+    c.reset();
+
+    auto opened = eval::SequenceReader::open(dir);
+    ASSERT_TRUE(opened) << opened.error().message;
+    auto& r = *opened;
+    EXPECT_EQ(r->info().frameCount, 2u);  // the two good frames
+    ASSERT_TRUE(r->info().motion.has_value());
+    EXPECT_EQ(*r->info().motion, eval::MotionUnits::Pixels);
+    ASSERT_TRUE(r->info().depth.has_value());  // from the space-warp info
+    auto f = r->frame(1);
+    ASSERT_TRUE(f) << f.error().message;
+    for (int e = 0; e < 2; ++e) {
+        ASSERT_TRUE(f->eyes[e].motion.has_value());
+        const glm::vec4 m = f->eyes[e].motion->fetch(w / 2, h / 3);
+        EXPECT_NEAR(m.x, -3.0f, 0.01f) << "eye " << e;  // previous position is 3 px to the left
+        EXPECT_NEAR(m.y, 2.0f, 0.01f) << "eye " << e;   // and 2 px lower (y down)
+        EXPECT_EQ(m.z, 0.0f) << "eye " << e;            // the NDC depth change is not a linear dz
     }
 }
 
