@@ -27,6 +27,7 @@
 #include "eval/sequence.h"
 #include "gaze/source.h"
 #include "runtime/xr_config.h"
+#include "runtime/xr_quad.h"
 
 namespace wrsfov::xr {
 
@@ -105,6 +106,7 @@ struct Session final : Object {
     bool stopRequested = false;  // by the application or after `frames`
     std::unique_ptr<vk::Context> context;
     std::unique_ptr<Compositor> compositor;
+    std::unique_ptr<QuadPass> quads;
     std::vector<std::unique_ptr<Space>> spaces;
     std::vector<std::unique_ptr<Swapchain>> swapchains;
     std::vector<ActionSet*> attachedSets;

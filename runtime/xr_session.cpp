@@ -7,6 +7,7 @@
 #include <thread>
 
 #define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtx/quaternion.hpp>
 
 #include "compositor/host_app.h"
@@ -163,6 +164,7 @@ XrResult destroySession(Session* s) {
     for (auto& sp : s->spaces) unregisterObject(sp.get());
     s->swapchains.clear();
     s->spaces.clear();
+    s->quads.reset();
     s->compositor.reset();
     s->context.reset();
     unregisterObject(s);
@@ -213,6 +215,12 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCrea
         return XR_ERROR_RUNTIME_FAILURE;
     }
     s->compositor = std::move(*comp);
+    auto quads = QuadPass::create(*s->context);
+    if (!quads) {
+        logLine("session: quad layers: " + quads.error().message);
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
+    s->quads = std::move(*quads);
 
     const RuntimeConfig& c = inst->config;
     if (c.gaze == GazeKind::Generator) {
@@ -819,18 +827,61 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f) {
     }
 }
 
+/// Quad layers after the projection layer, in order, over the composited output (those before it
+/// are hidden by the opaque projection).
+void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const layers::FrameEndInfo& f) {
+    std::vector<QuadDraw> draws;
+    const XrTime t = s->frameDisplayTime;
+    for (uint32_t i = projIndex + 1; i < info->layerCount; ++i) {
+        if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
+        auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(info->layers[i]);
+        Pose space;
+        if (!spacePose(*getSpace(q->space), t, space)) continue;  // an untracked space: not shown
+        const Pose quadInStage = space * fromXr(q->pose);
+        Swapchain* sc = getSwapchain(q->subImage.swapchain);
+        const XrRect2Di& r = q->subImage.imageRect;
+        for (uint32_t e = 0; e < 2; ++e) {
+            if ((q->eyeVisibility == XR_EYE_VISIBILITY_LEFT && e == 1) ||
+                (q->eyeVisibility == XR_EYE_VISIBILITY_RIGHT && e == 0))
+                continue;
+            const Pose m = inverse(quadInStage) * eyeAt(*s, t, int(e));
+            QuadDraw d;
+            d.eye = e;
+            d.quadFromEye = glm::translate(glm::mat4(1.0f), m.p) * glm::mat4_cast(m.q);
+            const layers::Fov& fov = f.layers[0].views[e].fov;
+            d.fovTan = glm::vec4(std::tan(fov.angleLeft), std::tan(fov.angleRight), std::tan(fov.angleUp),
+                                 std::tan(fov.angleDown));
+            d.uvRect = glm::vec4(float(r.offset.x) / float(sc->info.width), float(r.offset.y) / float(sc->info.height),
+                                 float(r.extent.width) / float(sc->info.width),
+                                 float(r.extent.height) / float(sc->info.height));
+            d.size = glm::vec2(q->size.width, q->size.height);
+            d.blendAlpha = q->layerFlags & XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT;
+            d.unpremultiplied = q->layerFlags & XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT;
+            d.swapchain = static_cast<const VulkanSwapchain*>(sc->images.get());
+            d.arrayIndex = q->subImage.imageArrayIndex;
+            draws.push_back(d);
+        }
+    }
+    if (Status st = s->quads->draw(*s->compositor, draws); !st && s->refusalsLogged.insert(-3).second)
+        logLine("quad layers not drawn: " + st.message());
+}
+
 /// Runs the first stereo projection layer through the compositor.
 void compose(Session* s, const XrFrameEndInfo* info) {
     const XrCompositionLayerProjection* proj = nullptr;
-    bool quads = false;
-    for (uint32_t i = 0; i < info->layerCount; ++i) {
-        if (info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION && !proj)
+    uint32_t projIndex = 0;
+    for (uint32_t i = 0; i < info->layerCount; ++i)
+        if (info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION && !proj) {
             proj = reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[i]);
-        quads = quads || info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_QUAD;
+            projIndex = i;
+        }
+    if (!proj) {
+        bool quads = false;
+        for (uint32_t i = 0; i < info->layerCount; ++i) quads |= info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_QUAD;
+        if (quads && s->refusalsLogged.insert(-1).second)
+            logLine("quad layers without a projection layer are not shown (the display is the projection's output)");
+        return;
     }
-    if (quads && s->refusalsLogged.insert(-1).second)
-        logLine("quad layers are accepted and validated but not drawn over the projection layer");
-    if (!proj) return;
     const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
     const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
     bool locomotion = false;
@@ -900,6 +951,7 @@ void compose(Session* s, const XrFrameEndInfo* info) {
         return;
     }
     ++s->framesComposited;
+    drawQuads(s, info, projIndex, f);
     recordFrame(s, f);
 }
 

@@ -450,6 +450,86 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
     }
 }
 
+// Quad layers after the projection layer are drawn over the composited output: an opaque quad 1 m
+// ahead in VIEW space shows its colour where each eye looks straight ahead; a left-eye-only quad
+// shows in the left eye only.
+TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
+    const std::string dir = std::string(::testing::TempDir()) + "wrsfov_xr_client_quad";
+    std::filesystem::remove_all(dir);
+    setenv("WRSFOV_XR_RECORD", dir.c_str(), 1);
+    auto c = Client::create(kExtensions);
+    unsetenv("WRSFOV_XR_RECORD");
+    ASSERT_TRUE(c);
+    const uint32_t w = c->viewWidth, h = c->viewHeight;
+    Swapchain color, red, green;
+    ASSERT_EQ(c->createSwapchain(kSrgb, w, h, 2, kColorUsage, color), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(kSrgb, 16, 16, 1, kColorUsage, red), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(kSrgb, 16, 16, 1, kColorUsage, green), XR_SUCCESS);
+    auto solid = [](uint8_t r, uint8_t g, uint8_t b) {
+        std::vector<uint8_t> t(16 * 16 * 4);
+        for (size_t i = 0; i < 16 * 16; ++i) t[i * 4] = r, t[i * 4 + 1] = g, t[i * 4 + 2] = b, t[i * 4 + 3] = 255;
+        return t;
+    };
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return checker(w, h, 2, 0, 255); });
+    c->writeSwapchain(red, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return solid(200, 40, 40); });
+    c->writeSwapchain(green, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return solid(30, 220, 60); });
+    XrReferenceSpaceCreateInfo rci{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    rci.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace view;
+    ASSERT_EQ(xrCreateReferenceSpace(c->session, &rci, &view), XR_SUCCESS);
+    ASSERT_EQ(c->begin(), XR_SUCCESS);
+    for (int f = 0; f < 2; ++f)
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            StereoLayer sl;
+            sl.build(*c, fs.predictedDisplayTime, color);
+            XrCompositionLayerQuad q[2] = {{XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}};
+            for (int k = 0; k < 2; ++k) {
+                q[k].space = view;
+                q[k].pose.orientation.w = 1.0f;
+                q[k].subImage.swapchain = k ? green.handle : red.handle;
+                q[k].subImage.imageRect = {{0, 0}, {16, 16}};
+            }
+            q[0].eyeVisibility = XR_EYE_VISIBILITY_BOTH;
+            q[0].pose.position = {0.0f, 0.0f, -1.0f};
+            q[0].size = {0.4f, 0.4f};
+            q[1].eyeVisibility = XR_EYE_VISIBILITY_LEFT;
+            q[1].pose.position = {0.0f, -0.35f, -1.0f};  // below the red one
+            q[1].size = {0.2f, 0.2f};
+            std::vector<const XrCompositionLayerBaseHeader*> ls{
+                sl.header(), reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[0]),
+                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[1])};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS);
+    c.reset();
+    auto opened = eval::SequenceReader::open(dir);
+    ASSERT_TRUE(opened) << opened.error().message;
+    auto& r = *opened;
+    for (int e = 0; e < 2; ++e) {
+        cv::Mat out = cv::imread(dir + "/" + eval::frameFileName(1, e, "output.png"));  // BGR
+        ASSERT_FALSE(out.empty());
+        const layers::Fov& fov = r->info().fov[e];
+        // Pixel of an eye-space direction (x right, y down).
+        auto pixel = [&](float dx, float dy) {
+            const float px = (dx - std::tan(fov.angleLeft)) / (std::tan(fov.angleRight) - std::tan(fov.angleLeft));
+            const float py = (std::tan(fov.angleUp) - dy) / (std::tan(fov.angleUp) - std::tan(fov.angleDown));
+            return cv::Point(int(px * float(w)), int(py * float(h)));
+        };
+        const float eyeX = e == 0 ? -0.0315f : 0.0315f;  // the quad's centre seen from each eye
+        const cv::Vec3b ahead = out.at<cv::Vec3b>(pixel(-eyeX, 0.0f));
+        EXPECT_NEAR(ahead[2], 200, 1) << "eye " << e;
+        EXPECT_NEAR(ahead[1], 40, 1) << "eye " << e;
+        EXPECT_NEAR(ahead[0], 40, 1) << "eye " << e;
+        const cv::Vec3b below = out.at<cv::Vec3b>(pixel(-eyeX, -0.35f));
+        const bool isGreen = below[1] > 200 && below[2] < 50;
+        EXPECT_EQ(isGreen, e == 0) << "eye " << e << ": the left-only quad";
+        const cv::Vec3b corner = out.at<cv::Vec3b>(0, 0);
+        EXPECT_FALSE(corner[2] == 200 && corner[1] == 40) << "eye " << e << ": the quad covers everything";
+    }
+}
+
 TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     auto c = Client::create(kExtensions);
     ASSERT_TRUE(c);
