@@ -14,6 +14,18 @@
 
 namespace wrsfov::preview {
 
+std::array<EyeOverlay, 2> eyeOverlays(const Compositor& compositor) {
+    std::array<EyeOverlay, 2> eyes;
+    const gpu::FrameParams& p = compositor.lastParams();
+    for (int e = 0; e < 2; ++e) {
+        eyes[e].fovTan = p.eye[e].fov_tan;
+        eyes[e].gaze = p.eye[e].gaze;
+        eyes[e].midRadiusDeg = p.tuning.x;
+        eyes[e].gazeValid = !compositor.stats().gazeFallback[e];
+    }
+    return eyes;
+}
+
 namespace {
 
 Error presentError(const std::string& what, VkResult r) {

@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "compositor/compositor.h"
 #include "compositor/vk_context.h"
 #include "layers/status.h"
 #include "preview/compose_params.h"
@@ -27,6 +28,9 @@ struct EyeOverlay {
     float midRadiusDeg = 7.5f;
     bool gazeValid = false;  ///< false: the compositor fell back to the view centre (no marker)
 };
+
+/// The overlays of both eyes from what `compositor` used in its last frame.
+std::array<EyeOverlay, 2> eyeOverlays(const Compositor& compositor);
 
 /// One preview image to compose and present.
 struct ComposeFrame {

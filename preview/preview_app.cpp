@@ -445,13 +445,7 @@ ComposeFrame Session::composeFrame(const cv::Mat& strip) const {
     f.reference = method_ == PreviewMethod::Reference ? &main_->outputImage()
                   : refCurrent                        ? &reference_->outputImage()
                                                       : nullptr;
-    const gpu::FrameParams& p = main_->lastParams();
-    for (int e = 0; e < 2; ++e) {
-        f.eyes[e].fovTan = p.eye[e].fov_tan;
-        f.eyes[e].gaze = p.eye[e].gaze;
-        f.eyes[e].midRadiusDeg = p.tuning.x;
-        f.eyes[e].gazeValid = !main_->stats().gazeFallback[e];
-    }
+    f.eyes = eyeOverlays(*main_);
     f.circles = f.marker = overlay_;
     f.strip = &strip;
     return f;

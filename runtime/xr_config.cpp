@@ -41,7 +41,8 @@ std::string_view trim(std::string_view s) {
 // Every key the runtime reads; also the environment variables WRSFOV_XR_<KEY>.
 constexpr const char* kKeys[] = {"method", "fovea", "foveation", "width", "height", "fov", "ipd",
                                  "display_hz", "pace", "frames", "record", "head", "gaze", "gaze_mode",
-                                 "gaze_seed", "gaze_file", "vergence_distance", "validation", "verbose"};
+                                 "gaze_seed", "gaze_file", "vergence_distance", "validation", "verbose",
+                                 "output", "screenshot"};
 
 }  // namespace
 
@@ -108,8 +109,9 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
         if (v == "generator") c.gaze = GazeKind::Generator;
         else if (v == "file") c.gaze = GazeKind::File;
         else if (v == "hid") c.gaze = GazeKind::Hid;
+        else if (v == "mouse") c.gaze = GazeKind::Mouse;
         else if (v == "none") c.gaze = GazeKind::None;
-        else return bad(key, v, "generator, file, hid or none");
+        else return bad(key, v, "generator, file, hid, mouse or none");
     } else if (key == "gaze_mode") {
         auto m = gaze::parse_mode(v);
         if (!m) return bad(key, v, "fixation, scene, reading or pursuit");
@@ -124,6 +126,13 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
         auto d = num(0.1, 1000);
         if (!d) return bad(key, v, range(0.1, 1000) + " (metres)");
         c.vergenceDistance_m = float(*d);
+    } else if (key == "output") {
+        if (v == "auto") c.output = Output::Auto;
+        else if (v == "window") c.output = Output::Window;
+        else if (v == "headless") c.output = Output::Headless;
+        else return bad(key, v, "auto, window or headless");
+    } else if (key == "screenshot") {
+        c.screenshot = std::string(v);
     } else if (key == "validation" || key == "verbose") {
         auto b = boolean(v);
         if (!b) return bad(key, v, "0 or 1");

@@ -23,7 +23,15 @@ enum class GazeKind : uint8_t {
     Generator,  ///< the synthetic eye-movement generator (`gaze_mode`, `gaze_seed`)
     File,       ///< a recorded gaze file (`gaze_file`)
     Hid,        ///< a HID eye tracker (usage page 0x12)
+    Mouse,      ///< the cursor over an eye in the window (headless: no gaze)
     None,       ///< no gaze: the compositor's fallback (view centre, larger fovea)
+};
+
+/// Where the composited frames go besides a recording.
+enum class Output : uint8_t {
+    Auto,      ///< a window when a display is there (DISPLAY or WAYLAND_DISPLAY), else headless
+    Window,    ///< a window (headless, with a log line, when none can be made)
+    Headless,  ///< no window
 };
 
 struct RuntimeConfig {
@@ -50,6 +58,8 @@ struct RuntimeConfig {
     /// enables VK_LAYER_KHRONOS_validation there. Default: WRSFOV_VALIDATION=1.
     bool validation = false;
     bool verbose = false;
+    Output output = Output::Auto;
+    std::string screenshot;  ///< window: the last window image is written here (PNG) when the session ends
 };
 
 /// Reads the file named by WRSFOV_XR_CONFIG (if set) and the WRSFOV_XR_* variables (`getenv` is

@@ -28,6 +28,7 @@
 #include "gaze/source.h"
 #include "runtime/xr_config.h"
 #include "runtime/xr_quad.h"
+#include "runtime/xr_window.h"
 
 namespace wrsfov::xr {
 
@@ -107,6 +108,8 @@ struct Session final : Object {
     std::unique_ptr<vk::Context> context;
     std::unique_ptr<Compositor> compositor;
     std::unique_ptr<QuadPass> quads;
+    std::unique_ptr<XrWindow> window;
+    std::array<layers::EyeGaze, 2> lastGaze{};  // the last frame's, for the mouse
     std::vector<std::unique_ptr<Space>> spaces;
     std::vector<std::unique_ptr<Swapchain>> swapchains;
     std::vector<ActionSet*> attachedSets;
@@ -139,6 +142,8 @@ struct Instance final : Object {
     bool eventsLost = false;
     uint32_t lostCount = 0;
 
+    bool window = false;                       // a window will be made (output, display, GLFW)
+    std::vector<std::string> windowExtensions;  // the instance extensions its surface needs
     bool graphicsRequirementsQueried = false;
     VkPhysicalDevice graphicsDevice = VK_NULL_HANDLE;  // what xrGetVulkanGraphicsDevice*KHR returned
     VkInstance vkInstance = VK_NULL_HANDLE;            // made by xrCreateVulkanInstanceKHR

@@ -221,6 +221,16 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info
     }
     inst->config = *config;
     inst->applicationName = info->applicationInfo.applicationName;
+    const bool display = std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY");
+    if (config->output == Output::Window || (config->output == Output::Auto && display)) {
+        auto exts = XrWindow::instanceExtensions();
+        if (exts) {
+            inst->window = true;
+            inst->windowExtensions = *exts;
+        } else {
+            logLine("no window (" + exts.error().message + "): headless");
+        }
+    }
     inst->epoch = nowXrTime();
     registerObject(inst.get());
     *out = reinterpret_cast<XrInstance>(inst.get());
@@ -518,21 +528,29 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanGraphicsDevice2KHR(XrInstance h, const
     return chooseDevice(inst, info->vulkanInstance, vkGetInstanceProcAddr, device);
 }
 
-/// The space-separated extension list of xrGetVulkan{Instance,Device}ExtensionsKHR: none needed.
-XrResult extensionList(XrInstance h, XrSystemId id, uint32_t capacity, uint32_t* countOutput, char* buffer) {
+/// The space-separated extension list of xrGetVulkan{Instance,Device}ExtensionsKHR: the passes need
+/// none; a window needs the surface extensions and VK_KHR_swapchain.
+XrResult extensionList(XrInstance h, XrSystemId id, uint32_t capacity, uint32_t* countOutput, char* buffer,
+                       bool device) {
     std::lock_guard lock(apiMutex());
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE_EXTENSION_NAME)) return XR_ERROR_FUNCTION_UNSUPPORTED;
-    return fillString(capacity, countOutput, buffer, "");
+    std::string list;
+    if (inst->window) {
+        const std::vector<std::string> exts =
+            device ? std::vector<std::string>{VK_KHR_SWAPCHAIN_EXTENSION_NAME} : inst->windowExtensions;
+        for (const std::string& e : exts) list += (list.empty() ? "" : " ") + e;
+    }
+    return fillString(capacity, countOutput, buffer, list);
 }
 XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanInstanceExtensionsKHR(XrInstance h, XrSystemId id, uint32_t capacity,
                                                                 uint32_t* countOutput, char* buffer) {
-    return extensionList(h, id, capacity, countOutput, buffer);
+    return extensionList(h, id, capacity, countOutput, buffer, false);
 }
 XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanDeviceExtensionsKHR(XrInstance h, XrSystemId id, uint32_t capacity,
                                                               uint32_t* countOutput, char* buffer) {
-    return extensionList(h, id, capacity, countOutput, buffer);
+    return extensionList(h, id, capacity, countOutput, buffer, true);
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateVulkanInstanceKHR(XrInstance h, const XrVulkanInstanceCreateInfoKHR* info,
@@ -555,6 +573,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateVulkanInstanceKHR(XrInstance h, const XrV
             if (std::strcmp(s, n) == 0) return true;
         return false;
     };
+    for (const std::string& e : inst->windowExtensions)  // empty without a window
+        if (!has(exts, e.c_str())) exts.push_back(e.c_str());
     bool count = false;
     if (inst->config.validation) {
         // Count every message of the instance (the application's rendering and our passes alike).
@@ -610,8 +630,17 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateVulkanDeviceKHR(XrInstance h, const XrVul
     auto create =
         reinterpret_cast<PFN_vkCreateDevice>(info->pfnGetInstanceProcAddr(inst->vkInstance, "vkCreateDevice"));
     if (!create) return XR_ERROR_RUNTIME_FAILURE;
-    // The passes need nothing beyond core Vulkan 1.0: the application's device info is used as given.
-    *vkResult = create(info->vulkanPhysicalDevice, info->vulkanCreateInfo, info->vulkanAllocator, device);
+    // The passes need nothing beyond core Vulkan 1.0; a window needs VK_KHR_swapchain.
+    VkDeviceCreateInfo ci = *info->vulkanCreateInfo;
+    std::vector<const char*> exts(ci.ppEnabledExtensionNames, ci.ppEnabledExtensionNames + ci.enabledExtensionCount);
+    if (inst->window) {
+        bool present = false;
+        for (const char* e : exts) present = present || std::strcmp(e, VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
+        if (!present) exts.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    }
+    ci.enabledExtensionCount = uint32_t(exts.size());
+    ci.ppEnabledExtensionNames = exts.data();
+    *vkResult = create(info->vulkanPhysicalDevice, &ci, info->vulkanAllocator, device);
     return XR_SUCCESS;
 }
 

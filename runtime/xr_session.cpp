@@ -14,6 +14,9 @@
 #include "compositor/swapchain_vk.h"
 #include "gaze/frame_gaze.h"
 #include "gaze/hid_device.h"
+#include "preview/gaze_input.h"
+
+#include <opencv2/imgcodecs.hpp>
 #include "runtime/xr_objects.h"
 
 namespace wrsfov::xr {
@@ -84,6 +87,11 @@ bool boundToEyeGaze(const Session& s, const Action* a) {
 /// left and right directions differ as in a real HMD). A file or a tracker gives each eye as measured.
 std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t) {
     const RuntimeConfig& c = s.instance->config;
+    if (c.gaze == GazeKind::Mouse) {
+        if (!s.window) return {};
+        const layers::Fov fov[2] = {c.fov[0], c.fov[1]};
+        return preview::gazeFromCursor(fov, c.width, c.height, s.window->cursor());
+    }
     std::array<layers::EyeGaze, 2> g = gaze::frame_gaze(s.gazeSource.get(), s.instance->seconds(t));
     if (c.gaze != GazeKind::Generator) return g;
     for (int e = 0; e < 2; ++e) {
@@ -105,9 +113,16 @@ const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
 
 GazeState gazeAt(Session& s, XrTime time) {
     GazeState out;
-    if (!s.gazeSource) return out;
     const double t = s.instance->seconds(time);
-    const gaze::GazeSample sample = s.gazeSource->sample(t);
+    gaze::GazeSample sample;
+    sample.t_s = t;
+    if (s.instance->config.gaze == GazeKind::Mouse) {  // the cursor of the last frame shown
+        for (int e = 0; e < 2; ++e) sample.eye[e] = {s.lastGaze[e].dir, s.lastGaze[e].valid, s.lastGaze[e].confidence};
+    } else if (s.gazeSource) {
+        sample = s.gazeSource->sample(t);
+    } else {
+        return out;
+    }
     glm::vec3 sum(0.0f);
     for (const auto& e : sample.eye)
         if (e.valid && std::isfinite(e.dir.x) && std::isfinite(e.dir.y) && std::isfinite(e.dir.z) &&
@@ -164,6 +179,13 @@ XrResult destroySession(Session* s) {
     for (auto& sp : s->spaces) unregisterObject(sp.get());
     s->swapchains.clear();
     s->spaces.clear();
+    if (s->window && !inst->config.screenshot.empty()) {
+        auto img = s->window->lastImage();
+        if (!img) logLine("screenshot: " + img.error().message);
+        else if (!cv::imwrite(inst->config.screenshot, *img)) logLine("screenshot: cannot write " + inst->config.screenshot);
+        else logLine("screenshot written to " + inst->config.screenshot);
+    }
+    s->window.reset();
     s->quads.reset();
     s->compositor.reset();
     s->context.reset();
@@ -223,6 +245,15 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCrea
     s->quads = std::move(*quads);
 
     const RuntimeConfig& c = inst->config;
+    if (inst->window) {
+        if (!XrWindow::canPresent(binding->instance, binding->physicalDevice, binding->queueFamilyIndex)) {
+            logLine("no window: the session's queue family cannot present; headless");
+        } else {
+            auto w = XrWindow::create(*s->context, c.width, c.height, "wrsfov simulated HMD: " + inst->applicationName);
+            if (!w) logLine("no window (" + w.error().message + "): headless");
+            else s->window = std::move(*w);
+        }
+    }
     if (c.gaze == GazeKind::Generator) {
         gaze::GeneratorConfig g;
         g.mode = c.gazeMode;
@@ -240,11 +271,14 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCrea
         if (!path) logLine("HID eye tracker: " + path.error().message + "; gaze falls back to the view centre");
         else s->gazeSource = std::make_unique<gaze::hid::HidTrackerSource>(gaze::hid::hidapi_connector(*path));
     }
-    logLine("session on " + s->context->deviceName() + ", gaze " +
-            (s->gazeSource ? std::string(c.gaze == GazeKind::Generator ? "generator (" +
-                                                                             std::string(gaze::mode_name(c.gazeMode)) + ")"
-                                                                       : c.gaze == GazeKind::File ? "file" : "HID")
-                           : std::string("none (view centre)")));
+    std::string gazeName = "none (view centre)";
+    if (s->gazeSource)
+        gazeName = c.gaze == GazeKind::Generator ? "generator (" + std::string(gaze::mode_name(c.gazeMode)) + ")"
+                   : c.gaze == GazeKind::File    ? "file"
+                                                 : "HID";
+    if (c.gaze == GazeKind::Mouse) gazeName = s->window ? "mouse" : "mouse, but no window: none (view centre)";
+    logLine("session on " + s->context->deviceName() + ", gaze " + gazeName + ", " +
+            (s->window ? "window" : "headless"));
     registerObject(s.get());
     *out = reinterpret_cast<XrSession>(s.get());
     Session* raw = s.get();
@@ -941,6 +975,7 @@ void compose(Session* s, const XrFrameEndInfo* info) {
     const auto gaze = frameGaze(*s, s->frameDisplayTime);
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
+    s->lastGaze = gaze;
     if (locomotion) s->compositor->resetHistory();
     Status st = s->compositor->endFrame(f);
     if (!st) {
@@ -953,6 +988,25 @@ void compose(Session* s, const XrFrameEndInfo* info) {
     ++s->framesComposited;
     drawQuads(s, info, projIndex, f);
     recordFrame(s, f);
+    if (s->window) {
+        const FrameStats& st = s->compositor->stats();
+        char gpu[64];
+        std::snprintf(gpu, sizeof gpu, "GPU %.2f ms", st.gpu.total);
+        const RuntimeConfig& c = s->instance->config;
+        std::vector<std::string> items = {
+            s->instance->applicationName, std::string(toString(c.compositor.method)),
+            std::string(toString(c.compositor.foveation)),
+            "fovea " + std::to_string(int(c.compositor.foveaDeg + 0.5f)) + " deg",
+            "frame " + std::to_string(s->framesComposited), st.gpu.valid ? std::string(gpu) : std::string("GPU -"),
+            st.gazeFallback[0] || st.gazeFallback[1] ? "gaze: fallback (view centre)" : "gaze: tracked"};
+        if (Status p = s->window->present(*s->compositor, items); !p) {
+            logLine("window: " + p.message() + "; headless from now on");
+            s->window.reset();
+        } else if (s->window->closeRequested()) {
+            logLine("window closed: asking the application to stop");
+            beginStopping(s);
+        }
+    }
 }
 
 }  // namespace

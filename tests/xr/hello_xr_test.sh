@@ -45,6 +45,20 @@ check last_frame test -s "$out/seq/000299_R_color.png" -a -s "$out/seq/000299_R_
 check no_extra_frame test ! -e "$out/seq/000300_L_color.png"
 check gaze_rows test "$(wc -l < "$out/seq/gaze.csv")" -eq 301
 
+# A desktop window (under Xvfb) with the preview's overlays, gaze from the mouse: 60 frames, a
+# screenshot of the window, still 0 validation messages.
+run_window() {
+    env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=window \
+        WRSFOV_XR_GAZE=mouse WRSFOV_XR_SCREENSHOT="$out/window.png" WRSFOV_VALIDATION=1 \
+        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+}
+exec 3<>"$out/stdin"
+CLI_FIXED=1 cli_check hello_xr_window 0 "session ended: 60 frames ended, 60 composited" run_window
+exec 3>&-
+check window_opened grep -q "gaze mouse, window" "$out/hello_xr_window.log"
+check window_validation_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/hello_xr_window.log"
+check window_screenshot test "$(stat -c %s "$out/window.png" 2>/dev/null || echo 0)" -gt 2000
+
 # The recording round-trips through the benchmark as scene `sequence`.
 CLI_FIXED=1 cli_check bench_sequence 0 "192x192 per eye, 300 frames" \
     "$bench" --sequence "$out/seq" --out "$out/report" --fovea 5 --modes mip --methods fov,wrs
