@@ -134,4 +134,17 @@ Result<std::vector<std::byte>> VulkanSwapchain::read(uint32_t index, uint32_t ar
     return std::move(*r);
 }
 
+Result<std::vector<std::byte>> VulkanSwapchain::readTexel(uint32_t index, uint32_t arrayLayer, uint32_t x,
+                                                          uint32_t y) {
+    const auto& in = info();
+    if (index >= in.imageCount || arrayLayer >= in.arraySize || x >= in.width || y >= in.height)
+        return err(SwapchainError::WriteOutOfRange, "read of texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                                        ") of image " + std::to_string(index) + " is out of range");
+    const vk::Image& img = images_[index];
+    auto r = ctx_.readImageRegion(img.handle(), img.aspect(), arrayLayer, {int32_t(x), int32_t(y)}, {1, 1},
+                                  layers::bytesPerTexel(in.format), restingLayout_, in.arraySize);
+    if (!r) return err(SwapchainError::DeviceFailure, r.error().message);
+    return std::move(*r);
+}
+
 }  // namespace wrsfov

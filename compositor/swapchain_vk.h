@@ -19,6 +19,8 @@ public:
 
     Status write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) override;
     Result<std::vector<std::byte>> read(uint32_t index, uint32_t arrayLayer) override;
+    /// One texel of one layer (bytesPerTexel(format) bytes), e.g. the depth under the gaze.
+    Result<std::vector<std::byte>> readTexel(uint32_t index, uint32_t arrayLayer, uint32_t x, uint32_t y);
     VkImage image(uint32_t index) const override { return images_.at(index).handle(); }
 
     /// The view the compositor samples: sRGB images are viewed as UNORM (the load pass decodes

@@ -485,6 +485,12 @@ void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspe
 Result<std::vector<std::byte>> Context::readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
                                                        uint32_t width, uint32_t height, size_t bytes,
                                                        VkImageLayout layout, uint32_t imageLayers) {
+    return readImageRegion(image, aspect, layer, {0, 0}, {width, height}, bytes, layout, imageLayers);
+}
+
+Result<std::vector<std::byte>> Context::readImageRegion(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
+                                                        VkOffset2D offset, VkExtent2D extent, size_t bytes,
+                                                        VkImageLayout layout, uint32_t imageLayers) {
     auto staging = createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
     if (!staging) return staging.error();
     Status s = submitAndWait([&](VkCommandBuffer cb) {
@@ -493,7 +499,8 @@ Result<std::vector<std::byte>> Context::readImageLayer(VkImage image, VkImageAsp
         layoutTransition(cb, image, aspect, imageLayers, layout, VK_IMAGE_LAYOUT_GENERAL);
         VkBufferImageCopy region{};
         region.imageSubresource = {aspect, 0, layer, 1};
-        region.imageExtent = {width, height, 1};
+        region.imageOffset = {offset.x, offset.y, 0};
+        region.imageExtent = {extent.width, extent.height, 1};
         vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
         layoutTransition(cb, image, aspect, imageLayers, VK_IMAGE_LAYOUT_GENERAL, layout);
         memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,

@@ -234,6 +234,11 @@ public:
                                                   uint32_t width, uint32_t height, size_t bytes,
                                                   VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL,
                                                   uint32_t imageLayers = 1);
+    /// The same for a rectangle of the layer (tightly packed rows of `bytes` in all).
+    Result<std::vector<std::byte>> readImageRegion(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
+                                                   VkOffset2D offset, VkExtent2D extent, size_t bytes,
+                                                   VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL,
+                                                   uint32_t imageLayers = 1);
 
     /// Records with `record`, submits, waits. Returns DeviceFailure-style errors (code = VkResult).
     Status submitAndWait(const std::function<void(VkCommandBuffer)>& record);

@@ -110,6 +110,7 @@ struct Session final : Object {
     std::unique_ptr<QuadPass> quads;
     std::unique_ptr<XrWindow> window;
     std::array<layers::EyeGaze, 2> lastGaze{};  // the last frame's, for the mouse
+    uint64_t vergenceFromDepth = 0;             // frames whose fixated point came from the depth
     std::vector<std::unique_ptr<Space>> spaces;
     std::vector<std::unique_ptr<Swapchain>> swapchains;
     std::vector<ActionSet*> attachedSets;

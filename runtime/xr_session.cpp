@@ -82,10 +82,39 @@ bool boundToEyeGaze(const Session& s, const Action* a) {
     return false;
 }
 
+/// Where the left eye's ray towards `target` (head space) meets the submitted depth: the fixated
+/// point, or nullopt without depth there (no depth, off the image, or an unknown depth value).
+std::optional<glm::vec3> depthAlong(const Session& s, const layers::ProjectionView& left, const glm::vec3& target) {
+    if (!left.depth) return std::nullopt;
+    const RuntimeConfig& c = s.instance->config;
+    const glm::vec3 eye(-0.5f * c.ipd_m, 0.0f, 0.0f);
+    const glm::vec3 d = glm::normalize(target - eye);
+    if (!(d.z < -1e-3f)) return std::nullopt;
+    const layers::Fov& f = left.fov;
+    const float tl = std::tan(f.angleLeft), tr = std::tan(f.angleRight), tu = std::tan(f.angleUp),
+                td = std::tan(f.angleDown);
+    const layers::SubImage& sub = left.depth->subImage;
+    const float u = (d.x / -d.z - tl) / (tr - tl), v = (tu - d.y / -d.z) / (tu - td);
+    if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f)) return std::nullopt;
+    auto* sc = static_cast<VulkanSwapchain*>(sub.swapchain);
+    auto texel = sc->readTexel(uint32_t(sc->lastReleased()), sub.arrayIndex,
+                               uint32_t(sub.rect.x) + uint32_t(u * float(sub.rect.width)),
+                               uint32_t(sub.rect.y) + uint32_t(v * float(sub.rect.height)));
+    if (!texel || texel->size() != 4) return std::nullopt;
+    float value;
+    std::memcpy(&value, texel->data(), 4);
+    // The compositor's own linearisation (shaders/wrs_common.h): 0 means unknown.
+    const float z = gpu::wrs_linear_depth(value, left.depth->nearZ, left.depth->farZ, left.depth->reversedZ);
+    if (!(z > 0.0f)) return std::nullopt;
+    return eye + d * (z / -d.z);
+}
+
 /// Both eyes' gaze for a frame shown at `t`, in each eye's space. The generator is cyclopean: both
-/// eyes are turned to the point at `vergence_distance` along its direction (binocular vergence, so the
-/// left and right directions differ as in a real HMD). A file or a tracker gives each eye as measured.
-std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t) {
+/// eyes turn to one point (binocular vergence, so the left and right directions differ as in a real
+/// HMD): where the left eye's ray along the generator's direction meets the submitted depth, or
+/// `vergence_distance` along that direction without depth. A file or a tracker gives each eye as
+/// measured; the mouse gives each eye the ray through the cursor's pixel.
+std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::ProjectionView& left) {
     const RuntimeConfig& c = s.instance->config;
     if (c.gaze == GazeKind::Mouse) {
         if (!s.window) return {};
@@ -93,10 +122,14 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t) {
         return preview::gazeFromCursor(fov, c.width, c.height, s.window->cursor());
     }
     std::array<layers::EyeGaze, 2> g = gaze::frame_gaze(s.gazeSource.get(), s.instance->seconds(t));
-    if (c.gaze != GazeKind::Generator) return g;
+    if (c.gaze != GazeKind::Generator || !g[0].valid) return g;
+    glm::vec3 fixated = glm::normalize(g[0].dir) * c.vergenceDistance_m;
+    if (auto p = depthAlong(s, left, fixated)) {
+        fixated = *p;
+        ++s.vergenceFromDepth;
+    }
     for (int e = 0; e < 2; ++e) {
         if (!g[e].valid) continue;
-        const glm::vec3 fixated = glm::normalize(g[e].dir) * c.vergenceDistance_m;
         const glm::vec3 eyePos((e == 0 ? -0.5f : 0.5f) * c.ipd_m, 0.0f, 0.0f);
         g[e].dir = glm::normalize(fixated - eyePos);
     }
@@ -172,7 +205,8 @@ XrResult destroySession(Session* s) {
     }
     logLine("session ended: " + std::to_string(s->framesEnded) + " frames ended, " +
             std::to_string(s->framesComposited) + " composited, " + std::to_string(s->framesRefused) +
-            " not composited, " + std::to_string(s->framesDiscarded) + " discarded; Vulkan validation: " +
+            " not composited, " + std::to_string(s->framesDiscarded) + " discarded, vergence from depth in " +
+            std::to_string(s->vergenceFromDepth) + "; Vulkan validation: " +
             std::to_string(inst->vkErrors.load()) + " errors, " + std::to_string(inst->vkWarnings.load()) +
             " warnings" + (inst->messenger ? "" : " (not counted: validation off or the application's instance)"));
     for (auto& sc : s->swapchains) unregisterObject(sc.get());
@@ -972,7 +1006,7 @@ void compose(Session* s, const XrFrameEndInfo* info) {
         layer.views.push_back(pv);
     }
     f.layers.push_back(std::move(layer));
-    const auto gaze = frameGaze(*s, s->frameDisplayTime);
+    const auto gaze = frameGaze(*s, s->frameDisplayTime, f.layers[0].views[0]);
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
     s->lastGaze = gaze;

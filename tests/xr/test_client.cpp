@@ -448,6 +448,24 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
         EXPECT_NEAR(m.y, 2.0f, 0.01f) << "eye " << e;   // and 2 px lower (y down)
         EXPECT_EQ(m.z, 0.0f) << "eye " << e;            // the NDC depth change is not a linear dz
     }
+    // With depth submitted, both eyes verge on the surface under the gaze: depth 0.5 everywhere with
+    // near 0.1 m, far 100 m is 0.1 * 100 / (100 - 0.5 * 99.9) = 0.1998 m. The eyes' rays (from
+    // -/+ IPD/2) meet there.
+    uint32_t valid = 0;
+    for (uint32_t i = 0; i < r->info().frameCount; ++i) {
+        const auto& g = r->gaze(i);
+        if (!g[0].valid || !g[1].valid) continue;
+        ++valid;
+        const glm::vec3 eL(-0.0315f, 0, 0), eR(0.0315f, 0, 0), l = g[0].dir, rr = g[1].dir;
+        // Closest approach of the two rays (they intersect up to rounding).
+        const glm::vec3 w0 = eL - eR;
+        const float a = glm::dot(l, l), b = glm::dot(l, rr), cc = glm::dot(rr, rr), d = glm::dot(l, w0),
+                    e2 = glm::dot(rr, w0);
+        const float s = (b * e2 - cc * d) / (a * cc - b * b);
+        const glm::vec3 p = eL + s * l;
+        EXPECT_NEAR(-p.z, 0.1998f, 0.002f) << "frame " << i;
+    }
+    EXPECT_GT(valid, 0u) << "no frame with valid gaze to check the vergence on";
 }
 
 // Quad layers after the projection layer are drawn over the composited output: an opaque quad 1 m
