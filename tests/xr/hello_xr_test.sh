@@ -4,6 +4,8 @@
 # exit cleanly when the runtime asks it to stop, leave 0 validation messages of either layer, and
 # record a 300-frame sequence that wrsfov-bench evaluates.
 # usage: hello_xr_test.sh RUNTIME_JSON WRSFOV_BENCH OUT_DIR
+# WRSFOV_XR_PRELOAD (sanitizer builds): libraries to preload into the programs that load the runtime
+# (the sanitizer runtimes must come first in a program that was not built with them).
 set -u
 json="$1"
 bench="$2"
@@ -14,7 +16,8 @@ mkdir -p "$out"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 export XR_RUNTIME_JSON="$json"
 
-CLI_FIXED=1 cli_check runtime_list 0 "wrsfov simulated HMD" openxr_runtime_list
+preload="${WRSFOV_XR_PRELOAD:-}"
+CLI_FIXED=1 cli_check runtime_list 0 "XR_EXT_eye_gaze_interaction" env LD_PRELOAD="$preload" openxr_runtime_list
 
 # hello_xr quits at a key press or when stdin ends. Its stdin is a fifo that this script holds open
 # and never writes, so only the runtime's frame limit (STOPPING, then EXITING) can end the run.
@@ -23,7 +26,7 @@ exec 3<>"$out/stdin"
 run_hello() {
     env WRSFOV_XR_WIDTH=192 WRSFOV_XR_HEIGHT=192 WRSFOV_XR_FRAMES=300 WRSFOV_XR_RECORD="$out/seq" \
         WRSFOV_VALIDATION=1 XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
-        timeout 300 hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
 }
 CLI_FIXED=1 cli_check hello_xr 0 "session ended: 300 frames ended, 300 composited, 0 not composited" run_hello
 exec 3>&-
@@ -50,7 +53,7 @@ check gaze_rows test "$(wc -l < "$out/seq/gaze.csv")" -eq 301
 run_window() {
     env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=window \
         WRSFOV_XR_GAZE=mouse WRSFOV_XR_SCREENSHOT="$out/window.png" WRSFOV_VALIDATION=1 \
-        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
 }
 exec 3<>"$out/stdin"
 CLI_FIXED=1 cli_check hello_xr_window 0 "session ended: 60 frames ended, 60 composited" run_window
