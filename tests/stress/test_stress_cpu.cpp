@@ -231,6 +231,7 @@ TEST(StressCpu, StressStepIsTheReferenceStep) {
     for (int e = 0; e < 2; ++e) {
         params.eye[e].fov_tan = gpu::vec4(-0.5f, 0.5f, 0.4f, -0.4f);
         params.eye[e].depth_range = gpu::vec4(kNearZ, kFarZ, 0.0f, 0.0f);
+        params.eye[e].motion_scale = gpu::vec4(1.0f, 1.0f, 1.0f, 0.0f);  // motion in pixels
     }
     params.tuning = gpu::vec4(7.5f, kDepthTau, 0.0f, 0.0f);
     uint64_t compared = 0, kept = 0;

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <glm/gtc/packing.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -546,6 +547,70 @@ TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
         const cv::Vec3b corner = out.at<cv::Vec3b>(0, 0);
         EXPECT_FALSE(corner[2] == 200 && corner[1] == 40) << "eye " << e << ": the quad covers everything";
     }
+}
+
+// The simulated head follows the configured path (here `turn`: +-25 deg yaw, 6 s period), with the
+// eyes IPD apart, and xrWaitFrame paces the frames at the display rate (realtime).
+TEST(XrClient, HeadPathAndRealtimePacing) {
+    setenv("WRSFOV_XR_HEAD", "turn", 1);
+    setenv("WRSFOV_XR_PACE", "realtime", 1);
+    auto c = Client::create(kExtensions);
+    unsetenv("WRSFOV_XR_HEAD");
+    setenv("WRSFOV_XR_PACE", "free", 1);  // as the rest of the suite runs
+    ASSERT_TRUE(c);
+    XrReferenceSpaceCreateInfo rci{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    rci.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace view;
+    ASSERT_EQ(xrCreateReferenceSpace(c->session, &rci, &view), XR_SUCCESS);
+    ASSERT_EQ(c->begin(), XR_SUCCESS);
+
+    XrTime last = 0;
+    for (int i = 0; i < 12; ++i) {
+        XrFrameState fs{XR_TYPE_FRAME_STATE};
+        ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+        timespec now;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        const XrTime t = XrTime(now.tv_sec) * 1000000000 + now.tv_nsec;
+        // Returned no earlier than one period before the frame's display (the runtime's clock is
+        // CLOCK_MONOTONIC), and display times are whole periods apart.
+        EXPECT_GE(t, fs.predictedDisplayTime - fs.predictedDisplayPeriod) << "frame " << i;
+        if (last) {
+            EXPECT_GT(fs.predictedDisplayTime, last);
+            EXPECT_EQ((fs.predictedDisplayTime - last) % fs.predictedDisplayPeriod, 0) << "frame " << i;
+        }
+        last = fs.predictedDisplayTime;
+        ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+        XrFrameEndInfo none = frameEnd(fs.predictedDisplayTime, {});
+        ASSERT_EQ(xrEndFrame(c->session, &none), XR_SUCCESS);
+    }
+
+    // Yaw of the head in LOCAL at two times a quarter period apart: it turns, by up to 25 deg.
+    auto yawAt = [&](XrTime t) {
+        XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
+        EXPECT_EQ(xrLocateSpace(view, c->local, t, &loc), XR_SUCCESS);
+        EXPECT_TRUE(loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT);
+        const XrQuaternionf q = loc.pose.orientation;
+        return 2.0f * std::atan2(q.y, q.w) * 180.0f / 3.14159265f;
+    };
+    const float a = yawAt(last), b = yawAt(last + 1500000000);  // 1.5 s later
+    EXPECT_GT(std::abs(a - b), 5.0f);
+    EXPECT_LE(std::abs(a), 25.01f);
+    EXPECT_LE(std::abs(b), 25.01f);
+    // The eyes: IPD apart, at the head.
+    XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO};
+    li.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    li.displayTime = last;
+    li.space = view;
+    XrViewState vs{XR_TYPE_VIEW_STATE};
+    XrView v[2] = {{XR_TYPE_VIEW}, {XR_TYPE_VIEW}};
+    uint32_t n = 0;
+    ASSERT_EQ(xrLocateViews(c->session, &li, &vs, 2, &n, v), XR_SUCCESS);
+    EXPECT_NEAR(v[1].pose.position.x - v[0].pose.position.x, 0.063f, 1e-5f);
+    EXPECT_NEAR(v[0].pose.position.y, 0.0f, 1e-5f);
+    EXPECT_TRUE(vs.viewStateFlags & XR_VIEW_STATE_POSITION_TRACKED_BIT);
+    li.displayTime = 0;
+    EXPECT_EQ(xrLocateViews(c->session, &li, &vs, 2, &n, v), XR_ERROR_TIME_INVALID);
 }
 
 TEST(XrClient, EyeGazeActionFollowsTheGenerator) {

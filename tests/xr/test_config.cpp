@@ -1,0 +1,135 @@
+// The runtime's configuration: file, then environment over it; every bad value named with its key
+// and where it came from (tests run without a GPU).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+
+#include "runtime/xr_config.h"
+
+namespace wrsfov::xr {
+namespace {
+
+struct Env {
+    std::map<std::string, std::string> vars;
+    std::function<const char*(const char*)> fn() const {
+        return [this](const char* name) -> const char* {
+            auto it = vars.find(name);
+            return it == vars.end() ? nullptr : it->second.c_str();
+        };
+    }
+};
+
+std::string writeFile(const std::string& name, const std::string& text) {
+    const std::string path = ::testing::TempDir() + name;
+    std::ofstream(path) << text;
+    return path;
+}
+
+TEST(XrConfig, DefaultsWithoutFileOrEnvironment) {
+    Env env;
+    auto c = loadRuntimeConfig(env.fn());
+    ASSERT_TRUE(c) << c.error().message;
+    EXPECT_EQ(c->compositor.method, Method::Wrs);
+    EXPECT_EQ(c->width, 1024u);
+    EXPECT_EQ(c->displayHz, 90.0);
+    EXPECT_TRUE(c->pace);
+    EXPECT_EQ(c->gaze, GazeKind::Generator);
+    EXPECT_EQ(c->gazeMode, gaze::Mode::Scene);
+    EXPECT_EQ(c->output, Output::Auto);
+    EXPECT_FLOAT_EQ(c->vergenceDistance_m, 1.5f);
+    EXPECT_LT(c->fov[0].angleLeft, -c->fov[0].angleRight);  // the HMD's asymmetric field: wider temporally
+}
+
+TEST(XrConfig, FileThenEnvironment) {
+    Env env;
+    env.vars["WRSFOV_XR_CONFIG"] = writeFile("xr_ok.conf",
+                                             "# a comment\n"
+                                             "method = fov+taa   # trailing comment\n"
+                                             "fovea=7.5\n\n"
+                                             "width = 640\nheight = 480\n"
+                                             "fov = 90\n"
+                                             "pace = free\n"
+                                             "head = turn\n"
+                                             "gaze = file\ngaze_file = /tmp/g.csv\n"
+                                             "output = headless\n");
+    env.vars["WRSFOV_XR_WIDTH"] = "320";  // the environment wins
+    env.vars["WRSFOV_XR_GAZE_MODE"] = "reading";
+    auto c = loadRuntimeConfig(env.fn());
+    ASSERT_TRUE(c) << c.error().message;
+    EXPECT_EQ(c->compositor.method, Method::FovTaa);
+    EXPECT_FLOAT_EQ(c->compositor.foveaDeg, 7.5f);
+    EXPECT_EQ(c->width, 320u);
+    EXPECT_EQ(c->height, 480u);
+    EXPECT_NEAR(c->fov[1].angleRight, 0.785398f, 1e-5f);
+    EXPECT_FLOAT_EQ(c->fov[1].angleLeft, -c->fov[1].angleRight);
+    EXPECT_FALSE(c->pace);
+    EXPECT_EQ(c->head, scenes::CameraPath::Turn);
+    EXPECT_EQ(c->gaze, GazeKind::File);
+    EXPECT_EQ(c->gazeFile, "/tmp/g.csv");
+    EXPECT_EQ(c->gazeMode, gaze::Mode::Reading);
+    EXPECT_EQ(c->output, Output::Headless);
+}
+
+TEST(XrConfig, EveryBadValueNamesItsKeyAndSource) {
+    struct Case {
+        std::string key, value, expect;
+    };
+    const std::vector<Case> cases = {
+        {"method", "oracle", "fov, fov+taa, wrs-paper or wrs"},
+        {"method", "magic", "'method' = 'magic'"},
+        {"fovea", "0", "[0.5, 60]"},
+        {"fovea", "nan", "[0.5, 60]"},
+        {"foveation", "box", "none, mip or gauss"},
+        {"width", "100.5", "integer in [16, 8192]"},
+        {"height", "9000", "integer in [16, 8192]"},
+        {"fov", "200", "hmd or"},
+        {"ipd", "0.2", "metres"},
+        {"display_hz", "inf", "[10, 240]"},
+        {"pace", "fast", "realtime or free"},
+        {"frames", "-1", "0: until the application exits"},
+        {"head", "spin", "static, lateral or turn"},
+        {"gaze", "eyes", "generator, file, hid, mouse or none"},
+        {"gaze_mode", "stare", "fixation, scene, reading or pursuit"},
+        {"gaze_seed", "x", "integer >= 0"},
+        {"vergence_distance", "0", "metres"},
+        {"output", "vr", "auto, window or headless"},
+        {"validation", "maybe", "0 or 1"},
+    };
+    for (const Case& k : cases) {
+        Env env;
+        std::string var = "WRSFOV_XR_";
+        for (char ch : k.key) var += char(std::toupper(static_cast<unsigned char>(ch)));
+        env.vars[var] = k.value;
+        auto c = loadRuntimeConfig(env.fn());
+        ASSERT_FALSE(c) << k.key << " = " << k.value << " was accepted";
+        EXPECT_NE(c.error().message.find(var), std::string::npos) << c.error().message;
+        EXPECT_NE(c.error().message.find(k.expect), std::string::npos) << c.error().message;
+    }
+    Env file;
+    file.vars["WRSFOV_XR_CONFIG"] = writeFile("xr_bad.conf", "method = wrs\n\nfoveation = box\n");
+    auto c = loadRuntimeConfig(file.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("xr_bad.conf:3: 'foveation'"), std::string::npos) << c.error().message;
+    file.vars["WRSFOV_XR_CONFIG"] = writeFile("xr_noeq.conf", "method wrs\n");
+    c = loadRuntimeConfig(file.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("xr_noeq.conf:1: expected key = value"), std::string::npos);
+    file.vars["WRSFOV_XR_CONFIG"] = writeFile("xr_unknown.conf", "colour = blue\n");
+    c = loadRuntimeConfig(file.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("unknown key 'colour'"), std::string::npos);
+    file.vars["WRSFOV_XR_CONFIG"] = ::testing::TempDir() + "no_such_dir/xr.conf";
+    c = loadRuntimeConfig(file.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("cannot read"), std::string::npos);
+    Env noFile;
+    noFile.vars["WRSFOV_XR_GAZE"] = "file";
+    c = loadRuntimeConfig(noFile.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("gaze_file"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace wrsfov::xr
