@@ -62,6 +62,22 @@ check window_opened grep -q "gaze mouse, window" "$out/hello_xr_window.log"
 check window_validation_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/hello_xr_window.log"
 check window_screenshot test "$(stat -c %s "$out/window.png" 2>/dev/null || echo 0)" -gt 2000
 
+# XR_KHR_vulkan_enable (hello_xr -g Vulkan): the application makes its own Vulkan instance and device;
+# the validation layer goes in through the loader (VK_INSTANCE_LAYERS) and reports to hello_xr's
+# debug-report callback, which prints ERROR:/WARNING: lines.
+run_v1() {
+    env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=headless \
+        VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
+        XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
+        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan -vc Stereo < "$out/stdin"
+}
+exec 3<>"$out/stdin"
+CLI_FIXED=1 cli_check hello_xr_vulkan1 0 "session ended: 60 frames ended, 60 composited, 0 not composited" run_v1
+exec 3>&-
+check vulkan1_validation_active grep -q 'Inserted device layer "VK_LAYER_KHRONOS_validation"' "$out/hello_xr_vulkan1.log"
+check vulkan1_validation_clean sh -c "! grep -q -e 'ERROR:' -e 'WARNING:' '$out/hello_xr_vulkan1.log'"
+check vulkan1_openxr_validation_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/hello_xr_vulkan1.log'"
+
 # The recording round-trips through the benchmark as scene `sequence`.
 CLI_FIXED=1 cli_check bench_sequence 0 "192x192 per eye, 300 frames" \
     "$bench" --sequence "$out/seq" --out "$out/report" --fovea 5 --modes mip --methods fov,wrs
