@@ -492,6 +492,14 @@ Result<std::unique_ptr<layers::Swapchain>> Compositor::createSwapchain(const lay
     return std::unique_ptr<layers::Swapchain>(std::move(*sc));
 }
 
+Result<std::unique_ptr<layers::Swapchain>> Compositor::importSwapchain(const layers::SwapchainCreateInfo& info,
+                                                                       std::span<const VkImage> images,
+                                                                       const SwapchainImageOptions& options) {
+    auto sc = VulkanSwapchain::import(ctx_, this, info, images, options);
+    if (!sc) return sc.error();
+    return std::unique_ptr<layers::Swapchain>(std::move(*sc));
+}
+
 Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     if (ctx_.deviceLost()) return submitError(SubmitError::DeviceFailure, kDeviceLost);
     if (Status s = validator_.validate(frame); !s) return s;

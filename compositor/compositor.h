@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -155,6 +156,14 @@ public:
 
     /// A swapchain whose images live on this compositor's device.
     Result<std::unique_ptr<layers::Swapchain>> createSwapchain(const layers::SwapchainCreateInfo& info,
+                                                               const SwapchainImageOptions& options = {});
+    /// A swapchain over images someone else made on this compositor's device and keeps owning (an
+    /// OpenXR runtime's, seen by an API layer): info.imageCount images of info's format (sRGB ones
+    /// with VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT), size and array size, with SAMPLED and TRANSFER_SRC
+    /// usage, initialised and in options.restingLayout whenever the compositor may read them. The
+    /// compositor creates views only and destroys nothing else.
+    Result<std::unique_ptr<layers::Swapchain>> importSwapchain(const layers::SwapchainCreateInfo& info,
+                                                               std::span<const VkImage> images,
                                                                const SwapchainImageOptions& options = {});
 
     /// Validates and composites one frame (synchronously). A refused frame changes nothing:

@@ -47,6 +47,32 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ct
     return sc;
 }
 
+Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::import(vk::Context& ctx, const Compositor* owner,
+                                                                 const layers::SwapchainCreateInfo& info,
+                                                                 std::span<const VkImage> images,
+                                                                 const SwapchainImageOptions& options) {
+    if (Status s = layers::validateCreateInfo(info); !s) return s.error();
+    if (images.size() != info.imageCount)
+        return err(SwapchainError::InvalidCreateInfo, std::to_string(images.size()) + " images imported for a swapchain of " +
+                                                          std::to_string(info.imageCount));
+    std::unique_ptr<VulkanSwapchain> sc(new VulkanSwapchain(ctx, owner, info));
+    sc->restingLayout_ = options.restingLayout;
+    sc->prepared_ = true;  // the owner keeps them initialised, in the resting layout
+    vk::ImageCreateInfo ici;
+    ici.format = layers::toVkFormat(info.format);
+    ici.width = info.width;
+    ici.height = info.height;
+    ici.layers = info.arraySize;
+    // sRGB images are read through UNORM views (their owner made them MUTABLE_FORMAT).
+    const VkFormat viewFormat = info.format == Format::RGBA8_SRGB ? VK_FORMAT_R8G8B8A8_UNORM : VK_FORMAT_UNDEFINED;
+    for (VkImage image : images) {
+        auto img = ctx.wrapImage(image, ici, viewFormat);
+        if (!img) return err(SwapchainError::DeviceFailure, img.error().message);
+        sc->images_.push_back(std::move(*img));
+    }
+    return sc;
+}
+
 Status VulkanSwapchain::prepare() {
     if (prepared_) return {};
     const layers::SwapchainCreateInfo& info = this->info();

@@ -1,6 +1,7 @@
 // Swapchain images on the compositor's device (internal to compositor/).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "compositor/vk_context.h"
@@ -15,6 +16,11 @@ class VulkanSwapchain final : public layers::Swapchain {
 public:
     static Result<std::unique_ptr<VulkanSwapchain>> create(vk::Context& ctx, const Compositor* owner,
                                                            const layers::SwapchainCreateInfo& info,
+                                                           const SwapchainImageOptions& options);
+    /// A swapchain over images someone else made on ctx's device (see Compositor::importSwapchain).
+    static Result<std::unique_ptr<VulkanSwapchain>> import(vk::Context& ctx, const Compositor* owner,
+                                                           const layers::SwapchainCreateInfo& info,
+                                                           std::span<const VkImage> images,
                                                            const SwapchainImageOptions& options);
 
     Status write(uint32_t index, uint32_t arrayLayer, std::span<const std::byte> texels) override;

@@ -149,6 +149,7 @@ Image& Image::operator=(Image&& o) noexcept {
         std::swap(arrayView_, o.arrayView_);
         std::swap(info_, o.info_);
         std::swap(aspect_, o.aspect_);
+        std::swap(ownsImage_, o.ownsImage_);
     }
     return *this;
 }
@@ -157,11 +158,12 @@ void Image::reset() {
     for (VkImageView v : layerViews_) vkDestroyImageView(device_, v, nullptr);
     layerViews_.clear();
     if (arrayView_) vkDestroyImageView(device_, arrayView_, nullptr);
-    if (image_) vkDestroyImage(device_, image_, nullptr);
+    if (image_ && ownsImage_) vkDestroyImage(device_, image_, nullptr);
     if (memory_) vkFreeMemory(device_, memory_, nullptr);
     arrayView_ = VK_NULL_HANDLE;
     image_ = VK_NULL_HANDLE;
     memory_ = VK_NULL_HANDLE;
+    ownsImage_ = true;
 }
 
 // ---- Context -------------------------------------------------------------------------------------
@@ -417,7 +419,24 @@ Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFor
     if (VkResult r = allocateMemory(mai, &img.memory_); r != VK_SUCCESS)
         return vkError("vkAllocateMemory (image, " + std::to_string(req.size) + " bytes)", r);
     VK_CHECK(vkBindImageMemory(device_, img.image_, img.memory_, 0));
+    if (Status s = createViews(img, viewFormat); !s) return s.error();
+    return img;
+}
 
+Result<Image> Context::wrapImage(VkImage image, const ImageCreateInfo& info, VkFormat viewFormat) {
+    if (!image) return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED), "wrapping a null VkImage"};
+    Image img;
+    img.device_ = device_;
+    img.info_ = info;
+    img.aspect_ = info.format == VK_FORMAT_D32_SFLOAT ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+    img.image_ = image;
+    img.ownsImage_ = false;
+    if (Status s = createViews(img, viewFormat); !s) return s.error();
+    return img;
+}
+
+Status Context::createViews(Image& img, VkFormat viewFormat) {
+    const ImageCreateInfo& info = img.info_;
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = img.image_;
     vci.format = viewFormat == VK_FORMAT_UNDEFINED ? info.format : viewFormat;
@@ -426,14 +445,16 @@ Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFor
         vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
         vci.subresourceRange.baseArrayLayer = l;
         VkImageView v;
-        VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &v));
+        if (VkResult r = vkCreateImageView(device_, &vci, nullptr, &v); r != VK_SUCCESS)
+            return vkError("vkCreateImageView", r);
         img.layerViews_.push_back(v);
     }
     vci.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
     vci.subresourceRange.baseArrayLayer = 0;
     vci.subresourceRange.layerCount = info.layers;
-    VK_CHECK(vkCreateImageView(device_, &vci, nullptr, &img.arrayView_));
-    return img;
+    if (VkResult r = vkCreateImageView(device_, &vci, nullptr, &img.arrayView_); r != VK_SUCCESS)
+        return vkError("vkCreateImageView", r);
+    return {};
 }
 
 ShaderModule Context::createShaderModule(const uint32_t* code, size_t bytes) {

@@ -129,6 +129,7 @@ private:
     VkDeviceMemory memory_ = VK_NULL_HANDLE;
     std::vector<VkImageView> layerViews_;
     VkImageView arrayView_ = VK_NULL_HANDLE;
+    bool ownsImage_ = true;  // false for Context::wrapImage: only the views are ours
     ImageCreateInfo info_;
     VkImageAspectFlags aspect_ = VK_IMAGE_ASPECT_COLOR_BIT;
 };
@@ -224,6 +225,9 @@ public:
     Result<Buffer> createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible);
     /// viewFormat: format of the per-layer views (VK_FORMAT_UNDEFINED: the image's own format).
     Result<Image> createImage(const ImageCreateInfo& info, VkFormat viewFormat = VK_FORMAT_UNDEFINED);
+    /// Views of an image someone else made on this device and keeps owning (it must match `info`):
+    /// the Image destroys its views only.
+    Result<Image> wrapImage(VkImage image, const ImageCreateInfo& info, VkFormat viewFormat = VK_FORMAT_UNDEFINED);
     ShaderModule createShaderModule(const uint32_t* code, size_t bytes);
     DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
     /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
@@ -258,6 +262,8 @@ private:
     Context() = default;
     /// Command pool, fence and the WRSFOV_FAULT faults, once the device and queue are known.
     Status initQueueObjects();
+    /// One 2D view per layer and a 2D-array view of img (in viewFormat, or the image's format).
+    Status createViews(Image& img, VkFormat viewFormat);
     static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                         VkDebugUtilsMessageTypeFlagsEXT types,
                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
