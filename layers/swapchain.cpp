@@ -53,6 +53,15 @@ Status Swapchain::release() {
     return {};
 }
 
+Status Swapchain::releasedElsewhere(uint32_t index) {
+    if (index >= info_.imageCount)
+        return err(SwapchainError::WriteOutOfRange, "image " + std::to_string(index) + " released elsewhere, but the "
+                                                        "swapchain has " + std::to_string(info_.imageCount) + " images");
+    if (busy()) return err(SwapchainError::CallOrder, "released elsewhere while an image is acquired here");
+    lastReleased_ = static_cast<int32_t>(index);
+    return {};
+}
+
 Result<std::vector<std::byte>> Swapchain::read(uint32_t, uint32_t) {
     return err(SwapchainError::DeviceFailure, "this swapchain cannot read its images back");
 }

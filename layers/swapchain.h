@@ -58,6 +58,10 @@ public:
     Status wait();
     /// Hands the oldest waited image back; it becomes what the next frame end reads.
     Status release();
+    /// For images whose acquire/wait/release runs elsewhere (an OpenXR runtime's, imported by an API
+    /// layer): image `index` was released there and is what the next frame end reads. Refused while
+    /// an image is acquired here, or for an index out of range.
+    Status releasedElsewhere(uint32_t index);
 
     /// Writes CPU pixels (tightly packed rows of bytesPerTexel(format)) into one layer of an image
     /// the caller has acquired and waited for. Depth D32F takes 4-byte floats.

@@ -1,5 +1,5 @@
-// The loader <-> runtime negotiation of the OpenXR loader specification ("Runtime Interface
-// Negotiation"). Debian's OpenXR 1.0.20 headers do not ship openxr_loader_negotiation.h, so the
+// The loader <-> runtime and loader <-> API layer negotiation of the OpenXR loader specification
+// ("Runtime Interface Negotiation", "API Layer Interface Negotiation"). Debian's OpenXR 1.0.20 headers do not ship openxr_loader_negotiation.h, so the
 // structures are declared here from the specification; names, values and layout follow it.
 #pragma once
 
@@ -47,5 +47,49 @@ typedef struct XrNegotiateRuntimeRequest {
 
 typedef XrResult(XRAPI_PTR* PFN_xrNegotiateLoaderRuntimeInterface)(const XrNegotiateLoaderInfo* loaderInfo,
                                                                    XrNegotiateRuntimeRequest* runtimeRequest);
+
+// ---- API layers ----
+#define XR_CURRENT_LOADER_API_LAYER_VERSION 1
+#define XR_API_LAYER_INFO_STRUCT_VERSION 1
+#define XR_API_LAYER_NEXT_INFO_STRUCT_VERSION 1
+#define XR_API_LAYER_CREATE_INFO_STRUCT_VERSION 1
+#define XR_API_LAYER_MAX_SETTINGS_PATH_SIZE 512
+
+struct XrApiLayerCreateInfo;
+typedef XrResult(XRAPI_PTR* PFN_xrCreateApiLayerInstance)(const XrInstanceCreateInfo* info,
+                                                           const struct XrApiLayerCreateInfo* layerInfo,
+                                                           XrInstance* instance);
+
+/// One link of the chain below a layer: the next layer's (or the runtime's) entry points.
+typedef struct XrApiLayerNextInfo {
+    XrLoaderInterfaceStructs structType;  // XR_LOADER_INTERFACE_STRUCT_API_LAYER_NEXT_INFO
+    uint32_t structVersion;               // XR_API_LAYER_NEXT_INFO_STRUCT_VERSION
+    size_t structSize;                    // sizeof(XrApiLayerNextInfo)
+    char layerName[XR_MAX_API_LAYER_NAME_SIZE];
+    PFN_xrGetInstanceProcAddr nextGetInstanceProcAddr;
+    PFN_xrCreateApiLayerInstance nextCreateApiLayerInstance;
+    struct XrApiLayerNextInfo* next;
+} XrApiLayerNextInfo;
+
+/// What the loader passes to xrCreateApiLayerInstance.
+typedef struct XrApiLayerCreateInfo {
+    XrLoaderInterfaceStructs structType;  // XR_LOADER_INTERFACE_STRUCT_API_LAYER_CREATE_INFO
+    uint32_t structVersion;               // XR_API_LAYER_CREATE_INFO_STRUCT_VERSION
+    size_t structSize;                    // sizeof(XrApiLayerCreateInfo)
+    void* loaderInstance;
+    char settings_file_location[XR_API_LAYER_MAX_SETTINGS_PATH_SIZE];
+    XrApiLayerNextInfo* nextInfo;
+} XrApiLayerCreateInfo;
+
+/// What a layer answers to the loader's negotiation.
+typedef struct XrNegotiateApiLayerRequest {
+    XrLoaderInterfaceStructs structType;  // XR_LOADER_INTERFACE_STRUCT_API_LAYER_REQUEST
+    uint32_t structVersion;               // XR_API_LAYER_INFO_STRUCT_VERSION
+    size_t structSize;                    // sizeof(XrNegotiateApiLayerRequest)
+    uint32_t layerInterfaceVersion;       // out
+    XrVersion layerApiVersion;            // out
+    PFN_xrGetInstanceProcAddr getInstanceProcAddr;         // out
+    PFN_xrCreateApiLayerInstance createApiLayerInstance;  // out
+} XrNegotiateApiLayerRequest;
 
 }  // extern "C"

@@ -59,8 +59,13 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
     };
     if (key == "method") {
         auto m = parseMethod(v);
-        if (!m || *m == Method::Oracle) return bad(key, v, "fov, fov+taa, wrs-paper or wrs");
+        if (v == "off") {
+            c.compose = false;
+            return {};
+        }
+        if (!m || *m == Method::Oracle) return bad(key, v, "fov, fov+taa, wrs-paper, wrs or off");
         c.compositor.method = *m;
+        c.compose = true;
     } else if (key == "fovea") {
         auto d = num(0.5, 60);
         if (!d) return bad(key, v, range(0.5, 60) + " (fovea diameter in degrees)");
@@ -146,14 +151,18 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
 }
 
 Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const char*)>& getenvFn) {
+    return loadConfig("WRSFOV_XR_", getenvFn);
+}
+
+Result<RuntimeConfig> loadConfig(const std::string& prefix, const std::function<const char*(const char*)>& getenvFn) {
     auto env = [&](const char* name) -> const char* { return getenvFn ? getenvFn(name) : std::getenv(name); };
     RuntimeConfig c;
     c.fov[0] = hmdFov(0);
     c.fov[1] = hmdFov(1);
     if (const char* v = env("WRSFOV_VALIDATION")) c.validation = std::string(v) == "1";
-    if (const char* path = env("WRSFOV_XR_CONFIG"); path && *path) {
+    if (const char* path = env((prefix + "CONFIG").c_str()); path && *path) {
         std::ifstream in(path);
-        if (!in) return Error{1, std::string("WRSFOV_XR_CONFIG: cannot read ") + path};
+        if (!in) return Error{1, prefix + "CONFIG: cannot read " + path};
         std::string line;
         for (int n = 1; std::getline(in, line); ++n) {
             std::string_view l = line;
@@ -168,13 +177,13 @@ Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const ch
         }
     }
     for (const char* key : kKeys) {
-        std::string name = "WRSFOV_XR_";
+        std::string name = prefix;
         for (const char* k = key; *k; ++k) name += char(std::toupper(static_cast<unsigned char>(*k)));
         if (const char* v = env(name.c_str()))
             if (Status s = applyConfigKey(c, key, trim(v)); !s) return Error{1, name + ": " + s.message()};
     }
     if (c.gaze == GazeKind::File && c.gazeFile.empty())
-        return Error{1, "gaze = file needs gaze_file (WRSFOV_XR_GAZE_FILE)"};
+        return Error{1, "gaze = file needs gaze_file (" + prefix + "GAZE_FILE)"};
     return c;
 }
 

@@ -36,6 +36,7 @@ enum class Output : uint8_t {
 
 struct RuntimeConfig {
     CompositorConfig compositor;          ///< method, fovea, foveation (keys `method`, `fovea`, `foveation`)
+    bool compose = true;                  ///< method = off: frames are shown and recorded as submitted
     uint32_t width = 1024, height = 1024;  ///< recommended per-eye image size
     /// Per-eye field of view: the HMD's asymmetric 92° x 93° (hmdFov) unless `fov` gives a symmetric
     /// square one in degrees.
@@ -65,6 +66,9 @@ struct RuntimeConfig {
 /// Reads the file named by WRSFOV_XR_CONFIG (if set) and the WRSFOV_XR_* variables (`getenv` is
 /// injectable for tests). The error message names the file, line or variable and the key.
 Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const char*)>& getenv = nullptr);
+/// The same keys under another prefix: `prefix` + "CONFIG" names the file, `prefix` + KEY the
+/// variables (the API layer reads WRSFOV_LAYER_*).
+Result<RuntimeConfig> loadConfig(const std::string& prefix, const std::function<const char*(const char*)>& getenv = nullptr);
 
 /// Applies one key (file or environment) to `config`; the message names the key and the accepted values.
 Status applyConfigKey(RuntimeConfig& config, std::string_view key, std::string_view value);

@@ -122,7 +122,7 @@ struct Session final : Object {
     uint32_t waited = 0;  // xrWaitFrame returns not yet matched by xrBeginFrame
     bool begun = false;
     XrTime frameDisplayTime = 0;  // predicted display time of the waited / begun frame
-    uint64_t framesEnded = 0, framesComposited = 0, framesRefused = 0, framesDiscarded = 0;
+    uint64_t framesEnded = 0, framesComposited = 0, framesPassed = 0, framesRefused = 0, framesDiscarded = 0;
     std::set<int> refusalsLogged;
 
     std::unique_ptr<gaze::GazeSource> gazeSource;

@@ -234,7 +234,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info
     inst->epoch = nowXrTime();
     registerObject(inst.get());
     *out = reinterpret_cast<XrInstance>(inst.get());
-    logLine("instance for '" + inst->applicationName + "': method " + std::string(toString(config->compositor.method)) +
+    logLine("instance for '" + inst->applicationName + "': method " +
+            (config->compose ? std::string(toString(config->compositor.method)) : std::string("off")) +
             ", fovea " + std::to_string(config->compositor.foveaDeg) + " deg, " + std::to_string(config->width) + "x" +
             std::to_string(config->height) + " per eye at " + std::to_string(config->displayHz) + " Hz" +
             (config->record.empty() ? "" : ", recording to " + config->record));

@@ -204,7 +204,8 @@ XrResult destroySession(Session* s) {
         s->recorder.reset();
     }
     logLine("session ended: " + std::to_string(s->framesEnded) + " frames ended, " +
-            std::to_string(s->framesComposited) + " composited, " + std::to_string(s->framesRefused) +
+            std::to_string(s->framesComposited) + " composited, " + std::to_string(s->framesPassed) +
+            " shown as submitted, " + std::to_string(s->framesRefused) +
             " not composited, " + std::to_string(s->framesDiscarded) + " discarded, vergence from depth in " +
             std::to_string(s->vergenceFromDepth) + "; Vulkan validation: " +
             std::to_string(inst->vkErrors.load()) + " errors, " + std::to_string(inst->vkWarnings.load()) +
@@ -835,7 +836,7 @@ Result<HostImage> readSubImage(const layers::SubImage& sub) {
 
 /// Appends a composited frame to the recording: what the application submitted, our gaze, and the
 /// compositor's output (NNNNNN_{L,R}_output.png beside the sequence's files).
-void recordFrame(Session* s, const layers::FrameEndInfo& f) {
+void recordFrame(Session* s, const layers::FrameEndInfo& f, bool withOutput) {
     const RuntimeConfig& c = s->instance->config;
     if (c.record.empty() || s->recordingStopped) return;
     auto stop = [&](const std::string& why) {
@@ -887,7 +888,7 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f) {
     }
     const uint32_t index = s->recorder->written();
     if (Status st = s->recorder->writeFrame(index, eyes); !st) return stop(st.message());
-    for (int e = 0; e < 2; ++e) {
+    for (int e = 0; e < 2 && withOutput; ++e) {
         auto out = s->compositor->readOutput(uint32_t(e));
         if (!out) return stop(out.error().message);
         if (Status st = writePng(*out, c.record + "/" + eval::frameFileName(index, e, "output.png")); !st)
@@ -1010,6 +1011,11 @@ void compose(Session* s, const XrFrameEndInfo* info) {
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
     s->lastGaze = gaze;
+    if (!s->instance->config.compose) {  // method = off: shown and recorded as submitted
+        ++s->framesPassed;
+        recordFrame(s, f, false);
+        return;
+    }
     if (locomotion) s->compositor->resetHistory();
     Status st = s->compositor->endFrame(f);
     if (!st) {
@@ -1021,7 +1027,7 @@ void compose(Session* s, const XrFrameEndInfo* info) {
     }
     ++s->framesComposited;
     drawQuads(s, info, projIndex, f);
-    recordFrame(s, f);
+    recordFrame(s, f, true);
     if (s->window) {
         const FrameStats& st = s->compositor->stats();
         char gpu[64];

@@ -28,7 +28,7 @@ run_hello() {
         WRSFOV_VALIDATION=1 XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
         timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
 }
-CLI_FIXED=1 cli_check hello_xr 0 "session ended: 300 frames ended, 300 composited, 0 not composited" run_hello
+CLI_FIXED=1 cli_check hello_xr 0 "session ended: 300 frames ended, 300 composited, 0 shown as submitted, 0 not composited" run_hello
 exec 3>&-
 log="$out/hello_xr.log"
 check() {  # check NAME COMMAND...: a shell condition on the hello_xr log
@@ -72,7 +72,7 @@ run_v1() {
         timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan -vc Stereo < "$out/stdin"
 }
 exec 3<>"$out/stdin"
-CLI_FIXED=1 cli_check hello_xr_vulkan1 0 "session ended: 60 frames ended, 60 composited, 0 not composited" run_v1
+CLI_FIXED=1 cli_check hello_xr_vulkan1 0 "session ended: 60 frames ended, 60 composited, 0 shown as submitted, 0 not composited" run_v1
 exec 3>&-
 check vulkan1_validation_active grep -q 'Inserted device layer "VK_LAYER_KHRONOS_validation"' "$out/hello_xr_vulkan1.log"
 check vulkan1_validation_clean sh -c "! grep -q -e 'ERROR:' -e 'WARNING:' '$out/hello_xr_vulkan1.log'"

@@ -77,7 +77,7 @@ TEST(XrConfig, EveryBadValueNamesItsKeyAndSource) {
         std::string key, value, expect;
     };
     const std::vector<Case> cases = {
-        {"method", "oracle", "fov, fov+taa, wrs-paper or wrs"},
+        {"method", "oracle", "fov, fov+taa, wrs-paper, wrs or off"},
         {"method", "magic", "'method' = 'magic'"},
         {"fovea", "0", "[0.5, 60]"},
         {"fovea", "nan", "[0.5, 60]"},

@@ -1,0 +1,739 @@
+// XR_APILAYER_WRSFOV_foveation: an OpenXR API layer that runs the wrsfov compositor (foveation and
+// WRS) over the stereo projection layer of any Vulkan OpenXR application, on any runtime.
+//
+// Per session (XR_KHR_vulkan_enable / enable2): the application's Vulkan device and queue are adopted
+// (vk::Context::adopt); its swapchains are created with the usage the compositor needs added and
+// their images imported (Compositor::importSwapchain); at xrEndFrame the first projection layer's two
+// views (and their depth) are composited, the output copied into a swapchain of the layer's own
+// made by the runtime, and a patched copy of the frame end (that swapchain in place of the
+// application's) goes down the chain; the application's structures are never modified. Gaze comes
+// from the runtime's XR_EXT_eye_gaze_interaction through an action set of the layer's own, else from
+// the configured source (WRSFOV_LAYER_*). Anything unsupported passes through with one log line;
+// an error inside the layer disables it for the session instead of failing the call.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#define XR_USE_GRAPHICS_API_VULKAN
+#include <vulkan/vulkan.h>
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "compositor/compositor.h"
+#include "gaze/frame_gaze.h"
+#include "gaze/source.h"
+#include "runtime/loader_negotiation.h"
+#include "runtime/xr_config.h"
+
+#define WRSFOV_LAYER_EXPORT extern "C" __attribute__((visibility("default")))
+
+namespace wrsfov::xrlayer {
+namespace {
+
+using xr::GazeKind;
+using xr::loadConfig;
+using xr::RuntimeConfig;
+
+constexpr const char* kLayerName = "XR_APILAYER_WRSFOV_foveation";
+constexpr const char* kEyeProfile = "/interaction_profiles/ext/eye_gaze_interaction";
+constexpr const char* kEyePose = "/user/eyes_ext/input/gaze_ext/pose";
+
+void logLine(const std::string& s) { std::fprintf(stderr, "[wrsfov-layer] %s\n", s.c_str()); }
+
+// The next link's functions the layer calls.
+struct Next {
+    PFN_xrGetInstanceProcAddr getInstanceProcAddr = nullptr;
+    PFN_xrDestroyInstance destroyInstance = nullptr;
+    PFN_xrCreateSession createSession = nullptr;
+    PFN_xrDestroySession destroySession = nullptr;
+    PFN_xrCreateSwapchain createSwapchain = nullptr;
+    PFN_xrDestroySwapchain destroySwapchain = nullptr;
+    PFN_xrEnumerateSwapchainImages enumerateSwapchainImages = nullptr;
+    PFN_xrEnumerateSwapchainFormats enumerateSwapchainFormats = nullptr;
+    PFN_xrAcquireSwapchainImage acquireSwapchainImage = nullptr;
+    PFN_xrWaitSwapchainImage waitSwapchainImage = nullptr;
+    PFN_xrReleaseSwapchainImage releaseSwapchainImage = nullptr;
+    PFN_xrEndFrame endFrame = nullptr;
+    PFN_xrStringToPath stringToPath = nullptr;
+    PFN_xrCreateActionSet createActionSet = nullptr;
+    PFN_xrCreateAction createAction = nullptr;
+    PFN_xrSuggestInteractionProfileBindings suggestInteractionProfileBindings = nullptr;
+    PFN_xrAttachSessionActionSets attachSessionActionSets = nullptr;
+    PFN_xrSyncActions syncActions = nullptr;
+    PFN_xrCreateActionSpace createActionSpace = nullptr;
+    PFN_xrCreateReferenceSpace createReferenceSpace = nullptr;
+    PFN_xrLocateSpace locateSpace = nullptr;
+    PFN_xrDestroySpace destroySpace = nullptr;
+};
+
+struct InstanceState {
+    Next next;
+    bool passThrough = false;  // DISABLE_XR_APILAYER_WRSFOV_foveation: every call goes straight down
+    RuntimeConfig config;
+    bool eyeGaze = false;  // the runtime's XR_EXT_eye_gaze_interaction is enabled
+    XrActionSet gazeSet = XR_NULL_HANDLE;
+    XrAction gazeAction = XR_NULL_HANDLE;
+    XrPath eyeProfile = XR_NULL_PATH, eyePose = XR_NULL_PATH;
+    bool appSuggestedEyes = false;
+};
+
+struct SwapchainState {
+    XrSession session = XR_NULL_HANDLE;
+    XrSwapchainCreateInfo info{};
+    std::vector<VkImage> images;
+    std::unique_ptr<layers::Swapchain> imported;  // null: not a format or use the compositor reads
+    std::vector<uint32_t> acquired;
+};
+
+struct SessionState {
+    XrInstance instance = XR_NULL_HANDLE;
+    std::unique_ptr<vk::Context> ctx;
+    std::unique_ptr<Compositor> comp;
+    std::unique_ptr<gaze::GazeSource> source;
+    bool disabled = false;
+    std::string why;
+    XrSpace gazeSpace = XR_NULL_HANDLE;
+    bool gazeAttached = false;
+    // The layer's output swapchain (2 layers, layer = eye), made by the runtime.
+    XrSwapchain out = XR_NULL_HANDLE;
+    std::vector<VkImage> outImages;
+    uint32_t outWidth = 0, outHeight = 0;
+    int64_t outFormat = 0;
+    uint64_t frames = 0, processed = 0;
+    XrTime epoch = 0;
+    std::map<int, bool> logged;
+};
+
+std::mutex g_mutex;
+std::map<XrInstance, InstanceState> g_instances;
+std::map<XrSession, SessionState> g_sessions;
+std::map<XrSwapchain, SwapchainState> g_swapchains;
+
+template <typename F>
+void load(PFN_xrGetInstanceProcAddr gipa, XrInstance inst, const char* name, F& fn) {
+    PFN_xrVoidFunction f = nullptr;
+    if (gipa(inst, name, &f) == XR_SUCCESS) fn = reinterpret_cast<F>(f);
+}
+
+void disable(SessionState& s, const std::string& why) {
+    if (s.disabled) return;
+    s.disabled = true;
+    s.why = why;
+    logLine("disabled for this session: " + why + " (frames pass through untouched)");
+}
+
+std::optional<layers::Format> colorFormat(int64_t f) {
+    switch (f) {
+        case VK_FORMAT_R8G8B8A8_SRGB:
+            return layers::Format::RGBA8_SRGB;
+        case VK_FORMAT_R8G8B8A8_UNORM:
+            return layers::Format::RGBA8;
+        case VK_FORMAT_R16G16B16A16_SFLOAT:
+            return layers::Format::RGBA16F;
+        case VK_FORMAT_D32_SFLOAT:
+            return layers::Format::D32F;
+        default:
+            return std::nullopt;  // e.g. BGRA, depth-stencil: passed through
+    }
+}
+
+// ---- Instance ---------------------------------------------------------------------------------
+
+XRAPI_ATTR XrResult XRAPI_CALL layerGetInstanceProcAddr(XrInstance instance, const char* name,
+                                                        PFN_xrVoidFunction* function);
+
+XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreateInfo* info,
+                                                           const XrApiLayerCreateInfo* layerInfo, XrInstance* instance) {
+    if (!info || !layerInfo || !instance || !layerInfo->nextInfo ||
+        layerInfo->structType != XR_LOADER_INTERFACE_STRUCT_API_LAYER_CREATE_INFO ||
+        std::strcmp(layerInfo->nextInfo->layerName, kLayerName) != 0)
+        return XR_ERROR_INITIALIZATION_FAILED;
+    XrApiLayerNextInfo* mine = layerInfo->nextInfo;
+    // The loader honours disable_environment for implicit layers only; this explicit layer honours it
+    // itself: loaded, it hands every call to the next link untouched.
+    if (const char* off = std::getenv("DISABLE_XR_APILAYER_WRSFOV_foveation"); off && *off) {
+        XrApiLayerCreateInfo down = *layerInfo;
+        down.nextInfo = mine->next;
+        XrResult r = mine->nextCreateApiLayerInstance(info, &down, instance);
+        if (XR_SUCCEEDED(r)) {
+            std::lock_guard lock(g_mutex);
+            InstanceState& st = g_instances[*instance];
+            st.passThrough = true;
+            st.next.getInstanceProcAddr = mine->nextGetInstanceProcAddr;
+            load(mine->nextGetInstanceProcAddr, *instance, "xrDestroyInstance", st.next.destroyInstance);
+        }
+        return r;
+    }
+    auto config = loadConfig("WRSFOV_LAYER_");
+    if (!config) {
+        logLine("configuration: " + config.error().message);
+        return XR_ERROR_INITIALIZATION_FAILED;
+    }
+    // Enable the runtime's eye-gaze interaction when the application did not: asked for, and asked
+    // again without it when the runtime does not have it (a layer cannot list the runtime's
+    // extensions through the layers below it).
+    std::vector<const char*> exts(info->enabledExtensionNames, info->enabledExtensionNames + info->enabledExtensionCount);
+    bool eyeGaze = false;
+    for (const char* e : exts) eyeGaze = eyeGaze || std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0;
+    XrApiLayerCreateInfo down = *layerInfo;
+    down.nextInfo = mine->next;
+    XrResult r = XR_ERROR_EXTENSION_NOT_PRESENT;
+    if (!eyeGaze) {
+        exts.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+        XrInstanceCreateInfo ci = *info;
+        ci.enabledExtensionCount = uint32_t(exts.size());
+        ci.enabledExtensionNames = exts.data();
+        r = mine->nextCreateApiLayerInstance(&ci, &down, instance);
+        eyeGaze = XR_SUCCEEDED(r);
+    }
+    if (r == XR_ERROR_EXTENSION_NOT_PRESENT) r = mine->nextCreateApiLayerInstance(info, &down, instance);
+    if (XR_FAILED(r)) return r;
+
+    std::lock_guard lock(g_mutex);
+    InstanceState& st = g_instances[*instance];
+    st.config = *config;
+    st.eyeGaze = eyeGaze;
+    Next& n = st.next;
+    n.getInstanceProcAddr = mine->nextGetInstanceProcAddr;
+    auto gipa = n.getInstanceProcAddr;
+    load(gipa, *instance, "xrDestroyInstance", n.destroyInstance);
+    load(gipa, *instance, "xrCreateSession", n.createSession);
+    load(gipa, *instance, "xrDestroySession", n.destroySession);
+    load(gipa, *instance, "xrCreateSwapchain", n.createSwapchain);
+    load(gipa, *instance, "xrDestroySwapchain", n.destroySwapchain);
+    load(gipa, *instance, "xrEnumerateSwapchainImages", n.enumerateSwapchainImages);
+    load(gipa, *instance, "xrEnumerateSwapchainFormats", n.enumerateSwapchainFormats);
+    load(gipa, *instance, "xrAcquireSwapchainImage", n.acquireSwapchainImage);
+    load(gipa, *instance, "xrWaitSwapchainImage", n.waitSwapchainImage);
+    load(gipa, *instance, "xrReleaseSwapchainImage", n.releaseSwapchainImage);
+    load(gipa, *instance, "xrEndFrame", n.endFrame);
+    load(gipa, *instance, "xrStringToPath", n.stringToPath);
+    load(gipa, *instance, "xrCreateActionSet", n.createActionSet);
+    load(gipa, *instance, "xrCreateAction", n.createAction);
+    load(gipa, *instance, "xrSuggestInteractionProfileBindings", n.suggestInteractionProfileBindings);
+    load(gipa, *instance, "xrAttachSessionActionSets", n.attachSessionActionSets);
+    load(gipa, *instance, "xrSyncActions", n.syncActions);
+    load(gipa, *instance, "xrCreateActionSpace", n.createActionSpace);
+    load(gipa, *instance, "xrCreateReferenceSpace", n.createReferenceSpace);
+    load(gipa, *instance, "xrLocateSpace", n.locateSpace);
+    load(gipa, *instance, "xrDestroySpace", n.destroySpace);
+    if (st.eyeGaze) {
+        // The layer's own action set: one pose action bound to the eye gaze.
+        XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+        std::snprintf(asci.actionSetName, XR_MAX_ACTION_SET_NAME_SIZE, "wrsfov_layer_gaze");
+        std::snprintf(asci.localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE, "wrsfov layer gaze");
+        XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+        aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+        std::snprintf(aci.actionName, XR_MAX_ACTION_NAME_SIZE, "gaze");
+        std::snprintf(aci.localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, "wrsfov layer gaze");
+        if (n.createActionSet(*instance, &asci, &st.gazeSet) != XR_SUCCESS ||
+            n.createAction(st.gazeSet, &aci, &st.gazeAction) != XR_SUCCESS ||
+            n.stringToPath(*instance, kEyeProfile, &st.eyeProfile) != XR_SUCCESS ||
+            n.stringToPath(*instance, kEyePose, &st.eyePose) != XR_SUCCESS) {
+            logLine("eye gaze: the layer's action set could not be made; configured gaze instead");
+            st.eyeGaze = false;
+        } else {
+            XrActionSuggestedBinding b{st.gazeAction, st.eyePose};
+            XrInteractionProfileSuggestedBinding s{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+            s.interactionProfile = st.eyeProfile;
+            s.countSuggestedBindings = 1;
+            s.suggestedBindings = &b;
+            if (n.suggestInteractionProfileBindings(*instance, &s) != XR_SUCCESS) st.eyeGaze = false;
+        }
+    }
+    logLine(std::string("on: method ") + std::string(toString(config->compositor.method)) + ", fovea " +
+            std::to_string(config->compositor.foveaDeg) + " deg, gaze from " +
+            (st.eyeGaze ? "the runtime's eye tracking" : "the configured source"));
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerDestroyInstance(XrInstance instance) {
+    PFN_xrDestroyInstance next = nullptr;
+    {
+        std::lock_guard lock(g_mutex);
+        auto it = g_instances.find(instance);
+        if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+        next = it->second.next.destroyInstance;
+        g_instances.erase(it);
+    }
+    return next(instance);
+}
+
+// The application's suggestions for the eye-gaze profile replace the layer's: merge ours back in.
+XRAPI_ATTR XrResult XRAPI_CALL layerSuggestInteractionProfileBindings(
+    XrInstance instance, const XrInteractionProfileSuggestedBinding* suggested) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    InstanceState& st = it->second;
+    if (!st.eyeGaze || !suggested || suggested->interactionProfile != st.eyeProfile || !suggested->suggestedBindings)
+        return st.next.suggestInteractionProfileBindings(instance, suggested);
+    std::vector<XrActionSuggestedBinding> b(suggested->suggestedBindings,
+                                            suggested->suggestedBindings + suggested->countSuggestedBindings);
+    b.push_back({st.gazeAction, st.eyePose});
+    XrInteractionProfileSuggestedBinding s = *suggested;
+    s.countSuggestedBindings = uint32_t(b.size());
+    s.suggestedBindings = b.data();
+    return st.next.suggestInteractionProfileBindings(instance, &s);
+}
+
+// ---- Session ----------------------------------------------------------------------------------
+
+const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
+    for (auto* n = static_cast<const XrBaseInStructure*>(next); n; n = n->next)
+        if (n->type == type) return n;
+    return nullptr;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrSessionCreateInfo* info,
+                                                  XrSession* session) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    InstanceState& st = it->second;
+    XrResult r = st.next.createSession(instance, info, session);
+    if (XR_FAILED(r)) return r;
+    SessionState& s = g_sessions[*session];
+    s.instance = instance;
+    auto* binding = info ? reinterpret_cast<const XrGraphicsBindingVulkanKHR*>(
+                               findNext(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR))
+                         : nullptr;
+    if (!binding) {
+        disable(s, "not a Vulkan session");
+        return r;
+    }
+    auto ctx = vk::Context::adopt({binding->instance, binding->physicalDevice, binding->device,
+                                   binding->queueFamilyIndex, binding->queueIndex});
+    if (!ctx) {
+        disable(s, ctx.error().message);
+        return r;
+    }
+    s.ctx = std::move(*ctx);
+    auto comp = Compositor::create(*s.ctx, st.config.compositor);
+    if (!comp) {
+        disable(s, "compositor: " + comp.error().message);
+        return r;
+    }
+    s.comp = std::move(*comp);
+    if (st.eyeGaze) {
+        XrActionSpaceCreateInfo asi{XR_TYPE_ACTION_SPACE_CREATE_INFO};
+        asi.action = st.gazeAction;
+        asi.poseInActionSpace.orientation.w = 1.0f;
+        if (st.next.createActionSpace(*session, &asi, &s.gazeSpace) != XR_SUCCESS) s.gazeSpace = XR_NULL_HANDLE;
+    }
+    if (!s.gazeSpace && st.config.gaze == GazeKind::Generator) {
+        gaze::GeneratorConfig g;
+        g.mode = st.config.gazeMode;
+        g.seed = st.config.gazeSeed;
+        g.seconds = 60;
+        if (auto src = gaze::SyntheticSource::create(g)) s.source = std::move(*src);
+    } else if (!s.gazeSpace && st.config.gaze == GazeKind::File) {
+        if (auto src = gaze::ReplaySource::open(st.config.gazeFile)) s.source = std::move(*src);
+    }
+    logLine("session on " + s.ctx->deviceName());
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerDestroySession(XrSession session) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    SessionState& s = it->second;
+    const Next& n = g_instances.at(s.instance).next;
+    logLine("session ended: " + std::to_string(s.processed) + " of " + std::to_string(s.frames) +
+            " frames foveated" + (s.disabled ? " (disabled: " + s.why + ")" : ""));
+    if (s.out) n.destroySwapchain(s.out);
+    if (s.gazeSpace) n.destroySpace(s.gazeSpace);
+    for (auto sc = g_swapchains.begin(); sc != g_swapchains.end();)
+        sc = sc->second.session == session ? g_swapchains.erase(sc) : std::next(sc);
+    s.comp.reset();
+    s.ctx.reset();
+    g_sessions.erase(it);
+    return n.destroySession(session);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerAttachSessionActionSets(XrSession session, const XrSessionActionSetsAttachInfo* info) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = g_instances.at(it->second.instance);
+    if (!st.eyeGaze || !info || !info->actionSets) return st.next.attachSessionActionSets(session, info);
+    std::vector<XrActionSet> sets(info->actionSets, info->actionSets + info->countActionSets);
+    sets.push_back(st.gazeSet);
+    XrSessionActionSetsAttachInfo a = *info;
+    a.countActionSets = uint32_t(sets.size());
+    a.actionSets = sets.data();
+    XrResult r = st.next.attachSessionActionSets(session, &a);
+    it->second.gazeAttached = XR_SUCCEEDED(r);
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerSyncActions(XrSession session, const XrActionsSyncInfo* info) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = g_instances.at(it->second.instance);
+    if (!it->second.gazeAttached || !info) return st.next.syncActions(session, info);
+    std::vector<XrActiveActionSet> sets(info->activeActionSets, info->activeActionSets + info->countActiveActionSets);
+    sets.push_back({st.gazeSet, XR_NULL_PATH});
+    XrActionsSyncInfo s = *info;
+    s.countActiveActionSets = uint32_t(sets.size());
+    s.activeActionSets = sets.data();
+    return st.next.syncActions(session, &s);
+}
+
+// ---- Swapchains -------------------------------------------------------------------------------
+
+const Next* nextOfSession(XrSession session) {
+    auto it = g_sessions.find(session);
+    return it == g_sessions.end() ? nullptr : &g_instances.at(it->second.instance).next;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerCreateSwapchain(XrSession session, const XrSwapchainCreateInfo* info,
+                                                    XrSwapchain* swapchain) {
+    std::lock_guard lock(g_mutex);
+    const Next* n = nextOfSession(session);
+    if (!n) return XR_ERROR_HANDLE_INVALID;
+    if (!info) return n->createSwapchain(session, info, swapchain);
+    // The compositor samples the images and an sRGB image is read through a UNORM view: added usage,
+    // on a copy; the application's structure stays as it gave it.
+    XrSwapchainCreateInfo ci = *info;
+    const auto fmt = colorFormat(info->format);
+    if (fmt) {
+        ci.usageFlags |= XR_SWAPCHAIN_USAGE_SAMPLED_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
+        if (*fmt == layers::Format::RGBA8_SRGB) ci.usageFlags |= XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT;
+    }
+    XrResult r = n->createSwapchain(session, &ci, swapchain);
+    if (XR_FAILED(r) && fmt) r = n->createSwapchain(session, info, swapchain);  // the runtime refused the extra usage
+    if (XR_FAILED(r)) return r;
+    SwapchainState& s = g_swapchains[*swapchain];
+    s.session = session;
+    s.info = ci;
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerDestroySwapchain(XrSwapchain swapchain) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_swapchains.find(swapchain);
+    if (it == g_swapchains.end()) return XR_ERROR_HANDLE_INVALID;
+    const Next* n = nextOfSession(it->second.session);
+    g_swapchains.erase(it);
+    return n->destroySwapchain(swapchain);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateSwapchainImages(XrSwapchain swapchain, uint32_t capacity,
+                                                             uint32_t* countOutput, XrSwapchainImageBaseHeader* images) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_swapchains.find(swapchain);
+    if (it == g_swapchains.end()) return XR_ERROR_HANDLE_INVALID;
+    SwapchainState& sc = it->second;
+    XrResult r = nextOfSession(sc.session)->enumerateSwapchainImages(swapchain, capacity, countOutput, images);
+    if (r != XR_SUCCESS || capacity == 0 || !images || images->type != XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR ||
+        !sc.images.empty())
+        return r;
+    auto* vkImages = reinterpret_cast<XrSwapchainImageVulkanKHR*>(images);
+    for (uint32_t i = 0; i < *countOutput; ++i) sc.images.push_back(vkImages[i].image);
+    SessionState& s = g_sessions.at(sc.session);
+    const auto fmt = colorFormat(sc.info.format);
+    const bool usable = fmt && (sc.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT) && sc.info.faceCount == 1 &&
+                        sc.info.mipCount == 1 && sc.info.sampleCount == 1 && sc.images.size() <= 8;
+    if (s.comp && usable) {
+        layers::SwapchainCreateInfo info;
+        info.format = *fmt;
+        info.usage = *fmt == layers::Format::D32F ? layers::Usage::Depth : layers::Usage::Color;
+        info.anyUse = true;
+        info.width = sc.info.width;
+        info.height = sc.info.height;
+        info.arraySize = sc.info.arraySize;
+        info.imageCount = uint32_t(sc.images.size());
+        SwapchainImageOptions o;
+        o.restingLayout = *fmt == layers::Format::D32F ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                                                       : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        auto imp = s.comp->importSwapchain(info, sc.images, o);
+        if (imp) sc.imported = std::move(*imp);
+        else logLine("swapchain not used: " + imp.error().message);
+    }
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerAcquireSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo* info,
+                                                          uint32_t* index) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_swapchains.find(swapchain);
+    if (it == g_swapchains.end()) return XR_ERROR_HANDLE_INVALID;
+    XrResult r = nextOfSession(it->second.session)->acquireSwapchainImage(swapchain, info, index);
+    if (XR_SUCCEEDED(r) && index) it->second.acquired.push_back(*index);
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerReleaseSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo* info) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_swapchains.find(swapchain);
+    if (it == g_swapchains.end()) return XR_ERROR_HANDLE_INVALID;
+    SwapchainState& sc = it->second;
+    XrResult r = nextOfSession(sc.session)->releaseSwapchainImage(swapchain, info);
+    if (XR_SUCCEEDED(r) && !sc.acquired.empty()) {
+        if (sc.imported) sc.imported->releasedElsewhere(sc.acquired.front());
+        sc.acquired.erase(sc.acquired.begin());
+    }
+    return r;
+}
+
+// ---- Frame end --------------------------------------------------------------------------------
+
+/// The layer's output swapchain of w x h, two layers; made (again) when the size changes.
+bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w, uint32_t h) {
+    if (s.out && s.outWidth == w && s.outHeight == h) return true;
+    if (s.out) n.destroySwapchain(s.out);
+    s.out = XR_NULL_HANDLE;
+    s.outImages.clear();
+    uint32_t count = 0;
+    n.enumerateSwapchainFormats(session, 0, &count, nullptr);
+    std::vector<int64_t> formats(count);
+    n.enumerateSwapchainFormats(session, count, &count, formats.data());
+    // The output holds sRGB-encoded bytes: an sRGB swapchain shows them as meant.
+    s.outFormat = 0;
+    for (int64_t f : {int64_t(VK_FORMAT_R8G8B8A8_SRGB), int64_t(VK_FORMAT_R8G8B8A8_UNORM)})
+        if (!s.outFormat && std::find(formats.begin(), formats.end(), f) != formats.end()) s.outFormat = f;
+    if (!s.outFormat) return false;
+    XrSwapchainCreateInfo ci{XR_TYPE_SWAPCHAIN_CREATE_INFO};
+    ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+    ci.format = s.outFormat;
+    ci.sampleCount = 1;
+    ci.width = w;
+    ci.height = h;
+    ci.faceCount = 1;
+    ci.arraySize = 2;
+    ci.mipCount = 1;
+    if (n.createSwapchain(session, &ci, &s.out) != XR_SUCCESS) return false;
+    n.enumerateSwapchainImages(s.out, 0, &count, nullptr);
+    std::vector<XrSwapchainImageVulkanKHR> imgs(count, {XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR});
+    if (n.enumerateSwapchainImages(s.out, count, &count, reinterpret_cast<XrSwapchainImageBaseHeader*>(imgs.data())) !=
+        XR_SUCCESS)
+        return false;
+    for (auto& i : imgs) s.outImages.push_back(i.image);
+    s.outWidth = w;
+    s.outHeight = h;
+    return true;
+}
+
+/// Per-eye gaze: the runtime's eye gaze located in each view (the direction of the cyclopean gaze in
+/// that eye's space), else the configured source; invalid gives the compositor's fallback.
+std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, const XrCompositionLayerProjection& proj,
+                                       XrTime time) {
+    std::array<layers::EyeGaze, 2> g{};
+    if (s.gazeSpace) {
+        XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
+        if (n.locateSpace(s.gazeSpace, proj.space, time, &loc) == XR_SUCCESS &&
+            (loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT)) {
+            const XrQuaternionf q = loc.pose.orientation;
+            const glm::vec3 dir = glm::quat(q.w, q.x, q.y, q.z) * glm::vec3(0, 0, -1);  // in the layer's space
+            for (int e = 0; e < 2; ++e) {
+                const XrQuaternionf v = proj.views[e].pose.orientation;
+                g[e].dir = glm::conjugate(glm::quat(v.w, v.x, v.y, v.z)) * dir;
+                g[e].valid = true;
+                g[e].confidence = 1.0f;
+            }
+        }
+        return g;
+    }
+    if (!s.epoch) s.epoch = time;
+    return gaze::frame_gaze(s.source.get(), double(time - s.epoch) * 1e-9);
+}
+
+/// Composites the projection layer and copies the output into the layer's swapchain; false when the
+/// frame must pass through (logged once per reason).
+bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEndInfo& info,
+             const XrCompositionLayerProjection& proj, XrCompositionLayerProjection& patched,
+             std::array<XrCompositionLayerProjectionView, 2>& views) {
+    auto once = [&](int code, const std::string& why) {
+        if (!s.logged[code]) logLine("frame passed through: " + why);
+        s.logged[code] = true;
+        return false;
+    };
+    if (proj.viewCount != 2 || !proj.views) return once(1, "not a stereo projection layer");
+    layers::FrameEndInfo fe;
+    fe.frameIndex = s.frames;
+    fe.time_s = double(info.displayTime) * 1e-9;
+    layers::ProjectionLayer layer;
+    for (uint32_t e = 0; e < 2; ++e) {
+        const XrCompositionLayerProjectionView& v = proj.views[e];
+        auto it = g_swapchains.find(v.subImage.swapchain);
+        if (it == g_swapchains.end() || !it->second.imported) return once(2, "a view's swapchain is not one the compositor reads");
+        layers::ProjectionView pv;
+        pv.fov = {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown};
+        pv.color = {it->second.imported.get(),
+                    {v.subImage.imageRect.offset.x, v.subImage.imageRect.offset.y,
+                     uint32_t(v.subImage.imageRect.extent.width), uint32_t(v.subImage.imageRect.extent.height)},
+                    v.subImage.imageArrayIndex};
+        if (auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(
+                findNext(v.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR))) {
+            auto dt = g_swapchains.find(d->subImage.swapchain);
+            if (dt != g_swapchains.end() && dt->second.imported && d->minDepth == 0.0f && d->maxDepth == 1.0f) {
+                layers::DepthInfo di;
+                di.subImage = {dt->second.imported.get(),
+                               {d->subImage.imageRect.offset.x, d->subImage.imageRect.offset.y,
+                                uint32_t(d->subImage.imageRect.extent.width), uint32_t(d->subImage.imageRect.extent.height)},
+                               d->subImage.imageArrayIndex};
+                di.reversedZ = d->nearZ > d->farZ;
+                di.nearZ = std::min(d->nearZ, d->farZ);
+                di.farZ = std::max(d->nearZ, d->farZ);
+                pv.depth = di;
+            }
+        }
+        layer.views.push_back(pv);
+    }
+    fe.layers.push_back(layer);
+    const auto g = eyeGaze(s, n, proj, info.displayTime);
+    fe.gaze[0] = g[0];
+    fe.gaze[1] = g[1];
+    if (Status st = s.comp->endFrame(fe); !st) {
+        if (st.error().code == int(layers::SubmitError::DeviceFailure)) disable(s, st.message());
+        return once(100 + st.error().code, st.message());
+    }
+    const uint32_t w = s.comp->width(), h = s.comp->height();
+    if (!ensureOutput(s, n, session, w, h)) {
+        disable(s, "the runtime made no RGBA8 swapchain for the output");
+        return false;
+    }
+    uint32_t index = 0;
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    if (n.acquireSwapchainImage(s.out, nullptr, &index) != XR_SUCCESS || n.waitSwapchainImage(s.out, &wi) != XR_SUCCESS) {
+        disable(s, "the output swapchain could not be acquired");
+        return false;
+    }
+    const VkImage dst = s.outImages.at(index);
+    Status copied = s.ctx->submitAndWait([&](VkCommandBuffer cb) {
+        vk::layoutTransition(cb, dst, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+        VkImageCopy c{};
+        c.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
+        c.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
+        c.extent = {w, h, 1};
+        vkCmdCopyImage(cb, s.comp->outputImage().handle(), VK_IMAGE_LAYOUT_GENERAL, dst,
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        vk::layoutTransition(cb, dst, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                             VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    });
+    n.releaseSwapchainImage(s.out, nullptr);
+    if (!copied) {
+        disable(s, "copying the output: " + copied.message());
+        return false;
+    }
+    patched = proj;
+    for (uint32_t e = 0; e < 2; ++e) {
+        views[e] = proj.views[e];  // pose, fov and the chained depth info stay the application's
+        views[e].subImage.swapchain = s.out;
+        views[e].subImage.imageRect = {{0, 0}, {int32_t(w), int32_t(h)}};
+        views[e].subImage.imageArrayIndex = e;
+    }
+    patched.views = views.data();
+    return true;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEndInfo* info) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    SessionState& s = it->second;
+    const Next& n = g_instances.at(s.instance).next;
+    if (s.disabled || !info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers) return n.endFrame(session, info);
+    ++s.frames;
+    uint32_t projIndex = info->layerCount;
+    for (uint32_t i = 0; i < info->layerCount; ++i)
+        if (info->layers[i] && info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+            projIndex = i;
+            break;
+        }
+    if (projIndex == info->layerCount) return n.endFrame(session, info);
+    XrCompositionLayerProjection patched{};
+    std::array<XrCompositionLayerProjectionView, 2> views{};
+    const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[projIndex]);
+    if (!process(s, n, session, *info, proj, patched, views)) return n.endFrame(session, info);
+    ++s.processed;
+    std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
+    layers[projIndex] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&patched);
+    XrFrameEndInfo fe = *info;
+    fe.layers = layers.data();
+    return n.endFrame(session, &fe);
+}
+
+// ---- Dispatch ---------------------------------------------------------------------------------
+
+struct Entry {
+    const char* name;
+    PFN_xrVoidFunction fn;
+};
+#define WRSFOV_ENTRY(api, ours) {#api, reinterpret_cast<PFN_xrVoidFunction>(&ours)}
+const Entry kEntries[] = {
+    WRSFOV_ENTRY(xrGetInstanceProcAddr, layerGetInstanceProcAddr),
+    WRSFOV_ENTRY(xrDestroyInstance, layerDestroyInstance),
+    WRSFOV_ENTRY(xrSuggestInteractionProfileBindings, layerSuggestInteractionProfileBindings),
+    WRSFOV_ENTRY(xrCreateSession, layerCreateSession),
+    WRSFOV_ENTRY(xrDestroySession, layerDestroySession),
+    WRSFOV_ENTRY(xrAttachSessionActionSets, layerAttachSessionActionSets),
+    WRSFOV_ENTRY(xrSyncActions, layerSyncActions),
+    WRSFOV_ENTRY(xrCreateSwapchain, layerCreateSwapchain),
+    WRSFOV_ENTRY(xrDestroySwapchain, layerDestroySwapchain),
+    WRSFOV_ENTRY(xrEnumerateSwapchainImages, layerEnumerateSwapchainImages),
+    WRSFOV_ENTRY(xrAcquireSwapchainImage, layerAcquireSwapchainImage),
+    WRSFOV_ENTRY(xrReleaseSwapchainImage, layerReleaseSwapchainImage),
+    WRSFOV_ENTRY(xrEndFrame, layerEndFrame),
+};
+#undef WRSFOV_ENTRY
+
+XRAPI_ATTR XrResult XRAPI_CALL layerGetInstanceProcAddr(XrInstance instance, const char* name,
+                                                        PFN_xrVoidFunction* function) {
+    if (!name || !function) return XR_ERROR_VALIDATION_FAILURE;
+    PFN_xrGetInstanceProcAddr next = nullptr;
+    bool passThrough = false;
+    {
+        std::lock_guard lock(g_mutex);
+        auto it = g_instances.find(instance);
+        if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+        next = it->second.next.getInstanceProcAddr;
+        passThrough = it->second.passThrough;
+    }
+    if (passThrough && std::strcmp(name, "xrDestroyInstance") != 0) return next(instance, name, function);
+    for (const Entry& e : kEntries)
+        if (std::strcmp(e.name, name) == 0) {
+            XrResult r = next(instance, name, function);  // unsupported below: unsupported here too
+            if (XR_FAILED(r)) return r;
+            *function = e.fn;
+            return XR_SUCCESS;
+        }
+    return next(instance, name, function);
+}
+
+}  // namespace
+}  // namespace wrsfov::xrlayer
+
+WRSFOV_LAYER_EXPORT XrResult xrNegotiateLoaderApiLayerInterface(const XrNegotiateLoaderInfo* loaderInfo,
+                                                                const char* layerName,
+                                                                XrNegotiateApiLayerRequest* request) {
+    if (!loaderInfo || !request || !layerName || std::strcmp(layerName, wrsfov::xrlayer::kLayerName) != 0 ||
+        loaderInfo->structType != XR_LOADER_INTERFACE_STRUCT_LOADER_INFO ||
+        loaderInfo->structVersion != XR_LOADER_INFO_STRUCT_VERSION ||
+        loaderInfo->structSize != sizeof(XrNegotiateLoaderInfo) ||
+        request->structType != XR_LOADER_INTERFACE_STRUCT_API_LAYER_REQUEST ||
+        request->structVersion != XR_API_LAYER_INFO_STRUCT_VERSION ||
+        request->structSize != sizeof(XrNegotiateApiLayerRequest) ||
+        loaderInfo->minInterfaceVersion > XR_CURRENT_LOADER_API_LAYER_VERSION ||
+        loaderInfo->maxInterfaceVersion < XR_CURRENT_LOADER_API_LAYER_VERSION)
+        return XR_ERROR_INITIALIZATION_FAILED;
+    request->layerInterfaceVersion = XR_CURRENT_LOADER_API_LAYER_VERSION;
+    request->layerApiVersion = XR_MAKE_VERSION(1, 0, XR_VERSION_PATCH(XR_CURRENT_API_VERSION));
+    request->getInstanceProcAddr = &wrsfov::xrlayer::layerGetInstanceProcAddr;
+    request->createApiLayerInstance = &wrsfov::xrlayer::layerCreateApiLayerInstance;
+    return XR_SUCCESS;
+}

@@ -1,0 +1,48 @@
+#!/bin/sh
+# The API layer XR_APILAYER_WRSFOV_foveation on hello_xr -g Vulkan2, over the wrsfov runtime in
+# pass-through mode (method = off: it records what it receives). Three runs of 60 frames: without the
+# layer, with it (under the OpenXR core validation layer below it and the Vulkan validation layer),
+# and with it disabled by its environment variable. The recordings are compared by
+# wrsfov_xr_layer_frames_tests.
+# usage: layer_test.sh RUNTIME_JSON LAYER_DIR FRAMES_TEST OUT_DIR
+set -u
+json="$1"
+layers="$2"
+frames_test="$3"
+out="$4"
+rm -rf "$out"
+mkdir -p "$out"
+. "$(dirname "$0")/../cli_check.sh"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+export XR_RUNTIME_JSON="$json"
+# XR_API_LAYER_PATH replaces the default search path: keep Debian's explicit layers (core validation).
+export XR_API_LAYER_PATH="$layers:/usr/share/openxr/1/api_layers/explicit.d"
+preload="${WRSFOV_XR_PRELOAD:-}"
+mkfifo "$out/stdin"
+run() {  # run NAME [VAR=VALUE...]: hello_xr for 60 frames, recorded into $out/NAME
+    name=$1
+    shift
+    env WRSFOV_XR_METHOD=off WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 \
+        WRSFOV_XR_RECORD="$out/$name" WRSFOV_XR_OUTPUT=headless WRSFOV_VALIDATION=1 "$@" \
+        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+}
+check() {
+    name=$1
+    shift
+    count=$((count + 1))
+    if "$@"; then echo "ok   $name"; else echo "FAIL $name"; fails=$((fails + 1)); fi
+}
+exec 3<>"$out/stdin"
+CLI_FIXED=1 cli_check plain 0 "60 shown as submitted" run plain
+CLI_FIXED=1 cli_check layer 0 "session ended: 60 of 60 frames foveated" run layer \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation
+CLI_FIXED=1 cli_check disabled 0 "60 shown as submitted" run disabled \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation DISABLE_XR_APILAYER_WRSFOV_foveation=1
+exec 3>&-
+check layer_gaze_from_runtime grep -q "gaze from the runtime's eye tracking" "$out/layer.log"
+check layer_vulkan_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/layer.log"
+check layer_openxr_validation_active grep -q "Core Validation output type" "$out/layer.log"
+check layer_openxr_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/layer.log'"
+check disabled_silent sh -c "! grep -q 'wrsfov-layer' '$out/disabled.log'"
+CLI_FIXED=1 cli_check frames 0 "PASSED" "$frames_test" "$out/plain" "$out/layer" "$out/disabled"
+cli_summary
