@@ -17,6 +17,7 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -108,7 +109,8 @@ struct SessionState {
     std::vector<VkImage> outImages;
     uint32_t outWidth = 0, outHeight = 0;
     int64_t outFormat = 0;
-    uint64_t frames = 0, processed = 0;
+    uint64_t frames = 0, processed = 0, gpuFrames = 0, fallbackFrames = 0;
+    double gpuMs = 0;
     XrTime epoch = 0;
     std::map<int, bool> logged;
 };
@@ -318,6 +320,16 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrS
         return r;
     }
     s.ctx = std::move(*ctx);
+    // Faults for the layer's own device work only (tests: the layer must disable itself, the
+    // application must not notice): WRSFOV_LAYER_FAULT, as WRSFOV_FAULT ("alloc:N", "lost:N").
+    if (const char* spec = std::getenv("WRSFOV_LAYER_FAULT"); spec && *spec) {
+        auto faults = vk::FaultInjection::parse(spec);
+        if (!faults) {
+            disable(s, "WRSFOV_LAYER_FAULT: " + faults.error().message);
+            return r;
+        }
+        s.ctx->injectFaults(*faults);
+    }
     auto comp = Compositor::create(*s.ctx, st.config.compositor);
     if (!comp) {
         disable(s, "compositor: " + comp.error().message);
@@ -330,13 +342,15 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrS
         asi.poseInActionSpace.orientation.w = 1.0f;
         if (st.next.createActionSpace(*session, &asi, &s.gazeSpace) != XR_SUCCESS) s.gazeSpace = XR_NULL_HANDLE;
     }
-    if (!s.gazeSpace && st.config.gaze == GazeKind::Generator) {
+    // The configured source: used when the runtime has no eye tracking, or the application attaches no
+    // action sets (the layer's own goes in with the application's).
+    if (st.config.gaze == GazeKind::Generator) {
         gaze::GeneratorConfig g;
         g.mode = st.config.gazeMode;
         g.seed = st.config.gazeSeed;
         g.seconds = 60;
         if (auto src = gaze::SyntheticSource::create(g)) s.source = std::move(*src);
-    } else if (!s.gazeSpace && st.config.gaze == GazeKind::File) {
+    } else if (st.config.gaze == GazeKind::File) {
         if (auto src = gaze::ReplaySource::open(st.config.gazeFile)) s.source = std::move(*src);
     }
     logLine("session on " + s.ctx->deviceName());
@@ -349,8 +363,11 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySession(XrSession session) {
     if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
     SessionState& s = it->second;
     const Next& n = g_instances.at(s.instance).next;
+    char gpu[64] = "-";
+    if (s.gpuFrames) std::snprintf(gpu, sizeof gpu, "%.2f ms", s.gpuMs / double(s.gpuFrames));
     logLine("session ended: " + std::to_string(s.processed) + " of " + std::to_string(s.frames) +
-            " frames foveated" + (s.disabled ? " (disabled: " + s.why + ")" : ""));
+            " frames foveated, passes " + gpu + " a frame on average, gaze fallback in " +
+            std::to_string(s.fallbackFrames) + (s.disabled ? " (disabled: " + s.why + ")" : ""));
     if (s.out) n.destroySwapchain(s.out);
     if (s.gazeSpace) n.destroySpace(s.gazeSpace);
     for (auto sc = g_swapchains.begin(); sc != g_swapchains.end();)
@@ -531,7 +548,7 @@ bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w,
 std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, const XrCompositionLayerProjection& proj,
                                        XrTime time) {
     std::array<layers::EyeGaze, 2> g{};
-    if (s.gazeSpace) {
+    if (s.gazeSpace && s.gazeAttached) {
         XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
         if (n.locateSpace(s.gazeSpace, proj.space, time, &loc) == XR_SUCCESS &&
             (loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT)) {
@@ -575,20 +592,44 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
                     {v.subImage.imageRect.offset.x, v.subImage.imageRect.offset.y,
                      uint32_t(v.subImage.imageRect.extent.width), uint32_t(v.subImage.imageRect.extent.height)},
                     v.subImage.imageArrayIndex};
+        // An imported sub-image of the application's, or null.
+        auto imported = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
+            auto it = g_swapchains.find(x.swapchain);
+            if (it == g_swapchains.end() || !it->second.imported) return std::nullopt;
+            return layers::SubImage{it->second.imported.get(),
+                                    {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
+                                     uint32_t(x.imageRect.extent.height)},
+                                    x.imageArrayIndex};
+        };
+        // OpenXR: nearZ is the distance at minDepth; nearZ > farZ is reversed Z. Only [0, 1] ranges.
+        auto depthOf = [&](const XrSwapchainSubImage& x, float minD, float maxD, float nearZ, float farZ) {
+            auto si = imported(x);
+            if (!si || minD != 0.0f || maxD != 1.0f) return;
+            layers::DepthInfo di;
+            di.subImage = *si;
+            di.reversedZ = nearZ > farZ;
+            di.nearZ = std::min(nearZ, farZ);
+            di.farZ = std::max(nearZ, farZ);
+            pv.depth = di;
+        };
         if (auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(
-                findNext(v.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR))) {
-            auto dt = g_swapchains.find(d->subImage.swapchain);
-            if (dt != g_swapchains.end() && dt->second.imported && d->minDepth == 0.0f && d->maxDepth == 1.0f) {
-                layers::DepthInfo di;
-                di.subImage = {dt->second.imported.get(),
-                               {d->subImage.imageRect.offset.x, d->subImage.imageRect.offset.y,
-                                uint32_t(d->subImage.imageRect.extent.width), uint32_t(d->subImage.imageRect.extent.height)},
-                               d->subImage.imageArrayIndex};
-                di.reversedZ = d->nearZ > d->farZ;
-                di.nearZ = std::min(d->nearZ, d->farZ);
-                di.farZ = std::max(d->nearZ, d->farZ);
-                pv.depth = di;
+                findNext(v.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR)))
+            depthOf(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
+        if (auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(
+                findNext(v.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB))) {
+            // Space-warp motion: current - previous NDC (Vulkan, y down) -> pixels to the previous
+            // position; its NDC depth change is not the compositor's linear dz (ignored).
+            if (auto si = imported(w->motionVectorSubImage)) {
+                layers::MotionInfo mi;
+                mi.subImage = *si;
+                mi.scale = glm::vec3(-0.5f * float(si->rect.width), -0.5f * float(si->rect.height), 0.0f);
+                pv.motion = mi;
             }
+            if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
+            const XrPosef& d = w->appSpaceDeltaPose;  // locomotion the motion vectors do not carry
+            if (std::abs(d.position.x) + std::abs(d.position.y) + std::abs(d.position.z) > 1e-4f ||
+                std::abs(std::abs(d.orientation.w) - 1.0f) > 1e-6f)
+                s.comp->resetHistory();
         }
         layer.views.push_back(pv);
     }
@@ -600,6 +641,12 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
         if (st.error().code == int(layers::SubmitError::DeviceFailure)) disable(s, st.message());
         return once(100 + st.error().code, st.message());
     }
+    const FrameStats& stats = s.comp->stats();
+    if (stats.gpu.valid) s.gpuMs += stats.gpu.total, ++s.gpuFrames;
+    if (stats.gazeFallback[0] || stats.gazeFallback[1]) ++s.fallbackFrames;
+    if (s.frames % 300 == 0)
+        logLine("frame " + std::to_string(s.frames) + ": passes " + std::to_string(stats.gpu.total) + " ms, gaze " +
+                (stats.gazeFallback[0] || stats.gazeFallback[1] ? "fallback (view centre)" : "tracked"));
     const uint32_t w = s.comp->width(), h = s.comp->height();
     if (!ensureOutput(s, n, session, w, h)) {
         disable(s, "the runtime made no RGBA8 swapchain for the output");
@@ -647,8 +694,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
     if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
     SessionState& s = it->second;
     const Next& n = g_instances.at(s.instance).next;
+    if (info && info->type == XR_TYPE_FRAME_END_INFO) ++s.frames;
     if (s.disabled || !info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers) return n.endFrame(session, info);
-    ++s.frames;
     uint32_t projIndex = info->layerCount;
     for (uint32_t i = 0; i < info->layerCount; ++i)
         if (info->layers[i] && info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {

@@ -38,11 +38,21 @@ CLI_FIXED=1 cli_check layer 0 "session ended: 60 of 60 frames foveated" run laye
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation
 CLI_FIXED=1 cli_check disabled 0 "60 shown as submitted" run disabled \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation DISABLE_XR_APILAYER_WRSFOV_foveation=1
+# Faults inside the layer (its own device work only): the layer disables itself, the application
+# runs on; device lost after a few frames, and out of memory when the compositor is made.
+CLI_FIXED=1 cli_check lost 0 "60 shown as submitted" run lost \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=lost:12
+CLI_FIXED=1 cli_check oom 0 "60 shown as submitted" run oom \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=alloc:1
 exec 3>&-
+check lost_disabled grep -q "disabled for this session: .*VK_ERROR_DEVICE_LOST\|disabled for this session: .*device" "$out/lost.log"
+check lost_some_foveated grep -Eq "session ended: ([1-9]|[1-5][0-9]) of 60 frames foveated" "$out/lost.log"
+check oom_disabled grep -q "disabled for this session: compositor: .*OUT_OF_DEVICE_MEMORY" "$out/oom.log"
+check oom_none_foveated grep -q "session ended: 0 of 60 frames foveated" "$out/oom.log"
 check layer_gaze_from_runtime grep -q "gaze from the runtime's eye tracking" "$out/layer.log"
 check layer_vulkan_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/layer.log"
 check layer_openxr_validation_active grep -q "Core Validation output type" "$out/layer.log"
 check layer_openxr_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/layer.log'"
 check disabled_silent sh -c "! grep -q 'wrsfov-layer' '$out/disabled.log'"
-CLI_FIXED=1 cli_check frames 0 "PASSED" "$frames_test" "$out/plain" "$out/layer" "$out/disabled"
+CLI_FIXED=1 cli_check frames 0 "PASSED" "$frames_test" "$out/plain" "$out/layer" "$out/disabled" "$out/lost"
 cli_summary

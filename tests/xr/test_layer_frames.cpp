@@ -1,7 +1,7 @@
 // The frames the runtime received from hello_xr without the API layer, with it, and with it disabled
 // (tests/xr/layer_test.sh): with the layer they are the application's frames at the gaze and
 // foveated away from it; disabled, they are the application's frames exactly.
-// usage: wrsfov_xr_layer_frames_tests PLAIN_DIR LAYER_DIR DISABLED_DIR
+// usage: wrsfov_xr_layer_frames_tests PLAIN_DIR LAYER_DIR DISABLED_DIR LOST_DIR
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +10,7 @@
 
 namespace {
 
-std::string g_plain, g_layer, g_disabled;
+std::string g_plain, g_layer, g_disabled, g_lost;
 constexpr double kPi = 3.14159265358979;
 
 std::unique_ptr<wrsfov::eval::SequenceReader> open(const std::string& dir) {
@@ -38,6 +38,15 @@ TEST(XrLayerFrames, DisabledLayerChangesNothing) {
         ASSERT_TRUE(fa && fb);
         for (int e = 0; e < 2; ++e) EXPECT_EQ(fa->eyes[e].color.data, fb->eyes[e].color.data) << "frame " << i;
     }
+}
+
+// After the layer disabled itself (device lost inside it), the frames pass through untouched.
+TEST(XrLayerFrames, LayerLostItsDeviceAndPassesFramesThrough) {
+    auto a = open(g_plain), b = open(g_lost);
+    ASSERT_TRUE(a && b);
+    auto fa = a->frame(59), fb = b->frame(59);
+    ASSERT_TRUE(fa && fb);
+    for (int e = 0; e < 2; ++e) EXPECT_EQ(fa->eyes[e].color.data, fb->eyes[e].color.data) << "eye " << e;
 }
 
 // The layer used the runtime's cyclopean eye gaze; the recorded per-eye gaze verges by about 1.2 deg
@@ -91,12 +100,13 @@ TEST(XrLayerFrames, LayerFoveatesAwayFromTheGazeAndKeepsTheGaze) {
 
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
-    if (argc < 4) {
-        std::fprintf(stderr, "usage: %s PLAIN_DIR LAYER_DIR DISABLED_DIR\n", argv[0]);
+    if (argc < 5) {
+        std::fprintf(stderr, "usage: %s PLAIN_DIR LAYER_DIR DISABLED_DIR LOST_DIR\n", argv[0]);
         return 2;
     }
     g_plain = argv[1];
     g_layer = argv[2];
     g_disabled = argv[3];
+    g_lost = argv[4];
     return RUN_ALL_TESTS();
 }
