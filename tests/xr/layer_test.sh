@@ -4,12 +4,15 @@
 # layer, with it (under the OpenXR core validation layer below it and the Vulkan validation layer),
 # and with it disabled by its environment variable. The recordings are compared by
 # wrsfov_xr_layer_frames_tests.
-# usage: layer_test.sh RUNTIME_JSON LAYER_DIR FRAMES_TEST OUT_DIR
+# Then the runtime and the layer installed into a scratch prefix (cmake --install) run hello_xr
+# from there.
+# usage: layer_test.sh RUNTIME_JSON LAYER_DIR FRAMES_TEST OUT_DIR BUILD_DIR
 set -u
 json="$1"
 layers="$2"
 frames_test="$3"
 out="$4"
+build="$5"
 rm -rf "$out"
 mkdir -p "$out"
 . "$(dirname "$0")/../cli_check.sh"
@@ -55,4 +58,14 @@ check layer_openxr_validation_active grep -q "Core Validation output type" "$out
 check layer_openxr_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/layer.log'"
 check disabled_silent sh -c "! grep -q 'wrsfov-layer' '$out/disabled.log'"
 CLI_FIXED=1 cli_check frames 0 "PASSED" "$frames_test" "$out/plain" "$out/layer" "$out/disabled" "$out/lost"
+
+CLI_FIXED=1 cli_check install 0 "Installing" cmake --install "$build" --prefix "$out/prefix"
+check installed_layer_manifest test -s "$out/prefix/share/openxr/1/api_layers/explicit.d/XrApiLayer_wrsfov_foveation.json"
+exec 3<>"$out/stdin"
+CLI_FIXED=1 cli_check installed 0 "session ended: 20 of 20 frames foveated" \
+    env XR_RUNTIME_JSON="$out/prefix/share/openxr/1/openxr_wrsfov.json" \
+    XR_API_LAYER_PATH="$out/prefix/share/openxr/1/api_layers/explicit.d" \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_XR_FRAMES=20 WRSFOV_XR_WIDTH=64 WRSFOV_XR_HEIGHT=64 \
+    WRSFOV_XR_OUTPUT=headless timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+exec 3>&-
 cli_summary
