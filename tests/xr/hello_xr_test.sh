@@ -39,6 +39,9 @@ check() {  # check NAME COMMAND...: a shell condition on the hello_xr log
 }
 check vulkan_validation_counted grep -q "Vulkan validation on: counting" "$log"
 check vulkan_validation_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$log"
+# After the session (and the runtime's messenger) is gone, hello_xr's own debug callback prints what
+# the layer still reports, e.g. objects the runtime left on the device at vkDestroyDevice.
+check vulkan_teardown_clean sh -c "! grep -q -e 'Validation Error' -e 'ERROR: (' '$log'"
 check openxr_validation_active grep -q "Core Validation output type" "$log"
 check openxr_validation_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$log'"
 check session_exited grep -q "XR_SESSION_STATE_IDLE->XR_SESSION_STATE_EXITING" "$log"

@@ -54,6 +54,7 @@ check oom_disabled grep -q "disabled for this session: compositor: .*OUT_OF_DEVI
 check oom_none_foveated grep -q "session ended: 0 of 60 frames foveated" "$out/oom.log"
 check layer_gaze_from_runtime grep -q "gaze from the runtime's eye tracking" "$out/layer.log"
 check layer_vulkan_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/layer.log"
+check layer_teardown_clean sh -c "! grep -q -e 'Validation Error' -e 'ERROR: (' '$out/layer.log'"
 check layer_openxr_validation_active grep -q "Core Validation output type" "$out/layer.log"
 check layer_openxr_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/layer.log'"
 check disabled_silent sh -c "! grep -q 'wrsfov-layer' '$out/disabled.log'"
