@@ -58,7 +58,7 @@ TEST(XrLayerFrames, LayerFoveatesAwayFromTheGazeAndKeepsTheGaze) {
     const uint32_t w = a->info().width, h = a->info().height;
     double nearMax = 0, farSum = 0;
     uint64_t nearN = 0, farN = 0;
-    for (uint32_t i = 30; i < b->info().frameCount; i += 5) {
+    for (uint32_t i = 10; i < b->info().frameCount; ++i) {  // every frame: blinks leave some without gaze
         auto fa = a->frame(i), fb = b->frame(i);
         ASSERT_TRUE(fa && fb);
         for (int e = 0; e < 2; ++e) {
