@@ -31,6 +31,7 @@
 
 #include "compositor/compositor.h"
 #include "gaze/frame_gaze.h"
+#include "gaze/hid_device.h"
 #include "gaze/source.h"
 #include "runtime/loader_negotiation.h"
 #include "runtime/xr_config.h"
@@ -352,6 +353,11 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrS
         if (auto src = gaze::SyntheticSource::create(g)) s.source = std::move(*src);
     } else if (st.config.gaze == GazeKind::File) {
         if (auto src = gaze::ReplaySource::open(st.config.gazeFile)) s.source = std::move(*src);
+        else logLine("gaze file: " + src.error().message + "; the compositor's fallback gaze");
+    } else if (st.config.gaze == GazeKind::Hid) {
+        if (auto path = gaze::hid::resolve_device("0"))
+            s.source = std::make_unique<gaze::hid::HidTrackerSource>(gaze::hid::hidapi_connector(*path));
+        else logLine("HID eye tracker: " + path.error().message + "; the compositor's fallback gaze");
     }
     logLine("session on " + s.ctx->deviceName());
     return r;
