@@ -266,6 +266,17 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroyInstance(XrInstance instance) {
         auto it = g_instances.find(instance);
         if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
         next = it->second.next.destroyInstance;
+        // Sessions the application did not destroy go with the instance (the runtime destroys its
+        // side, the layer's swapchain and space included): free the layer's device objects first.
+        for (auto s = g_sessions.begin(); s != g_sessions.end();) {
+            if (s->second.instance != instance) {
+                ++s;
+                continue;
+            }
+            for (auto sc = g_swapchains.begin(); sc != g_swapchains.end();)
+                sc = sc->second.session == s->first ? g_swapchains.erase(sc) : std::next(sc);
+            s = g_sessions.erase(s);  // compositor before context (member order)
+        }
         g_instances.erase(it);
     }
     return next(instance);
