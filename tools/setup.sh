@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages wrsfov needs (only the missing ones), then configures and builds.
 # Usage: tools/setup.sh [build-dir] [extra cmake args...]
+#   WRSFOV_BUILD_TARGETS (space-separated) builds only those targets (and what they need).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,5 +28,7 @@ shift || true
 echo "== configuring ($build)"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" > "$build.configure.log" 2>&1 || {
   cat "$build.configure.log"; exit 1; }
-echo "== building ($build, $(nproc) jobs)"
-cmake --build "$build" -j "$(nproc)"
+targets=()
+for t in ${WRSFOV_BUILD_TARGETS:-}; do targets+=(--target "$t"); done
+echo "== building ($build, $(nproc) jobs${WRSFOV_BUILD_TARGETS:+, targets: $WRSFOV_BUILD_TARGETS})"
+cmake --build "$build" -j "$(nproc)" "${targets[@]}"
