@@ -31,7 +31,6 @@
 
 #include "compositor/compositor.h"
 #include "gaze/frame_gaze.h"
-#include "gaze/hid_device.h"
 #include "gaze/source.h"
 #include "runtime/loader_negotiation.h"
 #include "runtime/xr_config.h"
@@ -41,7 +40,6 @@
 namespace wrsfov::xrlayer {
 namespace {
 
-using xr::GazeKind;
 using xr::loadConfig;
 using xr::RuntimeConfig;
 
@@ -356,20 +354,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrS
     }
     // The configured source: used when the runtime has no eye tracking, or the application attaches no
     // action sets (the layer's own goes in with the application's).
-    if (st.config.gaze == GazeKind::Generator) {
-        gaze::GeneratorConfig g;
-        g.mode = st.config.gazeMode;
-        g.seed = st.config.gazeSeed;
-        g.seconds = 60;
-        if (auto src = gaze::SyntheticSource::create(g)) s.source = std::move(*src);
-    } else if (st.config.gaze == GazeKind::File) {
-        if (auto src = gaze::ReplaySource::open(st.config.gazeFile)) s.source = std::move(*src);
-        else logLine("gaze file: " + src.error().message + "; the compositor's fallback gaze");
-    } else if (st.config.gaze == GazeKind::Hid) {
-        if (auto path = gaze::hid::resolve_device("0"))
-            s.source = std::make_unique<gaze::hid::HidTrackerSource>(gaze::hid::hidapi_connector(*path));
-        else logLine("HID eye tracker: " + path.error().message + "; the compositor's fallback gaze");
-    }
+    if (auto src = xr::openGazeSource(st.config)) s.source = std::move(*src);
+    else logLine(src.error().message + "; the compositor's fallback gaze");
     logLine("session on " + s.ctx->deviceName());
     return r;
 }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "compositor/host_app.h"
+#include "gaze/hid_device.h"
 
 namespace wrsfov::xr {
 
@@ -148,6 +149,30 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
         return Error{1, "unknown key '" + std::string(key) + "' (keys: " + keys + ")"};
     }
     return {};
+}
+
+Result<std::unique_ptr<gaze::GazeSource>> openGazeSource(const RuntimeConfig& c) {
+    if (c.gaze == GazeKind::Generator) {
+        gaze::GeneratorConfig g;
+        g.mode = c.gazeMode;
+        g.seed = c.gazeSeed;
+        g.seconds = 60;  // replayed in a loop
+        auto src = gaze::SyntheticSource::create(g);
+        if (!src) return Error{1, "gaze generator: " + src.error().message};
+        return std::unique_ptr<gaze::GazeSource>(std::move(*src));
+    }
+    if (c.gaze == GazeKind::File) {
+        auto src = gaze::ReplaySource::open(c.gazeFile);
+        if (!src) return Error{1, "gaze file: " + src.error().message};
+        return std::unique_ptr<gaze::GazeSource>(std::move(*src));
+    }
+    if (c.gaze == GazeKind::Hid) {
+        auto path = gaze::hid::resolve_device("0");
+        if (!path) return Error{1, "HID eye tracker: " + path.error().message};
+        return std::unique_ptr<gaze::GazeSource>(
+            std::make_unique<gaze::hid::HidTrackerSource>(gaze::hid::hidapi_connector(*path)));
+    }
+    return std::unique_ptr<gaze::GazeSource>();  // mouse (the runtime's window) or none
 }
 
 Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const char*)>& getenvFn) {

@@ -6,12 +6,14 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "compositor/compositor.h"
 #include "gaze/generator.h"
+#include "gaze/source.h"
 #include "layers/frame.h"
 #include "layers/status.h"
 #include "scenes/atrium.h"
@@ -69,6 +71,10 @@ Result<RuntimeConfig> loadRuntimeConfig(const std::function<const char*(const ch
 /// The same keys under another prefix: `prefix` + "CONFIG" names the file, `prefix` + KEY the
 /// variables (the API layer reads WRSFOV_LAYER_*).
 Result<RuntimeConfig> loadConfig(const std::string& prefix, const std::function<const char*(const char*)>& getenv = nullptr);
+
+/// The gaze source `config` names (generator, file or HID tracker); null for `mouse` and `none`. The
+/// error names the source and why it could not be opened.
+Result<std::unique_ptr<gaze::GazeSource>> openGazeSource(const RuntimeConfig& config);
 
 /// Applies one key (file or environment) to `config`; the message names the key and the accepted values.
 Status applyConfigKey(RuntimeConfig& config, std::string_view key, std::string_view value);

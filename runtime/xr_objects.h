@@ -9,6 +9,7 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <deque>
@@ -210,6 +211,13 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession, const XrViewLocateInfo*,
 /// Pose of a space in stage coordinates at `time`; false where it cannot be located.
 bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gaze = nullptr);
 GazeState gazeAt(Session& s, XrTime time);
+/// Whether `action` is bound to the eye-gaze pose in the session's current interaction profile.
+bool boundToEyeGaze(const Session& s, const Action* action);
+/// A call's subaction path is XR_NULL_PATH or one the action was created with.
+inline bool acceptsSubaction(const Action& a, XrPath subaction) {
+    return subaction == XR_NULL_PATH ||
+           std::find(a.subactionPaths.begin(), a.subactionPaths.end(), subaction) != a.subactionPaths.end();
+}
 bool sessionFocused(const Session& s);
 
 // Two-call idiom: capacity 0 asks for the count.

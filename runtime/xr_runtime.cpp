@@ -908,10 +908,7 @@ XrResult actionStateCheck(XrSession h, const XrActionStateGetInfo* info, XrActio
     if (std::find(session->attachedSets.begin(), session->attachedSets.end(), action->set) ==
         session->attachedSets.end())
         return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (info->subactionPath != XR_NULL_PATH &&
-        std::find(action->subactionPaths.begin(), action->subactionPaths.end(), info->subactionPath) ==
-            action->subactionPaths.end())
-        return XR_ERROR_PATH_UNSUPPORTED;
+    if (!acceptsSubaction(*action, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
     return XR_SUCCESS;
 }
 
@@ -959,19 +956,6 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateVector2f(XrSession h, const XrAct
     state->lastChangeTime = 0;
     state->isActive = XR_FALSE;
     return XR_SUCCESS;
-}
-
-/// Whether `action` is bound to the eye-gaze pose in the session's current profile.
-bool boundToEyeGaze(const Session& s, const Action* action) {
-    if (!s.eyeGazeBound) return false;
-    const Instance& inst = *s.instance;
-    auto profile = inst.pathIds.find(kEyeGazeProfile);
-    if (profile == inst.pathIds.end()) return false;
-    auto it = inst.suggested.find(profile->second);
-    if (it == inst.suggested.end()) return false;
-    for (const auto& b : it->second)
-        if (reinterpret_cast<const Action*>(b.action) == action) return true;
-    return false;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStatePose(XrSession h, const XrActionStateGetInfo* info,
@@ -1031,9 +1015,7 @@ XrResult hapticCheck(XrSession h, const XrHapticActionInfo* info) {
     if (a->actionType != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
     if (std::find(s->attachedSets.begin(), s->attachedSets.end(), a->set) == s->attachedSets.end())
         return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (info->subactionPath != XR_NULL_PATH &&
-        std::find(a->subactionPaths.begin(), a->subactionPaths.end(), info->subactionPath) == a->subactionPaths.end())
-        return XR_ERROR_PATH_UNSUPPORTED;
+    if (!acceptsSubaction(*a, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
     return s->synced ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
 }
 

@@ -13,7 +13,6 @@
 #include "compositor/host_app.h"
 #include "compositor/swapchain_vk.h"
 #include "gaze/frame_gaze.h"
-#include "gaze/hid_device.h"
 #include "preview/gaze_input.h"
 
 #include <opencv2/imgcodecs.hpp>
@@ -69,18 +68,6 @@ Pose eyeAt(const Session& s, XrTime t, int eye) {
 
 /// Rotation taking -Z to `dir` (unit).
 glm::quat lookRotation(const glm::vec3& dir) { return glm::rotation(glm::vec3(0, 0, -1), glm::normalize(dir)); }
-
-bool boundToEyeGaze(const Session& s, const Action* a) {
-    if (!s.eyeGazeBound || !a) return false;
-    const Instance& inst = *s.instance;
-    auto profile = inst.pathIds.find("/interaction_profiles/ext/eye_gaze_interaction");
-    if (profile == inst.pathIds.end()) return false;
-    auto it = inst.suggested.find(profile->second);
-    if (it == inst.suggested.end()) return false;
-    for (const auto& b : it->second)
-        if (reinterpret_cast<const Action*>(b.action) == a) return true;
-    return false;
-}
 
 /// Where the left eye's ray towards `target` (head space) meets the submitted depth: the fixated
 /// point, or nullopt without depth there (no depth, off the image, or an unknown depth value).
@@ -143,6 +130,18 @@ const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
 }
 
 }  // namespace
+
+bool boundToEyeGaze(const Session& s, const Action* a) {
+    if (!s.eyeGazeBound || !a) return false;
+    const Instance& inst = *s.instance;
+    auto profile = inst.pathIds.find("/interaction_profiles/ext/eye_gaze_interaction");
+    if (profile == inst.pathIds.end()) return false;
+    auto it = inst.suggested.find(profile->second);
+    if (it == inst.suggested.end()) return false;
+    for (const auto& b : it->second)
+        if (reinterpret_cast<const Action*>(b.action) == a) return true;
+    return false;
+}
 
 GazeState gazeAt(Session& s, XrTime time) {
     GazeState out;
@@ -289,23 +288,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCrea
             else s->window = std::move(*w);
         }
     }
-    if (c.gaze == GazeKind::Generator) {
-        gaze::GeneratorConfig g;
-        g.mode = c.gazeMode;
-        g.seed = c.gazeSeed;
-        g.seconds = 60;  // replayed in a loop
-        auto src = gaze::SyntheticSource::create(g);
-        if (!src) logLine("gaze generator: " + src.error().message + "; gaze falls back to the view centre");
-        else s->gazeSource = std::move(*src);
-    } else if (c.gaze == GazeKind::File) {
-        auto src = gaze::ReplaySource::open(c.gazeFile);
-        if (!src) logLine("gaze file: " + src.error().message + "; gaze falls back to the view centre");
-        else s->gazeSource = std::move(*src);
-    } else if (c.gaze == GazeKind::Hid) {
-        auto path = gaze::hid::resolve_device("0");
-        if (!path) logLine("HID eye tracker: " + path.error().message + "; gaze falls back to the view centre");
-        else s->gazeSource = std::make_unique<gaze::hid::HidTrackerSource>(gaze::hid::hidapi_connector(*path));
-    }
+    if (auto src = openGazeSource(c)) s->gazeSource = std::move(*src);
+    else logLine(src.error().message + "; gaze falls back to the view centre");
     std::string gazeName = "none (view centre)";
     if (s->gazeSource)
         gazeName = c.gaze == GazeKind::Generator ? "generator (" + std::string(gaze::mode_name(c.gazeMode)) + ")"
@@ -433,9 +417,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession h, const XrActionSp
     Action* a = getAction(info->action);
     if (!a) return XR_ERROR_HANDLE_INVALID;
     if (a->actionType != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (info->subactionPath != XR_NULL_PATH &&
-        std::find(a->subactionPaths.begin(), a->subactionPaths.end(), info->subactionPath) == a->subactionPaths.end())
-        return XR_ERROR_PATH_UNSUPPORTED;
+    if (!acceptsSubaction(*a, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
     if (!isValidPose(info->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
     auto sp = std::make_unique<Space>();
     sp->session = s;
