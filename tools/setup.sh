@@ -9,7 +9,8 @@ packages=(build-essential cmake pkg-config git
           libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools
           libglm-dev libglfw3-dev libopencv-dev libopencv-contrib-dev libhidapi-dev libgtest-dev
           xvfb clang fonts-dejavu-core
-          libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation)
+          libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
+          nlohmann-json3-dev libcli11-dev libopenexr-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -26,8 +27,9 @@ fi
 build="${1:-build}"
 shift || true
 echo "== configuring ($build)"
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" > "$build.configure.log" 2>&1 || {
-  cat "$build.configure.log"; exit 1; }
+mkdir -p "$build"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" > "$build/configure.log" 2>&1 || {
+  cat "$build/configure.log"; exit 1; }
 targets=()
 for t in ${WRSFOV_BUILD_TARGETS:-}; do targets+=(--target "$t"); done
 echo "== building ($build, $(nproc) jobs${WRSFOV_BUILD_TARGETS:+, targets: $WRSFOV_BUILD_TARGETS})"
