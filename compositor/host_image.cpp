@@ -4,8 +4,6 @@
 #include <cmath>
 #include <cstring>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "shaders/wrs_common.h"
 
@@ -81,20 +79,6 @@ HostImage HostImage::crop(uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) cons
         std::memcpy(out.data.data() + std::size_t(y) * w * tb, data.data() + (std::size_t(y0 + y) * width + x0) * tb,
                     w * tb);
     return out;
-}
-
-Status writePng(const HostImage& image, const std::string& path) {
-    if (image.format != Format::RGBA8 && image.format != Format::RGBA8_SRGB)
-        return Error{1, "writePng needs an 8-bit RGBA image, got " + std::string(layers::toString(image.format))};
-    cv::Mat rgba(int(image.height), int(image.width), CV_8UC4, const_cast<std::byte*>(image.data.data()));
-    cv::Mat bgr;
-    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
-    try {
-        if (!cv::imwrite(path, bgr)) return Error{1, "could not write " + path};
-    } catch (const cv::Exception& e) {
-        return Error{1, "could not write " + path + ": " + e.what()};
-    }
-    return {};
 }
 
 }  // namespace wrsfov

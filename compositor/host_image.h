@@ -35,7 +35,4 @@ struct HostImage {
     HostImage crop(uint32_t x, uint32_t y, uint32_t w, uint32_t h) const;
 };
 
-/// Writes an RGBA8 image as PNG (alpha dropped). Fails with the path in the message.
-Status writePng(const HostImage& image, const std::string& path);
-
 }  // namespace wrsfov

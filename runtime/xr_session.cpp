@@ -14,6 +14,7 @@
 #include "compositor/swapchain_vk.h"
 #include "gaze/frame_gaze.h"
 #include "preview/gaze_input.h"
+#include "scenes/png.h"
 
 #include <opencv2/imgcodecs.hpp>
 #include "runtime/xr_objects.h"

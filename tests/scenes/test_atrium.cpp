@@ -9,6 +9,7 @@
 #include "compositor/compositor.h"
 #include "compositor/host_app.h"
 #include "scenes/atrium.h"
+#include "scenes/png.h"
 #include "../core/gpu_rig.h"
 
 namespace wrsfov::test {
