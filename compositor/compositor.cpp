@@ -500,9 +500,62 @@ Result<std::unique_ptr<layers::Swapchain>> Compositor::importSwapchain(const lay
     return std::unique_ptr<layers::Swapchain>(std::move(*sc));
 }
 
-Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
+namespace {
+
+Status checkSubmission(const FrameSubmission& sub) {
+    using Mode = FrameSubmission::Mode;
+    if (sub.mode != Mode::Wait && sub.mode != Mode::Submit && sub.mode != Mode::Record)
+        return submitError(SubmitError::InvalidSubmission, "frame submission mode " + std::to_string(int(sub.mode)) +
+                                                               " is not Wait, Submit or Record");
+    if (sub.mode == Mode::Record) {
+        if (!sub.commandBuffer)
+            return submitError(SubmitError::InvalidSubmission, "Record needs the caller's command buffer");
+        if (!sub.waitSemaphores.empty() || !sub.signalSemaphores.empty())
+            return submitError(SubmitError::InvalidSubmission,
+                               "semaphores go with Submit or Wait; with Record the caller's own submission waits "
+                               "and signals");
+    } else if (sub.commandBuffer) {
+        return submitError(SubmitError::InvalidSubmission, "a command buffer goes with Record only");
+    }
+    if (sub.waitStages.size() != sub.waitSemaphores.size())
+        return submitError(SubmitError::InvalidSubmission,
+                           std::to_string(sub.waitSemaphores.size()) + " wait semaphores need as many stage masks, got " +
+                               std::to_string(sub.waitStages.size()));
+    for (std::size_t i = 0; i < sub.waitStages.size(); ++i)
+        if (sub.waitStages[i] == 0)
+            return submitError(SubmitError::InvalidSubmission, "wait stage mask " + std::to_string(i) + " is empty");
+    for (auto list : {sub.waitSemaphores, sub.signalSemaphores})
+        for (VkSemaphore sem : list)
+            if (sem == VK_NULL_HANDLE) return submitError(SubmitError::InvalidSubmission, "a semaphore is VK_NULL_HANDLE");
+    return {};
+}
+
+}  // namespace
+
+Status Compositor::endFrame(const layers::FrameEndInfo& frame) { return endFrame(frame, FrameSubmission{}); }
+
+Status Compositor::waitFrame() {
+    if (!inFlight_) return {};
+    inFlight_ = false;
+    VkFence f = frameFence_.get();
+    const VkResult r = ctx_.waitSubmission(f);
+    const double hostMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submittedAt_).count();
+    vkResetFences(ctx_.device(), 1, &f);
+    if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
+    if (r != VK_SUCCESS)
+        return submitError(SubmitError::DeviceFailure, std::string("the device failed while compositing: ") + vk::resultString(r));
+    collectTimes(hostMs, inFlightTraffic_, inFlightEyes_);
+    return {};
+}
+
+Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission) {
+    // The last Submit frame first: its command buffer, parameters and descriptor sets are reused.
+    if (Status s = waitFrame(); !s) return s;
     if (ctx_.deviceLost()) return submitError(SubmitError::DeviceFailure, kDeviceLost);
     if (Status s = validator_.validate(frame); !s) return s;
+    if (Status s = checkSubmission(submission); !s) return s;
+    const bool record = submission.mode == FrameSubmission::Mode::Record;
     const layers::ProjectionLayer& layer = frame.layers[0];
     auto vkSwapchain = [&](const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); };
     for (std::size_t eye = 0; eye < layer.views.size(); ++eye) {
@@ -620,12 +673,14 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
         wr[k] = vk::imageWrite(set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
     vkUpdateDescriptorSets(ctx_.device(), 3, wr, 0, nullptr);
 
-    VkCommandBuffer cb = cmd_;
-    VK_CHECK(vkResetCommandBuffer(cb, 0));
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cb, &bi));
-    const bool timing = ctx_.timestampPeriodNs() > 0;
+    VkCommandBuffer cb = record ? submission.commandBuffer : cmd_;
+    if (!record) {
+        VK_CHECK(vkResetCommandBuffer(cb, 0));
+        VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+    }
+    const bool timing = ctx_.timestampPeriodNs() > 0 && !record;
     if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kFrameStamps);
     {
         // Whatever the application wrote (uploads, its own rendering) and the last frame's
@@ -727,42 +782,43 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     }
     stamp(3);
     transitionInputs(false);
-    VK_CHECK(vkEndCommandBuffer(cb));
-
-    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    si.commandBufferCount = 1;
-    si.pCommandBuffers = &cb;
-    VkFence f = frameFence_.get();
-    const auto submitted = std::chrono::steady_clock::now();
-    VkResult r = ctx_.submitBatch(si, f);
-    const double hostMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count();
-    vkResetFences(ctx_.device(), 1, &f);
-    if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
-    if (r != VK_SUCCESS)
-        return submitError(SubmitError::DeviceFailure,
-                           std::string("the device failed while compositing: ") + vk::resultString(r));
-
-    if (timing) {
-        uint64_t ts[kFrameStamps];
-        if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kFrameStamps, sizeof(ts), ts, sizeof(uint64_t),
-                                  VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
-            double ms = ctx_.timestampPeriodNs() * 1e-6;
-            stats_.gpu.pyramid = double(ts[1] - ts[0]) * ms;
-            stats_.gpu.foveate = double(ts[2] - ts[1]) * ms;
-            stats_.gpu.temporal = double(ts[3] - ts[2]) * ms;
-            stats_.gpu.total = double(ts[3] - ts[0]) * ms;
-            stats_.gpu.valid = true;
-        }
-        if (ctx_.isCpuDevice()) {  // see PassTimes::hostTimed
-            stats_.gpu.total = hostMs;
-            stats_.gpu.hostTimed = true;
-        }
-        if (config_.measureCopy) {
-            // The yardsticks, each in a submission of its own after the frame: lavapipe moves time
-            // between adjacent dispatches of one submission, which made a copy recorded before the
-            // passes read as a fraction of what it costs alone.
-            stats_.gpu.copy = timeCopy(trafficBytes(config_, trafficIn) / WRS_EYES * eyes);
-            stats_.gpu.copyFloor = timeCopy(floorBytes(config_, trafficIn) / WRS_EYES * eyes);
+    // The output (and the history) is visible to whatever the caller runs next on the queue or
+    // after its semaphores: presentation, a copy, its own composition.
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                      VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+    if (!record) {
+        VK_CHECK(vkEndCommandBuffer(cb));
+        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &cb;
+        si.waitSemaphoreCount = uint32_t(submission.waitSemaphores.size());
+        si.pWaitSemaphores = submission.waitSemaphores.data();
+        si.pWaitDstStageMask = submission.waitStages.data();
+        si.signalSemaphoreCount = uint32_t(submission.signalSemaphores.size());
+        si.pSignalSemaphores = submission.signalSemaphores.data();
+        VkFence f = frameFence_.get();
+        const auto submitted = std::chrono::steady_clock::now();
+        if (submission.mode == FrameSubmission::Mode::Submit) {
+            const VkResult r = ctx_.submitNoWait(si, f);
+            if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
+            if (r != VK_SUCCESS)
+                return submitError(SubmitError::DeviceFailure,
+                                   std::string("the device refused the frame's submission: ") + vk::resultString(r));
+            inFlight_ = true;
+            submittedAt_ = submitted;
+            inFlightTraffic_ = trafficIn;
+            inFlightEyes_ = eyes;
+        } else {
+            const VkResult r = ctx_.submitBatch(si, f);
+            const double hostMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count();
+            vkResetFences(ctx_.device(), 1, &f);
+            if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
+            if (r != VK_SUCCESS)
+                return submitError(SubmitError::DeviceFailure,
+                                   std::string("the device failed while compositing: ") + vk::resultString(r));
+            collectTimes(hostMs, trafficIn, eyes);
         }
     }
     if (temporal) {
@@ -773,6 +829,31 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame) {
     }
     validator_.accept(frame);
     return {};
+}
+
+void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes) {
+    if (ctx_.timestampPeriodNs() <= 0) return;
+    uint64_t ts[kFrameStamps];
+    if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kFrameStamps, sizeof(ts), ts, sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
+        double ms = ctx_.timestampPeriodNs() * 1e-6;
+        stats_.gpu.pyramid = double(ts[1] - ts[0]) * ms;
+        stats_.gpu.foveate = double(ts[2] - ts[1]) * ms;
+        stats_.gpu.temporal = double(ts[3] - ts[2]) * ms;
+        stats_.gpu.total = double(ts[3] - ts[0]) * ms;
+        stats_.gpu.valid = true;
+    }
+    if (ctx_.isCpuDevice()) {  // see PassTimes::hostTimed
+        stats_.gpu.total = hostMs;
+        stats_.gpu.hostTimed = true;
+    }
+    if (config_.measureCopy) {
+        // The yardsticks, each in a submission of its own after the frame: lavapipe moves time
+        // between adjacent dispatches of one submission, which made a copy recorded before the
+        // passes read as a fraction of what it costs alone.
+        stats_.gpu.copy = timeCopy(trafficBytes(config_, trafficIn) / WRS_EYES * eyes);
+        stats_.gpu.copyFloor = timeCopy(floorBytes(config_, trafficIn) / WRS_EYES * eyes);
+    }
 }
 
 Result<HostImage> Compositor::readImageLayer(uint32_t layer) {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -144,6 +145,35 @@ struct SwapchainImageOptions {
     bool deferInitialization = false;
 };
 
+/// How Compositor::endFrame hands its GPU work over. The output image (outputImage(), 2 layers,
+/// layer = eye, RGBA8 sRGB-encoded, VK_IMAGE_LAYOUT_GENERAL) is complete when the work is.
+struct FrameSubmission {
+    enum class Mode : uint8_t {
+        /// Submit to the context's queue and wait for it (the default): stats() carries GPU times.
+        Wait,
+        /// Submit to the context's queue with the caller's semaphores and return without waiting:
+        /// the caller's compositor never blocks on the compositor's fence. The next call that needs
+        /// the frame finished (endFrame, waitFrame, read*, writeReservoirs, a swapchain write through
+        /// this compositor, destruction) waits for it; waitFrame() also fills stats().gpu.
+        Submit,
+        /// Record into the caller's primary command buffer (recording, from a pool of the context's
+        /// queue family) and return; the caller submits it on that queue family, after its own
+        /// writes of the inputs and before its reads of the output (the recorded work starts with a
+        /// barrier against all earlier work on the queue and ends with one making the output
+        /// visible to all later commands), and must see that submission complete before its next
+        /// call into this compositor or its swapchains. No GPU times, no copy kernels.
+        Record,
+    };
+    Mode mode = Mode::Wait;
+    /// Submit: semaphores the compositor's submission waits for, each with the stages that wait
+    /// (VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT covers every pass), and semaphores it signals.
+    std::span<const VkSemaphore> waitSemaphores;
+    std::span<const VkPipelineStageFlags> waitStages;
+    std::span<const VkSemaphore> signalSemaphores;
+    /// Record: the command buffer.
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+};
+
 /// Builds the shader parameter block of a frame (gaze fallback included). Used by the compositor
 /// and by the CPU reference, so both see the same numbers.
 gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::FrameEndInfo& frame, uint32_t width,
@@ -169,6 +199,13 @@ public:
     /// Validates and composites one frame (synchronously). A refused frame changes nothing:
     /// the error code is a layers::SubmitError.
     Status endFrame(const layers::FrameEndInfo& frame);
+    /// The same, handing the GPU work over as `submission` says. A submission that cannot be
+    /// carried out (Record without a command buffer, semaphores with Record or Wait, a stage count
+    /// that is not the semaphore count) is refused with SubmitError::InvalidSubmission.
+    Status endFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission);
+    /// Waits for the GPU work of the last frame submitted with Mode::Submit (nothing to do
+    /// otherwise) and fills stats().gpu. DeviceFailure if the device was lost meanwhile.
+    Status waitFrame();
 
     const FrameStats& stats() const { return stats_; }
     const gpu::FrameParams& lastParams() const { return params_; }
@@ -240,6 +277,12 @@ private:
     vk::Image dummy_;  // bound where a view has no depth / motion
     VkCommandBuffer cmd_ = VK_NULL_HANDLE;
     vk::Fence frameFence_;  // signalled by each frame's submission, reset after the wait
+    bool inFlight_ = false;  // a Mode::Submit frame not waited for yet
+    std::chrono::steady_clock::time_point submittedAt_;
+    /// Reads the frame's timestamps into stats_.gpu (and the copy kernels when measured).
+    void collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes);
+    TrafficInputs inFlightTraffic_;
+    uint32_t inFlightEyes_ = 0;
 };
 
 }  // namespace wrsfov

@@ -606,9 +606,20 @@ VkResult Context::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemor
 }
 
 VkResult Context::submitBatch(const VkSubmitInfo& submit, VkFence fence) {
+    VkResult r = submitNoWait(submit, fence);
+    return r == VK_SUCCESS ? waitSubmission(fence) : r;
+}
+
+VkResult Context::submitNoWait(const VkSubmitInfo& submit, VkFence fence) {
     if (deviceLost_) return VK_ERROR_DEVICE_LOST;
     VkResult r = vkQueueSubmit(queue_, 1, &submit, fence);
-    if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+    if (r == VK_ERROR_DEVICE_LOST) deviceLost_ = true;
+    return r;
+}
+
+VkResult Context::waitSubmission(VkFence fence) {
+    if (deviceLost_) return VK_ERROR_DEVICE_LOST;
+    VkResult r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
     // An injected loss lets the batch finish first, so that the device stays consistent for teardown.
     if (r == VK_SUCCESS && faults_.loseDevice && ++faultSubmissions_ == faults_.loseDevice) {
         faults_.loseDevice = 0;

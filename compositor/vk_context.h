@@ -250,6 +250,10 @@ public:
     /// result of vkQueueSubmit or vkWaitForFences. After VK_ERROR_DEVICE_LOST (real or injected) the
     /// context is lost: this and every later submission return it without touching the queue.
     VkResult submitBatch(const VkSubmitInfo& submit, VkFence fence);
+    /// The two halves of submitBatch: submit without waiting, and wait for the fence of an earlier
+    /// submitNoWait (injected device loss counts here, as in submitBatch).
+    VkResult submitNoWait(const VkSubmitInfo& submit, VkFence fence);
+    VkResult waitSubmission(VkFence fence);
     /// True once a submission reported VK_ERROR_DEVICE_LOST; only a new Context can be used then.
     bool deviceLost() const { return deviceLost_; }
     /// Test hook: arms `faults`, replacing what was armed before (see FaultInjection).

@@ -23,6 +23,7 @@ std::string_view toString(SubmitError e) {
     case SubmitError::ForeignSwapchain: return "ForeignSwapchain";
     case SubmitError::DeviceFailure: return "DeviceFailure";
     case SubmitError::InvalidMotionScale: return "InvalidMotionScale";
+    case SubmitError::InvalidSubmission: return "InvalidSubmission";
     }
     return "?";
 }

@@ -103,6 +103,7 @@ enum class SubmitError : int {
     DeviceFailure,          ///< out of device memory (the compositor stays usable at its old size) or device
                             ///< lost (every later frame is refused: make a new Context and Compositor)
     InvalidMotionScale,     ///< MotionInfo::scale not finite
+    InvalidSubmission,      ///< a FrameSubmission (compositor.h) that cannot be carried out
 };
 
 std::string_view toString(SubmitError e);
