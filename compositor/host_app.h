@@ -61,7 +61,7 @@ private:
 /// the temporal side, mirrored between the eyes; 92° x 93° per eye.
 layers::Fov hmdFov(int eye);
 
-/// Unit direction through the centre of pixel (x, y) of a view (DESIGN "Conventions"), for turning
+/// Unit direction through the centre of pixel (x, y) of a view (docs/conventions.md, "Views"), for turning
 /// a point on the image into a gaze direction.
 glm::vec3 pixelDirection(const layers::Fov& fov, uint32_t width, uint32_t height, float x, float y);
 

@@ -1,4 +1,4 @@
-// Image-quality metrics of the evaluation (DESIGN "Evaluation", issue 4 "Metrics").
+// Image-quality metrics of the evaluation (docs/conventions.md, "Evaluation").
 //
 // Every metric compares a *reference* (the unfoveated render of a frame) with a *test* image (a
 // method's output of the same frame). Images are sRGB-encoded values in [0, 1]:
@@ -73,7 +73,7 @@ cv::Mat eccentricityMap(uint32_t width, uint32_t height, glm::vec4 fov_tan, glm:
 /// Same, from one eye's compositor parameters (fov_tan and gaze.xyz).
 cv::Mat eccentricityMap(uint32_t width, uint32_t height, const gpu::EyeParams& eye);
 
-/// Radius of the near-gaze region of DESIGN "Evaluation", in degrees.
+/// Radius of the near-gaze region of docs/conventions.md, "Evaluation", in degrees.
 inline constexpr double kNearGazeDeg = 10.0;
 
 /// PSNR (peak 1) over the pixels whose eccentricity is <= max_deg. `eccentricity` is a CV_32F map

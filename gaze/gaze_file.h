@@ -1,6 +1,6 @@
 // Gaze files: the project's CSV (read and write), Pupil Labs and Tobii Pro Lab exports (read).
 //
-// Project CSV (DESIGN, "Sequence directory"): a header line
+// Project CSV (docs/sequence.md, docs/gaze.md): a header line
 // `t_s,frame,valid,left_x,left_y,left_z,right_x,right_y,right_z`, then one row per sample with
 // unit directions in eye space. Columns are found by name; extra columns are accepted and
 // ignored, except `label` (the true event, written by `wrsfov-gaze generate`) and `confidence`,

@@ -1,4 +1,4 @@
-// Image formats an application may submit, per use (DESIGN "Conventions", issue: layers API).
+// Image formats an application may submit, per use (docs/conventions.md; docs/integrating.md, "The frame contract").
 #pragma once
 
 #include <cstddef>

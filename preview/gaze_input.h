@@ -70,7 +70,7 @@ struct GazeSetting {
 /// the generator refuses its configuration.
 Result<std::unique_ptr<GazeInput>> createGazeInput(const GazeSpec& spec, const GazeSetting& setting);
 
-/// Mouse gaze: per eye, the ray through the cursor's pixel in that eye's view (DESIGN "Conventions");
+/// Mouse gaze: per eye, the ray through the cursor's pixel in that eye's view (docs/conventions.md, "Views");
 /// both eyes use the same pixel position. Invalid without a cursor position.
 std::array<layers::EyeGaze, 2> gazeFromCursor(const layers::Fov fov[2], uint32_t width, uint32_t height,
                                               std::optional<std::array<float, 2>> cursor);

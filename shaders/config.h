@@ -8,7 +8,7 @@
 #define WRS_GROUP_Y 8
 
 // Levels 0..4: the fovea samples level 0, the mid-periphery the 8x8 shading rate (level 3) and the
-// far periphery 16x16 (level 4), as in DESIGN "Foveation".
+// far periphery 16x16 (level 4), as in docs/conventions.md "Foveation".
 #define WRS_LEVELS 5
 
 // The candidate count M is stored in 16 bits of the packed reservoir.

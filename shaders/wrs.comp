@@ -1,4 +1,4 @@
-// Pass 3: temporal weighted reservoir sampling per pixel (paper §4, DESIGN §3): reproject the
+// Pass 3: temporal weighted reservoir sampling per pixel (paper §4, docs/conventions.md "Reservoirs"): reproject the
 // previous reservoir by the motion vector, flush on a depth jump, bias (eq. 7), combine (Alg. 2),
 // store the reservoir and output its sample.
 #version 450

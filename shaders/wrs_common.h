@@ -3,7 +3,7 @@
 // Compiled into every compute shader and into the CPU reference (compositor/reference.cpp), so the
 // GPU and the reference can only differ by the rounding of built-in functions (exp, pow, atan,
 // normalize). Equation numbers refer to Cantory et al., MIG '25 ("the paper"); section names to
-// DESIGN.md.
+// docs/conventions.md.
 #ifndef WRSFOV_WRS_COMMON_H
 #define WRSFOV_WRS_COMMON_H
 
@@ -20,7 +20,7 @@ const float WRS_PI = 3.14159265358979f;
 const float WRS_RAD_TO_DEG = 57.2957795130823f;
 // Largest value a packed fp16 channel holds; colours and depths are clamped to it before packing.
 const float WRS_HALF_MAX = 65504.0f;
-// A reservoir never has w_sum <= 0 (DESIGN §3): this is the floor it is clamped to, and the weight
+// A reservoir never has w_sum <= 0 (docs/conventions.md "Reservoirs"): this is the floor it is clamped to, and the weight
 // given to a reservoir that had to be started from an invalid candidate.
 const float WRS_WSUM_MIN = 1e-30f;
 // and never overflows: w_sum grows by at most 1 per frame, so this is reached only by corruption.
@@ -31,7 +31,7 @@ WRS_FN bool wrs_finite(float x) { return (floatBitsToUint(x) & 0x7f800000u) != 0
 WRS_FN bool wrs_finite3(vec3 v) { return wrs_finite(v.x) && wrs_finite(v.y) && wrs_finite(v.z); }
 
 // ---------------------------------------------------------------------------------------------
-// Views and eccentricity (DESIGN "Conventions")
+// Views and eccentricity (docs/conventions.md "Views", "Eccentricity")
 // ---------------------------------------------------------------------------------------------
 
 // fov_tan = (tan angleLeft, tan angleRight, tan angleUp, tan angleDown), the XrFovf order.
@@ -95,7 +95,7 @@ WRS_FN float wrs_sample_weight(float e, float r_f) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Foveation (paper §4.3, DESIGN §1): which levels of the colour pyramid a pixel blends
+// Foveation (paper §4.3, docs/conventions.md "Foveation"): which levels of the colour pyramid a pixel blends
 // ---------------------------------------------------------------------------------------------
 
 const uint WRS_FOV_NONE = 0u;   // the application rendered foveated already: level 0 only
@@ -266,7 +266,7 @@ WRS_FN vec3 wrs_linear_to_lab(vec3 c) {
 }
 
 const uint WRS_CHANGE_OFF = 0u;    // eq. 6 only
-const uint WRS_CHANGE_LSTAR = 1u;  // eq. 7 with ΔL = |L*1 − L*2| / 100 (DESIGN default)
+const uint WRS_CHANGE_LSTAR = 1u;  // eq. 7 with ΔL = |L*1 − L*2| / 100 (the default)
 const uint WRS_CHANGE_DE94 = 2u;   // eq. 7 with ΔE94 / 100 (graphic arts, kL = kC = kH = 1)
 
 // |ΔL| of eq. 7, clamped to [0, 1].
@@ -294,7 +294,7 @@ WRS_FN float wrs_change(uint metric, vec3 a, vec3 b) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Depth (DESIGN "Depth")
+// Depth (docs/conventions.md "Depth")
 // ---------------------------------------------------------------------------------------------
 
 // Linear view depth from a [0, 1] depth value; far may be +inf (infinite projection). Returns 0
@@ -312,7 +312,7 @@ WRS_FN float wrs_linear_depth(float d, float near_z, float far_z, bool reversed)
     return (wrs_finite(z) && z > 0.0f) ? min(z, WRS_HALF_MAX) : 0.0f;
 }
 
-// True when the history at a reprojected pixel belongs to another surface: DESIGN §3 depth test.
+// True when the history at a reprojected pixel belongs to another surface: the depth test of docs/conventions.md "Reservoirs".
 // z_hist: depth stored with the history; z_cur: this pixel now; dz: z_prev − z_cur from the
 // motion vector's third channel (0 without one).
 WRS_FN bool wrs_depth_flush(float z_hist, float z_cur, float dz, float tau) {
@@ -320,7 +320,7 @@ WRS_FN bool wrs_depth_flush(float z_hist, float z_cur, float dz, float tau) {
     return abs(z_hist - (z_cur + dz)) > tau * z_cur;
 }
 
-// Reprojection (DESIGN §3): the previous position of pixel p is its centre + mv.xy, read at the
+// Reprojection (docs/conventions.md "Motion"): the previous position of pixel p is its centre + mv.xy, read at the
 // nearest pixel q. Non-finite motion is taken as zero motion and a non-finite dz as 0 (documented
 // fallback: the history stays, the depth and change tests still guard it). Returns false when the
 // previous position is off-screen: that pixel has no history.
@@ -357,7 +357,7 @@ WRS_FN float wrs_rand(uint x, uint y, uint eye, uint frame, uint seed) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Reservoirs (paper §3.1, §4.1–4.3; DESIGN §3)
+// Reservoirs (paper §3.1, §4.1–4.3; docs/conventions.md "Reservoirs")
 // ---------------------------------------------------------------------------------------------
 
 struct Reservoir {
@@ -843,7 +843,7 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
 }
 
 // ---------------------------------------------------------------------------------------------
-// FOV+TAA baseline (DESIGN "Evaluation"): Karis 2014 YCoCg neighbourhood clip with Salvi 2016
+// FOV+TAA baseline (docs/conventions.md "Evaluation"): Karis 2014 YCoCg neighbourhood clip with Salvi 2016
 // variance clipping, exponential blend with the reprojected history
 // ---------------------------------------------------------------------------------------------
 

@@ -21,8 +21,8 @@ constexpr float kDeg = 3.14159265f / 180.0f;
 constexpr uint32_t kAgedM = 65500;
 constexpr float kAgedWsum = 4095.5f;
 // A selection that differs where the random number lies this close to the keep threshold comes from
-// the device's exp/pow rounding of the weight or the change term (DESIGN: the GPU and the reference
-// differ only in built-in functions).
+// the device's exp/pow rounding of the weight or the change term (docs/conventions.md, "GPU and CPU
+// agreement": the GPU and the reference differ only in built-in functions).
 constexpr float kNearThreshold = 1e-5f;
 
 glm::vec3 direction(float azimuthDeg, float elevationDeg) {

@@ -36,7 +36,7 @@ double quantizationChange(glm::vec3 c) {
     return lstarChange(c, glm::vec3(gpu::wrs_round_f16(c.x), gpu::wrs_round_f16(c.y), gpu::wrs_round_f16(c.z)));
 }
 
-// Depth values that the load pass maps to "unknown" (DESIGN "Depth").
+// Depth values that the load pass maps to "unknown" (docs/conventions.md, "Depth").
 constexpr float kBadDepth[4] = {kNaN, -0.5f, 1.5f, kInf};
 
 }  // namespace

@@ -34,7 +34,7 @@ void compareWithReference(Compositor& gpu, const Reference& ref, const Reservoir
 Reservoirs stepBoth(Compositor& gpu, StereoApp& app, Reference& ref, uint64_t frameIndex,
                     const std::array<EyeFrame, 2>& eyes, StepTally& tally, const std::string& what);
 
-/// Every reservoir unpacks finite, with w_sum > 0 and M >= 1 (the invariant of DESIGN §3).
+/// Every reservoir unpacks finite, with w_sum > 0 and M >= 1 (the invariant of docs/conventions.md, "Reservoirs").
 void expectReservoirsSane(const std::vector<glm::uvec4>& packed, const std::string& what);
 
 /// Eccentricity in degrees of pixel (x, y) for the frame parameters, in double.

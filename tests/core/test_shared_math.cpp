@@ -333,7 +333,7 @@ TEST(Weights, FoveaWeighsOneAndPeripheryMatchesWatson) {
     EXPECT_NEAR(watsonDensity(2.5), 2802.4062, 1e-3);
     EXPECT_NEAR(watsonDensity(5.0), 1106.7707, 1e-3);
     EXPECT_NEAR(watsonDensity(20.0), 169.68583, 1e-4);
-    // w(5) = 1106.7707 / 2802.4062 = 0.3949359 (DESIGN: ~0.39); w(20) = 169.68583 / 2802.4062 = 0.0605500 (~0.061)
+    // w(5) = 1106.7707 / 2802.4062 = 0.3949359 (docs/conventions.md: ~0.39); w(20) = 169.68583 / 2802.4062 = 0.0605500 (~0.061)
     EXPECT_NEAR(wrs_sample_weight(5.0f, 2.5f), 0.3949359f, 1e-5f);
     EXPECT_NEAR(wrs_sample_weight(20.0f, 2.5f), 0.0605500f, 1e-5f);
     EXPECT_NEAR(wrs_sample_weight(10.0f, 2.5f), watsonDensity(10.0) / watsonDensity(2.5), 1e-5);

@@ -188,8 +188,8 @@ TEST(PreviewLayout, CursorMapsThroughTheLetterbox) {
     EXPECT_FALSE(hitTest(l, wide, 5, 5).has_value());  // on the bar
 }
 
-// The mouse gaze at a pixel's centre is that pixel's ray as the compositor computes it (DESIGN
-// "Conventions"): eccentricity 0 there, and the pixel's own angular size one pixel away.
+// The mouse gaze at a pixel's centre is that pixel's ray as the compositor computes it (docs/conventions.md,
+// "Views"): eccentricity 0 there, and the pixel's own angular size one pixel away.
 TEST(PreviewGaze, CursorRayIsThePixelRayOfEachEye) {
     const uint32_t w = 192, h = 176;
     const layers::Fov fov[2] = {hmdFov(0), hmdFov(1)};
