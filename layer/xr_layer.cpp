@@ -34,13 +34,18 @@
 #include "gaze/source.h"
 #include "runtime/loader_negotiation.h"
 #include "runtime/xr_config.h"
+#include "runtime/xr_frame.h"
 
 #define WRSFOV_LAYER_EXPORT extern "C" __attribute__((visibility("default")))
 
 namespace wrsfov::xrlayer {
 namespace {
 
+using xr::depthInfo;
+using xr::findNext;
 using xr::loadConfig;
+using xr::movesLayerSpace;
+using xr::spaceWarpMotionScale;
 using xr::RuntimeConfig;
 
 constexpr const char* kLayerName = "XR_APILAYER_WRSFOV_foveation";
@@ -299,12 +304,6 @@ XRAPI_ATTR XrResult XRAPI_CALL layerSuggestInteractionProfileBindings(
 }
 
 // ---- Session ----------------------------------------------------------------------------------
-
-const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
-    for (auto* n = static_cast<const XrBaseInStructure*>(next); n; n = n->next)
-        if (n->type == type) return n;
-    return nullptr;
-}
 
 XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrSessionCreateInfo* info,
                                                   XrSession* session) {
@@ -604,15 +603,11 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
                                      uint32_t(x.imageRect.extent.height)},
                                     x.imageArrayIndex};
         };
-        // OpenXR: nearZ is the distance at minDepth; nearZ > farZ is reversed Z. Only [0, 1] ranges.
         auto depthOf = [&](const XrSwapchainSubImage& x, float minD, float maxD, float nearZ, float farZ) {
             auto si = imported(x);
-            if (!si || minD != 0.0f || maxD != 1.0f) return;
-            layers::DepthInfo di;
-            di.subImage = *si;
-            di.reversedZ = nearZ > farZ;
-            di.nearZ = std::min(nearZ, farZ);
-            di.farZ = std::max(nearZ, farZ);
+            std::optional<layers::DepthInfo> di = depthInfo(minD, maxD, nearZ, farZ);
+            if (!si || !di) return;
+            di->subImage = *si;
             pv.depth = di;
         };
         if (auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(
@@ -620,19 +615,14 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
             depthOf(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
         if (auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(
                 findNext(v.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB))) {
-            // Space-warp motion: current - previous NDC (Vulkan, y down) -> pixels to the previous
-            // position; its NDC depth change is not the compositor's linear dz (ignored).
             if (auto si = imported(w->motionVectorSubImage)) {
                 layers::MotionInfo mi;
                 mi.subImage = *si;
-                mi.scale = glm::vec3(-0.5f * float(si->rect.width), -0.5f * float(si->rect.height), 0.0f);
+                mi.scale = spaceWarpMotionScale(si->rect);
                 pv.motion = mi;
             }
             if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
-            const XrPosef& d = w->appSpaceDeltaPose;  // locomotion the motion vectors do not carry
-            if (std::abs(d.position.x) + std::abs(d.position.y) + std::abs(d.position.z) > 1e-4f ||
-                std::abs(std::abs(d.orientation.w) - 1.0f) > 1e-6f)
-                s.comp->resetHistory();
+            if (movesLayerSpace(w->appSpaceDeltaPose)) s.comp->resetHistory();
         }
         layer.views.push_back(pv);
     }

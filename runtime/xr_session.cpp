@@ -17,6 +17,7 @@
 #include "scenes/png.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include "runtime/xr_frame.h"
 #include "runtime/xr_objects.h"
 
 namespace wrsfov::xr {
@@ -122,12 +123,6 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::Pro
         g[e].dir = glm::normalize(fixated - eyePos);
     }
     return g;
-}
-
-const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
-    for (auto* n = static_cast<const XrBaseInStructure*>(next); n; n = n->next)
-        if (n->type == type) return n;
-    return nullptr;
 }
 
 }  // namespace
@@ -954,38 +949,28 @@ void compose(Session* s, const XrFrameEndInfo* info) {
             return si;
         };
         pv.color = sub(xv.subImage);
-        // OpenXR: nearZ is the distance at minDepth; nearZ > farZ is reversed Z.
-        auto depthInfo = [&](const XrSwapchainSubImage& d, float minDepth, float maxDepth, float nearZ, float farZ) {
-            if (minDepth != 0.0f || maxDepth != 1.0f) {
+        auto depthOf = [&](const XrSwapchainSubImage& d, float minDepth, float maxDepth, float nearZ, float farZ) {
+            std::optional<layers::DepthInfo> di = depthInfo(minDepth, maxDepth, nearZ, farZ);
+            if (!di) {
                 if (s->refusalsLogged.insert(-2).second)
                     logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
                 return;
             }
-            layers::DepthInfo di;
-            di.subImage = sub(d);
-            di.reversedZ = nearZ > farZ;
-            di.nearZ = std::min(nearZ, farZ);
-            di.farZ = std::max(nearZ, farZ);
+            di->subImage = sub(d);
             pv.depth = di;
         };
         if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); n && depthExt) {
             auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(n);
-            depthInfo(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
+            depthOf(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
         }
         if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); n && warpExt) {
             auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(n);
-            // Motion in NDC, current - previous (Vulkan NDC: x right, y down, [-1, 1] across the
-            // image); the compositor wants pixels to the previous position: -ndc * size / 2. The third
-            // channel is an NDC depth difference, not the linear one the compositor reads: ignored.
             layers::MotionInfo mi;
             mi.subImage = sub(w->motionVectorSubImage);
-            mi.scale = glm::vec3(-0.5f * float(mi.subImage.rect.width), -0.5f * float(mi.subImage.rect.height), 0.0f);
+            mi.scale = spaceWarpMotionScale(mi.subImage.rect);
             pv.motion = mi;
-            if (!pv.depth) depthInfo(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
-            // Artificial locomotion moved the whole layer space since the last frame; the motion
-            // vectors do not carry it, so the history no longer lines up: start it anew.
-            const Pose d = fromXr(w->appSpaceDeltaPose);
-            locomotion = locomotion || glm::length(d.p) > 1e-4f || std::abs(std::abs(d.q.w) - 1.0f) > 1e-6f;
+            if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
+            locomotion = locomotion || movesLayerSpace(w->appSpaceDeltaPose);
         }
         layer.views.push_back(pv);
     }

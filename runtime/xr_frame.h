@@ -1,0 +1,50 @@
+// Reading an OpenXR frame end into the layers API: what the simulated-HMD runtime and the API layer
+// both need (one copy of the OpenXR conventions for depth ranges and space-warp motion).
+#pragma once
+
+#include <openxr/openxr.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "layers/frame.h"
+
+namespace wrsfov::xr {
+
+/// The first structure of `type` in a `next` chain, or nullptr.
+inline const XrBaseInStructure* findNext(const void* next, XrStructureType type) {
+    for (auto* n = static_cast<const XrBaseInStructure*>(next); n; n = n->next)
+        if (n->type == type) return n;
+    return nullptr;
+}
+
+/// Depth of XrCompositionLayerDepthInfoKHR or XrCompositionLayerSpaceWarpInfoFB as the compositor
+/// reads it (sub-image left to the caller). OpenXR: nearZ is the distance at minDepth, so
+/// nearZ > farZ is reversed Z. Only the full [0, 1] range is used: nullopt otherwise.
+inline std::optional<layers::DepthInfo> depthInfo(float minDepth, float maxDepth, float nearZ, float farZ) {
+    if (minDepth != 0.0f || maxDepth != 1.0f) return std::nullopt;
+    layers::DepthInfo di;
+    di.reversedZ = nearZ > farZ;
+    di.nearZ = std::min(nearZ, farZ);
+    di.farZ = std::max(nearZ, farZ);
+    return di;
+}
+
+/// XR_FB_space_warp motion is current − previous in NDC (Vulkan NDC: x right, y down, [−1, 1] across
+/// the image); the compositor wants pixels to the previous position: −ndc · size / 2. Its third
+/// channel is an NDC depth difference, not the linear one the compositor reads: scaled to 0.
+inline glm::vec3 spaceWarpMotionScale(const layers::Rect& rect) {
+    return {-0.5f * float(rect.width), -0.5f * float(rect.height), 0.0f};
+}
+
+/// The space-warp appSpaceDeltaPose moved the layer space (artificial locomotion the motion vectors
+/// do not carry): the history no longer lines up.
+inline bool movesLayerSpace(const XrPosef& d) {
+    return std::abs(d.position.x) + std::abs(d.position.y) + std::abs(d.position.z) > 1e-4f ||
+           std::abs(std::abs(d.orientation.w) - 1.0f) > 1e-6f;
+}
+
+}  // namespace wrsfov::xr
