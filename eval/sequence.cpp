@@ -1,6 +1,7 @@
 #include "eval/sequence.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -8,10 +9,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
-#include <variant>
+#include <unordered_set>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -57,357 +60,263 @@ void enableExr() {
     (void)once;
 }
 
-std::string fmtFloat(float v) {
-    if (std::isinf(v)) return v > 0 ? "\"inf\"" : "\"-inf\"";
+// ---------------------------------------------------------------------------------------------
+// sequence.json through nlohmann-json (RFC 8259, UTF-8 checked, a byte-order mark skipped), with
+// what the format adds on top:
+//  - the non-standard tokens NaN, Infinity and -Infinity (Python's json module writes them) are
+//    read, so that the field check can name the field (and "far" may be Infinity): before parsing,
+//    each such bare token becomes a marker string, a NUL followed by the token's text;
+//  - a key that appears twice in an object is an error (nlohmann keeps the last one);
+//  - nesting deeper than kMaxJsonDepth is an error (the format needs 3 levels).
+// Numbers are read as the nearest double; the float fields are that double rounded to float.
+// ---------------------------------------------------------------------------------------------
+
+using Json = nlohmann::ordered_json;  // ordered: fields are checked and written in file order
+
+constexpr int kMaxJsonDepth = 32;
+constexpr std::string_view kNonFinite[] = {"-Infinity", "Infinity", "NaN"};
+
+// The json text with every bare NaN / Infinity / -Infinity turned into a marker string, and where
+// those tokens were (to give syntax errors the position in the original text).
+struct MarkedJson {
+    struct Swap {
+        std::size_t at, len;  // in `text`
+        std::size_t origAt, origLen;
+    };
+    std::string text;
+    std::vector<Swap> swaps;
+
+    // The offset in the original text of offset `pos` in `text`.
+    std::size_t originalOffset(std::size_t pos) const {
+        std::size_t orig = pos;
+        for (const Swap& s : swaps) {
+            if (pos < s.at) break;
+            if (pos < s.at + s.len) return s.origAt;
+            orig = s.origAt + s.origLen + (pos - s.at - s.len);
+        }
+        return orig;
+    }
+};
+
+MarkedJson markNonFinite(std::string_view in) {
+    MarkedJson out;
+    out.text.reserve(in.size());
+    bool inString = false;
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        const char c = in[i];
+        if (inString) {
+            out.text += c;
+            if (c == '\\' && i + 1 < in.size()) out.text += in[++i];
+            else if (c == '"') inString = false;
+            continue;
+        }
+        if (c == '"') inString = true;
+        bool swapped = false;
+        for (std::string_view tok : kNonFinite) {
+            if (in.substr(i, tok.size()) != tok || (i > 0 && identChar(in[i - 1])) ||
+                (i + tok.size() < in.size() && identChar(in[i + tok.size()])))
+                continue;
+            const std::string marker = "\"\\u0000" + std::string(tok) + "\"";
+            out.swaps.push_back({out.text.size(), marker.size(), i, tok.size()});
+            out.text += marker;
+            i += tok.size() - 1;
+            swapped = true;
+            break;
+        }
+        if (!swapped) out.text += c;
+    }
+    return out;
+}
+
+// The token's text ("NaN", "Infinity", "-Infinity") when `v` is the marker string of one.
+std::optional<std::string_view> nonFiniteToken(const Json& v) {
+    if (!v.is_string()) return std::nullopt;
+    const std::string& s = v.get_ref<const std::string&>();
+    if (s.empty() || s[0] != '\0') return std::nullopt;
+    for (std::string_view tok : kNonFinite)
+        if (std::string_view(s).substr(1) == tok) return tok;
+    return std::nullopt;
+}
+
+std::string numberText(double v) {
     char buf[64];
     auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);  // shortest text that reads back as v
-    return ec == std::errc() ? std::string(buf, p) : std::string("0");
+    return ec == std::errc() ? std::string(buf, p) : std::string("?");
 }
 
-std::string fmtDouble(double v) {
-    char buf[64];
-    auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);
-    return ec == std::errc() ? std::string(buf, p) : std::string("0");
+std::string joinPath(const std::string& path, std::string_view key) {
+    return path.empty() ? std::string(key) : path + "." + std::string(key);
 }
 
-// ---------------------------------------------------------------------------------------------
-// A small JSON reader (RFC 8259) for sequence.json. Numbers keep their text so that floats are
-// read with float rounding; the non-standard NaN / Infinity / -Infinity tokens (Python's json
-// writes them) are read as numbers so that the field check can name the field.
-// ---------------------------------------------------------------------------------------------
-
-struct JsonValue;
-using JsonObject = std::vector<std::pair<std::string, JsonValue>>;
-using JsonArray = std::vector<JsonValue>;
-
-struct JsonNumber {
-    double value = 0;
-    std::string text;
-};
-
-struct JsonValue {
-    std::variant<std::nullptr_t, bool, JsonNumber, std::string, JsonArray, JsonObject> v;
-    int line = 0;
-};
-
-class JsonParser {
+// Follows the parser through the objects and arrays (nlohmann's parser callback) to refuse
+// duplicate keys and deep nesting, and to name the field a number overflow happens in.
+class JsonTracker {
 public:
-    JsonParser(std::string_view text, std::string name) : s_(text), name_(std::move(name)) {}
+    struct Refused {
+        std::string what;
+    };
 
-    Result<JsonValue> parse() {
-        if (s_.size() >= 3 && s_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;
-        skipSpace();
-        if (pos_ >= s_.size()) return fail("the file is empty");
-        JsonValue v;
-        if (!value(v, 0)) return error_;
-        skipSpace();
-        if (pos_ < s_.size()) return fail("unexpected text after the top-level value");
-        return v;
+    bool operator()(int depth, Json::parse_event_t event, Json& parsed) {
+        using E = Json::parse_event_t;
+        switch (event) {
+        case E::object_start:
+        case E::array_start:
+            if (depth >= kMaxJsonDepth)
+                throw Refused{"nested more than " + std::to_string(kMaxJsonDepth) + " levels deep"};
+            open_.push_back({here(), event == E::object_start, {}, {}});
+            break;
+        case E::key: {
+            if (auto tok = nonFiniteToken(parsed))
+                throw Refused{"a field name must be a quoted string, not " + std::string(*tok)};
+            Open& o = open_.back();
+            o.lastKey = parsed.get<std::string>();
+            if (!o.keys.insert(o.lastKey).second)
+                throw Refused{"field \"" + joinPath(o.path, o.lastKey) + "\" appears twice"};
+            break;
+        }
+        case E::object_end:
+        case E::array_end: open_.pop_back(); break;
+        case E::value: break;
+        }
+        return true;
+    }
+
+    // The field whose value is being read ("fov.left.angle_up", "fps"; "" at the top level).
+    std::string here() const {
+        if (open_.empty()) return "";
+        const Open& o = open_.back();
+        return o.object ? joinPath(o.path, o.lastKey) : o.path + "[]";
     }
 
 private:
-    std::string_view s_;
-    std::string name_;
-    std::size_t pos_ = 0;
-    int line_ = 1;
-    std::size_t lineStart_ = 0;
-    Error error_;
-
-    Error fail(const std::string& what) {
-        error_ = seqError(SequenceError::BadJson, name_ + ":" + std::to_string(line_) + ":" +
-                                                      std::to_string(pos_ - lineStart_ + 1) + ": not valid JSON: " +
-                                                      what);
-        return error_;
-    }
-    bool failed(const std::string& what) {
-        fail(what);
-        return false;
-    }
-
-    void skipSpace() {
-        while (pos_ < s_.size()) {
-            char c = s_[pos_];
-            if (c == '\n') {
-                ++line_;
-                lineStart_ = pos_ + 1;
-            } else if (c != ' ' && c != '\t' && c != '\r') {
-                break;
-            }
-            ++pos_;
-        }
-    }
-
-    bool literal(std::string_view word) {
-        if (s_.substr(pos_, word.size()) != word) return false;
-        pos_ += word.size();
-        return true;
-    }
-
-    bool value(JsonValue& out, int depth) {
-        if (depth > 32) return failed("nested too deeply");
-        skipSpace();
-        out.line = line_;
-        if (pos_ >= s_.size()) return failed("unexpected end of file (truncated?)");
-        const char c = s_[pos_];
-        if (c == '{') return object(out, depth);
-        if (c == '[') return array(out, depth);
-        if (c == '"') {
-            std::string str;
-            if (!string(str)) return false;
-            out.v = std::move(str);
-            return true;
-        }
-        if (literal("true")) {
-            out.v = true;
-        } else if (literal("false")) {
-            out.v = false;
-        } else if (literal("null")) {
-            out.v = nullptr;
-        } else if (literal("NaN")) {
-            out.v = JsonNumber{std::nan(""), "NaN"};
-        } else if (literal("Infinity")) {
-            out.v = JsonNumber{HUGE_VAL, "Infinity"};
-        } else if (literal("-Infinity")) {
-            out.v = JsonNumber{-HUGE_VAL, "-Infinity"};
-        } else if (c == '-' || (c >= '0' && c <= '9')) {
-            return number(out);
-        } else {
-            return failed(std::string("unexpected character '") + c + "'");
-        }
-        return true;
-    }
-
-    bool number(JsonValue& out) {
-        const std::size_t start = pos_;
-        auto digits = [&] {
-            std::size_t n = 0;
-            while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') ++pos_, ++n;
-            return n;
-        };
-        if (s_[pos_] == '-') ++pos_;
-        if (pos_ < s_.size() && s_[pos_] == '0') {
-            ++pos_;
-        } else if (digits() == 0) {
-            return failed("a number needs digits");
-        }
-        if (pos_ < s_.size() && s_[pos_] == '.') {
-            ++pos_;
-            if (digits() == 0) return failed("a number needs digits after '.'");
-        }
-        if (pos_ < s_.size() && (s_[pos_] == 'e' || s_[pos_] == 'E')) {
-            ++pos_;
-            if (pos_ < s_.size() && (s_[pos_] == '+' || s_[pos_] == '-')) ++pos_;
-            if (digits() == 0) return failed("a number needs digits in its exponent");
-        }
-        JsonNumber n;
-        n.text = std::string(s_.substr(start, pos_ - start));
-        n.value = std::strtod(n.text.c_str(), nullptr);  // out of range gives ±HUGE_VAL: caught by the field checks
-        out.v = std::move(n);
-        return true;
-    }
-
-    bool hex4(uint32_t& cp) {
-        if (pos_ + 4 > s_.size()) return failed("truncated \\u escape");
-        cp = 0;
-        for (int i = 0; i < 4; ++i) {
-            char h = s_[pos_++];
-            cp <<= 4;
-            if (h >= '0' && h <= '9') cp |= uint32_t(h - '0');
-            else if (h >= 'a' && h <= 'f') cp |= uint32_t(h - 'a' + 10);
-            else if (h >= 'A' && h <= 'F') cp |= uint32_t(h - 'A' + 10);
-            else return failed("bad \\u escape");
-        }
-        return true;
-    }
-
-    static void utf8(std::string& out, uint32_t cp) {
-        if (cp < 0x80) {
-            out += char(cp);
-        } else if (cp < 0x800) {
-            out += char(0xC0 | (cp >> 6));
-            out += char(0x80 | (cp & 0x3F));
-        } else if (cp < 0x10000) {
-            out += char(0xE0 | (cp >> 12));
-            out += char(0x80 | ((cp >> 6) & 0x3F));
-            out += char(0x80 | (cp & 0x3F));
-        } else {
-            out += char(0xF0 | (cp >> 18));
-            out += char(0x80 | ((cp >> 12) & 0x3F));
-            out += char(0x80 | ((cp >> 6) & 0x3F));
-            out += char(0x80 | (cp & 0x3F));
-        }
-    }
-
-    bool string(std::string& out) {
-        ++pos_;  // opening quote
-        while (true) {
-            if (pos_ >= s_.size()) return failed("unterminated string (truncated?)");
-            const char c = s_[pos_++];
-            if (c == '"') return true;
-            if (static_cast<unsigned char>(c) < 0x20) return failed("control character in a string");
-            if (c != '\\') {
-                out += c;
-                continue;
-            }
-            if (pos_ >= s_.size()) return failed("unterminated string (truncated?)");
-            const char e = s_[pos_++];
-            switch (e) {
-            case '"': out += '"'; break;
-            case '\\': out += '\\'; break;
-            case '/': out += '/'; break;
-            case 'b': out += '\b'; break;
-            case 'f': out += '\f'; break;
-            case 'n': out += '\n'; break;
-            case 'r': out += '\r'; break;
-            case 't': out += '\t'; break;
-            case 'u': {
-                uint32_t cp = 0;
-                if (!hex4(cp)) return false;
-                if (cp >= 0xD800 && cp < 0xDC00) {
-                    uint32_t lo = 0;
-                    if (!literal("\\u") || !hex4(lo) || lo < 0xDC00 || lo >= 0xE000)
-                        return failed("unpaired UTF-16 surrogate in \\u escape");
-                    cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
-                } else if (cp >= 0xDC00 && cp < 0xE000) {
-                    return failed("unpaired UTF-16 surrogate in \\u escape");
-                }
-                utf8(out, cp);
-                break;
-            }
-            default: return failed(std::string("unknown escape '\\") + e + "'");
-            }
-        }
-    }
-
-    bool array(JsonValue& out, int depth) {
-        ++pos_;
-        JsonArray a;
-        skipSpace();
-        if (pos_ < s_.size() && s_[pos_] == ']') {
-            ++pos_;
-            out.v = std::move(a);
-            return true;
-        }
-        while (true) {
-            JsonValue item;
-            if (!value(item, depth + 1)) return false;
-            a.push_back(std::move(item));
-            skipSpace();
-            if (pos_ >= s_.size()) return failed("unexpected end of file in an array (truncated?)");
-            if (s_[pos_] == ',') {
-                ++pos_;
-                continue;
-            }
-            if (s_[pos_] == ']') {
-                ++pos_;
-                out.v = std::move(a);
-                return true;
-            }
-            return failed("expected ',' or ']' in an array");
-        }
-    }
-
-    bool object(JsonValue& out, int depth) {
-        ++pos_;
-        JsonObject o;
-        skipSpace();
-        if (pos_ < s_.size() && s_[pos_] == '}') {
-            ++pos_;
-            out.v = std::move(o);
-            return true;
-        }
-        while (true) {
-            skipSpace();
-            if (pos_ >= s_.size()) return failed("unexpected end of file in an object (truncated?)");
-            if (s_[pos_] != '"') return failed("expected a quoted field name");
-            std::string key;
-            if (!string(key)) return false;
-            for (const auto& kv : o)
-                if (kv.first == key) return failed("field \"" + key + "\" appears twice");
-            skipSpace();
-            if (pos_ >= s_.size() || s_[pos_] != ':') return failed("expected ':' after \"" + key + "\"");
-            ++pos_;
-            JsonValue v;
-            if (!value(v, depth + 1)) return false;
-            o.emplace_back(std::move(key), std::move(v));
-            skipSpace();
-            if (pos_ >= s_.size()) return failed("unexpected end of file in an object (truncated?)");
-            if (s_[pos_] == ',') {
-                ++pos_;
-                continue;
-            }
-            if (s_[pos_] == '}') {
-                ++pos_;
-                out.v = std::move(o);
-                return true;
-            }
-            return failed("expected ',' or '}' after the value of \"" + key + "\"");
-        }
-    }
+    struct Open {
+        std::string path;
+        bool object;
+        std::string lastKey;
+        std::unordered_set<std::string> keys;
+    };
+    std::vector<Open> open_;
 };
 
-// Typed access to the fields of sequence.json with messages that name the field.
+// "file:line:column" of a byte offset (0-based; columns count bytes from 1).
+std::string textPosition(const std::string& name, std::string_view text, std::size_t pos) {
+    pos = std::min(pos, text.size());
+    const std::size_t line = 1 + std::size_t(std::count(text.begin(), text.begin() + std::ptrdiff_t(pos), '\n'));
+    const std::size_t lineStart = pos == 0 ? 0 : text.rfind('\n', pos - 1);
+    const std::size_t column = lineStart == std::string_view::npos || pos == 0 ? pos + 1 : pos - lineStart;
+    return name + ":" + std::to_string(line) + ":" + std::to_string(column);
+}
+
+// nlohmann's message without its "[json.exception...] parse error at line L, column C: " prefix,
+// bytes outside ASCII written as \xNN (the text it quotes may hold the offending bytes).
+std::string parseErrorReason(const std::string& what) {
+    std::string_view s = what;
+    if (auto col = s.find(", column "); col != std::string_view::npos)
+        if (auto colon = s.find(": ", col); colon != std::string_view::npos) s.remove_prefix(colon + 2);
+    std::string out;
+    for (char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (u < 0x80) {
+            out += c;
+        } else {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02X", unsigned(u));
+            out += buf;
+        }
+    }
+    return out;
+}
+
+Result<Json> parseJson(std::string_view text, const std::string& name) {
+    const std::string_view body = text.substr(text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0);
+    if (body.find_first_not_of(" \t\r\n") == std::string_view::npos)
+        return seqError(SequenceError::BadJson, name + ": not valid JSON: the file is empty");
+    const MarkedJson marked = markNonFinite(text);
+    JsonTracker tracker;
+    try {
+        return Json::parse(marked.text, std::ref(tracker));
+    } catch (const Json::parse_error& e) {
+        // e.byte: 1-based index of the last byte read (one past the end after reading the end).
+        const std::size_t pos =
+            e.byte > marked.text.size() ? text.size() : marked.originalOffset(e.byte == 0 ? 0 : e.byte - 1);
+        const std::string reason = parseErrorReason(e.what());
+        const bool ranOut = reason.find("end of input") != std::string::npos ||
+                            reason.find("missing closing quote") != std::string::npos;
+        return seqError(SequenceError::BadJson, textPosition(name, text, pos) + ": not valid JSON: " + reason +
+                                                    (ranOut ? " (truncated?)" : ""));
+    } catch (const Json::out_of_range& e) {
+        if (e.id == 406) {  // "number overflow parsing '1e400'": beyond double
+            const std::string w = e.what();
+            const auto a = w.find('\''), b = w.rfind('\'');
+            const std::string num = a != std::string::npos && b > a ? w.substr(a + 1, b - a - 1) : "a number";
+            const std::string field = tracker.here();
+            const std::string what = field.empty() ? "the top level" : "\"" + field + "\"";
+            return seqError(SequenceError::BadField, name + ": " + what + " is " + num + ", not a finite number");
+        }
+        return seqError(SequenceError::BadJson, name + ": not valid JSON: " + parseErrorReason(e.what()));
+    } catch (const JsonTracker::Refused& r) {
+        return seqError(SequenceError::BadJson, name + ": not valid JSON: " + r.what);
+    } catch (const Json::exception& e) {
+        return seqError(SequenceError::BadJson, name + ": not valid JSON: " + parseErrorReason(e.what()));
+    }
+}
+
+// Typed access to the fields of one object of sequence.json; messages name the file and field.
 class Fields {
 public:
-    Fields(const JsonValue& v, std::string path, std::string file, Error* error)
+    Fields(const Json& v, std::string path, std::string file, Error* error)
         : v_(v), path_(std::move(path)), file_(std::move(file)), error_(error) {}
-
-    bool isObject() const { return std::holds_alternative<JsonObject>(v_.v); }
 
     // Fails on fields other than `known`.
     bool onlyKnown(std::initializer_list<std::string_view> known) {
-        for (const auto& [k, v] : std::get<JsonObject>(v_.v)) {
+        for (const auto& [k, v] : v_.items()) {
             if (std::find(known.begin(), known.end(), k) != known.end()) continue;
             std::string list;
             for (auto n : known) list += (list.empty() ? "" : ", ") + std::string(n);
-            return fail(v.line, "unknown field \"" + name(k) + "\" (known here: " + list + ")");
+            return fail("unknown field \"" + name(k) + "\" (known here: " + list + ")");
         }
         return true;
     }
 
-    const JsonValue* find(std::string_view key) const {
-        for (const auto& [k, v] : std::get<JsonObject>(v_.v))
-            if (k == key) return &v;
-        return nullptr;
+    const Json* find(std::string_view key) const {
+        auto it = v_.find(std::string(key));
+        return it == v_.end() ? nullptr : &*it;
     }
 
-    const JsonValue* require(std::string_view key) {
-        const JsonValue* v = find(key);
-        if (!v) fail(v_.line, "missing field \"" + name(key) + "\"");
+    const Json* require(std::string_view key) {
+        const Json* v = find(key);
+        if (!v) fail("missing field \"" + name(key) + "\"");
         return v;
     }
 
     bool number(std::string_view key, double& out, bool required = true) {
-        const JsonValue* v = required ? require(key) : find(key);
+        const Json* v = required ? require(key) : find(key);
         if (!v) return !required;
-        const auto* n = std::get_if<JsonNumber>(&v->v);
-        if (!n) return fail(v->line, "\"" + name(key) + "\" must be a number");
-        if (!std::isfinite(n->value))
-            return fail(v->line, "\"" + name(key) + "\" is " + n->text + ", not a finite number");
-        out = n->value;
+        if (auto tok = nonFiniteToken(*v))
+            return fail("\"" + name(key) + "\" is " + std::string(*tok) + ", not a finite number");
+        if (!v->is_number()) return fail("\"" + name(key) + "\" must be a number");
+        out = v->get<double>();
         return true;
     }
 
-    // A float read with float rounding from the number's text; "inf" / Infinity only where allowed.
+    // A float (the double rounded to float); "inf" / Infinity only where allowed.
     bool floatValue(std::string_view key, float& out, bool allowInf = false) {
-        const JsonValue* v = require(key);
+        const Json* v = require(key);
         if (!v) return false;
-        if (const auto* s = std::get_if<std::string>(&v->v); s && allowInf && (*s == "inf" || *s == "infinity")) {
+        const auto tok = nonFiniteToken(*v);
+        if (allowInf && (tok == "Infinity" || (v->is_string() && (*v == "inf" || *v == "infinity")))) {
             out = HUGE_VALF;
             return true;
         }
-        const auto* n = std::get_if<JsonNumber>(&v->v);
-        if (!n) return fail(v->line, "\"" + name(key) + "\" must be a number" + (allowInf ? " or \"inf\"" : ""));
-        if (allowInf && n->text == "Infinity") {
-            out = HUGE_VALF;
-            return true;
-        }
-        float f = 0;
-        const char* b = n->text.data();
-        auto [p, ec] = std::from_chars(b, b + n->text.size(), f);
-        if (ec != std::errc() || p != b + n->text.size() || !std::isfinite(f))
-            return fail(v->line, "\"" + name(key) + "\" is " + n->text + ", not a finite number");
-        out = f;
+        if (tok) return fail("\"" + name(key) + "\" is " + std::string(*tok) + ", not a finite number");
+        if (!v->is_number()) return fail("\"" + name(key) + "\" must be a number" + (allowInf ? " or \"inf\"" : ""));
+        const double d = v->get<double>();
+        // Beyond the largest float (rounding included) the float would be infinite.
+        constexpr double kFloatLimit = 3.4028235677973366e38;  // FLT_MAX + half its ulp
+        if (!(std::abs(d) < kFloatLimit))
+            return fail("\"" + name(key) + "\" is " + numberText(d) + ", not a finite number");
+        out = static_cast<float>(d);
         return true;
     }
 
@@ -415,55 +324,71 @@ public:
         double d = 0;
         if (!number(key, d)) return false;
         if (d != std::floor(d) || d < double(lo) || d > double(hi))
-            return fail(find(key)->line, "\"" + name(key) + "\" must be an integer in [" + std::to_string(lo) + ", " +
-                                             std::to_string(hi) + "], not " + std::get<JsonNumber>(find(key)->v).text);
+            return fail("\"" + name(key) + "\" must be an integer in [" + std::to_string(lo) + ", " +
+                        std::to_string(hi) + "], not " + find(key)->dump());
         out = uint32_t(d);
         return true;
     }
 
     bool string(std::string_view key, std::string& out, bool required = true) {
-        const JsonValue* v = required ? require(key) : find(key);
+        const Json* v = required ? require(key) : find(key);
         if (!v) return !required;
-        const auto* s = std::get_if<std::string>(&v->v);
-        if (!s) return fail(v->line, "\"" + name(key) + "\" must be a string");
-        out = *s;
+        if (!v->is_string() || nonFiniteToken(*v)) return fail("\"" + name(key) + "\" must be a string");
+        out = v->get<std::string>();
         return true;
     }
 
     bool boolean(std::string_view key, bool& out) {
-        const JsonValue* v = find(key);
+        const Json* v = find(key);
         if (!v) return true;
-        const auto* b = std::get_if<bool>(&v->v);
-        if (!b) return fail(v->line, "\"" + name(key) + "\" must be true or false");
-        out = *b;
+        if (!v->is_boolean()) return fail("\"" + name(key) + "\" must be true or false");
+        out = v->get<bool>();
         return true;
     }
 
     // A child object; nullopt with no error when absent or null and !required.
     std::optional<Fields> child(std::string_view key, bool required) {
-        const JsonValue* v = required ? require(key) : find(key);
-        if (!v || (!required && std::holds_alternative<std::nullptr_t>(v->v))) return std::nullopt;
-        if (!std::holds_alternative<JsonObject>(v->v)) {
-            fail(v->line, "\"" + name(key) + "\" must be an object {...}");
+        const Json* v = required ? require(key) : find(key);
+        if (!v || (!required && v->is_null())) return std::nullopt;
+        if (!v->is_object()) {
+            fail("\"" + name(key) + "\" must be an object {...}");
             return std::nullopt;
         }
         return Fields(*v, name(key), file_, error_);
     }
 
-    bool fail(int line, const std::string& what) {
-        *error_ = seqError(SequenceError::BadField, file_ + ":" + std::to_string(line) + ": " + what);
+    bool fail(const std::string& what) {
+        *error_ = seqError(SequenceError::BadField, file_ + ": " + what);
         return false;
     }
-    std::string name(std::string_view key) const {
-        return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
-    }
-    int line() const { return v_.line; }
+    std::string name(std::string_view key) const { return joinPath(path_, key); }
 
 private:
-    const JsonValue& v_;
+    const Json& v_;
     std::string path_, file_;
     Error* error_;
 };
+
+// The json number for a value: an integer when it is one (fps 90, far 100), else the double.
+Json jsonNumber(double v) {
+    if (v == std::trunc(v) && std::abs(v) < 9007199254740992.0) return Json(static_cast<int64_t>(v));
+    return Json(v);
+}
+
+// A float as json: its shortest decimal text as a double, which the reader rounds back to the
+// same float (checked; the float's exact double otherwise); "inf" for an infinite far plane.
+Json jsonFloat(float f) {
+    if (std::isinf(f)) return Json(f > 0 ? "inf" : "-inf");
+    char buf[64];
+    auto [p, ec] = std::to_chars(buf, buf + sizeof buf, f);
+    double d = double(f);
+    if (ec == std::errc()) {
+        double shortest = 0;
+        std::from_chars(buf, p, shortest);
+        if (static_cast<float>(shortest) == f) d = shortest;
+    }
+    return jsonNumber(d);
+}
 
 // The same rules as the frame validation of layers/ (SubmitError::InvalidFov).
 std::optional<std::string> checkFov(const layers::Fov& f) {
@@ -747,11 +672,12 @@ std::optional<double> csvNumber(std::string_view s) {
 }  // namespace
 
 Result<SequenceInfo> parseSequenceInfo(std::string_view json, const std::string& name) {
-    auto root = JsonParser(json, name).parse();
+    auto root = parseJson(json, name);
     if (!root) return root.error();
+    if (!root->is_object())
+        return seqError(SequenceError::BadField, name + ": the top level must be an object {...}");
     Error err;
     Fields top(*root, "", name, &err);
-    if (!top.isObject()) return seqError(SequenceError::BadField, name + ": the top level must be an object {...}");
     if (!top.onlyKnown({"format", "version", "description", "width", "height", "frame_count", "fps", "color", "fov",
                         "depth", "motion"}))
         return err;
@@ -765,7 +691,7 @@ Result<SequenceInfo> parseSequenceInfo(std::string_view json, const std::string&
     if (!top.number("version", version, false)) return err;
     if (version != 1)
         return seqError(SequenceError::BadField,
-                        name + ": \"version\" " + fmtDouble(version) + " is not supported (1)");
+                        name + ": \"version\" " + numberText(version) + " is not supported (1)");
     if (!top.string("description", info.description, false)) return err;
     if (!top.integer("width", 1, kMaxSize, info.width) || !top.integer("height", 1, kMaxSize, info.height) ||
         !top.integer("frame_count", 1, kMaxFrames, info.frameCount) || !top.number("fps", info.fps))
@@ -791,20 +717,16 @@ Result<SequenceInfo> parseSequenceInfo(std::string_view json, const std::string&
             !eye->floatValue("angle_up", f.angleUp) || !eye->floatValue("angle_down", f.angleDown))
             return err;
         if (auto m = checkFov(f))
-            return seqError(SequenceError::BadField,
-                            name + ":" + std::to_string(eye->line()) + ": fov." + (e ? "right" : "left") + ": " + *m);
+            return seqError(SequenceError::BadField, name + ": fov." + (e ? "right" : "left") + ": " + *m);
     }
     if (auto d = top.child("depth", false)) {
         SequenceDepth depth;
         if (!d->onlyKnown({"near", "far", "reversed"}) || !d->floatValue("near", depth.nearZ) ||
             !d->floatValue("far", depth.farZ, true) || !d->boolean("reversed", depth.reversedZ))
             return err;
-        if (!(depth.nearZ > 0))
-            return seqError(SequenceError::BadField,
-                            name + ":" + std::to_string(d->line()) + ": depth.near must be > 0");
+        if (!(depth.nearZ > 0)) return seqError(SequenceError::BadField, name + ": depth.near must be > 0");
         if (!(depth.farZ > depth.nearZ))
-            return seqError(SequenceError::BadField,
-                            name + ":" + std::to_string(d->line()) + ": depth.far must be greater than depth.near");
+            return seqError(SequenceError::BadField, name + ": depth.far must be greater than depth.near");
         info.depth = depth;
     } else if (!err.message.empty()) {
         return err;
@@ -816,8 +738,8 @@ Result<SequenceInfo> parseSequenceInfo(std::string_view json, const std::string&
         else if (units == "ndc") info.motion = MotionUnits::Ndc;
         else if (units == "uv") info.motion = MotionUnits::Uv;
         else
-            return seqError(SequenceError::BadField, name + ":" + std::to_string(m->line()) + ": motion.units is \"" +
-                                                         units + "\", expected \"pixels\", \"ndc\" or \"uv\"");
+            return seqError(SequenceError::BadField, name + ": motion.units is \"" + units +
+                                                         "\", expected \"pixels\", \"ndc\" or \"uv\"");
     } else if (!err.message.empty()) {
         return err;
     }
@@ -835,38 +757,32 @@ Result<SequenceInfo> readSequenceInfo(const std::string& dir) {
 }
 
 std::string formatSequenceInfo(const SequenceInfo& info) {
-    std::ostringstream o;
-    auto quote = [](const std::string& s) {
-        std::string q = "\"";
-        for (char c : s) {
-            if (c == '"' || c == '\\') q += '\\', q += c;
-            else if (c == '\n') q += "\\n";
-            else if (static_cast<unsigned char>(c) < 0x20) {
-                char b[8];
-                std::snprintf(b, sizeof b, "\\u%04x", unsigned(c));
-                q += b;
-            } else q += c;
-        }
-        return q + "\"";
-    };
-    o << "{\n  \"format\": \"wrsfov-sequence\",\n  \"version\": 1,\n";
-    if (!info.description.empty()) o << "  \"description\": " << quote(info.description) << ",\n";
-    o << "  \"width\": " << info.width << ",\n  \"height\": " << info.height << ",\n  \"frame_count\": "
-      << info.frameCount << ",\n  \"fps\": " << fmtDouble(info.fps) << ",\n  \"color\": \"" << toString(info.color)
-      << "\",\n  \"fov\": {\n";
+    Json j;
+    j["format"] = "wrsfov-sequence";
+    j["version"] = 1;
+    if (!info.description.empty()) j["description"] = info.description;
+    j["width"] = info.width;
+    j["height"] = info.height;
+    j["frame_count"] = info.frameCount;
+    j["fps"] = jsonNumber(info.fps);
+    j["color"] = std::string(toString(info.color));
     for (int e = 0; e < 2; ++e) {
         const layers::Fov& f = info.fov[e];
-        o << "    \"" << (e ? "right" : "left") << "\": {\"angle_left\": " << fmtFloat(f.angleLeft)
-          << ", \"angle_right\": " << fmtFloat(f.angleRight) << ", \"angle_up\": " << fmtFloat(f.angleUp)
-          << ", \"angle_down\": " << fmtFloat(f.angleDown) << "}" << (e ? "\n" : ",\n");
+        Json& eye = j["fov"][e ? "right" : "left"];
+        eye["angle_left"] = jsonFloat(f.angleLeft);
+        eye["angle_right"] = jsonFloat(f.angleRight);
+        eye["angle_up"] = jsonFloat(f.angleUp);
+        eye["angle_down"] = jsonFloat(f.angleDown);
     }
-    o << "  }";
-    if (info.depth)
-        o << ",\n  \"depth\": {\"near\": " << fmtFloat(info.depth->nearZ) << ", \"far\": " << fmtFloat(info.depth->farZ)
-          << ", \"reversed\": " << (info.depth->reversedZ ? "true" : "false") << "}";
-    if (info.motion) o << ",\n  \"motion\": {\"units\": \"" << toString(*info.motion) << "\"}";
-    o << "\n}\n";
-    return o.str();
+    if (info.depth) {
+        Json& d = j["depth"];
+        d["near"] = jsonFloat(info.depth->nearZ);
+        d["far"] = jsonFloat(info.depth->farZ);
+        d["reversed"] = info.depth->reversedZ;
+    }
+    if (info.motion) j["motion"]["units"] = std::string(toString(*info.motion));
+    // Pretty printed; bytes of the description that are not UTF-8 become U+FFFD.
+    return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 Result<SequenceGaze> parseSequenceGaze(std::string_view csv, uint32_t frameCount, const std::string& name) {

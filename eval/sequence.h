@@ -30,7 +30,7 @@ namespace wrsfov::eval {
 /// Error::code of the sequence functions.
 enum class SequenceError : int {
     MissingFile = 1,  ///< the directory, sequence.json or a frame file the json implies is not there
-    BadJson,          ///< sequence.json is not valid JSON (message: file:line:column)
+    BadJson,          ///< sequence.json is not valid JSON (syntax errors: file:line:column), or has a key twice
     BadField,         ///< a field is missing, unknown, of the wrong type, not finite or out of range
     FrameCount,       ///< frame files beyond frame_count, or a frame index outside the sequence
     ImageSize,        ///< an image is not width x height

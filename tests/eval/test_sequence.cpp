@@ -203,7 +203,8 @@ struct JsonCase {
     std::vector<std::string> mentions;
 };
 
-TEST(SequenceJson, EveryBadFieldNamesTheFieldAndLine) {
+// Field errors name the file and the field's path; syntax errors the line and column.
+TEST(SequenceJson, EveryBadFieldNamesTheField) {
     const std::string good = formatSequenceInfo(smallInfo(64, 48, 4));
     ASSERT_TRUE(parseSequenceInfo(good).ok());
     const std::vector<JsonCase> cases = {
@@ -213,7 +214,11 @@ TEST(SequenceJson, EveryBadFieldNamesTheFieldAndLine) {
          SequenceError::BadJson,
          {"sequence.json:4:15:", "not valid JSON"}},
         {"truncated", "", "", SequenceError::BadJson, {"truncated"}},
-        {"NaN", "\"fps\": 90", "\"fps\": NaN", SequenceError::BadField, {"\"fps\" is NaN", "sequence.json:7:"}},
+        {"NaN",
+         "\"fps\": 90",
+         "\"fps\": NaN",
+         SequenceError::BadField,
+         {"sequence.json: \"fps\" is NaN, not a finite number"}},
         {"Infinity", "\"fps\": 90", "\"fps\": Infinity", SequenceError::BadField, {"\"fps\"", "not a finite"}},
         {"NaN angle",
          "\"angle_up\": 0.7853982",
@@ -242,6 +247,41 @@ TEST(SequenceJson, EveryBadFieldNamesTheFieldAndLine) {
         {"units", "\"units\": \"pixels\"", "\"units\": \"metres\"", SequenceError::BadField, {"motion.units"}},
         {"duplicate", "\"fps\": 90", "\"fps\": 90, \"fps\": 60", SequenceError::BadJson, {"appears twice"}},
         {"version", "\"version\": 1", "\"version\": 2", SequenceError::BadField, {"version"}},
+        {"huge", "\"fps\": 90", "\"fps\": 1e400", SequenceError::BadField, {"\"fps\" is 1e400, not a finite number"}},
+        {"huge integer",
+         "\"width\": 64",
+         "\"width\": 99999999999999999999999",
+         SequenceError::BadField,
+         {"\"width\" must be an integer in [1, 16384]"}},
+        {"huge width", "\"width\": 64", "\"width\": 1e400", SequenceError::BadField, {"\"width\" is 1e400"}},
+        {"negative", "\"height\": 48", "\"height\": -48", SequenceError::BadField, {"\"height\"", "-48"}},
+        {"negative fps", "\"fps\": 90", "\"fps\": -90", SequenceError::BadField, {"\"fps\" must be positive"}},
+        {"beyond float", "\"near\": 0.05", "\"near\": 1e39", SequenceError::BadField, {"\"depth.near\" is 1e+39"}},
+        {"-Infinity far",
+         "\"far\": 100",
+         "\"far\": -Infinity",
+         SequenceError::BadField,
+         {"\"depth.far\" is -Infinity, not a finite number"}},
+        {"NaN string", "\"color\": \"png\"", "\"color\": NaN", SequenceError::BadField, {"\"color\" must be a string"}},
+        {"NaN key", "\"fps\": 90", "NaN: 90", SequenceError::BadJson, {"field name must be a quoted string"}},
+        {"nested duplicate",
+         "\"angle_up\": 0.7853982",
+         "\"angle_up\": 0.7853982, \"angle_up\": 0.7",
+         SequenceError::BadJson,
+         {"field \"fov.left.angle_up\" appears twice"}},
+        {"nested too deeply",
+         "\"fps\": 90",
+         "\"fps\": 90, \"description\": " + std::string(40, '[') + std::string(40, ']'),
+         SequenceError::BadJson,
+         {"nested more than 32 levels deep"}},
+        {"non-UTF-8 string",
+         "\"fps\": 90",
+         "\"fps\": 90, \"description\": \"caf\xE9\"",
+         SequenceError::BadJson,
+         {"sequence.json:7:", "ill-formed UTF-8", "\\xE9"}},
+        {"non-UTF-8 byte", "\"fps\": 90", "\"fps\": 90\xFF", SequenceError::BadJson, {"sequence.json:7:12:"}},
+        {"trailing comma", "\"reversed\": false", "\"reversed\": false,", SequenceError::BadJson, {"not valid JSON"}},
+        {"comment", "\"fps\": 90", "\"fps\": 90 // ninety", SequenceError::BadJson, {"sequence.json:7:13:"}},
     };
     for (const JsonCase& c : cases) {
         std::string text = good;
@@ -260,7 +300,59 @@ TEST(SequenceJson, EveryBadFieldNamesTheFieldAndLine) {
                 << c.what << ": '" << r.error().message << "' lacks '" << m << "'";
     }
     EXPECT_EQ(parseSequenceInfo("").error().code, int(SequenceError::BadJson));
+    EXPECT_TRUE(contains(parseSequenceInfo("\xEF\xBB\xBF \n").error().message, "the file is empty"));
     EXPECT_EQ(parseSequenceInfo("[1, 2]").error().code, int(SequenceError::BadField));
+    EXPECT_EQ(parseSequenceInfo("1e400").error().code, int(SequenceError::BadField));
+    // Objects where objects belong; Infinity (Python's json writes it) is an infinite far plane.
+    std::string text = good;
+    text.replace(text.find("\"motion\": {"), std::string("\"motion\": {\n    \"units\": \"pixels\"\n  }").size(),
+                 "\"motion\": [\"pixels\"]");
+    auto m = parseSequenceInfo(text);
+    ASSERT_FALSE(m.ok()) << text;
+    EXPECT_TRUE(contains(m.error().message, "\"motion\" must be an object")) << m.error().message;
+    text = good;
+    text.replace(text.find("\"far\": 100"), std::string("\"far\": 100").size(), "\"far\": Infinity");
+    auto inf = parseSequenceInfo(text);
+    ASSERT_TRUE(inf.ok()) << inf.error().message;
+    EXPECT_TRUE(std::isinf(inf->depth->farZ));
+}
+
+// Syntax errors give the position in the file as written: line and column (bytes from 1), counted
+// past a byte-order mark, CR LF line ends and the NaN / Infinity tokens the reader accepts.
+TEST(SequenceJson, SyntaxErrorsNameLineAndColumn) {
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"{\"fps\": NaN, \"x\": 1,, }", "f.json:1:21: not valid JSON: "},
+        {"{\"fps\": -Infinity, \"far\": Infinity, \"x\": 1,, }", "f.json:1:44: "},
+        {"\xEF\xBB\xBF{,}", "f.json:1:5: "},
+        {"{\r\n  \"a\": 1,,\r\n}", "f.json:2:10: "},
+        {"{\n\n  \"a\": tru }", "f.json:3:11: "},
+        {"{\"a\": 1", "f.json:1:8: not valid JSON: "},  // one past the end
+        {"{\"a\": \"abc", "(truncated?)"},
+        {"{\"a\": 1", "(truncated?)"},
+        {"{\"a\": 1}}", "f.json:1:9: "},
+        {"{\"a\": \"\x01\"}", "control character"},
+        {"{\"a\": \"\\ud800\"}", "surrogate"},
+    };
+    for (const auto& [text, mention] : cases) {
+        auto r = parseSequenceInfo(text, "f.json");
+        ASSERT_FALSE(r.ok()) << text;
+        EXPECT_EQ(r.error().code, int(SequenceError::BadJson)) << text << ": " << r.error().message;
+        EXPECT_TRUE(contains(r.error().message, mention))
+            << text << ": '" << r.error().message << "' lacks '" << mention << "'";
+    }
+}
+
+// The writer writes JSON any reader can take: the description escaped, bytes that are not UTF-8
+// replaced by U+FFFD (the reader would refuse them), pretty printed one field per line.
+TEST(SequenceJson, WriterEscapesTheDescription) {
+    SequenceInfo a = smallInfo(8, 8, 1);
+    a.description = std::string("tab\t, NUL ") + '\0' + ", caf\xC3\xA9, bad \xFF byte";
+    const std::string text = formatSequenceInfo(a);
+    EXPECT_TRUE(contains(text, "\n  \"fps\": 90,\n")) << text;
+    EXPECT_TRUE(contains(text, "\"far\": 100,")) << text;
+    auto b = parseSequenceInfo(text);
+    ASSERT_TRUE(b.ok()) << b.error().message << "\n" << text;
+    EXPECT_EQ(b->description, std::string("tab\t, NUL ") + '\0' + ", caf\xC3\xA9, bad \xEF\xBF\xBD byte");
 }
 
 TEST(SequenceJson, MissingDirectoryOrFile) {
