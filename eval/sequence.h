@@ -9,8 +9,7 @@
 //   DIR/gaze.csv                       t_s,frame,valid,left_x,...,right_z (optional)
 //
 // Every failure is a Result error whose message names the file (and the field, line or pixel).
-// EXR goes through OpenCV's OpenEXR codec, which these functions enable themselves
-// (OPENCV_IO_ENABLE_OPENEXR=1 unless the variable is already set).
+// sequence.json is read and written with nlohmann-json, EXR files with OpenEXR, PNG with OpenCV.
 #pragma once
 
 #include <array>

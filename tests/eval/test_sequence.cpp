@@ -1,13 +1,25 @@
 // Sequence directories on the CPU: sequence.json round trip and its errors, frame files written and
 // read back bit for bit, motion units converted to pixels, gaze.csv rows and their fallbacks, and a
-// clear error for every kind of malformed input.
+// clear error for every kind of malformed input. EXR files made "by another tool" come from OpenCV
+// (as most tools name channels) or from OpenEXR directly (any channel layout, pixel type, window).
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <string>
 
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
+#include <OpenEXR/ImfPartType.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
@@ -54,6 +66,64 @@ void replaceInFile(const std::string& path, const std::string& from, const std::
     ASSERT_NE(p, std::string::npos) << from;
     t.replace(p, from.size(), to);
     writeText(path, t);
+}
+
+// An EXR written with OpenEXR: `channels` (name, pixel type in the file), value(c, x, y) of channel c
+// at pixel (x, y) of the data window, which starts at `origin`; `sampling` for every channel.
+struct ExrChannel {
+    std::string name;
+    Imf::PixelType type = Imf::FLOAT;
+};
+void writeTestExr(const std::string& path, int w, int h, const std::vector<ExrChannel>& channels,
+                  const std::function<float(int, int, int)>& value, Imath::V2i origin = {0, 0}, int sampling = 1) {
+    const Imath::Box2i window(origin, origin + Imath::V2i(w - 1, h - 1));
+    Imf::Header header(window, window);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    const int sw = w / sampling, sh = h / sampling;
+    // One plane per channel in the file's type (OpenEXR does not convert when writing).
+    std::vector<std::vector<char>> planes(channels.size());
+    Imf::FrameBuffer fb;
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+        const Imf::PixelType type = channels[c].type;
+        const std::size_t size = type == Imf::HALF ? 2 : 4;
+        planes[c].resize(size * std::size_t(sw) * std::size_t(sh));
+        for (int y = 0; y < sh; ++y)
+            for (int x = 0; x < sw; ++x) {
+                const float v = value(int(c), x, y);
+                char* p = planes[c].data() + size * (std::size_t(y) * std::size_t(sw) + std::size_t(x));
+                const uint32_t u = uint32_t(v);
+                const half hv(v);
+                std::memcpy(p, type == Imf::FLOAT ? static_cast<const void*>(&v)
+                               : type == Imf::UINT ? static_cast<const void*>(&u)
+                                                   : static_cast<const void*>(&hv),
+                            size);
+            }
+        header.channels().insert(channels[c].name, Imf::Channel(type, sampling, sampling));
+        fb.insert(channels[c].name, Imf::Slice::Make(type, planes[c].data(), window, size, size * std::size_t(sw),
+                                                     sampling, sampling));
+    }
+    Imf::OutputFile out(path.c_str(), header);
+    out.setFrameBuffer(fb);
+    out.writePixels(h);
+}
+
+// Channel names of an EXR file and one channel's values (row by row).
+std::vector<std::string> exrChannels(const std::string& path) {
+    Imf::InputFile in(path.c_str());
+    std::vector<std::string> names;
+    for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it) names.push_back(it.name());
+    return names;
+}
+std::vector<float> exrChannel(const std::string& path, const std::string& name) {
+    Imf::InputFile in(path.c_str());
+    const Imath::Box2i dw = in.header().dataWindow();
+    const std::size_t w = std::size_t(dw.max.x - dw.min.x + 1), h = std::size_t(dw.max.y - dw.min.y + 1);
+    std::vector<float> v(w * h);
+    Imf::FrameBuffer fb;
+    fb.insert(name, Imf::Slice::Make(Imf::FLOAT, v.data(), dw, sizeof(float), sizeof(float) * w));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    return v;
 }
 
 SequenceInfo smallInfo(uint32_t w, uint32_t h, uint32_t frames) {
@@ -401,6 +471,7 @@ TEST(Sequence, PngColourAndFloatDepthMotionReadBackExactly) {
             EXPECT_EQ(b.gaze.dir, a.gaze.dir);  // %.9g in gaze.csv reads back as the same float
         }
     }
+    EXPECT_EQ(exrChannels(dir.file("000001_R_depth.exr")), std::vector<std::string>{"Y"});
     auto beyond = (*r)->frame(info.frameCount);
     ASSERT_FALSE(beyond.ok());
     EXPECT_EQ(beyond.error().code, int(SequenceError::FrameCount));
@@ -421,6 +492,7 @@ TEST(Sequence, ExrColourReadsBackAsHalfFloats) {
     auto f = (*r)->frame(1);
     ASSERT_TRUE(f.ok()) << f.error().message;
     EXPECT_EQ(f->eyes[0].color.data, written[1][0].color.data);  // fp16 -> float EXR -> fp16
+    EXPECT_EQ(exrChannels(dir.file("000001_L_color.exr")), (std::vector<std::string>{"B", "G", "R"}));
     EXPECT_FALSE(f->eyes[0].depth.has_value());
     EXPECT_FALSE(fs::exists(dir.file("000000_L_depth.exr")));
 }
@@ -504,11 +576,12 @@ TEST(Sequence, WriterConvertsMotionUnitsBack) {
         ASSERT_TRUE(w.ok());
         ASSERT_TRUE((*w)->writeFrame(0, eyes).ok());
         ASSERT_TRUE((*w)->finish().ok());
-        // In the file: the declared units.
-        cv::Mat m = cv::imread(dir.file("000000_L_motion.exr"), cv::IMREAD_UNCHANGED);
-        ASSERT_EQ(m.type(), CV_32FC3);
+        // In the file: R, G, B, in the declared units.
+        const std::string file = dir.file("000000_L_motion.exr");
+        EXPECT_EQ(exrChannels(file), (std::vector<std::string>{"B", "G", "R"}));
         const float sx = units == MotionUnits::Ndc ? 2.0f / 32 : 1.0f / 32;
-        EXPECT_FLOAT_EQ(m.at<cv::Vec3f>(0, 20)[2], (20 - 8.5f) * sx);
+        EXPECT_FLOAT_EQ(exrChannel(file, "R")[20], (20 - 8.5f) * sx);
+        EXPECT_FLOAT_EQ(exrChannel(file, "B")[20], 0.125f);
         auto r = SequenceReader::open(dir.str());
         ASSERT_TRUE(r.ok()) << r.error().message;
         auto f = (*r)->frame(0);
@@ -609,6 +682,103 @@ TEST_F(BrokenSequence, TruncatedFiles) {
         expectError(SequenceError::BadImage, {name});
         writeText(dir.file(name), "");
         expectError(SequenceError::BadImage, {name});
+    }
+}
+
+// EXR files another tool may write: half, float or uint channels, a data window that does not
+// start at (0, 0), other channel names, subsampled channels, several parts, or not EXR at all.
+TEST_F(BrokenSequence, ExrLayouts) {
+    const std::string depth = "000001_L_depth.exr";
+    auto depthAt = [&](uint32_t x, uint32_t y) {
+        auto r = SequenceReader::open(dir.str());
+        EXPECT_TRUE(r.ok());
+        auto f = (*r)->frame(1);
+        EXPECT_TRUE(f.ok()) << f.error().message;
+        return f.ok() ? f->eyes[0].depth->fetch(x, y).x : NAN;
+    };
+    // Half and uint channels are read as float; the data window's origin does not matter.
+    writeTestExr(dir.file(depth), W, H, {{"Y", Imf::HALF}},
+                 [](int, int x, int y) { return 0.25f * float(x) + 0.5f * float(y); });
+    EXPECT_EQ(depthAt(3, 2), 1.75f);
+    writeTestExr(dir.file(depth), W, H, {{"R", Imf::UINT}}, [](int, int x, int) { return float(x); });
+    EXPECT_EQ(depthAt(7, 5), 7.0f);
+    writeTestExr(dir.file(depth), W, H, {{"G"}}, [](int, int x, int y) { return float(x + 100 * y); }, {-5, 40});
+    EXPECT_EQ(depthAt(2, 3), 302.0f);
+    writeRandom(dir.str(), smallInfo(W, H, 3));
+
+    writeTestExr(dir.file(depth), W, H, {{"Z"}}, [](int, int, int) { return 0.5f; });
+    expectError(SequenceError::ImageChannels, {depth, "1 channel (Z)", "exactly one"});
+    writeTestExr(dir.file(depth), W, H, {{"depth.V"}}, [](int, int, int) { return 0.5f; });
+    expectError(SequenceError::ImageChannels, {depth, "1 channel (depth.V)"});
+    writeTestExr(dir.file(depth), W, H + 2, {{"Y"}}, [](int, int, int) { return 0.5f; }, {3, 3});
+    expectError(SequenceError::ImageSize, {depth, "24x14", "says 24x12"});
+    writeRandom(dir.str(), smallInfo(W, H, 3));
+    writeTestExr(dir.file("000001_R_motion.exr"), W, H, {{"R"}, {"G"}}, [](int, int, int) { return 1.0f; }, {0, 0}, 2);
+    expectError(SequenceError::ImageChannels, {"000001_R_motion.exr", "subsampled"});
+    writeTestExr(dir.file("000001_R_motion.exr"), W, H, {{"R"}, {"G"}, {"Z"}}, [](int, int, int) { return 1.0f; });
+    expectError(SequenceError::ImageChannels, {"000001_R_motion.exr", "3 channels (G, R, Z)"});
+    writeRandom(dir.str(), smallInfo(W, H, 3));
+
+    // Two parts.
+    {
+        std::vector<Imf::Header> headers(2, Imf::Header(W, H));
+        for (int p = 0; p < 2; ++p) {
+            headers[p].setName(p ? "right" : "left");
+            headers[p].setType(Imf::SCANLINEIMAGE);
+            headers[p].channels().insert("Y", Imf::Channel(Imf::FLOAT));
+        }
+        std::vector<float> px(W * H, 0.5f);
+        Imf::MultiPartOutputFile out(dir.file(depth).c_str(), headers.data(), 2);
+        for (int p = 0; p < 2; ++p) {
+            Imf::OutputPart part(out, p);
+            Imf::FrameBuffer fb;
+            auto* base = reinterpret_cast<char*>(px.data());
+            fb.insert("Y", Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * W));
+            part.setFrameBuffer(fb);
+            part.writePixels(H);
+        }
+    }
+    expectError(SequenceError::BadImage, {depth, "multi-part"});
+    // Not EXR: a PNG under the EXR name; garbage after a valid signature.
+    fs::copy_file(dir.file("000001_L_color.png"), dir.file(depth), fs::copy_options::overwrite_existing);
+    expectError(SequenceError::BadImage, {depth, "no EXR signature"});
+    writeText(dir.file(depth), std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) + std::string(200, '\x7f'));
+    expectError(SequenceError::BadImage, {depth, "not a readable EXR file"});
+}
+
+// Colour with alpha (ignored), and values beyond half floats: finite ones clamp to +-65504, NaN and
+// infinities pass through (the compositor's bad-input rules handle them); depth is bit for bit.
+TEST(Sequence, ExrValuesBeyondHalfAndNonFinite) {
+    TempDir dir("exrvalues");
+    SequenceInfo info = smallInfo(8, 4, 1);
+    info.color = ColorFile::Exr;
+    writeRandom(dir.str(), info);
+    const float special[] = {NAN, INFINITY, -INFINITY, 1e6f, -1e6f, 70000.0f, 1e-30f, 0.5f};
+    auto value = [&](int c, int x, int) { return c == 3 ? 0.25f : special[(x + c) % 8]; };
+    writeTestExr(dir.file("000000_L_color.exr"), 8, 4, {{"R"}, {"G"}, {"B"}, {"A"}}, value);
+    writeTestExr(dir.file("000000_L_depth.exr"), 8, 4, {{"Y"}}, value);
+    writeTestExr(dir.file("000000_L_motion.exr"), 8, 4, {{"R"}, {"G"}}, value);
+    auto r = SequenceReader::open(dir.str());
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    auto f = (*r)->frame(0);
+    ASSERT_TRUE(f.ok()) << f.error().message;
+    const EyeSubmission& s = f->eyes[0];
+    // Every finite value here is a half float after clamping, except 1e-30 (which rounds to 0).
+    auto half = [](float v) {
+        return std::abs(v) < 1e-3f ? 0.0f : std::isfinite(v) ? std::clamp(v, -65504.0f, 65504.0f) : v;
+    };
+    auto same = [](float a, float b) { return std::isnan(b) ? std::isnan(a) : a == b; };
+    for (uint32_t x = 0; x < 8; ++x) {
+        const glm::vec4 c = s.color.fetch(x, 1), m = s.motion->fetch(x, 1);
+        const float d = s.depth->fetch(x, 1).x;
+        for (int k = 0; k < 3; ++k)
+            EXPECT_TRUE(same(c[k], half(special[(x + uint32_t(k)) % 8]))) << x << " " << k << ": " << c[k];
+        EXPECT_EQ(c.w, 1.0f);
+        EXPECT_TRUE(same(m.x, half(special[x % 8]))) << x << ": " << m.x;
+        EXPECT_TRUE(same(m.y, half(special[(x + 1) % 8]))) << x << ": " << m.y;
+        EXPECT_EQ(m.z, 0.0f);  // no B channel
+        const float wantD = special[x % 8];
+        EXPECT_TRUE(std::isnan(wantD) ? std::isnan(d) : d == wantD) << x << ": " << d;
     }
 }
 
