@@ -4,65 +4,19 @@
 // built-in scene out as such a directory.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
+#include <vector>
 
 #include "eval/bench.h"
 #include "eval/sequence.h"
+#include "tools/cli.h"
 
 using namespace wrsfov;
 
 namespace {
-
-void usage() {
-    std::printf(
-        "usage: wrsfov-bench [--out DIR] [--scenes text,atrium,dynamic] [--methods fov,fov+taa,wrs-paper,wrs,oracle]\n"
-        "                    [--fovea 5,7.5,10] [--modes mip,gauss] [--size WxH] [--frames N] [--warmup N]\n"
-        "                    [--heavy-every N] [--copy-every N] [--path static|lateral|turn] [--change off|lstar|de94]\n"
-        "                    [--seed N] [--monitor] [--hmd-fov DEG] [--quick] [--sequence DIR] [--no-stale]\n"
-        "       wrsfov-bench --scaling 512,1024,2048 [--methods ...] [--scenes NAME] [--frames N] [--monitor] ...\n"
-        "       wrsfov-bench --write-sequence DIR --scenes NAME [--size WxH] [--frames N] [--path P] [--seed N]\n"
-        "--monitor: the built-in scenes in monitor mode (one symmetric 76x60 degree view as both eyes)\n"
-        "  instead of the stereo HMD views.\n"
-        "--hmd-fov DEG: HMD stereo (atrium, dynamic) with a symmetric DEG x DEG view per eye, the central part\n"
-        "  of the HMD's, to reach a pixel density at a size the device can afford.\n"
-        "Defaults: scenes text,atrium,dynamic; every method; fovea 5,7.5,10; modes mip,gauss; 320x288; 90 frames\n"
-        "  (10 warm-up); path lateral (atrium, dynamic); change lstar (wrs-paper's eq. 7 term); seed 1.\n"
-        "--heavy-every N: SSIM, FLIP and the stale-pixel count on every N-th counted frame (default 10).\n"
-        "--copy-every N: the copy kernels (one moving the passes' bytes, one the method's floor) after every\n"
-        "  N-th counted frame (default 1), each in a submission of its own.\n"
-        "--no-stale: no stale-pixel statistics, so wrs-paper, wrs and the oracle run without the birth\n"
-        "  buffers (32 B/px of evaluation-only traffic): the passes as an application gets them.\n"
-        "--scaling S1,S2,...: time and bytes at square sizes S per eye (one scene, the first fovea and mode;\n"
-        "  defaults: atrium, fov,fov+taa,wrs, 20 frames with 5 warm-up, --no-stale); writes scaling.md,\n"
-        "  scaling.csv, scaling.png and each size's report in DIR/SxS.\n"
-        "--change: the eq. 7 change term of wrs-paper (off, lstar, de94).\n"
-        "--quick: a CI-sized sweep (text and atrium, 160x144, 24 frames, fovea 5 and 10, mip).\n"
-        "--sequence DIR: evaluate the frames of a sequence directory (docs/sequence.md) as scene\n"
-        "  `sequence` (alone unless --scenes is given); size, frames and fps come from its sequence.json,\n"
-        "  gaze from its gaze.csv (synthetic free viewing without one).\n"
-        "--write-sequence DIR: write one scene (frames, depth, motion, the sweep's gaze) as a sequence\n"
-        "  directory and exit.\n");
-}
-
-std::vector<std::string> split(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');)
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-bool parseInt(const char* v, long lo, long hi, long& out) {
-    char* end = nullptr;
-    out = std::strtol(v, &end, 10);
-    return *v && !*end && out >= lo && out <= hi;
-}
 
 // Prints the report's table and where it is, or why it could not be written; the exit code.
 int printReport(const Status& written, const std::string& table, const std::string& where) {
@@ -111,6 +65,14 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_
                        "scaling report in " + out + " (scaling.md, scaling.csv, scaling.png)");
 }
 
+// The names an option takes for `values`: the enums' own names.
+template <typename T>
+std::vector<std::pair<std::string, T>> named(std::initializer_list<T> values) {
+    std::vector<std::pair<std::string, T>> out;
+    for (T v : values) out.emplace_back(std::string(toString(v)), v);
+    return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,130 +80,105 @@ int main(int argc, char** argv) {
     std::string out = "out/bench";
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
-    bool methodsGiven = false, scenesGiven = false, sizeGiven = false, framesGiven = false, warmupGiven = false, quick = false;
-    std::string err;
-    for (int i = 1; i < argc && err.empty(); ++i) {
-        std::string a = argv[i];
-        if (a == "--help" || a == "-h") {
-            usage();
-            return 0;
-        }
-        if (a == "--monitor") {
-            o.monitor = true;
-            continue;
-        }
-        if (a == "--no-stale") {
-            o.staleStats = false;
-            continue;
-        }
-        if (a == "--quick") {
-            quick = true;
-            o.width = 160;
-            o.height = 144;
-            o.frames = 24;
-            o.warmup = 4;
-            o.heavyEvery = 10;
-            o.foveas = {5.0f, 10.0f};
-            o.modes = {FoveationMode::Mip};
-            continue;
-        }
-        if (i + 1 >= argc) {
-            err = "missing value after " + a;
-            break;
-        }
-        const char* v = argv[++i];
-        long n = 0;
-        if (a == "--out") {
-            out = v;
-        } else if (a == "--sequence") {
-            o.sequenceDir = v;
-        } else if (a == "--write-sequence") {
-            writeDir = v;
-        } else if (a == "--scenes") {
-            scenesGiven = true;
-            o.scenes.clear();
-            for (auto& s : split(v)) {
-                auto k = eval::parseScene(s);
-                if (!k) err = "unknown scene '" + s + "' (text, atrium, dynamic, sequence)";
-                else o.scenes.push_back(*k);
-            }
-        } else if (a == "--methods") {
-            methodsGiven = true;
-            o.methods.clear();
-            for (auto& s : split(v)) {
-                auto m = parseMethod(s);
-                if (!m) err = "unknown method '" + s + "' (fov, fov+taa, wrs-paper, wrs, oracle)";
-                else o.methods.push_back(*m);
-            }
-        } else if (a == "--fovea") {
-            o.foveas.clear();
-            for (auto& s : split(v)) {
-                char* end = nullptr;
-                float f = std::strtof(s.c_str(), &end);
-                if (*end || !std::isfinite(f) || f <= 0 || f > 60) err = "fovea '" + s + "' is not in (0, 60] degrees";
-                else o.foveas.push_back(f);
-            }
-        } else if (a == "--modes") {
-            o.modes.clear();
-            for (auto& s : split(v)) {
-                if (s == "mip") o.modes.push_back(FoveationMode::Mip);
-                else if (s == "gauss") o.modes.push_back(FoveationMode::Gauss);
-                else if (s == "none") o.modes.push_back(FoveationMode::None);
-                else err = "unknown foveation mode '" + s + "' (mip, gauss, none)";
-            }
-        } else if (a == "--size") {
-            unsigned w = 0, h = 0;
-            if (std::sscanf(v, "%ux%u", &w, &h) != 2 || w < 32 || h < 32 || w > 4096 || h > 4096)
-                err = "--size wants WxH with 32..4096";
-            sizeGiven = true;
-            o.width = w;
-            o.height = h;
-        } else if (a == "--frames") {
-            if (!parseInt(v, 2, 100000, n)) err = "--frames wants 2..100000";
-            framesGiven = true;
-            o.frames = int(n);
-        } else if (a == "--warmup") {
-            if (!parseInt(v, 0, 100000, n)) err = "--warmup wants a non-negative integer";
-            warmupGiven = true;
-            o.warmup = int(n);
-        } else if (a == "--heavy-every") {
-            if (!parseInt(v, 1, 100000, n)) err = "--heavy-every wants a positive integer";
-            o.heavyEvery = int(n);
-        } else if (a == "--hmd-fov") {
-            char* end = nullptr;
-            const float d = std::strtof(v, &end);
-            if (*end || !std::isfinite(d) || d < 10 || d > 120) err = "--hmd-fov wants degrees in 10..120";
-            o.hmdFovDeg = d;
-        } else if (a == "--copy-every") {
-            if (!parseInt(v, 1, 100000, n)) err = "--copy-every wants a positive integer";
-            o.copyEvery = int(n);
-        } else if (a == "--scaling") {
-            if (split(v).empty()) err = "--scaling wants sizes in 64..4096 (pixels per side, per eye), e.g. 512,1024,2048";
-            for (auto& s : split(v)) {
-                if (!parseInt(s.c_str(), 64, 4096, n)) {
-                    err = "--scaling wants sizes in 64..4096 (pixels per side, per eye), e.g. 512,1024,2048";
-                    break;
-                }
-                scaling.push_back(uint32_t(n));
-            }
-        } else if (a == "--seed") {
-            if (!parseInt(v, 0, 0xffffffffL, n)) err = "--seed wants a non-negative integer";
-            o.seed = uint32_t(n);
-        } else if (a == "--change") {
-            std::string c = v;
-            if (c == "off") o.change = ChangeMetric::Off;
-            else if (c == "lstar") o.change = ChangeMetric::LStar;
-            else if (c == "de94") o.change = ChangeMetric::DeltaE94;
-            else err = "unknown change metric '" + c + "' (off, lstar, de94)";
-        } else if (a == "--path") {
-            if (auto p = scenes::parseCameraPath(v)) o.path = *p;
-            else err = "unknown camera path '" + std::string(v) + "' (static, lateral, turn)";
-        } else {
-            err = "unknown option " + a;
-        }
+    cli::Size size{o.width, o.height};
+    bool quick = false, noStale = false;
+
+    CLI::App app{
+        "Run time against error: sweeps scenes x methods x fovea sizes x foveation modes with synthetic gaze, "
+        "every method against the unfoveated reference of the same frames, and writes results.csv, table.md, "
+        "PNG plots and crops into --out. --sequence evaluates external frames (docs/sequence.md), "
+        "--write-sequence writes a built-in scene out as such a directory, --scaling times the methods over "
+        "image sizes.",
+        "wrsfov-bench"};
+    cli::setup(app);
+    cli::option(app, "--out", out, cli::text("a directory name", "DIR"),
+                "Directory for the report: results.csv, table.md, error_vs_*.png, eta_*.png, crops_*.png; with "
+                "--scaling, scaling.md, scaling.csv, scaling.png and each size's report in DIR/SxS.");
+    cli::option(app, "--scenes", o.scenes,
+                cli::list(cli::oneOf(named({eval::SceneKind::Text, eval::SceneKind::Atrium, eval::SceneKind::Dynamic,
+                                            eval::SceneKind::Sequence}))),
+                "Scenes: text (a page of text, reading gaze), atrium and dynamic (3D rooms with depth and motion, "
+                "free-viewing gaze), sequence (the frames of --sequence).");
+    cli::option(app, "--methods", o.methods,
+                cli::list(cli::oneOf(named({Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs,
+                                            Method::Oracle}))),
+                "Methods: fov (foveation only), fov+taa (foveation and TAA), wrs-paper (WRS as published), wrs "
+                "(quality-aware retention), oracle (keeps whichever of history and candidate is closer to the "
+                "reference: the ceiling of a keep-or-replace rule, evaluation only).");
+    cli::option(app, "--fovea", o.foveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
+                "Fovea diameters in degrees, each in (0, 60].")
+        ->type_name("DEG,...");
+    cli::option(app, "--modes", o.modes,
+                cli::list(cli::oneOf(named({FoveationMode::Mip, FoveationMode::Gauss, FoveationMode::None}))),
+                "Foveation modes: mip, gauss, none (no foveation).");
+    cli::option(app, "--size", size, cli::size(32, 4096), "Image size per eye, W and H in 32..4096.");
+    cli::option(app, "--frames", o.frames, cli::integer(2, 100000),
+                "Frames per cell at 90 Hz, warm-up included, 2..100000; more than --warmup.");
+    cli::option(app, "--warmup", o.warmup, cli::integer(0, 100000),
+                "Frames at the start of each cell that count in no timing or metric, 0..100000.");
+    cli::option(app, "--heavy-every", o.heavyEvery, cli::integer(1, 100000),
+                "SSIM, FLIP and the stale-pixel statistics on every N-th counted frame (1..100000); every counted "
+                "frame gets the PSNR-type metrics (PSNR, near-gaze PSNR, eccentricity-weighted MSE) and the "
+                "temporal instability.");
+    cli::option(app, "--copy-every", o.copyEvery, cli::integer(1, 100000),
+                "The copy kernels (one moving the passes' bytes, one the method's floor) after every N-th counted "
+                "frame (1..100000), each in a submission of its own.");
+    cli::option(app, "--path", o.path,
+                cli::oneOf(named({scenes::CameraPath::Static, scenes::CameraPath::Lateral, scenes::CameraPath::Turn})),
+                "Camera path of atrium and dynamic: static, lateral (sideways back and forth) or turn (head yaw).");
+    cli::option(app, "--change", o.change,
+                cli::oneOf(named({ChangeMetric::Off, ChangeMetric::LStar, ChangeMetric::DeltaE94})),
+                "The change term of method wrs-paper, its published eq. 7: the history's weight is scaled by one "
+                "minus the colour difference between the candidate and the kept sample. off: no change term "
+                "(eq. 6 alone); lstar: the CIE L* difference; de94: the CIE ΔE94 colour difference.");
+    cli::option(app, "--seed", o.seed, cli::integer<uint32_t>(0, 0xffffffffu),
+                "Seed of the synthetic gaze, the text scene's words and WRS's random numbers, 0..4294967295.");
+    app.add_flag("--monitor", o.monitor,
+                 "The built-in scenes in monitor mode: one symmetric 76x60 degree view as both eyes, instead of "
+                 "the stereo HMD views.");
+    cli::option(app, "--hmd-fov", o.hmdFovDeg, cli::number<float>(10, 120),
+                "HMD stereo (atrium, dynamic) with a symmetric DEG x DEG view per eye, 10..120: the central part "
+                "of the HMD's, to reach a pixel density at a size the device can afford.")
+        ->type_name("DEG")
+        ->default_str("the HMD's own views");
+    app.add_flag("--no-stale", noStale,
+                 "No stale-pixel statistics, so wrs-paper, wrs and the oracle run without the birth buffers "
+                 "(32 B/px of evaluation-only traffic): the passes as an application gets them.");
+    app.add_flag("--quick", quick,
+                 "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
+                 "(options given as well win).");
+    cli::option(app, "--scaling", scaling, cli::list(cli::integer<uint32_t>(64, 4096)),
+                "Time and bytes at square sizes S per eye (pixels per side, each 64..4096, e.g. 512,1024,2048): "
+                "one scene, the first fovea and mode, no SSIM, FLIP or stale statistics; unless given, scene "
+                "atrium, methods fov,fov+taa,wrs, 20 frames with 5 warm-up. Writes scaling.md, scaling.csv, "
+                "scaling.png.")
+        ->type_name("S,...");
+    cli::option(app, "--sequence", o.sequenceDir, cli::text("a directory name", "DIR"),
+                "Evaluate the frames of a sequence directory (docs/sequence.md) as scene `sequence` (alone unless "
+                "--scenes is given); size, frames and fps come from its sequence.json, gaze from its gaze.csv "
+                "(synthetic free viewing without one).");
+    cli::option(app, "--write-sequence", writeDir, cli::text("a directory name", "DIR"),
+                "Write one scene (frames, depth, motion, the sweep's gaze) as a sequence directory and exit; "
+                "give the scene with --scenes NAME.");
+    cli::addConfig(app);
+    if (auto rc = cli::parseOrExit(app, argc, argv)) return *rc;
+
+    auto given = [&](const char* name) { return app.count(name) > 0; };
+    const bool scenesGiven = given("--scenes"), sizeGiven = given("--size"), framesGiven = given("--frames"),
+               warmupGiven = given("--warmup"), methodsGiven = given("--methods");
+    o.width = size.width;
+    o.height = size.height;
+    o.staleStats = !noStale;
+    if (quick) {
+        if (!scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
+        if (!sizeGiven) o.width = 160, o.height = 144;
+        if (!framesGiven) o.frames = 24;
+        if (!warmupGiven) o.warmup = 4;
+        if (!given("--fovea")) o.foveas = {5.0f, 10.0f};
+        if (!given("--modes")) o.modes = {FoveationMode::Mip};
     }
-    if (quick && !scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
-    if (err.empty() && !o.sequenceDir.empty()) {
+    if (given("--scaling") && scaling.empty()) return cli::usageError(app, "--scaling needs at least one size");
+    if (!o.sequenceDir.empty()) {
         // The sequence brings its own size and length.
         auto info = eval::readSequenceInfo(o.sequenceDir);
         if (!info) {
@@ -255,19 +192,14 @@ int main(int argc, char** argv) {
         if (!framesGiven) o.frames = int(info->frameCount);
         if (!warmupGiven) o.warmup = std::min(o.warmup, o.frames / 2);
     }
-    if (err.empty() && std::find(o.scenes.begin(), o.scenes.end(), eval::SceneKind::Sequence) != o.scenes.end() &&
+    if (std::find(o.scenes.begin(), o.scenes.end(), eval::SceneKind::Sequence) != o.scenes.end() &&
         o.sequenceDir.empty())
-        err = "scene 'sequence' needs --sequence DIR";
-    if (err.empty() && !writeDir.empty() && o.scenes.size() != 1)
-        err = "--write-sequence writes one scene: give --scenes NAME (or --sequence DIR)";
-    if (err.empty() && (o.scenes.empty() || o.methods.empty() || o.foveas.empty() || o.modes.empty()))
-        err = "scenes, methods, fovea sizes and modes must not be empty";
-    if (err.empty() && writeDir.empty() && o.frames <= o.warmup) err = "--frames must exceed --warmup";
-    if (!err.empty()) {
-        std::fprintf(stderr, "wrsfov-bench: %s\n", err.c_str());
-        usage();
-        return 2;
-    }
+        return cli::usageError(app, "scene 'sequence' needs --sequence DIR");
+    if (!writeDir.empty() && o.scenes.size() != 1)
+        return cli::usageError(app, "--write-sequence writes one scene: give --scenes NAME (or --sequence DIR)");
+    if (o.scenes.empty() || o.methods.empty() || o.foveas.empty() || o.modes.empty())
+        return cli::usageError(app, "scenes, methods, fovea sizes and modes must not be empty");
+    if (writeDir.empty() && o.frames <= o.warmup) return cli::usageError(app, "--frames must exceed --warmup");
     if (!writeDir.empty()) {
         auto ctx = vk::Context::create();
         if (!ctx) {

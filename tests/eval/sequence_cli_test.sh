@@ -1,14 +1,17 @@
 #!/bin/sh
 # wrsfov-bench --write-sequence then --sequence: the atrium goes out as a sequence directory and
-# comes back as the `sequence` scene of a sweep.
+# comes back as the `sequence` scene of a sweep. The write takes its options from a --config file.
 # usage: sequence_cli_test.sh WRSFOV_BENCH OUT_DIR
 set -eu
 bench="$1"
 out="$2"
 rm -rf "$out"
 mkdir -p "$out"
-"$bench" --write-sequence "$out/seq" --scenes atrium --size 64x48 --frames 6 > "$out/write.log" 2>&1 ||
+# The scene, size and length come from a --config file (TOML), the directory from the command line.
+printf '# wrsfov-bench options\nscenes = "atrium"\nsize = "64x48"\nframes = 6\n' > "$out/write.toml"
+"$bench" --config "$out/write.toml" --write-sequence "$out/seq" > "$out/write.log" 2>&1 ||
   { cat "$out/write.log"; exit 1; }
+grep -q "writing atrium, 64x48 per eye, 6 frames" "$out/write.log" || { cat "$out/write.log"; exit 1; }
 for f in sequence.json gaze.csv 000000_L_color.png 000005_R_color.png 000005_R_depth.exr 000005_L_motion.exr; do
   [ -s "$out/seq/$f" ] || { echo "missing or empty: $out/seq/$f"; cat "$out/write.log"; exit 1; }
 done

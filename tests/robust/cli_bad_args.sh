@@ -16,35 +16,40 @@ check() {  # check NAME EXPECTED_RC PATTERN COMMAND...
 : >"$out/afile"  # a regular file where a directory is needed
 
 # ---- wrsfov-bench -------------------------------------------------------------------------------
-check bench_option_missing_value 2 "missing value after --frames" "$bench" --frames
+check bench_option_missing_value 2 "--frames: missing value (N)" "$bench" --frames
 check bench_option_unknown 2 "unknown option --bogus" "$bench" --bogus 1
 for v in big 64x 8x8 0x0 99999x99999 -64x64 ""; do
-    check "bench_size_'$v'" 2 "--size wants WxH with 32..4096" "$bench" --size "$v"
+    check "bench_size_'$v'" 2 "--size: '$v' is not WxH with W and H in 32..4096" "$bench" --size "$v"
 done
 for v in 0 -5 nan 100001 2.5 ""; do
-    check "bench_frames_'$v'" 2 "--frames wants 2..100000" "$bench" --frames "$v"
+    check "bench_frames_'$v'" 2 "--frames: '$v' is not an integer in 2..100000" "$bench" --frames "$v"
 done
-check bench_warmup_negative 2 "--warmup wants a non-negative integer" "$bench" --warmup -1
+check bench_warmup_negative 2 "--warmup: '-1' is not an integer in 0..100000" "$bench" --warmup -1
 check bench_frames_not_above_warmup 2 "--frames must exceed --warmup" "$bench" --frames 5 --warmup 5
-check bench_heavy_every_zero 2 "--heavy-every wants a positive integer" "$bench" --heavy-every 0
-for v in 10 5000 big -512 512,x ""; do
-    check "bench_scaling_'$v'" 2 "--scaling wants sizes in 64..4096" "$bench" --scaling "$v"
+check bench_heavy_every_zero 2 "--heavy-every: '0' is not an integer in 1..100000" "$bench" --heavy-every 0
+for v in 10 5000 big -512 512,x; do
+    check "bench_scaling_'$v'" 2 "--scaling: '${v#512,}' is not an integer in 64..4096" "$bench" --scaling "$v"
 done
+check "bench_scaling_''" 2 "--scaling needs at least one size" "$bench" --scaling ""
 for v in -1 4294967296 seven ""; do
-    check "bench_seed_'$v'" 2 "--seed wants a non-negative integer" "$bench" --seed "$v"
+    check "bench_seed_'$v'" 2 "--seed: '$v' is not an integer in 0..4294967295" "$bench" --seed "$v"
 done
 for v in nan inf -inf 0 -5 61 abc; do
-    check "bench_fovea_'$v'" 2 "fovea '$v' is not in (0, 60] degrees" "$bench" --fovea "$v"
+    check "bench_fovea_'$v'" 2 "--fovea: '$v' is not a number in (0, 60]" "$bench" --fovea "$v"
 done
 check bench_fovea_empty_list 2 "must not be empty" "$bench" --fovea ,
-check bench_scenes_unknown 2 "unknown scene 'moon'" "$bench" --scenes moon
+check bench_scenes_unknown 2 "--scenes: 'moon' is not one of text, atrium, dynamic, sequence" "$bench" --scenes moon
 check bench_scenes_empty 2 "must not be empty" "$bench" --scenes ""
-check bench_methods_unknown 2 "unknown method 'magic'" "$bench" --methods magic
+check bench_methods_unknown 2 "--methods: 'magic' is not one of fov, fov+taa, wrs-paper, wrs, oracle" "$bench" --methods magic
 check bench_methods_empty 2 "must not be empty" "$bench" --methods ,
-check bench_modes_unknown 2 "unknown foveation mode 'blur'" "$bench" --modes blur
-check bench_change_unknown 2 "unknown change metric 'lab'" "$bench" --change lab
-check bench_path_unknown 2 "unknown camera path 'orbit'" "$bench" --path orbit
+check bench_modes_unknown 2 "--modes: 'blur' is not one of mip, gauss, none" "$bench" --modes blur
+check bench_change_unknown 2 "--change: 'lab' is not one of off, lstar, de94" "$bench" --change lab
+check bench_path_unknown 2 "--path: 'orbit' is not one of static, lateral, turn" "$bench" --path orbit
 check bench_out_not_a_directory 1 "cannot create $out/afile/sub" "$bench" --out "$out/afile/sub"
+check bench_scene_sequence_without_dir 2 "scene 'sequence' needs --sequence DIR" "$bench" --scenes sequence
+check bench_write_sequence_two_scenes 2 "--write-sequence writes one scene" "$bench" --write-sequence "$out/seq" --scenes text,atrium
+check bench_write_sequence_empty 2 "--write-sequence: '' is not a directory name" "$bench" --write-sequence ""
+check bench_sequence_missing 1 "sequence directory $out/none does not exist" "$bench" --sequence "$out/none"
 
 # ---- wrsfov-demo --------------------------------------------------------------------------------
 check demo_option_missing_value 2 "missing value after --fovea" "$demo" --fovea
@@ -151,6 +156,24 @@ check gaze_record_device_not_an_id 1 "is neither a path, an index nor VID:PID" "
 check gaze_record_device_index_out_of_range 1 "device index 99999 is out of range" "$gz" record --device 99999 --out "$out/r.csv"
 check gaze_record_device_bad_vid_pid 1 "is not VID:PID in hex" "$gz" record --device zz:yy --out "$out/r.csv"
 check gaze_record_device_absent_vid_pid 1 "no eye-tracker collection" "$gz" record --device 1234:5678 --out "$out/r.csv"
+
+# ---- every tool: --help and --version exit 0; a usage error points at --help; --config -------------
+check bench_help 0 "--heavy-every N" "$bench" --help
+check bench_help_defaults 0 "Default: text,atrium,dynamic." "$bench" --help
+check bench_help_change 0 "lstar: the CIE L* difference" "$bench" --help
+CLI_FIXED=
+check bench_version 0 "^wrsfov-bench [0-9][0-9.]*$" "$bench" --version
+CLI_FIXED=1
+check bench_usage_error_points_to_help 2 "Run 'wrsfov-bench --help' for more information." "$bench" --frames 0
+check bench_fovea_list_bad_item 2 "--fovea: 'nan' is not a number in (0, 60]" "$bench" --fovea 5,nan,10
+check bench_fovea_attached_value 2 "--fovea: '-inf' is not a number in (0, 60]" "$bench" --fovea=-inf
+printf 'frames = 12\nwarmup = 12\n' >"$out/frames.toml"  # both keys read, or no error
+check bench_config_values 2 "--frames must exceed --warmup" "$bench" --config "$out/frames.toml"
+printf 'scenes = "moon"\n' >"$out/moon.toml"
+check bench_config_bad_value 2 "--scenes: 'moon' is not one of" "$bench" --config "$out/moon.toml"
+printf 'frames = 12\nbogus = 1\n' >"$out/bogus.toml"
+check bench_config_unknown_key 2 "--config: unknown key 'bogus'" "$bench" --config "$out/bogus.toml"
+check bench_config_missing 1 "$out/none.toml was not readable" "$bench" --config "$out/none.toml"
 
 echo "$count checks, $fails failed"
 [ "$fails" -eq 0 ]
