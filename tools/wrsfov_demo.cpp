@@ -1,14 +1,15 @@
 // wrsfov-demo: the built-in default job. A procedural stereo page of text and gratings is submitted
 // per eye through the layers API while a scripted reading gaze path sweeps the lines; the same
-// frames go through three compositors (unfoveated reference, FOV, WRS). Writes side-by-side images,
-// per-frame stats (GPU time per pass, PSNR and near-gaze PSNR against the reference) and a summary.
+// frames and gaze go to method fov, method wrs and the unfoveated reference (method fov with
+// foveation none), each a Compositor of its own. Writes side-by-side images, per-frame stats (GPU
+// time per pass, PSNR and near-gaze PSNR against the reference) and a summary table.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "compositor/host_app.h"
 #include "compositor/vk_context.h"
 #include "eval/metrics.h"
+#include "tools/cli.h"
 
 using namespace wrsfov;
 namespace fs = std::filesystem;
@@ -27,7 +29,7 @@ namespace {
 
 struct Options {
     std::string out = "out/demo";
-    uint32_t width = 320, height = 288;
+    cli::Size size{320, 288};
     int frames = 120;
     float foveaDeg = 5.0f;
     FoveationMode mode = FoveationMode::Mip;
@@ -35,81 +37,32 @@ struct Options {
     int saveEvery = 30;
 };
 
-void usage() {
-    std::printf(
-        "usage: wrsfov-demo [--out DIR] [--size WxH] [--frames N] [--fovea DEG] [--mode mip|gauss|none]\n"
-        "                   [--seed N] [--save-every N]\n"
-        "Runs the built-in stereo pattern with a scripted reading gaze through the reference, FOV and WRS\n"
-        "compositors; writes DIR/frame_NNNN.png, DIR/stats.csv and DIR/summary.md.\n");
-}
-
-bool parse(int argc, char** argv, Options& o, std::string& err) {
-    for (int i = 1; i < argc; ++i) {
-        std::string a = argv[i];
-        auto next = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
-        const char* v = nullptr;
-        if (a == "--help" || a == "-h") {
-            usage();
-            std::exit(0);
-        }
-        if (!(v = next())) {
-            err = "missing value after " + a;
-            return false;
-        }
-        char* end = nullptr;
-        if (a == "--out") {
-            o.out = v;
-        } else if (a == "--size") {
-            unsigned w = 0, h = 0;
-            if (std::sscanf(v, "%ux%u", &w, &h) != 2 || w < 16 || h < 16 || w > 4096 || h > 4096) {
-                err = "--size wants WxH with 16..4096, got '" + std::string(v) + "'";
-                return false;
-            }
-            o.width = w;
-            o.height = h;
-        } else if (a == "--frames") {
-            long n = std::strtol(v, &end, 10);
-            if (*end || n < 1 || n > 100000) {
-                err = "--frames wants 1..100000, got '" + std::string(v) + "'";
-                return false;
-            }
-            o.frames = int(n);
-        } else if (a == "--fovea") {
-            float f = std::strtof(v, &end);
-            if (*end || !std::isfinite(f) || f <= 0 || f > 60) {
-                err = "--fovea wants a diameter in (0, 60] degrees, got '" + std::string(v) + "'";
-                return false;
-            }
-            o.foveaDeg = f;
-        } else if (a == "--mode") {
-            std::string m = v;
-            if (m == "mip") o.mode = FoveationMode::Mip;
-            else if (m == "gauss") o.mode = FoveationMode::Gauss;
-            else if (m == "none") o.mode = FoveationMode::None;
-            else {
-                err = "--mode wants mip, gauss or none, got '" + m + "'";
-                return false;
-            }
-        } else if (a == "--seed") {
-            long n = std::strtol(v, &end, 10);
-            if (!*v || *end || n < 0 || n > 0xffffffffL) {
-                err = "--seed wants an integer in 0..4294967295";
-                return false;
-            }
-            o.seed = uint32_t(n);
-        } else if (a == "--save-every") {
-            long n = std::strtol(v, &end, 10);
-            if (*end || n < 1 || n > 100000) {  // int-sized: a wrapped 0 would divide by zero
-                err = "--save-every wants 1..100000";
-                return false;
-            }
-            o.saveEvery = int(n);
-        } else {
-            err = "unknown option " + a;
-            return false;
-        }
-    }
-    return true;
+// The command line; an exit status when the program should stop here.
+std::optional<int> parse(int argc, char** argv, Options& o) {
+    CLI::App app{
+        "The built-in demo: a procedural stereo page of text and gratings with a scripted reading gaze, "
+        "composited by method fov, method wrs and the unfoveated reference (method fov with foveation none), "
+        "each a compositor of its own fed the same frames and gaze. Writes DIR/frame_NNNN.png (reference, fov "
+        "and wrs rows, both eyes), DIR/stats.csv (GPU time per pass, PSNR and near-gaze PSNR per frame) and "
+        "DIR/summary.md, and prints the summary table.",
+        "wrsfov-demo"};
+    cli::setup(app);
+    cli::option(app, "--out", o.out, cli::text("a directory name", "DIR"), "Directory for the images and tables.");
+    cli::option(app, "--size", o.size, cli::size(16, 4096), "Image size per eye, W and H in 16..4096.");
+    cli::option(app, "--frames", o.frames, cli::integer(1, 100000),
+                "Frames to composite at 90 Hz, 1..100000 (the summary averages frames 10 on).");
+    cli::option(app, "--fovea", o.foveaDeg, cli::number<float>(0, 60, cli::Ends::OpenLow),
+                "Fovea diameter in degrees, in (0, 60].")
+        ->type_name("DEG");
+    cli::option(app, "--mode", o.mode,
+                cli::oneOf<FoveationMode>(
+                    {{"mip", FoveationMode::Mip}, {"gauss", FoveationMode::Gauss}, {"none", FoveationMode::None}}),
+                "Foveation of fov and wrs: mip, gauss or none.");
+    cli::option(app, "--seed", o.seed, cli::integer<uint32_t>(0, 0xffffffffu),
+                "Seed of the page's words and WRS's random numbers, 0..4294967295.");
+    cli::option(app, "--save-every", o.saveEvery, cli::integer(1, 100000),
+                "Write a side-by-side image every N frames (and after the last), 1..100000.");
+    return cli::parseOrExit(app, argc, argv);
 }
 
 // The page: text lines in the middle, gratings and a checker around it. Disparity shifts the
@@ -186,12 +139,8 @@ Psnr psnr(const HostImage& a, const HostImage& ref, const gpu::EyeParams& ep) {
 
 int main(int argc, char** argv) {
     Options o;
-    std::string err;
-    if (!parse(argc, argv, o, err)) {
-        std::fprintf(stderr, "wrsfov-demo: %s\n", err.c_str());
-        usage();
-        return 2;
-    }
+    if (auto rc = parse(argc, argv, o)) return *rc;
+    const uint32_t width = o.size.width, height = o.size.height;
     std::error_code ec;
     fs::create_directories(o.out, ec);
     if (ec) {
@@ -204,7 +153,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::printf("wrsfov-demo: device %s, %ux%u per eye, %d frames, fovea %.1f°, mode %s -> %s\n",
-                (*ctx)->deviceName().c_str(), o.width, o.height, o.frames, o.foveaDeg,
+                (*ctx)->deviceName().c_str(), width, height, o.frames, o.foveaDeg,
                 std::string(toString(o.mode)).c_str(), o.out.c_str());
 
     const char* names[3] = {"reference", "fov", "wrs"};
@@ -223,8 +172,8 @@ int main(int argc, char** argv) {
         }
         comps[i] = std::move(*c);
         HostStereoApp::Options ao;
-        ao.width = o.width;
-        ao.height = o.height;
+        ao.width = width;
+        ao.height = height;
         auto a = HostStereoApp::create(*comps[i], ao);
         if (!a) {
             std::fprintf(stderr, "wrsfov-demo: %s\n", a.error().message.c_str());
@@ -233,9 +182,9 @@ int main(int argc, char** argv) {
         apps[i] = std::move(*a);
     }
 
-    const int disparity = int(o.width / 80);
-    std::array<HostImage, 2> pages = {toHost(drawPage(o.width, o.height, 0, o.seed)),
-                                      toHost(drawPage(o.width, o.height, -disparity, o.seed))};
+    const int disparity = int(width / 80);
+    std::array<HostImage, 2> pages = {toHost(drawPage(width, height, 0, o.seed)),
+                                      toHost(drawPage(width, height, -disparity, o.seed))};
     std::ofstream csv(o.out + "/stats.csv");
     csv << "frame,t_s,gaze_x_px,gaze_y_px,method,pyramid_ms,foveate_ms,temporal_ms,total_ms,"
            "psnr_left,psnr_right,near_psnr_left,near_psnr_right\n";
@@ -245,13 +194,13 @@ int main(int argc, char** argv) {
     auto t0 = std::chrono::steady_clock::now();
     for (int f = 0; f < o.frames; ++f) {
         double t = f / fps;
-        cv::Point2f g = gazePoint(t, o.width, o.height);
+        cv::Point2f g = gazePoint(t, width, height);
         std::array<EyeSubmission, 2> eyes;
         for (int e = 0; e < 2; ++e) {
             eyes[e].color = pages[e];
             eyes[e].fov = hmdFov(e);
             float gx = g.x - float(e == 1 ? disparity : 0);
-            eyes[e].gaze = {pixelDirection(eyes[e].fov, o.width, o.height, gx, g.y), true, 1.0f};
+            eyes[e].gaze = {pixelDirection(eyes[e].fov, width, height, gx, g.y), true, 1.0f};
         }
         HostImage outs[3][2];
         for (int i = 0; i < 3; ++i) {
@@ -307,11 +256,15 @@ int main(int argc, char** argv) {
             std::fflush(stdout);
         }
     }
+    // The summary table, in summary.md and on the console, each with its header.
+    const char* header =
+        "| method | PSNR (dB) | near-gaze PSNR, e ≤ 10° (dB) | GPU ms / frame (both eyes) |\n|---|---|---|---|\n";
     std::ofstream md(o.out + "/summary.md");
-    md << "# wrsfov-demo summary\n\n" << o.width << "x" << o.height << " per eye, " << o.frames << " frames, fovea "
+    md << "# wrsfov-demo summary\n\n" << width << "x" << height << " per eye, " << o.frames << " frames, fovea "
        << o.foveaDeg << "°, foveation " << toString(o.mode) << ", device " << (*ctx)->deviceName()
        << ". Means over frames 10.. of both eyes, against the unfoveated reference.\n\n"
-       << "| method | PSNR (dB) | near-gaze PSNR, e ≤ 10° (dB) | GPU ms / frame (both eyes) |\n|---|---|---|---|\n";
+       << header;
+    std::printf("wrsfov-demo: means over frames 10.. of both eyes, against the unfoveated reference\n%s", header);
     for (int i = 1; i < 3; ++i) {
         char row[200];
         std::snprintf(row, sizeof(row), "| %s | %.2f | %.2f | %.3f |\n", names[i], sums[i][0] / std::max(1, counted),

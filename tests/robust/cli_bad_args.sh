@@ -52,23 +52,23 @@ check bench_write_sequence_empty 2 "--write-sequence: '' is not a directory name
 check bench_sequence_missing 1 "sequence directory $out/none does not exist" "$bench" --sequence "$out/none"
 
 # ---- wrsfov-demo --------------------------------------------------------------------------------
-check demo_option_missing_value 2 "missing value after --fovea" "$demo" --fovea
+check demo_option_missing_value 2 "--fovea: missing value (DEG)" "$demo" --fovea
 check demo_option_unknown 2 "unknown option --bogus" "$demo" --bogus 1
 for v in big 16x 8x8 0x0 5000x5000 -16x16 ""; do
-    check "demo_size_'$v'" 2 "--size wants WxH with 16..4096" "$demo" --size "$v"
+    check "demo_size_'$v'" 2 "--size: '$v' is not WxH with W and H in 16..4096" "$demo" --size "$v"
 done
 for v in 0 -5 nan 100001 1.5 ""; do
-    check "demo_frames_'$v'" 2 "--frames wants 1..100000" "$demo" --frames "$v"
+    check "demo_frames_'$v'" 2 "--frames: '$v' is not an integer in 1..100000" "$demo" --frames "$v"
 done
 for v in nan inf 0 -1 61 abc ""; do
-    check "demo_fovea_'$v'" 2 "--fovea wants a diameter in (0, 60] degrees" "$demo" --fovea "$v"
+    check "demo_fovea_'$v'" 2 "--fovea: '$v' is not a number in (0, 60]" "$demo" --fovea "$v"
 done
-check demo_mode_unknown 2 "--mode wants mip, gauss or none, got 'blur'" "$demo" --mode blur
+check demo_mode_unknown 2 "--mode: 'blur' is not one of mip, gauss, none" "$demo" --mode blur
 for v in -1 4294967296 seven ""; do
-    check "demo_seed_'$v'" 2 "--seed wants an integer in 0..4294967295" "$demo" --seed "$v"
+    check "demo_seed_'$v'" 2 "--seed: '$v' is not an integer in 0..4294967295" "$demo" --seed "$v"
 done
 for v in 0 -1 4294967296 100001 often; do
-    check "demo_save_every_'$v'" 2 "--save-every wants 1..100000" "$demo" --save-every "$v"
+    check "demo_save_every_'$v'" 2 "--save-every: '$v' is not an integer in 1..100000" "$demo" --save-every "$v"
 done
 check demo_out_not_a_directory 1 "cannot create $out/afile/sub" "$demo" --out "$out/afile/sub"
 
@@ -161,8 +161,10 @@ check gaze_record_device_absent_vid_pid 1 "no eye-tracker collection" "$gz" reco
 check bench_help 0 "--heavy-every N" "$bench" --help
 check bench_help_defaults 0 "Default: text,atrium,dynamic." "$bench" --help
 check bench_help_change 0 "lstar: the CIE L* difference" "$bench" --help
+check demo_help 0 "Default: out/demo." "$demo" --help
 CLI_FIXED=
 check bench_version 0 "^wrsfov-bench [0-9][0-9.]*$" "$bench" --version
+check demo_version 0 "^wrsfov-demo [0-9][0-9.]*$" "$demo" --version
 CLI_FIXED=1
 check bench_usage_error_points_to_help 2 "Run 'wrsfov-bench --help' for more information." "$bench" --frames 0
 check bench_fovea_list_bad_item 2 "--fovea: 'nan' is not a number in (0, 60]" "$bench" --fovea 5,nan,10
