@@ -1,15 +1,13 @@
 // wrsfov-gaze: generate synthetic gaze, analyse gaze files, inspect and record HID eye trackers.
+#include <array>
 #include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <iterator>
-#include <map>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -22,98 +20,20 @@
 #include "gaze/hid_eyetracker.h"
 #include "gaze/plot.h"
 #include "gaze/stats.h"
+#include "tools/cli.h"
 
 namespace g = wrsfov::gaze;
 namespace hid = wrsfov::gaze::hid;
+namespace cli = wrsfov::cli;
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: wrsfov-gaze COMMAND [options]
-
-commands:
-  generate --mode fixation|scene|reading|pursuit --seconds S --rate HZ --seed N --out FILE [--plot PNG]
-           [--latency-ms MS] [--noise-deg DEG] [--dropouts-per-s R] [--blinks-per-min B] [--no-blinks]
-           [--char-deg D] [--line-spacing-deg D] [--line-chars N] [--pursuit-speed MIN MAX]
-      Synthetic gaze as a project CSV with the true event in a `label` column. --plot writes the
-      scanpath to PNG and the speed over the first 10 s to PNG's name with _velocity.
-  stats FILE [--format auto|project|pupil|tobii] [--lambda L] [--ivt-deg-s V] [--pursuit-deg-s V]
-           [--reading [--char-deg D] [--line-spacing-deg D]] [--plot PNG]
-      Runs the Engbert & Kliegl and I-VT detectors and prints rates, amplitudes, durations and the
-      main-sequence fit next to published values.
-  list
-      HID devices with their usage pages; eye trackers (usage page 0x12) are marked.
-  hid-decode --descriptor FILE [--report FILE] [--feature FILE]
-      Parses a report descriptor and decodes an input (and feature) report; prints JSON. Files are
-      binary or hex text ("05 12 09 01 ...").
-  record --device PATH|INDEX|VID:PID --out FILE [--seconds S] [--screen-mm W H]
-      Records a HID eye tracker to a project CSV (S = 0: until Ctrl-C; default 10).
-)";
-
-struct Args {
-    std::vector<std::string> positional;
-    std::map<std::string, std::vector<std::string>> opts;
-    std::string error;
-
-    bool has(const std::string& k) const { return opts.count(k) > 0; }
-    std::optional<std::string> get(const std::string& k, size_t i = 0) const {
-        auto it = opts.find(k);
-        if (it == opts.end() || it->second.size() <= i) return std::nullopt;
-        return it->second[i];
-    }
-};
-
-// Options and how many values each takes.
-Args parse_args(int argc, char** argv, const std::map<std::string, int>& known) {
-    Args a;
-    for (int i = 2; i < argc; ++i) {
-        const std::string s = argv[i];
-        if (s.rfind("--", 0) == 0) {
-            auto k = known.find(s);
-            if (k == known.end()) {
-                a.error = "unknown option " + s;
-                return a;
-            }
-            std::vector<std::string> vals;
-            for (int n = 0; n < k->second; ++n) {
-                if (i + 1 >= argc) {
-                    a.error = s + " needs " + std::to_string(k->second) + " value(s)";
-                    return a;
-                }
-                vals.push_back(argv[++i]);
-            }
-            a.opts[s] = vals;
-        } else {
-            a.positional.push_back(s);
-        }
-    }
-    return a;
-}
-
-bool to_double(const std::string& s, double& out) {
-    char* end = nullptr;
-    out = std::strtod(s.c_str(), &end);
-    return !s.empty() && *end == '\0' && std::isfinite(out);
-}
-
-int usage_error(const std::string& msg) {
-    std::fprintf(stderr, "wrsfov-gaze: %s\n\n%s", msg.c_str(), kUsage);
-    return 2;
-}
+// A usage error found after parsing; `cmd` is the subcommand (its --help is named).
+int usage_error(const CLI::App& cmd, const std::string& msg) { return cli::usageError(cmd, msg); }
 
 int runtime_error(const std::string& msg) {
     std::fprintf(stderr, "wrsfov-gaze: %s\n", msg.c_str());
     return 1;
-}
-
-// Reads a number option into `out`; false (with a message) if it is malformed.
-bool number_opt(const Args& a, const std::string& k, double& out, std::string& err, size_t i = 0) {
-    auto v = a.get(k, i);
-    if (!v) return true;
-    if (!to_double(*v, out)) {
-        err = k + " '" + *v + "' is not a number";
-        return false;
-    }
-    return true;
 }
 
 std::string velocity_png_name(const std::string& png) {
@@ -134,120 +54,59 @@ int write_plots(const std::string& png, const std::vector<g::GazeSample>& sample
     return 0;
 }
 
-int cmd_generate(int argc, char** argv) {
-    const Args a = parse_args(argc, argv,
-                              {{"--mode", 1},
-                               {"--seconds", 1},
-                               {"--rate", 1},
-                               {"--seed", 1},
-                               {"--out", 1},
-                               {"--plot", 1},
-                               {"--latency-ms", 1},
-                               {"--noise-deg", 1},
-                               {"--dropouts-per-s", 1},
-                               {"--blinks-per-min", 1},
-                               {"--no-blinks", 0},
-                               {"--char-deg", 1},
-                               {"--line-spacing-deg", 1},
-                               {"--line-chars", 1},
-                               {"--pursuit-speed", 2}});
-    if (!a.error.empty()) return usage_error(a.error);
-    if (!a.positional.empty()) return usage_error("unexpected argument " + a.positional[0]);
+struct GenerateArgs {
     g::GeneratorConfig c;
-    const auto mode = a.get("--mode");
-    if (!mode) return usage_error("generate needs --mode");
-    const auto m = g::parse_mode(*mode);
-    if (!m) return usage_error("--mode must be fixation, scene, reading or pursuit, not '" + *mode + "'");
-    c.mode = *m;
-    const auto out = a.get("--out");
-    if (!out) return usage_error("generate needs --out FILE");
-    std::string err;
-    double seed = 1, latency_ms = 0, line_chars = c.reading.line_chars;
-    if (!number_opt(a, "--seconds", c.seconds, err) || !number_opt(a, "--rate", c.tracker.rate_hz, err) ||
-        !number_opt(a, "--seed", seed, err) || !number_opt(a, "--latency-ms", latency_ms, err) ||
-        !number_opt(a, "--noise-deg", c.tracker.noise_deg, err) ||
-        !number_opt(a, "--dropouts-per-s", c.tracker.dropout_per_s, err) ||
-        !number_opt(a, "--blinks-per-min", c.blinks.per_minute, err) ||
-        !number_opt(a, "--char-deg", c.reading.char_deg, err) ||
-        !number_opt(a, "--line-spacing-deg", c.reading.line_spacing_deg, err) ||
-        !number_opt(a, "--line-chars", line_chars, err) ||
-        !number_opt(a, "--pursuit-speed", c.pursuit.speed_min_deg_s, err, 0) ||
-        !number_opt(a, "--pursuit-speed", c.pursuit.speed_max_deg_s, err, 1))
-        return usage_error(err);
-    if (seed < 0 || seed != std::floor(seed) || seed > 1.8e19)
-        return usage_error("--seed must be a non-negative integer");
-    c.seed = static_cast<uint64_t>(seed);
-    c.tracker.latency_s = latency_ms * 1e-3;
-    if (!(line_chars >= 10 && line_chars <= 1000)) return usage_error("--line-chars must be 10..1000");
-    c.reading.line_chars = static_cast<int>(line_chars);
-    c.blinks_enabled = !a.has("--no-blinks");
+    std::string out, plot;
+    double latency_ms = 0;
+    bool no_blinks = false;
+    std::array<double, 2> pursuit{};
+};
+
+int cmd_generate(const CLI::App& cmd, GenerateArgs& a) {
+    g::GeneratorConfig& c = a.c;
+    c.tracker.latency_s = a.latency_ms * 1e-3;
+    c.pursuit.speed_min_deg_s = a.pursuit[0];
+    c.pursuit.speed_max_deg_s = a.pursuit[1];
+    c.blinks_enabled = !a.no_blinks;
     auto gen = g::generate(c);
-    if (!gen) return usage_error(gen.error().message);
-    if (auto s = g::write_gaze_csv(*out, gen->samples, true); !s) return runtime_error(s.error().message);
+    if (!gen) return usage_error(cmd, gen.error().message);
+    if (auto s = g::write_gaze_csv(a.out, gen->samples, true); !s) return runtime_error(s.error().message);
     size_t valid = 0;
     for (const g::GazeSample& s : gen->samples) valid += s.eye[0].valid ? 1 : 0;
     std::printf("wrote %zu samples (%zu valid) of %s gaze at %g Hz, seed %llu, to %s\n", gen->samples.size(), valid,
                 std::string(g::mode_name(c.mode)).c_str(), c.tracker.rate_hz, static_cast<unsigned long long>(c.seed),
-                out->c_str());
-    if (auto png = a.get("--plot")) return write_plots(*png, gen->samples, 30);
+                a.out.c_str());
+    if (!a.plot.empty()) return write_plots(a.plot, gen->samples, 30);
     return 0;
 }
 
-int cmd_stats(int argc, char** argv) {
-    const Args a = parse_args(argc, argv,
-                              {{"--format", 1},
-                               {"--lambda", 1},
-                               {"--ivt-deg-s", 1},
-                               {"--pursuit-deg-s", 1},
-                               {"--reading", 0},
-                               {"--char-deg", 1},
-                               {"--line-spacing-deg", 1},
-                               {"--plot", 1}});
-    if (!a.error.empty()) return usage_error(a.error);
-    if (a.positional.size() != 1) return usage_error("stats needs exactly one FILE");
+struct StatsArgs {
+    std::string file, plot;
     g::ReadOptions ro;
-    if (auto f = a.get("--format")) {
-        if (*f == "auto")
-            ro.format = g::GazeFormat::Auto;
-        else if (*f == "project")
-            ro.format = g::GazeFormat::Project;
-        else if (*f == "pupil")
-            ro.format = g::GazeFormat::PupilLabs;
-        else if (*f == "tobii")
-            ro.format = g::GazeFormat::TobiiProLab;
-        else
-            return usage_error("--format must be auto, project, pupil or tobii");
-    }
     g::StatsOptions so;
     g::ReadingLayout layout;
-    std::string err;
-    if (!number_opt(a, "--lambda", so.ek.lambda, err) ||
-        !number_opt(a, "--ivt-deg-s", so.ivt.saccade_threshold_deg_s, err) ||
-        !number_opt(a, "--pursuit-deg-s", so.ivt.pursuit_threshold_deg_s, err) ||
-        !number_opt(a, "--char-deg", layout.char_deg, err) ||
-        !number_opt(a, "--line-spacing-deg", layout.line_spacing_deg, err))
-        return usage_error(err);
-    if (!(so.ek.lambda > 0) || !(so.ivt.saccade_threshold_deg_s > 0) || !(layout.char_deg > 0) ||
-        !(layout.line_spacing_deg > 0))
-        return usage_error("--lambda, --ivt-deg-s, --char-deg and --line-spacing-deg must be > 0");
-    if (a.has("--reading")) so.reading = layout;
-    auto rec = g::read_gaze_file(a.positional[0], ro);
+    bool reading = false;
+};
+
+int cmd_stats(StatsArgs& a) {
+    g::StatsOptions& so = a.so;
+    if (a.reading) so.reading = a.layout;
+    auto rec = g::read_gaze_file(a.file, a.ro);
     if (!rec) return runtime_error(rec.error().message);
     for (size_t i = 0; i < rec->issues.size() && i < 20; ++i)
-        std::fprintf(stderr, "%s:%zu: skipped: %s\n", a.positional[0].c_str(), rec->issues[i].line,
+        std::fprintf(stderr, "%s:%zu: skipped: %s\n", a.file.c_str(), rec->issues[i].line,
                      rec->issues[i].message.c_str());
     if (rec->issues.size() > 20) std::fprintf(stderr, "... %zu bad rows in all\n", rec->issues.size());
-    if (rec->samples.empty()) return runtime_error(a.positional[0] + ": no usable samples");
+    if (rec->samples.empty()) return runtime_error(a.file + ": no usable samples");
     const g::GazeStats s = g::compute_stats(rec->samples, so);
-    std::printf("%s (%s), %zu bad rows skipped\n", a.positional[0].c_str(),
+    std::printf("%s (%s), %zu bad rows skipped\n", a.file.c_str(),
                 std::string(g::format_name(rec->format)).c_str(), rec->issues.size());
     std::printf("%s", g::format_stats(s).c_str());
-    if (auto png = a.get("--plot")) return write_plots(*png, rec->samples, so.ivt.saccade_threshold_deg_s);
+    if (!a.plot.empty()) return write_plots(a.plot, rec->samples, so.ivt.saccade_threshold_deg_s);
     return 0;
 }
 
-int cmd_list(int argc, char**) {
-    if (argc > 2) return usage_error("list takes no arguments");
+int cmd_list() {
     auto devices = hid::enumerate_devices();
     if (!devices) return runtime_error(devices.error().message);
     if (devices->empty()) {
@@ -317,13 +176,12 @@ std::string hex32(uint32_t v) {
     return b;
 }
 
-int cmd_hid_decode(int argc, char** argv) {
-    const Args a = parse_args(argc, argv, {{"--descriptor", 1}, {"--report", 1}, {"--feature", 1}});
-    if (!a.error.empty()) return usage_error(a.error);
-    if (!a.positional.empty()) return usage_error("unexpected argument " + a.positional[0]);
-    const auto dpath = a.get("--descriptor");
-    if (!dpath) return usage_error("hid-decode needs --descriptor FILE");
-    auto bytes = read_bytes(*dpath);
+struct HidDecodeArgs {
+    std::string descriptor, report, feature;
+};
+
+int cmd_hid_decode(const HidDecodeArgs& a) {
+    auto bytes = read_bytes(a.descriptor);
     if (!bytes) return runtime_error(bytes.error().message);
     auto desc = hid::parse_descriptor(*bytes);
     if (!desc) {
@@ -387,8 +245,8 @@ int cmd_hid_decode(int argc, char** argv) {
              ", \"screen_feature_report_id\": " +
              (layout->screen_width.found() ? std::to_string(layout->screen_report_id) : "null") + "}";
     }
-    if (auto rpath = a.get("--report")) {
-        auto rb = read_bytes(*rpath);
+    if (!a.report.empty()) {
+        auto rb = read_bytes(a.report);
         if (!rb) return runtime_error(rb.error().message);
         auto view = hid::view_report(*desc, hid::ReportType::Input, *rb);
         if (!view) {
@@ -438,8 +296,8 @@ int cmd_hid_decode(int argc, char** argv) {
             o += "\n  }";
         }
     }
-    if (auto fpath = a.get("--feature")) {
-        auto fb = read_bytes(*fpath);
+    if (!a.feature.empty()) {
+        auto fb = read_bytes(a.feature);
         if (!fb) return runtime_error(fb.error().message);
         if (!layout) {
             o += ",\n  \"feature\": {\"error\": \"no eye tracker layout\"}";
@@ -458,25 +316,18 @@ int cmd_hid_decode(int argc, char** argv) {
 
 std::atomic<bool> g_stop{false};
 
-int cmd_record(int argc, char** argv) {
-    const Args a = parse_args(argc, argv, {{"--device", 1}, {"--out", 1}, {"--seconds", 1}, {"--screen-mm", 2}});
-    if (!a.error.empty()) return usage_error(a.error);
-    const auto dev = a.get("--device");
-    const auto out = a.get("--out");
-    if (!dev || !out) return usage_error("record needs --device ID and --out FILE");
+struct RecordArgs {
+    std::string device, out;
     double seconds = 10;
-    std::string err;
+    std::array<double, 2> screen_mm{};
+    bool screen_given = false;
+};
+
+int cmd_record(const RecordArgs& a) {
+    const double seconds = a.seconds;
     hid::HidSourceOptions opts;
-    double w = 0, h = 0;
-    if (!number_opt(a, "--seconds", seconds, err) || !number_opt(a, "--screen-mm", w, err, 0) ||
-        !number_opt(a, "--screen-mm", h, err, 1))
-        return usage_error(err);
-    if (seconds < 0) return usage_error("--seconds must be >= 0");
-    if (a.has("--screen-mm")) {
-        if (!(w > 0 && h > 0)) return usage_error("--screen-mm needs a positive width and height");
-        opts.screen = hid::ScreenSize{w * 1000, h * 1000};
-    }
-    auto path = hid::resolve_device(*dev);
+    if (a.screen_given) opts.screen = hid::ScreenSize{a.screen_mm[0] * 1000, a.screen_mm[1] * 1000};
+    auto path = hid::resolve_device(a.device);
     if (!path) return runtime_error(path.error().message);
     std::signal(SIGINT, [](int) { g_stop = true; });
     hid::HidTrackerSource src(hid::hidapi_connector(*path), opts);
@@ -502,24 +353,141 @@ int cmd_record(int argc, char** argv) {
                              (src.last_error().empty() ? std::string() : ": " + src.last_error()));
     const double first = samples.front().t_s;
     for (g::GazeSample& s : samples) s.t_s -= first;
-    if (auto s = g::write_gaze_csv(*out, samples, false); !s) return runtime_error(s.error().message);
-    std::printf("recorded %zu samples to %s\n", samples.size(), out->c_str());
+    if (auto s = g::write_gaze_csv(a.out, samples, false); !s) return runtime_error(s.error().message);
+    std::printf("recorded %zu samples to %s\n", samples.size(), a.out.c_str());
     return 0;
+}
+
+// An option that takes any finite number (the generator and the detectors check their ranges).
+template <typename T>
+CLI::Option* finite(CLI::App& app, const std::string& name, T& target, const std::string& description) {
+    return cli::option(app, name, target, cli::number<T>(-INFINITY, INFINITY), description);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) return usage_error("no command");
-    const std::string cmd = argv[1];
-    if (cmd == "-h" || cmd == "--help" || cmd == "help") {
-        std::fputs(kUsage, stdout);
-        return 0;
+    CLI::App app{
+        "Generate synthetic gaze, analyse gaze files, inspect and record HID eye trackers. Exit status: 0 "
+        "success, 1 a run-time failure (unreadable file, device missing, undecodable report), 2 a usage error.",
+        "wrsfov-gaze"};
+    cli::setup(app);
+    app.require_subcommand(0, 1);
+
+    GenerateArgs ga;
+    g::GeneratorConfig& c = ga.c;
+    ga.pursuit = {c.pursuit.speed_min_deg_s, c.pursuit.speed_max_deg_s};
+    CLI::App* gen = app.add_subcommand(
+        "generate",
+        "Synthetic gaze as a project CSV with the true event in a `label` column. The ranges are the "
+        "generator's (a message names the field).");
+    cli::option(*gen, "--mode", c.mode,
+                cli::oneOf<g::Mode>({{"fixation", g::Mode::Fixation},
+                                     {"scene", g::Mode::Scene},
+                                     {"reading", g::Mode::Reading},
+                                     {"pursuit", g::Mode::Pursuit}}),
+                "What the simulated observer does: fixation (drift and microsaccades), scene (free viewing), "
+                "reading (lines of text) or pursuit (step-ramp targets).")
+        ->required()
+        ->default_str("");
+    cli::option(*gen, "--out", ga.out, cli::text("a file name", "FILE"), "The project CSV to write.")->required();
+    finite(*gen, "--seconds", c.seconds, "Length in seconds, in (0, 3600].")->type_name("S");
+    finite(*gen, "--rate", c.tracker.rate_hz, "Tracker rate in Hz, 90..1000.")->type_name("HZ");
+    cli::option(*gen, "--seed", c.seed,
+                cli::integer<uint64_t>(0, 18000000000000000000ull, "a non-negative integer below 1.8e19"),
+                "Seed of the generator: the same seed and options give the same file.");
+    cli::option(*gen, "--plot", ga.plot, cli::text("a file name", "PNG"),
+                "Write the scanpath to PNG and the speed over the first 10 s to PNG's name with _velocity.");
+    finite(*gen, "--latency-ms", ga.latency_ms, "Tracker latency in ms: a sample at t shows the eye at t - latency.")
+        ->type_name("MS");
+    finite(*gen, "--noise-deg", c.tracker.noise_deg, "RMS white noise of the tracker per axis, in degrees.")
+        ->type_name("DEG");
+    finite(*gen, "--dropouts-per-s", c.tracker.dropout_per_s, "Rate of tracking losses per second.")
+        ->type_name("R");
+    finite(*gen, "--blinks-per-min", c.blinks.per_minute, "Blinks per minute (samples invalid while the lid is closed).")
+        ->type_name("B");
+    gen->add_flag("--no-blinks", ga.no_blinks, "No blinks.");
+    finite(*gen, "--char-deg", c.reading.char_deg, "Reading: width of one character in degrees.")->type_name("D");
+    finite(*gen, "--line-spacing-deg", c.reading.line_spacing_deg, "Reading: distance between lines in degrees.")
+        ->type_name("D");
+    cli::option(*gen, "--line-chars", c.reading.line_chars, cli::integer(10, 1000),
+                "Reading: characters per line, 10..1000.");
+    gen->add_option("--pursuit-speed", ga.pursuit, "Pursuit: target speeds drawn between MIN and MAX deg/s.")
+        ->check(cli::check(cli::number<double>(-INFINITY, INFINITY)))
+        ->type_name("MIN MAX")
+        ->default_str(cli::showNumber(ga.pursuit[0]) + " " + cli::showNumber(ga.pursuit[1]));
+
+    StatsArgs sa;
+    CLI::App* stats = app.add_subcommand(
+        "stats",
+        "Runs the Engbert & Kliegl and I-VT detectors on a gaze file and prints rates, amplitudes, durations and "
+        "the main-sequence fit next to published values; rows that cannot be read are reported and skipped.");
+    cli::option(*stats, "FILE", sa.file, cli::text("a file name", "FILE"),
+                "Gaze file: project CSV, Pupil Labs export or Tobii Pro Lab TSV.")
+        ->required();
+    cli::option(*stats, "--format", sa.ro.format,
+                cli::oneOf<g::GazeFormat>({{"auto", g::GazeFormat::Auto},
+                                           {"project", g::GazeFormat::Project},
+                                           {"pupil", g::GazeFormat::PupilLabs},
+                                           {"tobii", g::GazeFormat::TobiiProLab}}),
+                "File format: auto (from the header), project, pupil or tobii.");
+    const cli::Reader<double> positive = cli::number<double>(0, INFINITY, cli::Ends::OpenLow);
+    cli::option(*stats, "--lambda", sa.so.ek.lambda, positive,
+                "Engbert & Kliegl threshold: this many median-based SDs of the velocity, > 0.")
+        ->type_name("L");
+    cli::option(*stats, "--ivt-deg-s", sa.so.ivt.saccade_threshold_deg_s, positive,
+                "I-VT saccade threshold in deg/s, > 0.")
+        ->type_name("V");
+    finite(*stats, "--pursuit-deg-s", sa.so.ivt.pursuit_threshold_deg_s,
+           "I-VT: slow segments moving faster than this (deg/s) are pursuit; 0: no pursuit.")
+        ->type_name("V");
+    stats->add_flag("--reading", sa.reading, "Reading measures (regressions, return sweeps) for the layout below.");
+    cli::option(*stats, "--char-deg", sa.layout.char_deg, positive, "Reading: width of one character in degrees, > 0.")
+        ->type_name("D");
+    cli::option(*stats, "--line-spacing-deg", sa.layout.line_spacing_deg, positive,
+                "Reading: distance between lines in degrees, > 0.")
+        ->type_name("D");
+    cli::option(*stats, "--plot", sa.plot, cli::text("a file name", "PNG"),
+                "Write the scanpath to PNG and the speed over the first 10 s to PNG's name with _velocity.");
+
+    CLI::App* list = app.add_subcommand("list", "HID devices with their usage pages; eye trackers (usage page 0x12) "
+                                                "are marked.");
+
+    HidDecodeArgs ha;
+    CLI::App* hidDecode = app.add_subcommand(
+        "hid-decode",
+        "Parses a report descriptor and decodes an input (and feature) report; prints JSON. Files are binary or "
+        "hex text (\"05 12 09 01 ...\", \"0x05,0x12\").");
+    cli::option(*hidDecode, "--descriptor", ha.descriptor, cli::text("a file name", "FILE"), "The report descriptor.")
+        ->required();
+    cli::option(*hidDecode, "--report", ha.report, cli::text("a file name", "FILE"), "An input report to decode.");
+    cli::option(*hidDecode, "--feature", ha.feature, cli::text("a file name", "FILE"),
+                "A Calibrated Screen feature report to decode.");
+
+    RecordArgs ra;
+    CLI::App* record = app.add_subcommand("record", "Records a HID eye tracker to a project CSV.");
+    cli::option(*record, "--device", ra.device, cli::text("a device", "ID"),
+                "The tracker: a hidraw path, an index of `wrsfov-gaze list` or VID:PID in hex.")
+        ->required();
+    cli::option(*record, "--out", ra.out, cli::text("a file name", "FILE"), "The project CSV to write.")->required();
+    cli::option(*record, "--seconds", ra.seconds, cli::number<double>(0, INFINITY),
+                "How long to record, >= 0; 0: until Ctrl-C.")
+        ->type_name("S");
+    record
+        ->add_option("--screen-mm", ra.screen_mm,
+                     "Screen width and height in mm, > 0, where the tracker has no Calibrated Screen feature.")
+        ->check(cli::check(cli::number<double>(0, INFINITY, cli::Ends::OpenLow)))
+        ->type_name("W H");
+
+    app.footer("Run 'wrsfov-gaze COMMAND --help' for the options of a command.");  // after the commands: theirs differ
+    if (auto rc = cli::parseOrExit(app, argc, argv)) return *rc;
+    if (gen->parsed()) return cmd_generate(*gen, ga);
+    if (stats->parsed()) return cmd_stats(sa);
+    if (list->parsed()) return cmd_list();
+    if (hidDecode->parsed()) return cmd_hid_decode(ha);
+    if (record->parsed()) {
+        ra.screen_given = record->count("--screen-mm") > 0;
+        return cmd_record(ra);
     }
-    if (cmd == "generate") return cmd_generate(argc, argv);
-    if (cmd == "stats") return cmd_stats(argc, argv);
-    if (cmd == "list") return cmd_list(argc, argv);
-    if (cmd == "hid-decode") return cmd_hid_decode(argc, argv);
-    if (cmd == "record") return cmd_record(argc, argv);
-    return usage_error("unknown command '" + cmd + "'");
+    return cli::usageError(app, "no command: generate, stats, list, hid-decode or record");
 }

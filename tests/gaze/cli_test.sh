@@ -21,7 +21,7 @@ check stats_pupil 0 "3 bad rows skipped" "$bin" stats "$data/pupil_gaze_position
 check stats_pupil_lines 0 "pupil_gaze_positions.csv:6: skipped" "$bin" stats "$data/pupil_gaze_positions.csv"
 check stats_tobii 0 "Tobii Pro Lab TSV" "$bin" stats "$data/tobii_export.tsv"
 check stats_missing 1 "cannot open" "$bin" stats "$out/none.csv"
-check generate_bad_mode 2 "--mode must be" "$bin" generate --mode dance --seconds 1 --out "$out/x.csv"
+check generate_bad_mode 2 "--mode: 'dance' is not one of fixation, scene, reading, pursuit" "$bin" generate --mode dance --seconds 1 --out "$out/x.csv"
 check generate_bad_rate 2 "rate must be 90..1000" "$bin" generate --mode scene --seconds 1 --rate 5000 --out "$out/x.csv"
 check hid_decode 0 '"gaze_point_um": \[250000, 140000\]' "$bin" hid-decode --descriptor "$data/eyetracker_descriptor.hex" \
     --report "$data/eyetracker_report.hex" --feature "$data/eyetracker_feature.hex"
@@ -36,5 +36,9 @@ check hid_decode_short_report 1 "truncated" "$bin" hid-decode --descriptor "$dat
     --report "$out/short_report.hex"
 check list 0 "" "$bin" list
 check record_missing 1 "recorded no samples" "$bin" record --device /dev/hidraw-none --out "$out/rec.csv" --seconds 0.6
-check unknown_command 2 "unknown command" "$bin" frobnicate
+check unknown_command 2 "unknown command 'frobnicate' (generate, stats, list, hid-decode, record)" "$bin" frobnicate
+check help 0 "generate" "$bin" --help
+check generate_help 0 "Default: 5 20\." "$bin" generate --help
+check version 0 "^wrsfov-gaze [0-9][0-9.]*$" "$bin" --version
+check seed_as_1e3 0 "seed 1000," "$bin" generate --mode fixation --seconds 1 --seed 1e3 --out "$out/seed.csv"
 [ "$fails" -eq 0 ] || { echo "$fails check(s) failed"; exit 1; }

@@ -73,13 +73,13 @@ done
 check demo_out_not_a_directory 1 "cannot create $out/afile/sub" "$demo" --out "$out/afile/sub"
 
 # ---- wrsfov-gaze --------------------------------------------------------------------------------
-check gaze_no_command 2 "no command" "$gz"
-check gaze_generate_no_mode 2 "generate needs --mode" "$gz" generate --seconds 1 --out "$out/g.csv"
-check gaze_generate_no_out 2 "generate needs --out FILE" "$gz" generate --mode scene
-check gaze_generate_option_missing_value 2 "--seconds needs 1 value(s)" "$gz" generate --mode scene --out "$out/g.csv" --seconds
-check gaze_generate_unexpected_argument 2 "unexpected argument extra" "$gz" generate --mode scene --out "$out/g.csv" extra
+check gaze_no_command 2 "no command: generate, stats, list, hid-decode or record" "$gz"
+check gaze_generate_no_mode 2 "--mode is required" "$gz" generate --seconds 1 --out "$out/g.csv"
+check gaze_generate_no_out 2 "--out is required" "$gz" generate --mode scene
+check gaze_generate_option_missing_value 2 "--seconds: missing value (S)" "$gz" generate --mode scene --out "$out/g.csv" --seconds
+check gaze_generate_unexpected_argument 2 "unexpected argument 'extra'" "$gz" generate --mode scene --out "$out/g.csv" extra
 for v in nan inf -inf ten ""; do
-    check "gaze_generate_seconds_'$v'" 2 "--seconds '$v' is not a number" "$gz" generate --mode scene --out "$out/g.csv" --seconds "$v"
+    check "gaze_generate_seconds_'$v'" 2 "--seconds: '$v' is not a finite number" "$gz" generate --mode scene --out "$out/g.csv" --seconds "$v"
 done
 for v in 0 -1 3601 1e300; do
     check "gaze_generate_seconds_$v" 2 "seconds must be in (0, 3600]" "$gz" generate --mode scene --out "$out/g.csv" --seconds "$v"
@@ -88,23 +88,23 @@ for v in 0 -100 89 1001; do
     check "gaze_generate_rate_$v" 2 "tracker rate must be 90..1000 Hz" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --rate "$v"
 done
 for v in -1 1.5 2e19; do
-    check "gaze_generate_seed_$v" 2 "--seed must be a non-negative integer" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --seed "$v"
+    check "gaze_generate_seed_$v" 2 "--seed: '$v' is not a non-negative integer below 1.8e19" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --seed "$v"
 done
 check gaze_generate_latency_negative 2 "tracker latency must be in [0, 1) s" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --latency-ms -1
 check gaze_generate_latency_huge 2 "tracker latency must be in [0, 1) s" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --latency-ms 1000
 check gaze_generate_noise_negative 2 "tracker noise must be in [0, 10) degrees" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --noise-deg -0.1
-check gaze_generate_noise_inf 2 "--noise-deg 'inf' is not a number" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --noise-deg inf
+check gaze_generate_noise_inf 2 "--noise-deg: 'inf' is not a finite number" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --noise-deg inf
 check gaze_generate_dropouts_negative 2 "dropouts need a rate in [0, 100]" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --dropouts-per-s -1
 check gaze_generate_blinks_huge 2 "blinks need 0 <= per_minute <= 120" "$gz" generate --mode scene --seconds 1 --out "$out/g.csv" --blinks-per-min 500
 check gaze_generate_char_deg_zero 2 "reading needs char_deg > 0" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --char-deg 0
-check gaze_generate_line_chars_small 2 "--line-chars must be 10..1000" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --line-chars 5
-check gaze_generate_line_chars_huge 2 "--line-chars must be 10..1000" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --line-chars 1e9
+check gaze_generate_line_chars_small 2 "--line-chars: '5' is not an integer in 10..1000" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --line-chars 5
+check gaze_generate_line_chars_huge 2 "--line-chars: '1e9' is not an integer in 10..1000" "$gz" generate --mode reading --seconds 1 --out "$out/g.csv" --line-chars 1e9
 check gaze_generate_pursuit_inverted 2 "pursuit needs 0 < speed_min <= speed_max" "$gz" generate --mode pursuit --seconds 1 --out "$out/g.csv" --pursuit-speed 20 5
-check gaze_generate_pursuit_one_value 2 "--pursuit-speed needs 2 value(s)" "$gz" generate --mode pursuit --seconds 1 --out "$out/g.csv" --pursuit-speed 5
+check gaze_generate_pursuit_one_value 2 "--pursuit-speed: missing values (MIN MAX)" "$gz" generate --mode pursuit --seconds 1 --out "$out/g.csv" --pursuit-speed 5
 check gaze_generate_out_not_writable 1 "cannot create '$out/afile/g.csv'" "$gz" generate --mode scene --seconds 1 --out "$out/afile/g.csv"
 
-check gaze_stats_no_file 2 "stats needs exactly one FILE" "$gz" stats
-check gaze_stats_two_files 2 "stats needs exactly one FILE" "$gz" stats a.csv b.csv
+check gaze_stats_no_file 2 "FILE is required" "$gz" stats
+check gaze_stats_two_files 2 "unexpected argument 'b.csv'" "$gz" stats a.csv b.csv
 check gaze_stats_missing_file 1 "cannot open gaze file '$out/none.csv'" "$gz" stats "$out/none.csv"
 : >"$out/empty.csv"
 check gaze_stats_empty_file 1 "no header line (empty file?)" "$gz" stats "$out/empty.csv"
@@ -117,15 +117,15 @@ check gaze_stats_directory 1 "$out" "$gz" stats "$out"
 check gaze_generate_for_truncation 0 "wrote 2000 samples" "$gz" generate --mode fixation --seconds 2 --rate 1000 --seed 2 --out "$out/fix.csv"
 head -c 50000 "$out/fix.csv" >"$out/truncated.csv"
 check gaze_stats_truncated_file 0 "1 bad rows skipped" "$gz" stats "$out/truncated.csv"
-check gaze_stats_format_unknown 2 "--format must be auto, project, pupil or tobii" "$gz" stats "$out/fix.csv" --format matlab
+check gaze_stats_format_unknown 2 "--format: 'matlab' is not one of auto, project, pupil, tobii" "$gz" stats "$out/fix.csv" --format matlab
 check gaze_stats_format_mismatch 1 "lacks the 'Recording timestamp' column" "$gz" stats "$out/fix.csv" --format tobii
-check gaze_stats_lambda_zero 2 "must be > 0" "$gz" stats "$out/fix.csv" --lambda 0
-check gaze_stats_lambda_nan 2 "--lambda 'nan' is not a number" "$gz" stats "$out/fix.csv" --lambda nan
-check gaze_stats_char_deg_negative 2 "must be > 0" "$gz" stats "$out/fix.csv" --reading --char-deg -1
+check gaze_stats_lambda_zero 2 "--lambda: '0' is not a number > 0" "$gz" stats "$out/fix.csv" --lambda 0
+check gaze_stats_lambda_nan 2 "--lambda: 'nan' is not a number > 0" "$gz" stats "$out/fix.csv" --lambda nan
+check gaze_stats_char_deg_negative 2 "--char-deg: '-1' is not a number > 0" "$gz" stats "$out/fix.csv" --reading --char-deg -1
 
-check gaze_list_extra_argument 2 "list takes no arguments" "$gz" list now
+check gaze_list_extra_argument 2 "unexpected argument 'now'" "$gz" list now
 
-check gaze_hid_decode_no_descriptor 2 "hid-decode needs --descriptor FILE" "$gz" hid-decode
+check gaze_hid_decode_no_descriptor 2 "--descriptor is required" "$gz" hid-decode
 check gaze_hid_decode_descriptor_missing 1 "cannot open '$out/none.hex'" "$gz" hid-decode --descriptor "$out/none.hex"
 : >"$out/empty.hex"
 check gaze_hid_decode_descriptor_empty 1 "report descriptor is empty" "$gz" hid-decode --descriptor "$out/empty.hex"
@@ -147,11 +147,11 @@ check gaze_hid_decode_feature_zero_screen 1 "not positive" "$gz" hid-decode --de
 printf '03 01\n' >"$out/short_feature.hex"
 check gaze_hid_decode_feature_truncated 1 "\"feature\": {\"error\"" "$gz" hid-decode --descriptor "$d" --feature "$out/short_feature.hex"
 
-check gaze_record_no_device 2 "record needs --device ID and --out FILE" "$gz" record --out "$out/r.csv"
-check gaze_record_seconds_negative 2 "--seconds must be >= 0" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --seconds -1
-check gaze_record_seconds_nan 2 "--seconds 'nan' is not a number" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --seconds nan
-check gaze_record_screen_zero 2 "--screen-mm needs a positive width and height" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --screen-mm 0 300
-check gaze_record_screen_one_value 2 "--screen-mm needs 2 value(s)" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --screen-mm 500
+check gaze_record_no_device 2 "--device is required" "$gz" record --out "$out/r.csv"
+check gaze_record_seconds_negative 2 "--seconds: '-1' is not a number >= 0" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --seconds -1
+check gaze_record_seconds_nan 2 "--seconds: 'nan' is not a number >= 0" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --seconds nan
+check gaze_record_screen_zero 2 "--screen-mm: '0' is not a number > 0" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --screen-mm 0 300
+check gaze_record_screen_one_value 2 "--screen-mm: missing values (W H)" "$gz" record --device /dev/hidraw-none --out "$out/r.csv" --screen-mm 500
 check gaze_record_device_not_an_id 1 "is neither a path, an index nor VID:PID" "$gz" record --device banana --out "$out/r.csv"
 check gaze_record_device_index_out_of_range 1 "device index 99999 is out of range" "$gz" record --device 99999 --out "$out/r.csv"
 check gaze_record_device_bad_vid_pid 1 "is not VID:PID in hex" "$gz" record --device zz:yy --out "$out/r.csv"
@@ -162,11 +162,14 @@ check bench_help 0 "--heavy-every N" "$bench" --help
 check bench_help_defaults 0 "Default: text,atrium,dynamic." "$bench" --help
 check bench_help_change 0 "lstar: the CIE L* difference" "$bench" --help
 check demo_help 0 "Default: out/demo." "$demo" --help
+check gaze_record_help 0 "--screen-mm W H" "$gz" record --help
 CLI_FIXED=
 check bench_version 0 "^wrsfov-bench [0-9][0-9.]*$" "$bench" --version
 check demo_version 0 "^wrsfov-demo [0-9][0-9.]*$" "$demo" --version
 CLI_FIXED=1
 check bench_usage_error_points_to_help 2 "Run 'wrsfov-bench --help' for more information." "$bench" --frames 0
+check gaze_usage_error_points_to_command_help 2 "Run 'wrsfov-gaze stats --help' for more information." "$gz" stats
+check gaze_option_unknown 2 "unknown option --bogus" "$gz" --bogus
 check bench_fovea_list_bad_item 2 "--fovea: 'nan' is not a number in (0, 60]" "$bench" --fovea 5,nan,10
 check bench_fovea_attached_value 2 "--fovea: '-inf' is not a number in (0, 60]" "$bench" --fovea=-inf
 printf 'frames = 12\nwarmup = 12\n' >"$out/frames.toml"  # both keys read, or no error
