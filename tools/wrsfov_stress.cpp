@@ -2,84 +2,44 @@
 // (every storage format of the precision study) and on the GPU in lockstep with the reference.
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
+#include <numeric>
 #include <optional>
-#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compositor/vk_context.h"
 #include "stress/report.h"
 #include "stress/retain_stress.h"
+#include "tools/cli.h"
 
 namespace st = wrsfov::stress;
+namespace cli = wrsfov::cli;
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: wrsfov-stress [options]
-
-Runs the adversarial streams through the shared reservoir update (shaders/wrs_common.h) on the CPU
-for every storage format of the precision study, then through the compositor on the GPU in lockstep
-with the CPU reference, and prints a Markdown report to stdout (progress goes to stderr). Exits 0
-when every check passes, 1 when one fails or the run cannot be done, 2 for bad arguments.
-
-options:
-  --frames N        CPU frames per stream (default 1000000; 0 skips the CPU run)
-  --gpu-frames N    GPU frames (default 10000; 0 skips the GPU run)
-  --pixels N        CPU pixels per stream (default 64)
-  --gpu-width N     GPU pixels per row, i.e. per stream and eye (default 16)
-  --streams a,b     CPU streams (default all): )";
-
-constexpr const char* kUsage2 = R"(
-  --formats a,b     storage formats (default all; `chosen` is the shipping layout): )";
-
-constexpr const char* kUsage3 = R"(
-  --seed N          seed of the random numbers and of the stream content (default 1)
-  --threads N       CPU threads (default: one per core)
-  --out DIR         also write report.md, report.csv, horizon.csv, gpu.csv and wsum_<stream>.png
-  --quick           100000 CPU frames, 16 pixels, 300 GPU frames, horizon study for w = 1 only
-  --help            this text
-)";
-
-std::string join(const std::vector<std::string>& v) {
+std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
     std::string s;
-    for (const auto& x : v) s += (s.empty() ? "" : ",") + x;
+    for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
     return s;
 }
 
-void usage(FILE* f) {
-    std::vector<std::string> fmts;
-    for (const auto& x : st::formats()) fmts.emplace_back(x.name);
-    std::fprintf(f, "%s%s%s%s%s", kUsage, join(st::streamNames()).c_str(), kUsage2, join(fmts).c_str(), kUsage3);
-}
-
-int usageError(const std::string& msg) {
-    std::fprintf(stderr, "wrsfov-stress: %s (see wrsfov-stress --help)\n", msg.c_str());
-    return 2;
-}
-
-// A non-negative integer, written plainly or as 1e6.
-std::optional<uint64_t> parseCount(const std::string& s, uint64_t max) {
-    if (s.empty() || s[0] == '-' || s[0] == '+') return std::nullopt;
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (*end != '\0' || !std::isfinite(v) || v < 0 || v != std::floor(v) || v > double(max)) return std::nullopt;
-    return uint64_t(v);
-}
-
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    size_t a = 0;
-    for (;;) {
-        const size_t b = s.find(',', a);
-        out.push_back(s.substr(a, b == std::string::npos ? std::string::npos : b - a));
-        if (b == std::string::npos) break;
-        a = b + 1;
-    }
-    return out;
+// A list in which no item may come twice.
+template <typename T>
+cli::Reader<std::vector<T>> uniqueList(cli::Reader<T> item) {
+    cli::Reader<std::vector<T>> r = cli::list(item);
+    r.read = [read = r.read, show = item.show](std::string_view text, std::string& why) -> std::optional<std::vector<T>> {
+        auto v = read(text, why);
+        for (size_t i = 0; v && i < v->size(); ++i)
+            if (std::find(v->begin(), v->begin() + i, (*v)[i]) != v->begin() + i) {
+                why = "'" + show((*v)[i]) + "' is listed twice";
+                return std::nullopt;
+            }
+        return v;
+    };
+    return r;
 }
 
 void progress(const st::Progress& p) {
@@ -92,79 +52,71 @@ void progress(const st::Progress& p) {
 int main(int argc, char** argv) {
     uint64_t frames = 1000000, gpuFrames = 10000, pixels = 64, gpuWidth = 16, seed = 1, threads = 0;
     bool quick = false;
-    std::optional<std::string> out;
+    std::string out;
     std::vector<std::string> streams;
     std::vector<st::FormatId> formats;
-    std::set<std::string> given;
-    std::string commandLine = "wrsfov-stress";
+    // The command line as given, for the report.
+    const std::string commandLine = std::accumulate(argv + std::min(argc, 1), argv + argc, std::string("wrsfov-stress"),
+                                                    [](std::string s, const char* a) { return s + " " + a; });
 
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        commandLine += " " + a;
-        if (a == "--help" || a == "-h") {
-            usage(stdout);
-            return 0;
+    std::vector<std::pair<std::string, std::string>> streamNames;
+    for (const std::string& s : st::streamNames()) streamNames.emplace_back(s, s);
+    std::vector<std::pair<std::string, st::FormatId>> formatNames;
+    for (const st::FormatInfo& f : st::formats()) formatNames.emplace_back(std::string(f.name), f.id);
+    // 0 skips the CPU run; one frame has no history to test.
+    cli::Reader<uint64_t> cpuFrames = cli::integer<uint64_t>(0, 0xffffffffu, "0 or an integer in 2..4294967295");
+    cpuFrames.read = [read = cpuFrames.read](std::string_view text, std::string& why) -> std::optional<uint64_t> {
+        auto v = read(text, why);
+        if (v && *v == 1) {
+            why = "'" + std::string(text) + "' is not 0 or an integer in 2..4294967295";
+            return std::nullopt;
         }
-        if (a == "--quick") {
-            quick = true;
-            continue;
-        }
-        static const std::set<std::string> withValue = {"--frames",    "--gpu-frames", "--pixels",
-                                                        "--gpu-width", "--streams",    "--formats",
-                                                        "--seed",      "--threads",    "--out"};
-        if (!withValue.count(a)) return usageError("unknown option '" + a + "'");
-        if (i + 1 >= argc) return usageError(a + " needs a value");
-        const std::string v = argv[++i];
-        commandLine += " " + v;
-        if (!given.insert(a).second) return usageError(a + " given twice");
-        auto count = [&](uint64_t& dst, uint64_t lo, uint64_t hi) {
-            auto c = parseCount(v, hi);
-            if (!c || *c < lo) return false;
-            dst = *c;
-            return true;
-        };
-        const std::string range = " must be an integer";
-        if (a == "--frames") {
-            if (!count(frames, 0, 0xffffffffull) || frames == 1)
-                return usageError("--frames '" + v + "'" + range + ", 0 or 2..4294967295");
-        } else if (a == "--gpu-frames") {
-            if (!count(gpuFrames, 0, 0xffffffffull)) return usageError("--gpu-frames '" + v + "'" + range + " >= 0");
-        } else if (a == "--pixels") {
-            if (!count(pixels, 1, 65536)) return usageError("--pixels '" + v + "'" + range + " in 1..65536");
-        } else if (a == "--gpu-width") {
-            if (!count(gpuWidth, 1, 1024)) return usageError("--gpu-width '" + v + "'" + range + " in 1..1024");
-        } else if (a == "--seed") {
-            if (!count(seed, 0, 0xffffffffull)) return usageError("--seed '" + v + "'" + range + " in 0..4294967295");
-        } else if (a == "--threads") {
-            if (!count(threads, 1, 256)) return usageError("--threads '" + v + "'" + range + " in 1..256");
-        } else if (a == "--out") {
-            if (v.empty()) return usageError("--out needs a directory");
-            out = v;
-        } else if (a == "--streams") {
-            const std::vector<std::string> known = st::streamNames();
-            for (const std::string& s : splitList(v)) {
-                if (std::find(known.begin(), known.end(), s) == known.end())
-                    return usageError("unknown stream '" + s + "' (known: " + join(known) + ")");
-                if (std::find(streams.begin(), streams.end(), s) != streams.end())
-                    return usageError("stream '" + s + "' listed twice");
-                streams.push_back(s);
-            }
-        } else if (a == "--formats") {
-            for (const std::string& s : splitList(v)) {
-                auto f = st::parseFormat(s);
-                if (!f) return usageError("unknown format '" + s + "'");
-                if (std::find(formats.begin(), formats.end(), *f) != formats.end())
-                    return usageError("format '" + s + "' listed twice");
-                formats.push_back(*f);
-            }
-        }
-    }
+        return v;
+    };
+
+    CLI::App app{
+        "Runs the adversarial streams through the shared reservoir update (shaders/wrs_common.h) on the CPU for "
+        "every storage format of the precision study, then through the compositor on the GPU in lockstep with "
+        "the CPU reference, and the same streams through the retention rule of method wrs; prints a Markdown "
+        "report to stdout (progress goes to stderr). Exits 0 when every check passes, 1 when one fails or the "
+        "run cannot be done, 2 for bad arguments. Integers may be written as 1e6.",
+        "wrsfov-stress"};
+    cli::setup(app);
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::Throw);  // an option given twice is refused
+    cli::option(app, "--frames", frames, cpuFrames, "CPU frames per stream, 0 (skips the CPU run) or 2..4294967295.");
+    cli::option(app, "--gpu-frames", gpuFrames, cli::integer<uint64_t>(0, 0xffffffffu),
+                "GPU frames, 0..4294967295 (0 skips the GPU run).");
+    cli::option(app, "--pixels", pixels, cli::integer<uint64_t>(1, 65536), "CPU pixels per stream, 1..65536.");
+    cli::option(app, "--gpu-width", gpuWidth, cli::integer<uint64_t>(1, 1024),
+                "GPU pixels per row, i.e. per stream and eye, 1..1024.");
+    cli::option(app, "--streams", streams, uniqueList(cli::oneOf(streamNames)),
+                "CPU streams, each at most once: " + join(st::streamNames()) + ".")
+        ->default_str("all");
+    std::vector<std::string> formatList;
+    for (const auto& f : formatNames) formatList.push_back(f.first);
+    cli::option(app, "--formats", formats, uniqueList(cli::oneOf(formatNames)),
+                "Storage formats, each at most once (`chosen` is the shipping layout): " + join(formatList) + ".")
+        ->default_str("all");
+    cli::option(app, "--seed", seed, cli::integer<uint64_t>(0, 0xffffffffu),
+                "Seed of the random numbers and of the stream content, 0..4294967295.");
+    cli::option(app, "--threads", threads, cli::integer<uint64_t>(1, 256), "CPU threads, 1..256.")
+        ->default_str("one per core");
+    cli::option(app, "--out", out, cli::text("a directory name", "DIR"),
+                "Also write report.md, report.csv, horizon.csv, gpu.csv, retain.csv and wsum_<stream>.png there.");
+    app.add_flag("--quick", quick,
+                 "100000 CPU frames, 16 pixels, 300 GPU frames, horizon study for w = 1 only (options given as "
+                 "well win).");
+    if (auto rc = cli::parseOrExit(app, argc, argv)) return *rc;
+
     if (quick) {
-        if (!given.count("--frames")) frames = 100000;
-        if (!given.count("--gpu-frames")) gpuFrames = 300;
-        if (!given.count("--pixels")) pixels = 16;
+        if (!app.count("--frames")) frames = 100000;
+        if (!app.count("--gpu-frames")) gpuFrames = 300;
+        if (!app.count("--pixels")) pixels = 16;
     }
-    if (frames == 0 && gpuFrames == 0) return usageError("nothing to run: --frames and --gpu-frames are both 0");
+    if (app.count("--streams") && streams.empty()) return cli::usageError(app, "--streams needs at least one stream");
+    if (app.count("--formats") && formats.empty()) return cli::usageError(app, "--formats needs at least one format");
+    if (frames == 0 && gpuFrames == 0)
+        return cli::usageError(app, "nothing to run: --frames and --gpu-frames are both 0");
 
     const auto t0 = std::chrono::steady_clock::now();
     std::optional<st::HorizonStudy> horizon;
@@ -234,16 +186,16 @@ int main(int argc, char** argv) {
     in.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string retainMd = retain.empty() ? std::string() : st::retainMarkdown(retain);
     std::fputs((st::markdownReport(in) + retainMd).c_str(), stdout);
-    if (out) {
-        if (wrsfov::Status s = st::writeReport(in, *out); !s) {
+    if (!out.empty()) {
+        if (wrsfov::Status s = st::writeReport(in, out); !s) {
             std::fprintf(stderr, "wrsfov-stress: %s\n", s.message().c_str());
             return 1;
         }
         if (!retain.empty()) {
-            std::ofstream(*out + "/report.md", std::ios::app) << retainMd;
-            std::ofstream(*out + "/retain.csv") << st::retainCsv(retain);
+            std::ofstream(out + "/report.md", std::ios::app) << retainMd;
+            std::ofstream(out + "/retain.csv") << st::retainCsv(retain);
         }
-        std::fprintf(stderr, "report written to %s\n", out->c_str());
+        std::fprintf(stderr, "report written to %s\n", out.c_str());
     }
     for (const st::Check& c : in.checks)
         if (!c.pass) return 1;
