@@ -1,10 +1,12 @@
 #include "preview/options.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+
+#include "tools/cli.h"
 
 namespace wrsfov::preview {
 
@@ -20,26 +22,6 @@ T nextOf(const T (&all)[N], T v) {
     for (size_t i = 0; i < N; ++i)
         if (all[i] == v) return all[(i + 1) % N];
     return all[0];
-}
-
-Error argError(std::string m) { return Error{2, std::move(m)}; }
-
-bool parseSize(std::string_view v, uint32_t& w, uint32_t& h, uint32_t lo, uint32_t hi) {
-    unsigned a = 0, b = 0;
-    char tail = 0;
-    std::string s(v);
-    if (std::sscanf(s.c_str(), "%ux%u%c", &a, &b, &tail) != 2) return false;
-    if (a < lo || b < lo || a > hi || b > hi) return false;
-    w = a;
-    h = b;
-    return true;
-}
-
-bool parseInt(std::string_view v, long lo, long hi, long& out) {
-    std::string s(v);
-    char* end = nullptr;
-    out = std::strtol(s.c_str(), &end, 10);
-    return !s.empty() && *end == '\0' && out >= lo && out <= hi;
 }
 
 }  // namespace
@@ -89,137 +71,160 @@ CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, floa
     return c;
 }
 
+namespace {
+
+// ITERATION:KEY[,ITERATION:KEY...] with KEY a letter, a digit, space, right or escape.
+std::optional<std::vector<std::pair<int, std::string>>> parseKeys(std::string_view list, std::string& why) {
+    std::vector<std::pair<int, std::string>> keys;
+    size_t start = 0;
+    while (start <= list.size()) {
+        const size_t end = std::min(list.find(',', start), list.size());
+        const std::string item(list.substr(start, end - start));
+        const size_t colon = item.find(':');
+        const std::string key = colon == std::string::npos ? "" : item.substr(colon + 1);
+        const bool known = (key.size() == 1 && std::isalnum(static_cast<unsigned char>(key[0]))) || key == "space" ||
+                           key == "right" || key == "escape";
+        const auto at = colon == std::string::npos ? std::nullopt : cli::parseWhole(item.substr(0, colon));
+        if (!at || *at < 0 || *at > 10000000 || !known) {
+            why = "'" + item + "' is not ITERATION:KEY with KEY a letter, a digit, space, right or escape";
+            return std::nullopt;
+        }
+        std::string lower = key;
+        for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+        keys.emplace_back(int(*at), lower);
+        start = end + 1;
+    }
+    return keys;
+}
+
+std::optional<std::array<double, 2>> parseCursor(std::string_view v) {
+    const size_t comma = v.find(',');
+    if (comma == std::string_view::npos) return std::nullopt;
+    const auto x = cli::parseFinite(v.substr(0, comma)), y = cli::parseFinite(v.substr(comma + 1));
+    if (!x || !y || *x < 0 || *y < 0) return std::nullopt;
+    return std::array<double, 2>{*x, *y};
+}
+
+template <typename T, size_t N>
+std::vector<std::pair<std::string, T>> named(const T (&values)[N]) {
+    std::vector<std::pair<std::string, T>> out;
+    for (T v : values) out.emplace_back(std::string(toString(v)), v);
+    return out;
+}
+
+constexpr View kViews[] = {View::Stereo, View::Left, View::Right, View::Compare, View::Error};
+constexpr SceneKind kScenes[] = {SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Text};
+
+// The command line over `o`: each option writes into it; `resize` and `cursor` are read after parsing.
+struct CommandLine {
+    CLI::App app{"A window showing the compositor's output for both eyes, with the gaze, the fovea and the stats "
+                 "(docs/preview.md).",
+                 "wrsfov-preview"};
+    cli::Size size;
+    std::array<std::string, 2> resize;
+    std::array<double, 2> cursor{};
+
+    explicit CommandLine(PreviewOptions& o) : size{o.width, o.height} {
+        cli::setup(app);
+        cli::option(app, "--size", size, cli::size(32, 4096), "Image size per eye, W and H in 32..4096.");
+        cli::option(app, "--scene", o.scene, cli::oneOf(named(kScenes)),
+                    "Scene: atrium, dynamic or text (text needs about 1400 pixels per eye to be legible).");
+        cli::option(app, "--path", o.path, cli::oneOf(named(kPaths)),
+                    "Camera path of atrium and dynamic: static, lateral or turn.");
+        cli::option(app, "--method", o.method,
+                    cli::parsedBy<PreviewMethod>(parseMethod, [](const PreviewMethod& m) { return std::string(toString(m)); },
+                                                 "one of reference, fov, fov+taa (or taa), wrs-paper, wrs"),
+                    "What the compositor runs: reference (no foveation), fov, fov+taa, wrs-paper (WRS as published) "
+                    "or wrs (quality-aware retention).");
+        cli::option(app, "--fovea", o.foveaDeg, cli::number<float>(0, 60, cli::Ends::OpenLow),
+                    "Fovea diameter in degrees, in (0, 60]; the F key steps 5, 7.5, 10.")
+            ->type_name("DEG");
+        cli::option(app, "--mode", o.mode,
+                    cli::oneOf<FoveationMode>({{"mip", FoveationMode::Mip}, {"gauss", FoveationMode::Gauss}}),
+                    "Foveation: mip or gauss.");
+        cli::option(app, "--gaze", o.gaze,
+                    cli::Reader<GazeSpec>{[](std::string_view text, std::string& why) -> std::optional<GazeSpec> {
+                                              auto g = parseGazeSpec(text);
+                                              if (g) return *g;
+                                              why = g.error().message;  // "--gaze fixed:AZ,EL wants ..."
+                                              if (why.rfind("--gaze ", 0) == 0) why.erase(0, 7);
+                                              return std::nullopt;
+                                          },
+                                          [](const GazeSpec& g) { return toString(g); }, "SOURCE"},
+                    "Gaze source: mouse, generator, hid[:DEVICE] (a hidraw path, an index of `wrsfov-gaze list` "
+                    "or VID:PID), file:PATH (a gaze file replayed in a loop) or fixed:AZ,EL (degrees, right and "
+                    "up positive).");
+        cli::option(app, "--seed", o.seed, cli::integer<uint32_t>(0, 0xffffffffu),
+                    "Seed of the scene, the gaze generator and WRS, 0..4294967295.");
+        cli::option(app, "--view", o.view, cli::oneOf(named(kViews)),
+                    "View: stereo, left, right, compare (output above reference) or error (|output - reference|).");
+        cli::option(app, "--overlay", o.overlay, cli::oneOf<bool>({{"on", true}, {"off", false}}),
+                    "Gaze marker and fovea / mid-periphery circles: on or off.")
+            ->type_name("on|off");
+        cli::option(app, "--frames", o.frames, cli::integer(1, 10000000),
+                    "Composite N frames (1..10000000), present the last one and exit.")
+            ->default_str("until the window is closed");
+        cli::option(app, "--screenshot", o.screenshot, cli::text("a file name", "FILE"),
+                    "With --frames: save the preview image (PNG) after the last frame.");
+        app.add_option("--resize-at", resize, "Resize the window to WxH after frame N, 1..10000000 (tests).")
+            ->check(cli::check(cli::integer(1, 10000000)).application_index(0))
+            ->check(cli::check(cli::size(1, 16384)).application_index(1))
+            ->type_name("N WxH");
+        cli::option(app, "--cursor", cursor,
+                    cli::parsedBy<std::array<double, 2>>(
+                        parseCursor, [](const std::array<double, 2>&) { return std::string(); },
+                        "X,Y in window pixels (two numbers >= 0)", "X,Y"),
+                    "Move the pointer to window position X,Y at start (tests, scripted shots).");
+        cli::option(app, "--keys", o.keys,
+                    cli::Reader<std::vector<std::pair<int, std::string>>>{
+                        parseKeys, [](const std::vector<std::pair<int, std::string>>&) { return std::string(); },
+                        "I:K[,I:K...]"},
+                    "Press key K (a letter, a digit, space, right, escape) at loop iteration I (tests).");
+        cli::addConfig(app);
+        app.footer("Environment: WRSFOV_DEVICE=<name part> picks the Vulkan device, WRSFOV_VALIDATION=1 runs under "
+                   "the\nKhronos validation layer (the exit status is 3 if it reported errors).\n\n" +
+                   keyHelp());
+    }
+};
+
+}  // namespace
+
 Result<PreviewOptions> parseArguments(int argc, const char* const* argv) {
     PreviewOptions o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--help" || a == "-h") {
-            o.help = true;
+    CommandLine cl(o);
+    const cli::Parsed p = cli::parse(cl.app, argc, argv);
+    switch (p.kind) {
+        case cli::Parsed::Kind::Run:
+            break;
+        case cli::Parsed::Kind::Help:
+        case cli::Parsed::Kind::Version:
+            o.help = p.kind == cli::Parsed::Kind::Help;
+            o.version = !o.help;
+            o.text = p.text;
             return o;
-        }
-        auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
-        const char* v = value();
-        if (!v) return argError("missing value after " + a);
-        long n = 0;
-        if (a == "--size") {
-            if (!parseSize(v, o.width, o.height, 32, 4096))
-                return argError("--size wants WxH per eye, each 32..4096, got '" + std::string(v) + "'");
-        } else if (a == "--scene") {
-            auto s = parseScene(v);
-            if (!s) return argError("--scene wants text, atrium or dynamic, got '" + std::string(v) + "'");
-            o.scene = *s;
-        } else if (a == "--path") {
-            auto p = scenes::parseCameraPath(v);
-            if (!p) return argError("--path wants static, lateral or turn, got '" + std::string(v) + "'");
-            o.path = *p;
-        } else if (a == "--method") {
-            auto m = parseMethod(v);
-            if (!m) return argError("--method wants reference, fov, fov+taa, wrs-paper or wrs, got '" + std::string(v) + "'");
-            o.method = *m;
-        } else if (a == "--fovea") {
-            char* end = nullptr;
-            float f = std::strtof(v, &end);
-            if (*v == '\0' || *end || !std::isfinite(f) || f <= 0 || f > 60)
-                return argError("--fovea wants a diameter in (0, 60] degrees (keys step 5, 7.5, 10), got '" +
-                                std::string(v) + "'");
-            o.foveaDeg = f;
-        } else if (a == "--mode") {
-            std::string m = v;
-            if (m == "mip")
-                o.mode = FoveationMode::Mip;
-            else if (m == "gauss")
-                o.mode = FoveationMode::Gauss;
-            else
-                return argError("--mode wants mip or gauss, got '" + m + "'");
-        } else if (a == "--gaze") {
-            auto g = parseGazeSpec(v);
-            if (!g) return argError(g.error().message);
-            o.gaze = *g;
-        } else if (a == "--seed") {
-            if (!parseInt(v, 0, 0xffffffffL, n)) return argError("--seed wants an integer 0..4294967295");
-            o.seed = uint32_t(n);
-        } else if (a == "--view") {
-            auto w = parseView(v);
-            if (!w) return argError("--view wants stereo, left, right, compare or error, got '" + std::string(v) + "'");
-            o.view = *w;
-        } else if (a == "--overlay") {
-            std::string s = v;
-            if (s == "on")
-                o.overlay = true;
-            else if (s == "off")
-                o.overlay = false;
-            else
-                return argError("--overlay wants on or off, got '" + s + "'");
-        } else if (a == "--frames") {
-            if (!parseInt(v, 1, 10000000, n))
-                return argError("--frames wants 1..10000000, got '" + std::string(v) + "'");
-            o.frames = int(n);
-        } else if (a == "--screenshot") {
-            o.screenshot = v;
-            if (o.screenshot.empty()) return argError("--screenshot wants a file name");
-        } else if (a == "--resize-at") {
-            const char* size = value();
-            if (!parseInt(v, 1, 10000000, n) || !size || !parseSize(size, o.resizeWidth, o.resizeHeight, 1, 16384))
-                return argError("--resize-at wants a frame number and WxH, e.g. --resize-at 3 640x360");
-            o.resizeFrame = int(n);
-        } else if (a == "--keys") {
-            // ITERATION:KEY[,ITERATION:KEY...]
-            std::string list = v;
-            size_t start = 0;
-            while (start <= list.size()) {
-                const size_t end = std::min(list.find(',', start), list.size());
-                const std::string item = list.substr(start, end - start);
-                const size_t colon = item.find(':');
-                const std::string key = colon == std::string::npos ? "" : item.substr(colon + 1);
-                const bool known = (key.size() == 1 && std::isalnum(static_cast<unsigned char>(key[0]))) ||
-                                   key == "space" || key == "right" || key == "escape";
-                if (colon == std::string::npos || !parseInt(item.substr(0, colon), 0, 10000000, n) || !known)
-                    return argError(
-                        "--keys wants ITERATION:KEY[,...] with KEY a letter, a digit, space, right or "
-                        "escape, got '" +
-                        item + "'");
-                std::string lower = key;
-                for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-                o.keys.emplace_back(int(n), lower);
-                start = end + 1;
-            }
-        } else if (a == "--cursor") {
-            double x = 0, y = 0;
-            char tail = 0;
-            if (std::sscanf(v, "%lf,%lf%c", &x, &y, &tail) != 2 || !std::isfinite(x) || !std::isfinite(y) || x < 0 ||
-                y < 0)
-                return argError("--cursor wants X,Y in window pixels, got '" + std::string(v) + "'");
-            o.cursor = std::array<double, 2>{x, y};
-        } else {
-            return argError("unknown option " + a + " (see --help)");
-        }
+        case cli::Parsed::Kind::UsageError:
+            return Error{2, p.text};
+        case cli::Parsed::Kind::FileError:
+            return Error{1, p.text};
     }
+    o.width = cl.size.width;
+    o.height = cl.size.height;
+    if (cl.app.count("--resize-at")) {
+        std::string why;
+        o.resizeFrame = *cli::integer(1, 10000000).read(cl.resize[0], why);
+        const cli::Size s = *cli::size(1, 16384).read(cl.resize[1], why);
+        o.resizeWidth = s.width;
+        o.resizeHeight = s.height;
+    }
+    if (cl.app.count("--cursor")) o.cursor = cl.cursor;
     if (!o.screenshot.empty() && o.frames == 0)
-        return argError("--screenshot FILE needs --frames N (interactive screenshots: the S key)");
+        return Error{2, "--screenshot FILE needs --frames N (interactive screenshots: the S key)"};
     return o;
 }
 
 std::string usage() {
-    return "usage: wrsfov-preview [options]\n"
-           "A window showing the compositor's output for both eyes, with the gaze, the fovea and the stats.\n"
-           "  --size WxH            per-eye image size (default 320x288)\n"
-           "  --scene NAME          atrium | dynamic | text (default atrium)\n"
-           "  --path NAME           camera path of atrium/dynamic: static | lateral | turn (default lateral)\n"
-           "  --method NAME         reference | fov | fov+taa | wrs-paper | wrs (default wrs)\n"
-           "  --fovea DEG           fovea diameter in degrees (default 5; the F key steps 5, 7.5, 10)\n"
-           "  --mode NAME           foveation: mip | gauss (default mip)\n"
-           "  --gaze SOURCE         mouse | generator | hid[:DEVICE] | file:PATH | fixed:AZ,EL (default mouse)\n"
-           "  --seed N              seed of the scene, the generator and WRS (default 1)\n"
-           "  --view NAME           stereo | left | right | compare | error (default stereo)\n"
-           "  --overlay on|off      gaze marker and fovea / mid-periphery circles (default on)\n"
-           "  --frames N            composite N frames, then exit\n"
-           "  --screenshot FILE     with --frames: save the preview image (PNG) after the last frame\n"
-           "  --resize-at N WxH     resize the window after frame N (tests)\n"
-           "  --cursor X,Y          move the pointer to window position X,Y at start (tests, scripted shots)\n"
-           "  --keys I:K[,I:K...]   press key K (letter, digit, space, right, escape) at loop iteration I (tests)\n"
-           "  --help                this text and the keys\n"
-           "Environment: WRSFOV_DEVICE=<name part> picks the Vulkan device, WRSFOV_VALIDATION=1 runs under the\n"
-           "Khronos validation layer (the exit status is 3 if it reported errors).\n";
+    PreviewOptions o;
+    return CommandLine(o).app.help();
 }
 
 std::string keyHelp() {

@@ -53,11 +53,15 @@ struct PreviewOptions {
     /// Test hook: key presses (names as in keyHelp: a letter, a digit, space, right, escape) at loop
     /// iterations, as if typed.
     std::vector<std::pair<int, std::string>> keys;
-    bool help = false;
+    bool help = false;     ///< --help: print `text` (the options, then the keys) and exit
+    bool version = false;  ///< --version: print `text` and exit
+    std::string text;
 };
 
-/// Parses the command line (argv[0] is skipped). Errors name the option and what it wants.
+/// Parses the command line (argv[0] is skipped) with CLI11, or a --config file. Errors name the option
+/// and the value; their code is 2 (a usage error) or 1 (a --config file that cannot be read).
 Result<PreviewOptions> parseArguments(int argc, const char* const* argv);
+/// The --help text: the options with their defaults, the environment, the keys.
 std::string usage();
 /// The keys, one per line.
 std::string keyHelp();

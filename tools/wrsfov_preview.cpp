@@ -3,17 +3,17 @@
 
 #include "preview/options.h"
 #include "preview/preview_app.h"
+#include "tools/cli.h"
 
 int main(int argc, char** argv) {
     using namespace wrsfov::preview;
     auto options = parseArguments(argc, argv);
     if (!options) {
-        std::fprintf(stderr, "wrsfov-preview: %s\n", options.error().message.c_str());
-        std::fprintf(stderr, "%s", usage().c_str());
-        return kExitBadArguments;
+        wrsfov::cli::printUsageError("wrsfov-preview", options.error().message);
+        return options.error().code;
     }
-    if (options->help) {
-        std::printf("%s\n%s", usage().c_str(), keyHelp().c_str());
+    if (options->help || options->version) {
+        std::printf("%s%s", options->text.c_str(), options->version ? "\n" : "");
         return kExitOk;
     }
     return runPreview(*options);

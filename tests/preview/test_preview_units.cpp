@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -99,6 +101,59 @@ TEST(PreviewOptions, BadArgumentsNameTheOption) {
     expectRefused({"--screenshot", "a.png"}, "--frames");
     expectRefused({"--frames"}, "missing value");
     expectRefused({"--bogus", "1"}, "unknown option");
+}
+
+TEST(PreviewOptions, HelpVersionAndMessages) {
+    auto h = parse({"--help"});
+    ASSERT_TRUE(h.ok());
+    EXPECT_NE(h->text.find("Default: 320x288."), std::string::npos) << h->text;  // every option with its default
+    EXPECT_NE(h->text.find("Space"), std::string::npos);                         // and the keys
+    auto v = parse({"--version"});
+    ASSERT_TRUE(v.ok());
+    EXPECT_TRUE(v->version);
+    EXPECT_EQ(v->text.rfind("wrsfov-preview ", 0), 0u) << v->text;
+    // Messages name the option and the value.
+    auto r = parse({"--frames", "0"});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "--frames: '0' is not an integer in 1..10000000");
+    auto g = parse({"--gaze", "eyes"});
+    ASSERT_FALSE(g.ok());
+    EXPECT_EQ(g.error().message.rfind("--gaze: wants mouse, generator", 0), 0u) << g.error().message;
+    // Given twice, the last one counts.
+    auto t = parse({"--seed", "3", "--seed", "4"});
+    ASSERT_TRUE(t.ok());
+    EXPECT_EQ(t->seed, 4u);
+}
+
+TEST(PreviewOptions, ConfigFile) {
+    const std::string path = ::testing::TempDir() + "wrsfov_preview_options.toml";
+    {
+        std::ofstream f(path);
+        f << "# preview settings\nsize = \"192x176\"\nmethod = \"fov+taa\"\noverlay = \"off\"\nseed = 9\n"
+             "gaze = \"fixed:8,-4\"\n";
+    }
+    auto o = parse({"--config", path, "--seed", "5"});
+    ASSERT_TRUE(o.ok()) << o.error().message;
+    EXPECT_EQ(o->width, 192u);
+    EXPECT_EQ(o->height, 176u);
+    EXPECT_EQ(o->method, PreviewMethod::FovTaa);
+    EXPECT_FALSE(o->overlay);
+    EXPECT_EQ(o->gaze.kind, GazeKind::Fixed);
+    EXPECT_EQ(o->seed, 5u);  // the command line wins over the file
+    {
+        std::ofstream f(path);
+        f << "frames = 0\n";
+    }
+    expectRefused({"--config", path}, "--frames: '0'");
+    {
+        std::ofstream f(path);
+        f << "colour = \"red\"\n";
+    }
+    expectRefused({"--config", path}, "--config: unknown key 'colour'");
+    std::remove(path.c_str());
+    auto missing = parse({"--config", path});
+    ASSERT_FALSE(missing.ok());
+    EXPECT_EQ(missing.error().code, 1);  // a file that cannot be read is a run-time error
 }
 
 TEST(PreviewOptions, GazeSpecsReadBackTheirText) {
