@@ -479,8 +479,21 @@ int main(int argc, char** argv) {
         ->check(cli::check(cli::number<double>(0, INFINITY, cli::Ends::OpenLow)))
         ->type_name("W H");
 
+    CLI::App* help = app.add_subcommand("help", "Print this help, or with a COMMAND that command's, and exit.");
+    help->allow_extras();
     app.footer("Run 'wrsfov-gaze COMMAND --help' for the options of a command.");  // after the commands: theirs differ
     if (auto rc = cli::parseOrExit(app, argc, argv)) return *rc;
+    if (help->parsed()) {
+        const CLI::App* of = &app;
+        std::string name = app.get_name();
+        for (const CLI::App* sub : {gen, stats, list, hidDecode, record})
+            if (!help->remaining().empty() && help->remaining().front() == sub->get_name()) {
+                of = sub;
+                name += " " + sub->get_name();
+            }
+        std::fputs(app.get_formatter()->make_help(of, name, CLI::AppFormatMode::Normal).c_str(), stdout);
+        return 0;
+    }
     if (gen->parsed()) return cmd_generate(*gen, ga);
     if (stats->parsed()) return cmd_stats(sa);
     if (list->parsed()) return cmd_list();

@@ -36,8 +36,10 @@ check hid_decode_short_report 1 "truncated" "$bin" hid-decode --descriptor "$dat
     --report "$out/short_report.hex"
 check list 0 "" "$bin" list
 check record_missing 1 "recorded no samples" "$bin" record --device /dev/hidraw-none --out "$out/rec.csv" --seconds 0.6
-check unknown_command 2 "unknown command 'frobnicate' (generate, stats, list, hid-decode, record)" "$bin" frobnicate
+check unknown_command 2 "unknown command 'frobnicate' (generate, stats, list, hid-decode, record, help)" "$bin" frobnicate
 check help 0 "generate" "$bin" --help
+check help_command 0 "hid-decode" "$bin" help
+check help_command_generate 0 "--pursuit-speed" "$bin" help generate
 check generate_help 0 "Default: 5 20\." "$bin" generate --help
 check version 0 "^wrsfov-gaze [0-9][0-9.]*$" "$bin" --version
 check seed_as_1e3 0 "seed 1000," "$bin" generate --mode fixation --seconds 1 --seed 1e3 --out "$out/seed.csv"
