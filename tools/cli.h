@@ -168,6 +168,19 @@ CLI::Option* option(CLI::App& app, const std::string& name, T& target, Reader<T>
     return o;
 }
 
+/// A list option: one value split at commas on the command line ("5,7.5,10"), or a TOML/INI array
+/// in a --config file (`fovea = [5, 7.5, 10]`); every item goes through `reader`'s item check. Given
+/// more than once, the items of all of them count, in order.
+template <typename T>
+CLI::Option* listOption(CLI::App& app, const std::string& name, std::vector<T>& target, Reader<std::vector<T>> reader,
+                        const std::string& description) {
+    CLI::Option* o = option(app, name, target, reader, description);
+    o->expected(1, CLI::detail::expected_max_vector_size);
+    o->delimiter(',');
+    o->multi_option_policy(CLI::MultiOptionPolicy::Join);
+    return o;
+}
+
 /// The common parts of every tool's command line: --help and --version ("NAME 0.1.0", the CMake
 /// project version), the help layout (option, placeholder, sentence, default), and repeated options
 /// taking the last value.

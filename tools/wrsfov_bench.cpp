@@ -94,21 +94,21 @@ int main(int argc, char** argv) {
     cli::option(app, "--out", out, cli::text("a directory name", "DIR"),
                 "Directory for the report: results.csv, table.md, error_vs_*.png, eta_*.png, crops_*.png; with "
                 "--scaling, scaling.md, scaling.csv, scaling.png and each size's report in DIR/SxS.");
-    cli::option(app, "--scenes", o.scenes,
+    cli::listOption(app, "--scenes", o.scenes,
                 cli::list(cli::oneOf(named({eval::SceneKind::Text, eval::SceneKind::Atrium, eval::SceneKind::Dynamic,
                                             eval::SceneKind::Sequence}))),
                 "Scenes: text (a page of text, reading gaze), atrium and dynamic (3D rooms with depth and motion, "
                 "free-viewing gaze), sequence (the frames of --sequence).");
-    cli::option(app, "--methods", o.methods,
+    cli::listOption(app, "--methods", o.methods,
                 cli::list(cli::oneOf(named({Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs,
                                             Method::Oracle}))),
                 "Methods: fov (foveation only), fov+taa (foveation and TAA), wrs-paper (WRS as published), wrs "
                 "(quality-aware retention), oracle (keeps whichever of history and candidate is closer to the "
                 "reference: the ceiling of a keep-or-replace rule, evaluation only).");
-    cli::option(app, "--fovea", o.foveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
+    cli::listOption(app, "--fovea", o.foveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
                 "Fovea diameters in degrees, each in (0, 60].")
         ->type_name("DEG,...");
-    cli::option(app, "--modes", o.modes,
+    cli::listOption(app, "--modes", o.modes,
                 cli::list(cli::oneOf(named({FoveationMode::Mip, FoveationMode::Gauss, FoveationMode::None}))),
                 "Foveation modes: mip, gauss, none (no foveation).");
     cli::option(app, "--size", size, cli::size(32, 4096), "Image size per eye, W and H in 32..4096.");
@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");
-    cli::option(app, "--scaling", scaling, cli::list(cli::integer<uint32_t>(64, 4096)),
+    cli::listOption(app, "--scaling", scaling, cli::list(cli::integer<uint32_t>(64, 4096)),
                 "Time and bytes at square sizes S per eye (pixels per side, each 64..4096, e.g. 512,1024,2048): "
                 "one scene, the first fovea and mode, no SSIM, FLIP or stale statistics; unless given, scene "
                 "atrium, methods fov,fov+taa,wrs, 20 frames with 5 warm-up. Writes scaling.md, scaling.csv, "

@@ -37,11 +37,11 @@ done
 for v in nan inf -inf 0 -5 61 abc; do
     check "bench_fovea_'$v'" 2 "--fovea: '$v' is not a number in (0, 60]" "$bench" --fovea "$v"
 done
-check bench_fovea_empty_list 2 "must not be empty" "$bench" --fovea ,
+check bench_fovea_empty_list 2 "--fovea: missing value (DEG,...)" "$bench" --fovea ,
 check bench_scenes_unknown 2 "--scenes: 'moon' is not one of text, atrium, dynamic, sequence" "$bench" --scenes moon
 check bench_scenes_empty 2 "must not be empty" "$bench" --scenes ""
 check bench_methods_unknown 2 "--methods: 'magic' is not one of fov, fov+taa, wrs-paper, wrs, oracle" "$bench" --methods magic
-check bench_methods_empty 2 "must not be empty" "$bench" --methods ,
+check bench_methods_empty 2 "--methods: missing value (NAME,...)" "$bench" --methods ,
 check bench_modes_unknown 2 "--modes: 'blur' is not one of mip, gauss, none" "$bench" --modes blur
 check bench_change_unknown 2 "--change: 'lab' is not one of off, lstar, de94" "$bench" --change lab
 check bench_path_unknown 2 "--path: 'orbit' is not one of static, lateral, turn" "$bench" --path orbit
@@ -179,6 +179,12 @@ check bench_config_bad_value 2 "--scenes: 'moon' is not one of" "$bench" --confi
 printf 'frames = 12\nbogus = 1\n' >"$out/bogus.toml"
 check bench_config_unknown_key 2 "--config: unknown key 'bogus'" "$bench" --config "$out/bogus.toml"
 check bench_config_missing 1 "$out/none.toml was not readable" "$bench" --config "$out/none.toml"
+# Lists: a TOML array keeps every item (each checked), and a list option given twice keeps both.
+printf 'fovea = [70, 5]\n' >"$out/fovea_array.toml"
+check bench_config_array_every_item_checked 2 "--fovea: '70' is not a number in (0, 60]" "$bench" --config "$out/fovea_array.toml"
+printf 'scenes = ["text", "atrium"]\n' >"$out/scenes_array.toml"
+check bench_config_array_keeps_every_item 2 "--write-sequence writes one scene" "$bench" --config "$out/scenes_array.toml" --write-sequence "$out/ws"
+check bench_list_option_twice_keeps_both 2 "scene 'sequence' needs --sequence DIR" "$bench" --scenes sequence --scenes text
 
 echo "$count checks, $fails failed"
 [ "$fails" -eq 0 ]
