@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "compositor/swapchain_vk.h"
+#include "classify_spv.h"
 #include "copy_spv.h"
 #include "foveate_spv.h"
 #include "pyramid_spv.h"
@@ -68,7 +69,7 @@ std::string_view toString(ChangeMetric m) {
 
 namespace {
 
-enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kShaderCount };
+enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kClassify, kShaderCount };
 enum Binding : uint32_t {
     kFrame = 0,
     kColor = 1,
@@ -81,8 +82,10 @@ enum Binding : uint32_t {
     kOutput = 9,
     kBirthPrev = 10,
     kBirthCur = 11,
-    kSrgbTable = 12
+    kSrgbTable = 12,
+    kTiles = 13
 };
+static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 // Timestamps: the frame's start, after pyramid, foveate, wrs/taa/retain; then before and after a copy
 // kernel, in a submission of its own (measureCopy).
 constexpr uint32_t kFrameStamps = 4;
@@ -266,7 +269,8 @@ Status Compositor::init() {
         {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
-         binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo)});
+         binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
+         binding(kTiles, ssbo)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -276,7 +280,7 @@ Status Compositor::init() {
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 24},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 30},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 34},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 5;
@@ -316,7 +320,8 @@ Status Compositor::init() {
     };
     const Code code[kShaderCount] = {{pyramid_spv, sizeof(pyramid_spv)}, {foveate_spv, sizeof(foveate_spv)},
                                      {wrs_spv, sizeof(wrs_spv)},         {taa_spv, sizeof(taa_spv)},
-                                     {copy_spv, sizeof(copy_spv)},       {retain_spv, sizeof(retain_spv)}};
+                                     {copy_spv, sizeof(copy_spv)},       {retain_spv, sizeof(retain_spv)},
+                                     {classify_spv, sizeof(classify_spv)}};
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
@@ -385,13 +390,14 @@ double Compositor::timeCopy(uint64_t bytes) {
     return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
 }
 
-VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 5> constants) {
-    std::array<uint32_t, 6> key{uint32_t(shader), constants[0], constants[1], constants[2], constants[3], constants[4]};
+VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 6> constants) {
+    std::array<uint32_t, 7> key{uint32_t(shader), constants[0], constants[1], constants[2],
+                                constants[3],     constants[4], constants[5]};
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.get();
-    VkSpecializationMapEntry entries[5];
-    for (uint32_t i = 0; i < 5; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-    VkSpecializationInfo spec{5, entries, sizeof(constants), constants.data()};
+    VkSpecializationMapEntry entries[6];
+    for (uint32_t i = 0; i < 6; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{6, entries, sizeof(constants), constants.data()};
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -415,7 +421,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     // Levels 1..4 only (level 0 is the submitted image), fp16 RGBA.
     const uint64_t pyramidTexels =
         (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES;
-    vk::Buffer pyramid, candidate, reservoirs[2], births[2];
+    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles;
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
@@ -428,6 +434,16 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
         *a.buffer = std::move(*r);
+    }
+    {
+        // Tile lists: the classes' indirect dispatches, then a list of every tile of both eyes per class.
+        const uint64_t tileCount = uint64_t(groups(width, gpu::WRS_TILE)) * groups(height, gpu::WRS_TILE) * WRS_EYES;
+        auto r = ctx_.createBuffer(16 * gpu::WRS_TILE_CLASSES + tileCount * 4 * gpu::WRS_TILE_CLASSES,
+                                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                   false);
+        if (!r) return named("tile lists", r.error());
+        tiles = std::move(*r);
     }
 
     vk::ImageCreateInfo oci;
@@ -459,6 +475,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     reservoirs_[1] = std::move(reservoirs[1]);
     birth_[0] = std::move(births[0]);
     birth_[1] = std::move(births[1]);
+    tiles_ = std::move(tiles);
     birthAllocated_ = birth;
     for (uint32_t set = 0; set < 4; ++set) {
         // Sets 0, 1 read reservoirs[i] and write reservoirs[1 - i]; sets 2, 3 read and write reservoirs[i].
@@ -469,14 +486,16 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
             {reservoirs_[o].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
             {birth_[o].handle(), 0, VK_WHOLE_SIZE}};
         const uint32_t bindings[7] = {kFrame, kPyramidBuf, kCandidate, kResPrev, kResCur, kBirthPrev, kBirthCur};
-        VkWriteDescriptorSet w[8];
+        VkWriteDescriptorSet w[9];
         for (int k = 0; k < 7; ++k)
             w[k] =
                 vk::bufferWrite(sets_[set], bindings[k],
                                 k == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[k]);
         VkDescriptorImageInfo oi{VK_NULL_HANDLE, output_.arrayView(), VK_IMAGE_LAYOUT_GENERAL};
         w[7] = vk::imageWrite(sets_[set], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
-        vkUpdateDescriptorSets(ctx_.device(), 8, w, 0, nullptr);
+        VkDescriptorBufferInfo ti{tiles_.handle(), 0, VK_WHOLE_SIZE};
+        w[8] = vk::bufferWrite(sets_[set], kTiles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &ti);
+        vkUpdateDescriptorSets(ctx_.device(), 9, w, 0, nullptr);
     }
     width_ = width;
     height_ = height;
@@ -641,6 +660,10 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     const bool inPlace = retain && !hasMotion && !birthAllocated_;
     const uint32_t written = inPlace ? current_ : 1 - current_;
     stats_.inPlace = inPlace;
+    // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles.
+    const bool tiled = config_.skipTiles && config_.foveation != FoveationMode::None &&
+                       (config_.method == Method::Fov || retain);
+    stats_.tiled = tiled;
     // Per-frame inputs: the last released image of each swapchain.
     VkDescriptorSet set = sets_[current_ + (inPlace ? 2 : 0)];
     VkDescriptorImageInfo ii[6];
@@ -723,6 +746,31 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
     const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
     stamp(0);
+    if (tiled) {
+        uint32_t args[gpu::WRS_TILE_CLASSES][4];
+        for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
+        vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kClassify, {uint32_t(config_.foveation)}));
+        vkCmdDispatch(cb, groups(groups(w, gpu::WRS_TILE), WRS_GROUP_X), groups(groups(h, gpu::WRS_TILE), WRS_GROUP_Y), eyes);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+    }
+    // A foveating pass over every pixel, or one indirect dispatch per tile class (constant 5).
+    auto dispatchPixels = [&](int shader, std::array<uint32_t, 6> constants) {
+        if (!tiled) {
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+            vkCmdDispatch(cb, gx, gy, eyes);
+            return;
+        }
+        for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
+            constants[5] = 1 + cls;
+            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+            vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
+        }
+    };
     if (pyramid) {
         const bool gauss = config_.foveation == FoveationMode::Gauss;
         const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
@@ -743,17 +791,13 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     }
     stamp(1);
     if (!retain) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0}));
-        vkCmdDispatch(cb, gx, gy, eyes);
+        dispatchPixels(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0});
         computeBarrier(cb);
     }
     stamp(2);
     if (retain) {
         const uint32_t rule = config_.method == Method::Oracle ? gpu::WRS_RULE_ORACLE : uint32_t(config_.equalQuality);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace}));
-        vkCmdDispatch(cb, gx, gy, eyes);
+        dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace});
         computeBarrier(cb);
     } else if (wrsPaper) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,

@@ -3,6 +3,8 @@
 //
 // Passes, in the order they run (shaders/); level 0 and linear depth are never stored, each pass
 // decodes the submitted images where it reads them:
+//   0. classify – (CompositorConfig::skipTiles) 8x8 tiles onto the lists of their class (fovea, mid,
+//                 far, any); passes 2 and 2+3 then run one indirect dispatch per class
 //   1. pyramid  – levels 1..4 from the submitted colour, fp16 (box for `mip`, all levels in one
 //                 dispatch; [1 3 3 1] Gaussian for `gauss`, one dispatch per level; skipped for `none`)
 //   2. foveate  – eccentricity, foveated colour, weight p̂ (method `fov` writes the output here)
@@ -77,6 +79,11 @@ struct CompositorConfig {
     /// shown sample was taken (merged as the samples are), readable with readBirth(), so a
     /// benchmark can find pixels showing a sample whose scene has changed since. 32 B/px more.
     bool trackBirth = false;
+    /// Methods `fov`, `wrs` and `oracle` with foveation `mip` or `gauss`: 8x8 tiles whose pixels all
+    /// get the same pyramid levels (fovea, mid-periphery, far periphery) run in a dispatch of their
+    /// own that computes no eccentricity (docs/speed.md "Tiles"). The output is the same bit for
+    /// bit either way; off runs every pixel through the per-pixel path (bench and preview --no-skip).
+    bool skipTiles = true;
 };
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
@@ -131,6 +138,9 @@ struct FrameStats {
     /// `wrs` or the oracle without motion (and without stale tracking): the reservoirs were updated in
     /// place and only pixels whose reservoir changed were stored.
     bool inPlace = false;
+    /// The foveating pass ran per tile class (CompositorConfig::skipTiles and a method and mode
+    /// that have classes).
+    bool tiled = false;
 };
 
 /// How a swapchain's images are made when an application renders into them with Vulkan (an OpenXR
@@ -236,7 +246,7 @@ private:
     Status init();
     Status resize(uint32_t width, uint32_t height, bool birth);
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
-    VkPipeline pipeline(int shader, std::array<uint32_t, 5> constants);
+    VkPipeline pipeline(int shader, std::array<uint32_t, 6> constants);
     /// GPU milliseconds of the copy kernel moving `bytes` (half read, half written), alone in a submission.
     double timeCopy(uint64_t bytes);
     Result<HostImage> readImageLayer(uint32_t layer);
@@ -261,7 +271,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 6>, vk::Pipeline> pipelines_;
+    std::map<std::array<uint32_t, 7>, vk::Pipeline> pipelines_;
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;
@@ -271,6 +281,7 @@ private:
     vk::Buffer birth_[2];  // trackBirth: ping-pong like the reservoirs (16 B each when off)
     bool birthAllocated_ = false;
     vk::Buffer copySrc_, copyDst_;  // the copy kernel's buffers (measureCopy)
+    vk::Buffer tiles_;              // tile classes: indirect dispatches and tile lists (skipTiles)
     uint32_t current_ = 0;  // reservoirs_[current_] holds the latest frame's reservoirs
     bool historyValid_ = false;
     vk::Image output_;

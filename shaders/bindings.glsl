@@ -25,10 +25,28 @@ layout(std430, set = 0, binding = 10) readonly buffer BirthPrev { vec4 birth_pre
 layout(std430, set = 0, binding = 11) writeonly buffer BirthCur { vec4 birth_cur[]; };
 // Linear value of each 8-bit sRGB code (wrs_srgb8_table), written once by the compositor.
 layout(std430, set = 0, binding = 12) readonly buffer SrgbTable { float srgb_table[256]; };
+// Tiles (classify.comp): per class an indirect dispatch (x = its tiles, y = z = 1), then the
+// classes' tile lists, class k at k * tile_capacity(): eye << 30 | ty << 15 | tx.
+layout(std430, set = 0, binding = 13) buffer Tiles { uvec4 tile_args[WRS_TILE_CLASSES]; uint tile_list[]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
 uint eye_index(uint eye) { return eye; }
+uvec2 tile_count() { return (frame.size.xy + uvec2(WRS_TILE - 1u)) / WRS_TILE; }
+uint tile_capacity() { uvec2 t = tile_count(); return t.x * t.y * 2u; }
+// The pixel and eye of this invocation: over the whole image (tile == 0: groups of
+// WRS_GROUP_X x WRS_GROUP_Y pixels, z = eye), or in the gl_WorkGroupID.x-th tile of class tile - 1
+// (an indirect dispatch of one group per tile; the eye is the same for the whole group).
+void invocation_pixel(uint tile, out uint eye, out uvec2 p) {
+    if (tile == 0u) {
+        eye = gl_WorkGroupID.z;
+        p = gl_GlobalInvocationID.xy;
+    } else {
+        uint t = tile_list[(tile - 1u) * tile_capacity() + gl_WorkGroupID.x];
+        eye = t >> 30u;
+        p = uvec2(t & 0x7fffu, (t >> 15u) & 0x7fffu) * WRS_TILE + gl_LocalInvocationID.xy;
+    }
+}
 uint pixel_index(uint eye, uvec2 p) { return (eye * frame.size.y + p.y) * frame.size.x + p.x; }
 // Size of a pyramid level (wrs_level_size of the frame, from the parameter block).
 uvec2 level_size(uint level) { return frame.levels[level].xy; }

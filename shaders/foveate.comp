@@ -6,6 +6,8 @@
 
 layout(constant_id = 0) const uint FOV_MODE = 1u;
 layout(constant_id = 1) const bool WRITE_OUTPUT = false;
+// 0: every pixel; 1 + class: the tiles of one class (WRITE_OUTPUT only: no weight, no eccentricity).
+layout(constant_id = 5) const uint TILE = 0u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 // `level0`: the pixel's own decoded colour (load_color), read once per pixel.
@@ -20,15 +22,22 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0) {
 }
 
 void main() {
-    uint eye = gl_WorkGroupID.z;
-    uvec2 p = gl_GlobalInvocationID.xy;
+    uint eye;
+    uvec2 p;
+    invocation_pixel(TILE, eye, p);
     if (any(greaterThanEqual(p, frame.size.xy))) return;
     EyeParams ep = frame.eye[eye];
 
-    vec3 ray = wrs_pixel_ray(p.x, p.y, frame.size.x, frame.size.y, ep.fov_tan);
-    float e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
+    float e = 0.0;
     float r_f = ep.gaze.w;
-    vec3 lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
+    vec3 lv;
+    if (TILE > 1u) {
+        lv = wrs_tile_levels(TILE - 1u);
+    } else {
+        vec3 ray = wrs_pixel_ray(p.x, p.y, frame.size.x, frame.size.y, ep.fov_tan);
+        e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
+        lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
+    }
     vec4 level0 = load_color(eye, p);
     vec4 c = sample_level(eye, uint(lv.x), p, level0);
     if (lv.z > 0.0) c = wrs_blend(c, sample_level(eye, uint(lv.y), p, level0), lv.z);

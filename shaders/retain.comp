@@ -13,6 +13,8 @@ layout(constant_id = 3) const uint RULE = 0u;
 // Reservoirs updated in place (no motion: only the pixel's own is read; bindings 7 and 8 are the same
 // buffer): a pixel whose packed reservoir did not change is not stored.
 layout(constant_id = 4) const bool IN_PLACE = false;
+// 0: every pixel (levels per pixel); 1 + class: the tiles of one class (wrs_tile_levels, no eccentricity).
+layout(constant_id = 5) const uint TILE = 0u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 // Bilinear sample of `level` at the centre of pixel p; widens [lo, hi] by the four taps' colours and
@@ -34,18 +36,25 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, ino
 }
 
 void main() {
-    uint eye = gl_WorkGroupID.z;
-    uvec2 p = gl_GlobalInvocationID.xy;
+    uint eye;
+    uvec2 p;
+    invocation_pixel(TILE, eye, p);
     uvec2 size = frame.size.xy;
     if (any(greaterThanEqual(p, size))) return;
     EyeParams ep = frame.eye[eye];
     uint idx = pixel_index(eye, p);
 
     // Candidate: foveated colour, quality and the range of the taps it came from.
-    vec3 ray = wrs_pixel_ray(p.x, p.y, size.x, size.y, ep.fov_tan);
-    float e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
+    float e = 0.0;  // used by mode none only, which has no tile classes
     float r_f = ep.gaze.w;
-    vec3 lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
+    vec3 lv;
+    if (TILE > 1u) {
+        lv = wrs_tile_levels(TILE - 1u);
+    } else {
+        vec3 ray = wrs_pixel_ray(p.x, p.y, size.x, size.y, ep.fov_tan);
+        e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
+        lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
+    }
     RetainInput c;
     c.lo = vec3(WRS_HALF_MAX);
     c.hi = vec3(0.0);

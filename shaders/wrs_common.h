@@ -144,6 +144,62 @@ WRS_FN vec3 wrs_foveation_levels(uint mode, float e, float r_f, float r_m) {
     return vec3(float(WRS_LEVELS - 1), float(WRS_LEVELS - 1), 0.0f);
 }
 
+// Tiles (docs/speed.md "Tiles"): 8x8-pixel tiles whose every pixel gets the same levels, known
+// from the tile's eccentricity range, run through a dispatch of their own whose shader has those
+// levels as constants and computes no eccentricity. A class holds only where wrs_foveation_levels
+// returns exactly its levels for every pixel of the tile, so the output is bit for bit the same.
+const uint WRS_TILE = 8u;
+const uint WRS_TILE_ANY = 0u;    // levels per pixel (mixed tiles, mode none)
+const uint WRS_TILE_FOVEA = 1u;  // every pixel e <= r_f: level 0
+const uint WRS_TILE_MID = 2u;    // mip, every pixel in [r_f + 1, r_mid]: level 3
+const uint WRS_TILE_FAR = 3u;    // every pixel past the last blend: level 4
+const uint WRS_TILE_CLASSES = 4u;
+// Slack on the eccentricity range: far above the float rounding of a pixel's e (~1e-4 degrees).
+const float WRS_TILE_MARGIN_DEG = 0.05f;
+
+WRS_FN vec3 wrs_tile_levels(uint cls) {
+    if (cls == WRS_TILE_MID) return vec3(3.0f, 3.0f, 0.0f);
+    if (cls == WRS_TILE_FAR) return vec3(4.0f, 4.0f, 0.0f);
+    return vec3(0.0f, 0.0f, 0.0f);
+}
+
+// The class of a tile whose pixels' eccentricities all lie in [lo, hi] (see wrs_foveation_levels).
+WRS_FN uint wrs_tile_class_of_range(uint mode, float lo, float hi, float r_f, float r_m) {
+    if (mode == WRS_FOV_NONE) return WRS_TILE_ANY;
+    if (hi <= r_f) return WRS_TILE_FOVEA;
+    if (mode == WRS_FOV_MIP) {
+        float r_mid = max(r_m, r_f);
+        if (r_f + 1.0f > r_mid) return lo >= r_f + 1.0f ? WRS_TILE_FAR : WRS_TILE_ANY;
+        if (lo >= r_f + 1.0f && hi <= r_mid) return WRS_TILE_MID;
+        return lo >= r_mid + 1.0f ? WRS_TILE_FAR : WRS_TILE_ANY;
+    }
+    // gauss: sigma reaches 8 (past level 4's 7.98) 5 degrees beyond the mid-periphery.
+    return lo >= max(r_m, r_f + 1.0f) + 5.0f ? WRS_TILE_FAR : WRS_TILE_ANY;
+}
+
+// Ray through a point of the image in pixel units (a pixel's centre is (x + 0.5, y + 0.5)).
+WRS_FN vec3 wrs_image_point_ray(vec2 pt, uvec2 size, vec4 fov_tan) {
+    float tx = fov_tan.x + pt.x / float(size.x) * (fov_tan.y - fov_tan.x);
+    float ty = fov_tan.z - pt.y / float(size.y) * (fov_tan.z - fov_tan.w);
+    return normalize(vec3(tx, ty, -1.0f));
+}
+
+// The class of tile t of a view: the eccentricity range of its footprint is the centre's e plus
+// and minus the largest angle from the centre to a corner (the angle to a fixed ray has convex
+// sublevel sets on the image plane, so its maximum over the rectangle is at a corner), widened by
+// the margin.
+WRS_FN uint wrs_tile_class(uint mode, uvec2 t, uvec2 size, vec4 fov_tan, vec3 gaze, float r_f, float r_m) {
+    vec2 a = vec2(t * WRS_TILE);
+    vec2 b = vec2(min((t + uvec2(1u, 1u)) * WRS_TILE, size));
+    vec3 c = wrs_image_point_ray(0.5f * (a + b), size, fov_tan);
+    float rho = wrs_eccentricity_deg(wrs_image_point_ray(a, size, fov_tan), c);
+    rho = max(rho, wrs_eccentricity_deg(wrs_image_point_ray(vec2(b.x, a.y), size, fov_tan), c));
+    rho = max(rho, wrs_eccentricity_deg(wrs_image_point_ray(vec2(a.x, b.y), size, fov_tan), c));
+    rho = max(rho, wrs_eccentricity_deg(wrs_image_point_ray(b, size, fov_tan), c));
+    float e = wrs_eccentricity_deg(c, gaze);
+    return wrs_tile_class_of_range(mode, e - rho - WRS_TILE_MARGIN_DEG, e + rho + WRS_TILE_MARGIN_DEG, r_f, r_m);
+}
+
 // The lowest pyramid level above 0 that a mode's wrs_foveation_levels ever returns: `mip` blends
 // level 0 with the 8x8 (3) and 16x16 (4) rates only, `gauss` any level, and `none` none (method
 // `wrs` still reads level 4, its fingerprint). Levels below it are built (the chain needs them) but
