@@ -402,6 +402,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.seed = o.seed;
                     cc.change = o.change;
                     cc.measureCopy = i >= 0;
+                    cc.skipTiles = o.skipTiles;
                     cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();

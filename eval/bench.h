@@ -34,6 +34,8 @@ struct BenchOptions {
     /// Stale-pixel statistics: wrs-paper, wrs and the oracle keep birth colours (trackBirth, 32 B/px
     /// more traffic and the time it takes). Off for timing runs: the passes as an application gets them.
     bool staleStats = true;
+    /// CompositorConfig::skipTiles (--no-skip turns it off: the same output, the per-pixel path).
+    bool skipTiles = true;
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;

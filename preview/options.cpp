@@ -59,7 +59,8 @@ float nextFovea(float deg) {
     return kFoveaSteps[0];
 }
 
-CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, float foveaDeg, uint32_t seed) {
+CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, float foveaDeg, uint32_t seed,
+                                  bool skipTiles) {
     CompositorConfig c;
     c.method = method == PreviewMethod::Wrs        ? Method::Wrs
                : method == PreviewMethod::WrsPaper ? Method::WrsPaper
@@ -68,6 +69,7 @@ CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, floa
     c.foveation = method == PreviewMethod::Reference ? FoveationMode::None : mode;
     c.foveaDeg = foveaDeg;
     c.seed = seed;
+    c.skipTiles = skipTiles;
     return c;
 }
 
@@ -123,6 +125,7 @@ struct CommandLine {
     cli::Size size;
     std::array<std::string, 2> resize;
     std::array<double, 2> cursor{};
+    bool noSkip = false;
 
     explicit CommandLine(PreviewOptions& o) : size{o.width, o.height} {
         cli::setup(app);
@@ -161,6 +164,9 @@ struct CommandLine {
         cli::option(app, "--overlay", o.overlay, cli::oneOf<bool>({{"on", true}, {"off", false}}),
                     "Gaze marker and fovea / mid-periphery circles: on or off.")
             ->type_name("on|off");
+        app.add_flag("--no-skip", noSkip,
+                     "Every pixel through the per-pixel path, no tile classes (docs/speed.md \"Tiles\"): the same "
+                     "image, the GPU time without what the classes save.");
         cli::option(app, "--frames", o.frames, cli::integer(1, 10000000),
                     "Composite N frames (1..10000000), present the last one and exit.")
             ->default_str("until the window is closed");
@@ -217,6 +223,7 @@ Result<PreviewOptions> parseArguments(int argc, const char* const* argv) {
         o.resizeHeight = s.height;
     }
     if (cl.app.count("--cursor")) o.cursor = cl.cursor;
+    o.skipTiles = !cl.noSkip;
     if (!o.screenshot.empty() && o.frames == 0)
         return Error{2, "--screenshot FILE needs --frames N (interactive screenshots: the S key)"};
     return o;

@@ -31,7 +31,8 @@ inline constexpr float kFoveaSteps[] = {5.0f, 7.5f, 10.0f};
 float nextFovea(float deg);
 
 /// The compositor configuration of a method: the reference is `fov` without foveation.
-CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, float foveaDeg, uint32_t seed);
+CompositorConfig compositorConfig(PreviewMethod method, FoveationMode mode, float foveaDeg, uint32_t seed,
+                                  bool skipTiles = true);
 
 struct PreviewOptions {
     uint32_t width = 320, height = 288;   ///< per eye
@@ -44,6 +45,7 @@ struct PreviewOptions {
     uint32_t seed = 1;
     View view = View::Stereo;
     bool overlay = true;     ///< gaze marker and fovea / mid-periphery circles
+    bool skipTiles = true;   ///< CompositorConfig::skipTiles (--no-skip: off)
     int frames = 0;          ///< composite this many frames, then exit (0: until the window is closed)
     std::string screenshot;  ///< with --frames: PNG of the preview image after the last frame
     /// Test hooks: resize the window after frame `resizeFrame`; move the pointer at start.

@@ -184,7 +184,7 @@ Status Session::open() {
     if (!ctx) return Error{kExitFailure, ctx.error().message};
     ctx_ = std::move(*ctx);
 
-    auto comp = Compositor::create(*ctx_, compositorConfig(method_, mode_, fovea_, o_.seed));
+    auto comp = Compositor::create(*ctx_, compositorConfig(method_, mode_, fovea_, o_.seed, o_.skipTiles));
     if (!comp) return comp.error();
     main_ = std::move(*comp);
     if (Status s = makeScene(); !s) return s;
@@ -240,7 +240,7 @@ Status Session::makeGaze(const GazeSpec& spec) {
 }
 
 Status Session::applyConfig() {
-    if (Status s = main_->setConfig(compositorConfig(method_, mode_, fovea_, o_.seed)); !s) return s;
+    if (Status s = main_->setConfig(compositorConfig(method_, mode_, fovea_, o_.seed, o_.skipTiles)); !s) return s;
     dirty_ = true;
     return {};
 }
@@ -278,7 +278,7 @@ Status Session::composite(bool advance) {
     std::vector<Compositor*> targets{main_.get()};
     if (needsReference(view_) && method_ != PreviewMethod::Reference) {
         if (!reference_) {
-            auto r = Compositor::create(*ctx_, compositorConfig(PreviewMethod::Reference, mode_, fovea_, o_.seed));
+            auto r = Compositor::create(*ctx_, compositorConfig(PreviewMethod::Reference, mode_, fovea_, o_.seed, o_.skipTiles));
             if (!r) return r.error();
             reference_ = std::move(*r);
         }

@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
     cli::Size size{o.width, o.height};
-    bool quick = false, noStale = false;
+    bool quick = false, noStale = false, noSkip = false;
 
     CLI::App app{
         "Run time against error: sweeps scenes x methods x fovea sizes x foveation modes with synthetic gaze, "
@@ -144,6 +144,10 @@ int main(int argc, char** argv) {
     app.add_flag("--no-stale", noStale,
                  "No stale-pixel statistics, so wrs-paper, wrs and the oracle run without the birth buffers "
                  "(32 B/px of evaluation-only traffic): the passes as an application gets them.");
+    app.add_flag("--no-skip", noSkip,
+                 "Every pixel through the per-pixel path: no tile classes (fovea, mid and far periphery "
+                 "tiles with constant levels, docs/speed.md \"Tiles\"). The output is the same bit for bit; "
+                 "the time shows what the classes save.");
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");
@@ -169,6 +173,7 @@ int main(int argc, char** argv) {
     o.width = size.width;
     o.height = size.height;
     o.staleStats = !noStale;
+    o.skipTiles = !noSkip;
     if (quick) {
         if (!scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
         if (!sizeGiven) o.width = 160, o.height = 144;

@@ -71,6 +71,15 @@ TEST(PreviewOptions, DefaultsAndValues) {
     ASSERT_TRUE(o->cursor.has_value());
     EXPECT_DOUBLE_EQ((*o->cursor)[0], 10.5);
 
+    // Tile classes: on unless --no-skip, and handed to the compositor's configuration.
+    EXPECT_TRUE(d->skipTiles);
+    auto ns = parse({"--no-skip"});
+    ASSERT_TRUE(ns.ok()) << ns.error().message;
+    EXPECT_FALSE(ns->skipTiles);
+    EXPECT_TRUE(o->skipTiles);
+    EXPECT_FALSE(compositorConfig(PreviewMethod::Wrs, FoveationMode::Mip, 5.0f, 1, ns->skipTiles).skipTiles);
+    EXPECT_TRUE(compositorConfig(PreviewMethod::Wrs, FoveationMode::Mip, 5.0f, 1).skipTiles);
+
     auto h = parse({"--size", "10x10", "--help"});
     EXPECT_FALSE(h.ok());  // arguments are read in order: the bad size comes first
     auto h2 = parse({"--help"});
