@@ -184,6 +184,7 @@ printf 'fovea = [70, 5]\n' >"$out/fovea_array.toml"
 check bench_config_array_every_item_checked 2 "--fovea: '70' is not a number in (0, 60]" "$bench" --config "$out/fovea_array.toml"
 printf 'scenes = ["text", "atrium"]\n' >"$out/scenes_array.toml"
 check bench_config_array_keeps_every_item 2 "--write-sequence writes one scene" "$bench" --config "$out/scenes_array.toml" --write-sequence "$out/ws"
+check bench_no_skip_accepted 2 "--frames must exceed --warmup" "$bench" --no-skip --frames 5 --warmup 5
 check bench_list_option_twice_keeps_both 2 "scene 'sequence' needs --sequence DIR" "$bench" --scenes sequence --scenes text
 
 echo "$count checks, $fails failed"
