@@ -1,5 +1,5 @@
-// Sequence directories: external stereo frames in and out (DESIGN "Sequence directory";
-// the format is specified in docs/sequence.md).
+// Sequence directories: external stereo frames in and out (the format is specified in
+// docs/sequence.md).
 //
 //   DIR/sequence.json                  size, per-eye field of view, frame count, fps, colour file
 //                                      type, depth range (optional), motion units (optional)
