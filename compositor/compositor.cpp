@@ -841,29 +841,19 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         si.pWaitDstStageMask = submission.waitStages.data();
         si.signalSemaphoreCount = uint32_t(submission.signalSemaphores.size());
         si.pSignalSemaphores = submission.signalSemaphores.data();
-        VkFence f = frameFence_.get();
-        const auto submitted = std::chrono::steady_clock::now();
-        if (submission.mode == FrameSubmission::Mode::Submit) {
-            const VkResult r = ctx_.submitNoWait(si, f);
-            if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
-            if (r != VK_SUCCESS)
-                return submitError(SubmitError::DeviceFailure,
-                                   std::string("the device refused the frame's submission: ") + vk::resultString(r));
-            inFlight_ = true;
-            submittedAt_ = submitted;
-            inFlightTraffic_ = trafficIn;
-            inFlightEyes_ = eyes;
-        } else {
-            const VkResult r = ctx_.submitBatch(si, f);
-            const double hostMs =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - submitted).count();
-            vkResetFences(ctx_.device(), 1, &f);
-            if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
-            if (r != VK_SUCCESS)
-                return submitError(SubmitError::DeviceFailure,
-                                   std::string("the device failed while compositing: ") + vk::resultString(r));
-            collectTimes(hostMs, trafficIn, eyes);
-        }
+        // Both modes submit the same way; Wait then waits here, before the history moves on, so
+        // that a failed frame changes nothing (waitFrame also collects the GPU times).
+        submittedAt_ = std::chrono::steady_clock::now();
+        const VkResult r = ctx_.submitNoWait(si, frameFence_.get());
+        if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
+        if (r != VK_SUCCESS)
+            return submitError(SubmitError::DeviceFailure,
+                               std::string("the device failed while compositing: ") + vk::resultString(r));
+        inFlight_ = true;
+        inFlightTraffic_ = trafficIn;
+        inFlightEyes_ = eyes;
+        if (submission.mode == FrameSubmission::Mode::Wait)
+            if (Status s = waitFrame(); !s) return s;
     }
     if (temporal) {
         current_ = written;
