@@ -797,7 +797,7 @@ const uint WRS_OUT_CHANGED = 1u;   // the change test flushed the history: the c
 const uint WRS_OUT_BETTER = 2u;    // the candidate is of higher quality: the candidate
 const uint WRS_OUT_KEPT = 3u;      // the history is of higher quality (or won the combine): kept
 const uint WRS_OUT_MERGED = 4u;    // equal quality: merged
-const uint WRS_OUT_OUTSIDE = 5u;   // equal quality, history outside the candidate's taps: the candidate
+const uint WRS_OUT_OUTSIDE = 5u;   // equal quality, history outside the candidate's taps: clipped, merged
 
 WRS_FN Tracked wrs_tracked_from(RetainInput c, float w_sum) {
     Tracked r;
@@ -878,23 +878,30 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
         outcome = keep ? WRS_OUT_KEPT : WRS_OUT_BETTER;
         return r;
     }
-    // Merge, unless the history lies outside what the candidate's own taps allow (one 8-bit step of
-    // slack): then the scene under an equal-quality sample has changed in a way the coarse
-    // fingerprint missed (a moving object of the same brightness), and the candidate is taken.
+    // Merge. A history outside what the candidate's own taps allow (one 8-bit step of slack) means
+    // the scene under an equal-quality sample changed in a way the coarse fingerprint missed (a
+    // moving object of the same brightness, a sample carried across an edge): it is first clipped
+    // to the taps' box (per channel, as TAA clamps its history to the neighbourhood) and then
+    // merged, so the output moves towards the candidate as smoothly as a merge instead of jumping
+    // to it. For a sharp candidate the box is the candidate itself, which the clip then returns. The
+    // clipped colour no longer describes the sample where it was taken: it is re-anchored at the
+    // pixel's centre with the candidate's fingerprint, as a fresh sample, keeping only its weight.
     vec3 slack = vec3(1.0f / 255.0f, 1.0f / 255.0f, 1.0f / 255.0f);
     vec3 to_lo = abs(h.color - (c.lo - slack)), to_hi = abs(h.color - (c.hi + slack));
     margin = min(margin, min(min(min(to_lo.x, to_lo.y), to_lo.z), min(min(to_hi.x, to_hi.y), to_hi.z)) /
                              max(max(max(h.color.x, h.color.y), h.color.z), 1.0f));
-    if (any(lessThan(h.color, c.lo - slack)) || any(greaterThan(h.color, c.hi + slack))) {
-        outcome = WRS_OUT_OUTSIDE;
-        return fresh;
-    }
     float t = wrs_merge_weight(h.w_sum, c.q);
     Tracked r = kept;
-    r.color = h.color + (c.color - h.color) * t;
-    r.d = d_new * (1.0f - t);
-    r.w_sum = min(h.w_sum + c.q, WRS_MERGE_CAP * c.q);
+    vec3 hist = h.color;
     outcome = WRS_OUT_MERGED;
+    r.d = d_new * (1.0f - t);
+    if (any(lessThan(h.color, c.lo - slack)) || any(greaterThan(h.color, c.hi + slack))) {
+        hist = clamp(h.color, c.lo, c.hi);
+        outcome = WRS_OUT_OUTSIDE;
+        r = fresh;
+    }
+    r.color = hist + (c.color - hist) * t;
+    r.w_sum = min(h.w_sum + c.q, WRS_MERGE_CAP * c.q);
     return r;
 }
 
