@@ -253,7 +253,29 @@ struct Accum {
     std::vector<double> pyramid, foveate, temporal, total, copy, copyFloor;
     bool mono = false;  ///< the passes ran once for both views (FrameStats::monoViews)
     TemporalInstability instab[2];
+    std::array<double, kEccBands.size() - 1> bandSe{}, bandPx{};  ///< squared error and pixels per band
 };
+
+// Adds each pixel's squared error (sRGB, mean over channels, as psnr) to its eccentricity band.
+void addBandErrors(const HostImage& reference, const HostImage& test, const cv::Mat& ecc, Accum& a) {
+    const cv::Mat r = toMat(reference), t = toMat(test);
+    for (int y = 0; y < r.rows; ++y) {
+        const float* pr = r.ptr<float>(y);
+        const float* pt = t.ptr<float>(y);
+        const float* pe = ecc.ptr<float>(y);
+        for (int x = 0; x < r.cols; ++x) {
+            std::size_t b = 0;
+            while (b + 2 < kEccBands.size() && double(pe[x]) >= kEccBands[b + 1]) ++b;
+            double se = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                const double d = double(pr[3 * x + c]) - double(pt[3 * x + c]);
+                se += d * d;
+            }
+            a.bandSe[b] += se / 3.0;
+            a.bandPx[b] += 1.0;
+        }
+    }
+}
 
 cv::Mat toBgr8(const HostImage& img) {
     cv::Mat rgba(int(img.height), int(img.width), CV_8UC4, const_cast<std::byte*>(img.data.data()));
@@ -486,6 +508,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             run.acc.nearMse += std::isnan(np) ? 0.0 : mseFromPsnr(np);
                             run.acc.eccMse += eccentricityWeightedMse(ref[e], run.last[e], ecc[e]);
                             run.acc.shading += shading[e];
+                            addBandErrors(ref[e], run.last[e], ecc[e], run.acc);
                             if (heavy) {
                                 run.acc.ssim += ssim(ref[e], run.last[e]);
                                 FlipOptions fo{pixelsPerDegreeAtCentre(o.width, ep.fov_tan)};
@@ -527,6 +550,12 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     c.temporal = o.monitor ? a.instab[0].mean() : 0.5 * (a.instab[0].mean() + a.instab[1].mean());
                     c.fovTotalMs = fovTotal;
                     c.mse = a.mse / std::max(1, a.n);
+                    double px = 0.0;
+                    for (double n : a.bandPx) px += n;
+                    for (std::size_t b = 0; b < c.bandMse.size(); ++b) {
+                        c.bandMse[b] = a.bandPx[b] > 0 ? a.bandSe[b] / a.bandPx[b] : 0.0;
+                        c.bandShare[b] = px > 0 ? a.bandPx[b] / px : 0.0;
+                    }
                     c.nearMse = a.nearMse / std::max(1, a.n);
                     if (a.stalePxTotal > 0) {
                         c.staleFraction = a.stalePx / a.stalePxTotal;
@@ -781,6 +810,68 @@ void writeTrafficSection(std::ostream& md, const std::vector<CellResult>& result
     }
 }
 
+std::string bandName(std::size_t b) {
+    return kEccBands[b + 1] > 1e8 ? "≥ " + fmt(kEccBands[b], 0) + "°"
+                                   : fmt(kEccBands[b], 0) + "–" + fmt(kEccBands[b + 1], 0) + "°";
+}
+
+// Where the error and the oracle's gain lie: MSE per eccentricity band, η per band, and each band's
+// share of the oracle's gain over the whole image (band MSE gain × the band's share of pixels).
+void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) {
+    md << "\n## Error by eccentricity\n\n"
+          "MSE (sRGB, ×1000) per band of eccentricity from the gaze, over all counted frames; *px* the band's "
+          "share of the pixels; *η* per band against fov and the oracle of the same cell; *oracle gain share*: "
+          "the band's part of the oracle's whole-image MSE gain over fov (where a keep-or-replace rule could "
+          "gain, and how much of it lies where every candidate is equally blurred).\n";
+    auto same = [](const CellResult& a, const CellResult& b) {
+        return a.scene == b.scene && a.mode == b.mode && a.foveaDeg == b.foveaDeg;
+    };
+    for (std::size_t i = 0; i < results.size(); ++i) {
+        const CellResult& first = results[i];
+        bool seen = false;
+        for (std::size_t j = 0; j < i; ++j) seen = seen || same(results[j], first);
+        if (seen) continue;
+        const CellResult *fov = nullptr, *oracle = nullptr;
+        for (const CellResult& c : results) {
+            if (!same(c, first)) continue;
+            if (c.method == Method::Fov) fov = &c;
+            if (c.method == Method::Oracle) oracle = &c;
+        }
+        md << "\n" << toString(first.scene) << ", " << toString(first.mode) << ", fovea " << fmt(first.foveaDeg, 1)
+           << "°\n\n| method |";
+        for (std::size_t b = 0; b < first.bandMse.size(); ++b) md << " " << bandName(b) << " |";
+        md << "\n|---|";
+        for (std::size_t b = 0; b < first.bandMse.size(); ++b) md << "---|";
+        md << "\n| px |";
+        for (double v : first.bandShare) md << " " << fmt(100 * v, 1) << " % |";
+        md << "\n";
+        for (const CellResult& c : results) {
+            if (!same(c, first)) continue;
+            md << "| " << toString(c.method) << " |";
+            for (double v : c.bandMse) md << " " << fmt(1000 * v, 2) << " |";
+            md << "\n";
+        }
+        if (!fov || !oracle) continue;
+        double total = 0.0;
+        for (std::size_t b = 0; b < first.bandMse.size(); ++b)
+            total += (fov->bandMse[b] - oracle->bandMse[b]) * fov->bandShare[b];
+        md << "| oracle gain share |";
+        for (std::size_t b = 0; b < first.bandMse.size(); ++b)
+            md << " " << fmt(total > 0 ? 100 * (fov->bandMse[b] - oracle->bandMse[b]) * fov->bandShare[b] / total : 0.0, 0)
+               << " % |";
+        md << "\n";
+        for (const CellResult& c : results) {
+            if (!same(c, first) || c.method == Method::Fov || c.method == Method::Oracle) continue;
+            md << "| η " << toString(c.method) << " |";
+            for (std::size_t b = 0; b < first.bandMse.size(); ++b) {
+                const double g = fov->bandMse[b] - oracle->bandMse[b];
+                md << " " << (g > 1e-12 ? fmt((fov->bandMse[b] - c.bandMse[b]) / g) : std::string("n/a")) << " |";
+            }
+            md << "\n";
+        }
+    }
+}
+
 }  // namespace
 
 Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o, const std::string& dir,
@@ -907,6 +998,17 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
         }
 
     writeTrafficSection(md, results);
+    writeBandSection(md, results);
+
+    std::ofstream bands(dir + "/ecc_bands.csv");
+    if (!bands) return Error{1, "cannot write " + dir + "/ecc_bands.csv"};
+    bands.precision(7);
+    bands << "scene,method,mode,fovea_deg,band_lo_deg,band_hi_deg,pixel_share,mse\n";
+    for (const auto& c : results)
+        for (std::size_t b = 0; b < c.bandMse.size(); ++b)
+            bands << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg
+                  << ',' << kEccBands[b] << ',' << (kEccBands[b + 1] > 1e8 ? std::string("inf") : fmt(kEccBands[b + 1], 0))
+                  << ',' << c.bandShare[b] << ',' << c.bandMse[b] << '\n';
 
     // Per scene and mode: error against run time, against fovea size, and η per method.
     for (SceneKind scene : o.scenes)

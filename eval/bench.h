@@ -4,6 +4,7 @@
 // external frames from a sequence directory (docs/sequence.md) the same way.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <limits>
 #include <string>
@@ -77,7 +78,13 @@ struct CellResult {
     double staleFraction = std::numeric_limits<double>::quiet_NaN();
     double staleMse = std::numeric_limits<double>::quiet_NaN(), staleFovMse = std::numeric_limits<double>::quiet_NaN();
     double fovTotalMs = 0;    ///< the `fov` method's median total in the same cell (for ratios)
+    /// MSE (sRGB, 0..1) per eccentricity band (kEccBands), and the share of pixels in each band.
+    std::array<double, 5> bandMse{}, bandShare{};
 };
+
+/// Eccentricity bands of CellResult::bandMse, in degrees from the gaze: [0, 5), [5, 10), [10, 20),
+/// [20, 30), [30, ∞).
+inline constexpr std::array<double, 6> kEccBands{0.0, 5.0, 10.0, 20.0, 30.0, 1e9};
 
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);

@@ -23,4 +23,10 @@ grep -q "^## Summary" "$out/table.md"
 grep -q "^| oracle | 5.0°" "$out/table.md"
 grep -q "^| wrs-paper | 5.0°" "$out/table.md"
 grep -q "^| wrs | 5.0°" "$out/table.md"
+# error by eccentricity: 20 cells x 5 bands, the shares of one cell summing to 1
+grep -q "^## Error by eccentricity" "$out/table.md"
+grep -q "^| oracle gain share |" "$out/table.md"
+rows=$(wc -l < "$out/ecc_bands.csv")
+[ "$rows" -eq 101 ] || { echo "ecc_bands.csv has $rows lines, expected 101"; exit 1; }
+awk -F, 'NR > 1 { k = $1 FS $2 FS $3 FS $4; s[k] += $7 } END { for (k in s) if (s[k] < 0.999999 || s[k] > 1.000001) { print "band shares of " k " sum to " s[k]; exit 1 } }'   "$out/ecc_bands.csv"
 echo "bench --quick: all outputs present"

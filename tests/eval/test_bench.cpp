@@ -37,6 +37,16 @@ TEST_F(Bench, WrsBeatsFovNearGazeAtFiveDegrees) {
             EXPECT_GT(c.copyMs, 0.0);
             EXPECT_GT(c.shadingFraction, 0.0);
             EXPECT_LT(c.shadingFraction, 0.2);  // a 5° fovea shades a small part of a 92° view at full rate
+            // The eccentricity bands partition the pixels: their shares sum to 1 and their MSEs,
+            // weighted by the shares, give the whole image's MSE.
+            double share = 0.0, mse = 0.0;
+            for (std::size_t b = 0; b < c.bandMse.size(); ++b) {
+                share += c.bandShare[b];
+                mse += c.bandShare[b] * c.bandMse[b];
+            }
+            EXPECT_NEAR(share, 1.0, 1e-12);
+            EXPECT_NEAR(mse, c.mse, 1e-9 * c.mse);
+            EXPECT_GT(c.bandShare.back(), 0.3);  // most of a 92° view lies beyond 30° of a gaze near its centre
         }
         std::printf("%s: near-gaze PSNR fov %.3f dB, wrs %.3f dB\n", std::string(eval::toString(scene)).c_str(), fov,
                     wrs);
