@@ -111,7 +111,7 @@ void main() {
         vec4 hb = birth_prev[pixel_index(eye, q)];
         if (outcome == WRS_OUT_KEPT) b = hb;
         // A clipped merge (WRS_OUT_OUTSIDE) counts as taken now: its colour lies within the box of the
-        // candidate's own taps, and it is re-anchored like a fresh sample.
+        // candidate's own taps, the bound a fresh candidate has.
         if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * wrs_merge_weight(h.w_sum, c.q);
         birth_cur[idx] = b;
     }

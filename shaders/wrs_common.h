@@ -883,24 +883,23 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
     // moving object of the same brightness, a sample carried across an edge): it is first clipped
     // to the taps' box (per channel, as TAA clamps its history to the neighbourhood) and then
     // merged, so the output moves towards the candidate as smoothly as a merge instead of jumping
-    // to it. For a sharp candidate the box is the candidate itself, which the clip then returns. The
-    // clipped colour no longer describes the sample where it was taken: it is re-anchored at the
-    // pixel's centre with the candidate's fingerprint, as a fresh sample, keeping only its weight.
+    // to it. A sharp candidate's box is the candidate itself, which the clip would return: there the
+    // candidate is taken as a fresh sample (at the pixel's centre), so the fovea stays exact.
     vec3 slack = vec3(1.0f / 255.0f, 1.0f / 255.0f, 1.0f / 255.0f);
     vec3 to_lo = abs(h.color - (c.lo - slack)), to_hi = abs(h.color - (c.hi + slack));
     margin = min(margin, min(min(min(to_lo.x, to_lo.y), to_lo.z), min(min(to_hi.x, to_hi.y), to_hi.z)) /
                              max(max(max(h.color.x, h.color.y), h.color.z), 1.0f));
-    float t = wrs_merge_weight(h.w_sum, c.q);
-    Tracked r = kept;
     vec3 hist = h.color;
     outcome = WRS_OUT_MERGED;
-    r.d = d_new * (1.0f - t);
     if (any(lessThan(h.color, c.lo - slack)) || any(greaterThan(h.color, c.hi + slack))) {
-        hist = clamp(h.color, c.lo, c.hi);
         outcome = WRS_OUT_OUTSIDE;
-        r = fresh;
+        if (all(equal(c.lo, c.hi))) return fresh;
+        hist = clamp(h.color, c.lo, c.hi);
     }
+    float t = wrs_merge_weight(h.w_sum, c.q);
+    Tracked r = kept;
     r.color = hist + (c.color - hist) * t;
+    r.d = d_new * (1.0f - t);
     r.w_sum = min(h.w_sum + c.q, WRS_MERGE_CAP * c.q);
     return r;
 }

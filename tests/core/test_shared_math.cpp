@@ -741,20 +741,22 @@ TEST(Retention, RuleOutcomes) {
     EXPECT_EQ(r.w_sum, WRS_MERGE_CAP);
     // A history outside what the candidate's taps allow is clipped to their box, then merged: half
     // way (w_sum 1, q 1) from the box's edge (0.45) to the candidate (0.5), and nowhere outside the box;
-    // re-anchored at the pixel's centre with the candidate's fingerprint, keeping the merged weight.
+    // the offset moves like a merge's.
     r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.2f, 0.0f), retainInput(vec3(0.5f), 1.0f, 50.4f), grey, 0.5f, outcome,
                    margin);
     EXPECT_EQ(outcome, WRS_OUT_OUTSIDE);
     EXPECT_NEAR(r.color.x, 0.475f, 1e-6f);
-    EXPECT_EQ(r.d, vec2(0.0f));
-    EXPECT_EQ(r.fp, wrs_fp_value(wrs_fp_code(50.4f)));
+    EXPECT_NEAR(r.d.x, 0.1f, 1e-6f);
     EXPECT_EQ(r.w_sum, 2.0f);
-    // For a sharp candidate (its taps are itself) the clip returns the candidate: the output is exact.
-    RetainInput sharp = retainInput(vec3(0.5f, 0.02f, 0.9f), 1.0f, 50.0f);
+    // A sharp candidate (its taps are itself) is taken as a fresh sample: the output is exact.
+    RetainInput sharp = retainInput(vec3(0.5f, 0.02f, 0.9f), 1.0f, 50.4f);
     sharp.lo = sharp.hi = sharp.color;
-    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), sharp, grey, 0.5f, outcome, margin);
+    r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.2f, 0.0f), sharp, grey, 0.5f, outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_OUTSIDE);
     EXPECT_EQ(r.color, sharp.color);
+    EXPECT_EQ(r.d, vec2(0.0f));
+    EXPECT_EQ(r.fp, wrs_fp_value(wrs_fp_code(50.4f)));
+    EXPECT_EQ(r.w_sum, 1.0f);
     // Reservoir option: A-Chao with the eq. 6 bias among equals.
     r = wrs_retain(WRS_RULE_RESERVOIR, true, h, vec2(0.0f), retainInput(vec3(0.32f), 1.0f, 50.0f), grey, 0.2f, outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_KEPT);  // keep iff rnd <= w1 / (w1 + q) = (1/2) / (3/2) = 1/3
