@@ -797,7 +797,7 @@ const uint WRS_OUT_CHANGED = 1u;   // the change test flushed the history: the c
 const uint WRS_OUT_BETTER = 2u;    // the candidate is of higher quality: the candidate
 const uint WRS_OUT_KEPT = 3u;      // the history is of higher quality (or won the combine): kept
 const uint WRS_OUT_MERGED = 4u;    // equal quality: merged
-const uint WRS_OUT_OUTSIDE = 5u;   // equal quality, history outside the candidate's taps: clipped, merged
+const uint WRS_OUT_OUTSIDE = 5u;   // equal quality, history outside the taps: clipped, merged (point box: candidate)
 
 WRS_FN Tracked wrs_tracked_from(RetainInput c, float w_sum) {
     Tracked r;
