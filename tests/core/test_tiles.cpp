@@ -39,7 +39,9 @@ TEST(TileClasses, EveryClassifiedPixelGetsTheClassLevels) {
                 for (uint tx = 0; tx < count.x; ++tx) {
                     const uint cls = wrs_tile_class(mode, uvec2(tx, ty), size, fov_tan, gaze, r_f, r_m);
                     ++tiles[cls];
-                    if (mode == WRS_FOV_NONE) ASSERT_EQ(cls, WRS_TILE_ANY);
+                    if (mode == WRS_FOV_NONE) {
+                        ASSERT_EQ(cls, WRS_TILE_ANY);
+                    }
                     if (cls == WRS_TILE_ANY) continue;
                     const vec3 want = wrs_tile_levels(cls);
                     for (uint y = ty * WRS_TILE; y < std::min(size.y, (ty + 1u) * WRS_TILE); ++y)
