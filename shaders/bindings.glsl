@@ -47,6 +47,16 @@ void invocation_pixel(uint tile, out uint eye, out uvec2 p) {
         p = uvec2(t & 0x7fffu, (t >> 15u) & 0x7fffu) * WRS_TILE + gl_LocalInvocationID.xy;
     }
 }
+// The levels pixel p is foveated with (wrs_foveation_levels of its eccentricity, returned in `e`),
+// or, in a tiled dispatch of a class with constant levels (tile > 1), that class's levels without
+// any eccentricity (e = 0: only mode none reads it, and it has no tile classes).
+vec3 pixel_levels(uint tile, uint mode, uint eye, uvec2 p, out float e) {
+    e = 0.0;
+    if (tile > 1u) return wrs_tile_levels(tile - 1u);
+    EyeParams ep = frame.eye[eye];
+    e = wrs_eccentricity_deg(wrs_pixel_ray(p.x, p.y, frame.size.x, frame.size.y, ep.fov_tan), ep.gaze.xyz);
+    return wrs_foveation_levels(mode, e, ep.gaze.w, frame.tuning.x);
+}
 uint pixel_index(uint eye, uvec2 p) { return (eye * frame.size.y + p.y) * frame.size.x + p.x; }
 // Size of a pyramid level (wrs_level_size of the frame, from the parameter block).
 uvec2 level_size(uint level) { return frame.levels[level].xy; }

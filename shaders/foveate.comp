@@ -28,16 +28,9 @@ void main() {
     if (any(greaterThanEqual(p, frame.size.xy))) return;
     EyeParams ep = frame.eye[eye];
 
-    float e = 0.0;
+    float e;
     float r_f = ep.gaze.w;
-    vec3 lv;
-    if (TILE > 1u) {
-        lv = wrs_tile_levels(TILE - 1u);
-    } else {
-        vec3 ray = wrs_pixel_ray(p.x, p.y, frame.size.x, frame.size.y, ep.fov_tan);
-        e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
-        lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
-    }
+    vec3 lv = pixel_levels(TILE, FOV_MODE, eye, p, e);
     vec4 level0 = load_color(eye, p);
     vec4 c = sample_level(eye, uint(lv.x), p, level0);
     if (lv.z > 0.0) c = wrs_blend(c, sample_level(eye, uint(lv.y), p, level0), lv.z);

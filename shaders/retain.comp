@@ -45,16 +45,9 @@ void main() {
     uint idx = pixel_index(eye, p);
 
     // Candidate: foveated colour, quality and the range of the taps it came from.
-    float e = 0.0;  // used by mode none only, which has no tile classes
+    float e;
     float r_f = ep.gaze.w;
-    vec3 lv;
-    if (TILE > 1u) {
-        lv = wrs_tile_levels(TILE - 1u);
-    } else {
-        vec3 ray = wrs_pixel_ray(p.x, p.y, size.x, size.y, ep.fov_tan);
-        e = wrs_eccentricity_deg(ray, ep.gaze.xyz);
-        lv = wrs_foveation_levels(FOV_MODE, e, r_f, frame.tuning.x);
-    }
+    vec3 lv = pixel_levels(TILE, FOV_MODE, eye, p, e);
     RetainInput c;
     c.lo = vec3(WRS_HALF_MAX);
     c.hi = vec3(0.0);
