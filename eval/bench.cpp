@@ -811,7 +811,7 @@ void writeTrafficSection(std::ostream& md, const std::vector<CellResult>& result
 }
 
 std::string bandName(std::size_t b) {
-    return kEccBands[b + 1] > 1e8 ? "≥ " + fmt(kEccBands[b], 0) + "°"
+    return std::isinf(kEccBands[b + 1]) ? "≥ " + fmt(kEccBands[b], 0) + "°"
                                    : fmt(kEccBands[b], 0) + "–" + fmt(kEccBands[b + 1], 0) + "°";
 }
 
@@ -1007,8 +1007,8 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     for (const auto& c : results)
         for (std::size_t b = 0; b < c.bandMse.size(); ++b)
             bands << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg
-                  << ',' << kEccBands[b] << ',' << (kEccBands[b + 1] > 1e8 ? std::string("inf") : fmt(kEccBands[b + 1], 0))
-                  << ',' << c.bandShare[b] << ',' << c.bandMse[b] << '\n';
+                  << ',' << kEccBands[b] << ',' << kEccBands[b + 1] << ',' << c.bandShare[b] << ',' << c.bandMse[b]
+                  << '\n';
 
     // Per scene and mode: error against run time, against fovea size, and η per method.
     for (SceneKind scene : o.scenes)

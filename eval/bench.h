@@ -55,6 +55,10 @@ struct BenchOptions {
 };
 
 /// One cell of the sweep: means over the counted frames and both eyes.
+/// Edges of the eccentricity bands of CellResult::bandMse, in degrees from the gaze: [0, 5), [5, 10),
+/// [10, 20), [20, 30), [30, ∞).
+inline constexpr std::array<double, 6> kEccBands{0.0, 5.0, 10.0, 20.0, 30.0, std::numeric_limits<double>::infinity()};
+
 struct CellResult {
     SceneKind scene;
     Method method;
@@ -79,12 +83,8 @@ struct CellResult {
     double staleMse = std::numeric_limits<double>::quiet_NaN(), staleFovMse = std::numeric_limits<double>::quiet_NaN();
     double fovTotalMs = 0;    ///< the `fov` method's median total in the same cell (for ratios)
     /// MSE (sRGB, 0..1) per eccentricity band (kEccBands), and the share of pixels in each band.
-    std::array<double, 5> bandMse{}, bandShare{};
+    std::array<double, kEccBands.size() - 1> bandMse{}, bandShare{};
 };
-
-/// Eccentricity bands of CellResult::bandMse, in degrees from the gaze: [0, 5), [5, 10), [10, 20),
-/// [20, 30), [30, ∞).
-inline constexpr std::array<double, 6> kEccBands{0.0, 5.0, 10.0, 20.0, 30.0, 1e9};
 
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);
