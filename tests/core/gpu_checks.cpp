@@ -16,6 +16,20 @@ Reservoirs readReservoirs(Compositor& comp) {
     return out;
 }
 
+void expectSameOutputs(Compositor& a, Compositor& b, const std::string& what) {
+    for (uint32_t e = 0; e < 2; ++e) {
+        auto oa = a.readOutput(e), ob = b.readOutput(e);
+        ASSERT_TRUE(oa.ok() && ob.ok()) << what;
+        EXPECT_EQ(oa->data, ob->data) << what << ": output of eye " << e;
+    }
+}
+
+void expectSameReservoirs(Compositor& a, Compositor& b, const std::string& what) {
+    const Reservoirs ra = readReservoirs(a), rb = readReservoirs(b);
+    EXPECT_EQ(ra[0], rb[0]) << what << ": reservoirs of the left eye";
+    EXPECT_EQ(ra[1], rb[1]) << what << ": reservoirs of the right eye";
+}
+
 void compareWithReference(Compositor& gpu, const Reference& ref, const Reservoirs& prev, StepTally& t,
                           const std::string& what) {
     const uint32_t W = gpu.width(), H = gpu.height();

@@ -34,6 +34,11 @@ void compareWithReference(Compositor& gpu, const Reference& ref, const Reservoir
 Reservoirs stepBoth(Compositor& gpu, StereoApp& app, Reference& ref, uint64_t frameIndex,
                     const std::array<EyeFrame, 2>& eyes, StepTally& tally, const std::string& what);
 
+/// Two compositors that ran the same frames agree bit for bit: both eyes' outputs, and both eyes'
+/// reservoirs (methods with history only). `what` names the comparison in failure messages.
+void expectSameOutputs(Compositor& a, Compositor& b, const std::string& what);
+void expectSameReservoirs(Compositor& a, Compositor& b, const std::string& what);
+
 /// Every reservoir unpacks finite, with w_sum > 0 and M >= 1 (the invariant of docs/conventions.md, "Reservoirs").
 void expectReservoirsSane(const std::vector<glm::uvec4>& packed, const std::string& what);
 

@@ -105,13 +105,8 @@ TEST_F(Import, ImportedImagesCompositeLikeOwnSwapchains) {
         Status s = (*imp)->endFrame(fe);
         ASSERT_TRUE(s.ok()) << s.message();
     }
-    EXPECT_EQ(readReservoirs(**own)[0], readReservoirs(**imp)[0]);
-    EXPECT_EQ(readReservoirs(**own)[1], readReservoirs(**imp)[1]);
-    for (uint32_t e = 0; e < 2; ++e) {
-        auto a = (*own)->readOutput(e), b = (*imp)->readOutput(e);
-        ASSERT_TRUE(a.ok() && b.ok());
-        EXPECT_EQ(a->data, b->data) << "eye " << e;
-    }
+    expectSameReservoirs(**own, **imp, "imported against owned");
+    expectSameOutputs(**own, **imp, "imported against owned");
     // The import is gone; the owner's images are not (and stay in their resting layout).
     const int32_t last = (*color)->lastReleased();
     color->reset();

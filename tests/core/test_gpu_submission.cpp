@@ -77,14 +77,8 @@ protected:
     }
 
     static void expectSame(Compositor& a, Compositor& b, const std::string& what) {
-        for (uint32_t e = 0; e < 2; ++e) {
-            auto oa = a.readOutput(e), ob = b.readOutput(e);
-            ASSERT_TRUE(oa.ok() && ob.ok());
-            EXPECT_EQ(oa->data, ob->data) << what << ": output of eye " << e;
-        }
-        const Reservoirs ra = readReservoirs(a), rb = readReservoirs(b);
-        EXPECT_EQ(ra[0], rb[0]) << what << ": reservoirs of the left eye";
-        EXPECT_EQ(ra[1], rb[1]) << what << ": reservoirs of the right eye";
+        expectSameOutputs(a, b, what);
+        expectSameReservoirs(a, b, what);
     }
 
     VkCommandPool pool_ = VK_NULL_HANDLE;

@@ -50,16 +50,10 @@ TEST_F(Tiles, SkippingGivesTheSameOutputBitForBit) {
                         EXPECT_EQ((*a)->stats().tiled, classes);
                         EXPECT_FALSE((*b)->stats().tiled);
                         tiledRuns += (*a)->stats().tiled;
-                        for (uint32_t e = 0; e < 2; ++e) {
-                            auto oa = (*a)->readOutput(e), ob = (*b)->readOutput(e);
-                            ASSERT_TRUE(oa.ok() && ob.ok());
-                            ASSERT_EQ(oa->data, ob->data) << "frame " << n << " eye " << e;
-                        }
-                        if (method != Method::Fov) {
-                            const Reservoirs ra = readReservoirs(**a), rb = readReservoirs(**b);
-                            ASSERT_EQ(ra[0], rb[0]) << "frame " << n;
-                            ASSERT_EQ(ra[1], rb[1]) << "frame " << n;
-                        }
+                        const std::string what = "frame " + std::to_string(n);
+                        expectSameOutputs(**a, **b, what);
+                        if (method != Method::Fov) expectSameReservoirs(**a, **b, what);
+                        if (HasFailure()) return;
                     }
                 }
             }
@@ -96,11 +90,8 @@ TEST_F(Tiles, MonoViewsClassifyOneEye) {
             ASSERT_TRUE((*appA)->submit(n, n / 90.0, eyes).ok());
             ASSERT_TRUE((*appB)->submit(n, n / 90.0, eyes).ok());
             EXPECT_TRUE((*a)->stats().monoViews && (*a)->stats().tiled);
-            for (uint32_t e = 0; e < 2; ++e) {
-                auto oa = (*a)->readOutput(e), ob = (*b)->readOutput(e);
-                ASSERT_TRUE(oa.ok() && ob.ok());
-                ASSERT_EQ(oa->data, ob->data) << toString(method) << " frame " << n << " eye " << e;
-            }
+            expectSameOutputs(**a, **b, std::string(toString(method)) + " frame " + std::to_string(n));
+            if (HasFailure()) return;
         }
     }
 }
