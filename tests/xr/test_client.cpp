@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <unistd.h>
 #include <glm/gtc/packing.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -24,6 +25,21 @@ const std::vector<const char*> kExtensions = {XR_KHR_VULKAN_ENABLE2_EXTENSION_NA
 constexpr int64_t kSrgb = VK_FORMAT_R8G8B8A8_SRGB;
 constexpr XrSwapchainUsageFlags kColorUsage =
     XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+
+// A recording directory of this process's own, emptied first and removed afterwards: ctest runs the
+// same test binary in several entries at once (plain, under core validation, through the layer), and
+// a shared name let one entry delete the directory another was writing.
+struct RecordDir {
+    std::string path;
+    explicit RecordDir(const std::string& name)
+        : path(std::string(::testing::TempDir()) + name + "_" + std::to_string(::getpid())) {
+        std::filesystem::remove_all(path);
+    }
+    ~RecordDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+};
 
 XrPath path(XrInstance i, const char* s) {
     XrPath p = XR_NULL_PATH;
@@ -297,8 +313,8 @@ TEST(XrClient, FrameEndRefusalsChangeNothing) {
 // Both eyes in one array swapchain (layer = eye), depth in another, recorded by the runtime: the
 // recording holds the right eye's own layer and the depth, and the output is the input at the gaze.
 TEST(XrClient, ArraySwapchainsWithDepthAreCompositedAndRecorded) {
-    const std::string dir = std::string(::testing::TempDir()) + "wrsfov_xr_client_rec";
-    std::filesystem::remove_all(dir);
+    const RecordDir rec("wrsfov_xr_client_rec");
+    const std::string& dir = rec.path;
     setenv("WRSFOV_XR_RECORD", dir.c_str(), 1);
     auto c = Client::create(kExtensions);
     unsetenv("WRSFOV_XR_RECORD");
@@ -363,8 +379,8 @@ TEST(XrClient, ArraySwapchainsWithDepthAreCompositedAndRecorded) {
 // XR_FB_space_warp: motion in NDC (current - previous) and its depth, converted to the compositor's
 // pixels (previous = current + mv); recorded in pixels. Refusals of a bad space-warp info.
 TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
-    const std::string dir = std::string(::testing::TempDir()) + "wrsfov_xr_client_warp";
-    std::filesystem::remove_all(dir);
+    const RecordDir rec("wrsfov_xr_client_warp");
+    const std::string& dir = rec.path;
     setenv("WRSFOV_XR_RECORD", dir.c_str(), 1);
     auto c = Client::create(kExtensions);
     unsetenv("WRSFOV_XR_RECORD");
@@ -473,8 +489,8 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
 // ahead in VIEW space shows its colour where each eye looks straight ahead; a left-eye-only quad
 // shows in the left eye only.
 TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
-    const std::string dir = std::string(::testing::TempDir()) + "wrsfov_xr_client_quad";
-    std::filesystem::remove_all(dir);
+    const RecordDir rec("wrsfov_xr_client_quad");
+    const std::string& dir = rec.path;
     setenv("WRSFOV_XR_RECORD", dir.c_str(), 1);
     auto c = Client::create(kExtensions);
     unsetenv("WRSFOV_XR_RECORD");
