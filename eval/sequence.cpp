@@ -534,12 +534,14 @@ Status checkSize(const std::string& path, int64_t w, int64_t h, const SequenceIn
     return {};
 }
 
-// Opens an EXR whose channel set must be one of `allowed` and whose size is the json's.
+// Opens an EXR whose channel set must be one of `allowed` (or contain `alsoWith`, when given) and
+// whose size is the json's.
 Result<ExrFile> openExr(const std::string& path, const SequenceInfo& info,
-                        std::initializer_list<std::vector<std::string>> allowed, const std::string& what) {
+                        std::initializer_list<std::vector<std::string>> allowed, const std::string& what,
+                        const std::string& alsoWith = {}) {
     auto f = ExrFile::open(path);
     if (!f) return f;
-    bool ok = false;
+    bool ok = !alsoWith.empty() && std::count(f->channels().begin(), f->channels().end(), alsoWith) == 1;
     for (const auto& set : allowed) ok = ok || sameSet(f->channels(), set);
     if (!ok) return seqError(SequenceError::ImageChannels, path + " has " + channelList(f->channels()) + "; " + what);
     if (!f->subsampled().empty())
@@ -593,10 +595,18 @@ Result<HostImage> readColor(const std::string& dir, uint32_t i, int e, const Seq
 Result<HostImage> readDepth(const std::string& dir, uint32_t i, int e, const SequenceInfo& info) {
     const std::string path = dir + "/" + frameFileName(i, e, "depth.exr");
     auto f = openExr(path, info, {{"Y"}, {"R"}, {"G"}, {"B"}},
-                     "depth needs exactly one channel, named Y (what OpenCV writes) or R");
+                     "depth needs exactly one channel, named Y (what OpenCV writes) or R, holding depth as "
+                     "submitted, or a channel named Z holding planar view depth (OpenEXR's name)",
+                     "Z");
     if (!f) return f.error();
-    auto px = f->read({f->channels()[0]});
+    const auto& ch = f->channels();
+    const bool planar = std::find(ch.begin(), ch.end(), "Z") != ch.end();
+    auto px = f->read({planar ? std::string("Z") : ch[0]});
     if (!px) return px.error();
+    // Z is the distance along the view axis in the json's units: converted to the submitted [0, 1]
+    // convention with its near, far and reversed (wrs_depth_from_linear; outside [near, far]: unknown).
+    if (planar)
+        for (float& v : *px) v = gpu::wrs_depth_from_linear(v, info.depth->nearZ, info.depth->farZ, info.depth->reversedZ);
     HostImage img = HostImage::make(layers::Format::R32F, info.width, info.height);
     std::memcpy(img.data.data(), px->data(), px->size() * sizeof(float));
     return img;

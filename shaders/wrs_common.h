@@ -368,6 +368,24 @@ WRS_FN float wrs_linear_depth(float d, float near_z, float far_z, bool reversed)
     return (wrs_finite(z) && z > 0.0f) ? min(z, WRS_HALF_MAX) : 0.0f;
 }
 
+// The inverse: the [0, 1] depth value of a planar view depth z (same units as near and far). A z
+// outside [near, far] (in front of the near plane, beyond a finite far plane), not positive or NaN
+// gives -1, which wrs_linear_depth reads as "unknown"; z = +inf is the far plane of an infinite
+// projection (1, reversed 0) and unknown for a finite one.
+WRS_FN float wrs_depth_from_linear(float z, float near_z, float far_z, bool reversed) {
+    if (!(z > 0.0f)) return -1.0f;  // also NaN
+    bool inf_far = !wrs_finite(far_z);
+    float d;
+    if (!wrs_finite(z)) {
+        d = inf_far ? (reversed ? 0.0f : 1.0f) : -1.0f;
+    } else if (reversed) {
+        d = inf_far ? near_z / z : near_z * (far_z - z) / (z * (far_z - near_z));
+    } else {
+        d = inf_far ? 1.0f - near_z / z : far_z * (z - near_z) / (z * (far_z - near_z));
+    }
+    return (d >= 0.0f && d <= 1.0f) ? d : -1.0f;
+}
+
 // True when the history at a reprojected pixel belongs to another surface: the depth test of docs/conventions.md "Reservoirs".
 // z_hist: depth stored with the history; z_cur: this pixel now; dz: z_prev − z_cur from the
 // motion vector's third channel (0 without one).

@@ -431,6 +431,46 @@ TEST(Eccentricity, SmallAnglesKeepTheirPrecision) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Depth conventions
+// ---------------------------------------------------------------------------------------------
+
+TEST(Depth, LinearAndSubmittedDepthAreInverses) {
+    // Hand-computed points: near 0.1, far 100. Standard: d = f (z - n) / (z (f - n)); reversed:
+    // d = n (f - z) / (z (f - n)); infinite far: 1 - n / z and n / z.
+    EXPECT_FLOAT_EQ(wrs_depth_from_linear(0.1f, 0.1f, 100.0f, false), 0.0f);
+    EXPECT_FLOAT_EQ(wrs_depth_from_linear(100.0f, 0.1f, 100.0f, false), 1.0f);
+    EXPECT_NEAR(wrs_depth_from_linear(1.0f, 0.1f, 100.0f, false), 100.0 * 0.9 / 99.9, 1e-6);
+    EXPECT_NEAR(wrs_depth_from_linear(1.0f, 0.1f, 100.0f, true), 0.1 * 99.0 / 99.9, 1e-6);
+    EXPECT_FLOAT_EQ(wrs_depth_from_linear(0.4f, 0.1f, kInf, false), 0.75f);
+    EXPECT_FLOAT_EQ(wrs_depth_from_linear(0.4f, 0.1f, kInf, true), 0.25f);
+    // Round trips over four decades in all four conventions.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (float far_z : {100.0f, kInf})
+        for (bool rev : {false, true})
+            for (int i = 0; i < 2000; ++i) {
+                const float z = 0.1f * std::pow(10.0f, 3.0f * u(rng));  // 0.1 .. 100
+                const float d = wrs_depth_from_linear(z, 0.1f, far_z, rev);
+                ASSERT_GE(d, 0.0f) << z;
+                ASSERT_LE(d, 1.0f) << z;
+                EXPECT_NEAR(wrs_linear_depth(d, 0.1f, far_z, rev), z, 2e-3f * z) << z << " far " << far_z << " rev " << rev;
+            }
+    // Outside [near, far], not positive or NaN: -1, which reads back as unknown (0).
+    for (float far_z : {100.0f, kInf})
+        for (bool rev : {false, true})
+            for (float z : {0.05f, 0.0f, -1.0f, kNaN, -kInf}) {
+                EXPECT_EQ(wrs_depth_from_linear(z, 0.1f, far_z, rev), -1.0f) << z;
+                EXPECT_EQ(wrs_linear_depth(wrs_depth_from_linear(z, 0.1f, far_z, rev), 0.1f, far_z, rev), 0.0f);
+            }
+    EXPECT_EQ(wrs_depth_from_linear(150.0f, 0.1f, 100.0f, false), -1.0f);
+    EXPECT_EQ(wrs_depth_from_linear(150.0f, 0.1f, 100.0f, true), -1.0f);
+    EXPECT_EQ(wrs_depth_from_linear(kInf, 0.1f, 100.0f, false), -1.0f);
+    // +inf is the far plane of an infinite projection.
+    EXPECT_EQ(wrs_depth_from_linear(kInf, 0.1f, kInf, false), 1.0f);
+    EXPECT_EQ(wrs_depth_from_linear(kInf, 0.1f, kInf, true), 0.0f);
+}
+
+// ---------------------------------------------------------------------------------------------
 // fp16 packing, reservoir layout and validity
 // ---------------------------------------------------------------------------------------------
 

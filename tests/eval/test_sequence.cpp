@@ -706,10 +706,29 @@ TEST_F(BrokenSequence, ExrLayouts) {
     EXPECT_EQ(depthAt(2, 3), 302.0f);
     writeRandom(dir.str(), smallInfo(W, H, 3));
 
-    writeTestExr(dir.file(depth), W, H, {{"Z"}}, [](int, int, int) { return 0.5f; });
-    expectError(SequenceError::ImageChannels, {depth, "1 channel (Z)", "exactly one"});
+    // A channel Z is planar view depth in the json's units (near 0.05, far 100, not reversed), alone
+    // or beside colour (a single-layer EXR with R, G, B, A and Z), converted to the submitted
+    // convention; outside [near, far] it is unknown (-1).
+    auto planarZ = [](int x, int y) { return x == 0 ? 0.01f : 0.5f + 0.25f * float(x) + 2.0f * float(y); };
+    for (bool beside : {false, true}) {
+        if (beside)
+            writeTestExr(dir.file(depth), W, H, {{"R"}, {"G"}, {"B"}, {"A"}, {"Z", Imf::HALF}},
+                         [&](int c, int x, int y) { return c == 4 ? planarZ(x, y) : 0.75f; });
+        else
+            writeTestExr(dir.file(depth), W, H, {{"Z"}}, [&](int, int x, int y) { return planarZ(x, y); });
+        for (auto [x, y] : {std::pair{3u, 2u}, std::pair{7u, 0u}, std::pair{23u, 11u}}) {
+            const float z = beside ? float(half(planarZ(x, y))) : planarZ(x, y);
+            const float d = depthAt(x, y);
+            EXPECT_EQ(d, gpu::wrs_depth_from_linear(z, 0.05f, 100.0f, false)) << x << "," << y;
+            EXPECT_NEAR(gpu::wrs_linear_depth(d, 0.05f, 100.0f, false), z, 1e-4f * z) << x << "," << y;
+        }
+        EXPECT_EQ(depthAt(0, 4), -1.0f) << "in front of the near plane";
+    }
+    writeRandom(dir.str(), smallInfo(W, H, 3));
     writeTestExr(dir.file(depth), W, H, {{"depth.V"}}, [](int, int, int) { return 0.5f; });
-    expectError(SequenceError::ImageChannels, {depth, "1 channel (depth.V)"});
+    expectError(SequenceError::ImageChannels, {depth, "1 channel (depth.V)", "named Z"});
+    writeTestExr(dir.file(depth), W, H, {{"R"}, {"G"}}, [](int, int, int) { return 0.5f; });
+    expectError(SequenceError::ImageChannels, {depth, "2 channels (G, R)", "exactly one channel"});
     writeTestExr(dir.file(depth), W, H + 2, {{"Y"}}, [](int, int, int) { return 0.5f; }, {3, 3});
     expectError(SequenceError::ImageSize, {depth, "24x14", "says 24x12"});
     writeRandom(dir.str(), smallInfo(W, H, 3));
