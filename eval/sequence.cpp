@@ -863,11 +863,14 @@ Result<SequenceGaze> parseSequenceGaze(std::string_view csv, uint32_t frameCount
                 std::snprintf(buf, sizeof buf, "%s direction is not a unit vector (length %.4g)", e ? "right" : "left",
                               double(len));
             } else {
-                continue;
+                continue;  // unit within 1 %: passed as written, bit for bit (the compositor normalises)
             }
             // The documented fallback: the frame's gaze becomes invalid (view centre, fallback fovea).
             note += (note.empty() ? "" : "; ") + std::string(buf);
         }
+        for (auto& eg : g)  // an invalid eye's direction is never used; it is still never NaN or infinite
+            if (!(std::isfinite(eg.dir.x) && std::isfinite(eg.dir.y) && std::isfinite(eg.dir.z)))
+                eg.dir = glm::vec3(0.0f, 0.0f, -1.0f);
         if (!note.empty()) {
             for (auto& eg : g) eg.valid = false, eg.confidence = 0.0f;
             out.notes.push_back({lineNo, frame, note + ": gaze of frame " + std::to_string(frame) + " is invalid"});

@@ -251,10 +251,10 @@ private:
                         ok = false;
                         break;
                     }
-                } else if (!have || !(glm::length(d) > 0)) {
-                    d = glm::vec3(0, 0, -1);
+                } else if (const float len = glm::length(d); !have || !(len > 0) || !std::isfinite(len)) {
+                    d = glm::vec3(0, 0, -1);  // no usable direction (also infinite or too long to normalise)
                 } else {
-                    d = glm::normalize(d);
+                    d /= len;
                 }
                 s.eye[e] = {d, valid, conf};
             }

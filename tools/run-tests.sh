@@ -3,9 +3,10 @@
 #   1. the release build, GPU suites on whatever Vulkan device is present (Mesa lavapipe without a
 #      GPU) under the Khronos validation layer; any validation message fails the test;
 #   2. an AddressSanitizer + UndefinedBehaviorSanitizer build of the same suites (build-asan/);
-#   3. the HID descriptor/report fuzz target (libFuzzer, clang) for a bounded time.
+#   3. the libFuzzer targets (clang): HID descriptors and reports, and the text files users hand
+#      the tools (sequence.json, gaze.csv, gaze recordings), each for a bounded time.
 # Usage: tools/run-tests.sh [--fast]   (--fast: stage 1 only)
-#   WRSFOV_FUZZ_SECONDS (default 60) bounds stage 3.
+#   WRSFOV_FUZZ_SECONDS (default 30) bounds each target of stage 3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fast=0
@@ -35,6 +36,6 @@ ASAN_OPTIONS="detect_leaks=0:$asan" \
 ASAN_OPTIONS="detect_leaks=0:$asan" \
     ctest --test-dir build-asan --output-on-failure -j 2 --timeout 900 -LE gpu -R "$vulkan_scripts"
 
-echo "== [3/3] HID fuzz target, ${WRSFOV_FUZZ_SECONDS:-60} s"
-bash tools/fuzz-hid.sh "${WRSFOV_FUZZ_SECONDS:-60}"
+echo "== [3/3] fuzz targets, ${WRSFOV_FUZZ_SECONDS:-30} s each"
+bash tools/fuzz.sh "${WRSFOV_FUZZ_SECONDS:-30}"
 echo "== all test stages passed"

@@ -827,6 +827,15 @@ TEST_F(BrokenSequence, GazeRows) {
     auto f = (*r)->frame(1);
     ASSERT_TRUE(f.ok());
     EXPECT_FALSE(f->eyes[1].gaze.valid);
+    // The invalid eye's NaN direction is replaced: no NaN leaves the reader, whatever the flag says.
+    EXPECT_EQ((*r)->gaze(1)[1].dir, glm::vec3(0.0f, 0.0f, -1.0f));
+
+    // An invalid eye's infinite direction is replaced by straight ahead, a finite one kept.
+    writeText(dir.file("gaze.csv"), header + "0,0,1,0,0,-1,0,0,-1\n0.011,1,0,inf,0,-1,0.6,0,-0.8\n");
+    r = SequenceReader::open(dir.str());
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ((*r)->gaze(1)[0].dir, glm::vec3(0.0f, 0.0f, -1.0f));
+    EXPECT_EQ((*r)->gaze(1)[1].dir, glm::vec3(0.6f, 0.0f, -0.8f));
 
     // A frame without a row is invalid too; a blink row (valid 0) may leave the directions empty.
     writeText(dir.file("gaze.csv"), header + "0,0,0,,,,,,\n0.022,2,1,0,0,-1,0,0,-1\n");

@@ -66,6 +66,25 @@ TEST(GazeFile, ProjectBadRowsAreReportedAndSkipped) {
     EXPECT_EQ(r->frames[3], 9);
 }
 
+// An invalid eye's direction is carried (normalised) when it is usable, else straight ahead: an
+// infinite one (a number beyond float's range) or one whose length overflows never becomes NaN
+// (found by fuzz/fuzz_text.cpp).
+TEST(GazeFile, InvalidEyeDirectionsAreNeverNaN) {
+    auto r = wg::read_gaze_text("t_s,frame,valid,left_x,left_y,left_z,right_x,right_y,right_z\n"
+                                "0,0,0,1e39,0,-1,0,3e38,-3e38\n"
+                                "0.01,1,0,0,0,-2,0,0.6,-0.8\n");
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_TRUE(r->issues.empty());
+    ASSERT_EQ(r->samples.size(), 2u);
+    const glm::vec3 ahead(0, 0, -1);
+    EXPECT_EQ(r->samples[0].eye[0].dir, ahead);
+    EXPECT_EQ(r->samples[0].eye[1].dir, ahead);  // finite, but its length overflows
+    EXPECT_EQ(r->samples[1].eye[0].dir, ahead);  // (0, 0, -2) normalised
+    EXPECT_EQ(r->samples[1].eye[1].dir, glm::vec3(0, 0.6f, -0.8f));
+    for (const auto& s : r->samples)
+        for (const auto& e : s.eye) EXPECT_FALSE(e.valid);
+}
+
 TEST(GazeFile, PupilLabs) {
     auto r = wg::read_gaze_file(kData + "/pupil_gaze_positions.csv");
     ASSERT_TRUE(r.ok()) << r.error().message;
