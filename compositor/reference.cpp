@@ -206,15 +206,31 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     if (hasDepth && has_history && rule != WRS_RULE_ORACLE &&
                         wrs_depth_flush(h.z, c.z, dz, params.tuning.y))
                         has_history = false;
+                    // As retain.comp: a kept sample shows the tent-weighted mean of the tracked
+                    // samples of its quality (wrs_shown_add); the oracle judges that.
+                    vec3 h_shown = h.color;
+                    if (has_history && c.moved) {
+                        vec4 acc(0.0f);
+                        for (uint k = 0; k < 4u; ++k) {
+                            uvec2 qk;
+                            if (!wrs_track_tap(base, k, size0, qk)) continue;
+                            wrs_shown_add(acc, prev_[eye][std::size_t(qk.y) * W + qk.x], qk, pos, h.q, c.z, dz,
+                                          params.tuning.y);
+                        }
+                        h_shown = wrs_shown_end(acc, h.color);
+                    }
                     float rnd = wrs_rand(x, y, eye, frame, seed);
                     Trace& t = trace_[eye][idx];
-                    Tracked r = wrs_retain(rule, has_history, h, d, c, vec3(ref), rnd, t.outcome, t.margin);
+                    Tracked hd = h;
+                    if (rule == WRS_RULE_ORACLE) hd.color = h_shown;
+                    Tracked r = wrs_retain(rule, has_history, hd, d, c, vec3(ref), rnd, t.outcome, t.margin);
+                    if (t.outcome == WRS_OUT_KEPT) r.color = h.color;
                     res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));
                     t.hadHistory = has_history;
                     t.keep = t.outcome == WRS_OUT_KEPT || t.outcome == WRS_OUT_MERGED;
                     t.rnd = rnd;
                     t.source = q.y * W + q.x;
-                    glm::u8vec4 o = encodeOutput(r.color);
+                    glm::u8vec4 o = encodeOutput(t.outcome == WRS_OUT_KEPT ? h_shown : r.color);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                 }
             continue;

@@ -35,6 +35,17 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, ino
     return wrs_bilinear(c00, c10, c01, c11, f);
 }
 
+// The shown colour of the kept sample h (wrs_shown_add over the 2x2 taps read for it).
+vec3 shown_mean(uvec4 tap[4], ivec2 base, vec2 pos, Tracked h, float z, float dz) {
+    vec4 acc = vec4(0.0);
+    for (uint k = 0u; k < 4u; ++k) {
+        uvec2 qk;
+        wrs_track_tap(base, k, frame.size.xy, qk);
+        wrs_shown_add(acc, tap[k], qk, pos, h.q, z, dz, frame.tuning.y);
+    }
+    return wrs_shown_end(acc, h.color);
+}
+
 void main() {
     uint eye;
     uvec2 p;
@@ -79,10 +90,13 @@ void main() {
     // and every stored offset lies inside its own): one read instead of four, the same result.
     uint taps = c.moved ? 4u : 1u;
     TrackState ts = wrs_track_begin(p);
-    for (uint k = 0u; k < taps && on_screen; ++k) {
+    uvec4 tap[4];  // kept for the display of a kept sample (shown_mean)
+    for (uint k = 0u; k < 4u; ++k) {
+        tap[k] = uvec4(0u);  // all-zero storage is no sample
         uvec2 qk;
-        if (!wrs_track_tap(base, k, size, qk)) continue;
-        wrs_track_consider(ts, res_prev[pixel_index(eye, qk)], qk, pos);
+        if (k >= taps || !on_screen || !wrs_track_tap(base, k, size, qk)) continue;
+        tap[k] = res_prev[pixel_index(eye, qk)];
+        wrs_track_consider(ts, tap[k], qk, pos);
     }
     Tracked h;
     vec2 d;
@@ -92,13 +106,25 @@ void main() {
     if (HAS_DEPTH && has_history && RULE != WRS_RULE_ORACLE && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
         has_history = false;
 
+    // What a kept sample shows under motion: the tent-weighted mean of the tracked samples of its
+    // quality around the centre (wrs_shown_add). Worked out only for a kept sample (the oracle, which
+    // judges the history as it would be shown, needs it before its decision).
+    bool show_mean = has_history && c.moved;
+    vec3 h_shown = h.color;
+    if (RULE == WRS_RULE_ORACLE && show_mean) h_shown = shown_mean(tap, base, pos, h, c.z, dz);
     float rnd = wrs_rand(p.x, p.y, eye, frame.size.z, frame.size.w);
     uint outcome;
     float margin;
-    Tracked r = wrs_retain(RULE, has_history, h, d, c, ref.rgb, rnd, outcome, margin);
+    Tracked hd = h;
+    if (RULE == WRS_RULE_ORACLE) hd.color = h_shown;
+    Tracked r = wrs_retain(RULE, has_history, hd, d, c, ref.rgb, rnd, outcome, margin);
+    if (outcome == WRS_OUT_KEPT) r.color = h.color;  // the sample itself is stored; only the display differs
+    if (RULE != WRS_RULE_ORACLE && show_mean && outcome == WRS_OUT_KEPT)
+        h_shown = shown_mean(tap, base, pos, h, c.z, dz);
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
-    store_output(eye, p, r.color);
+    vec3 shown = outcome == WRS_OUT_KEPT ? h_shown : r.color;
+    store_output(eye, p, shown);
     if (frame.tuning.z != 0.0) {
         vec4 b = vec4(ref.rgb, 0.0);
         vec4 hb = birth_prev[pixel_index(eye, q)];

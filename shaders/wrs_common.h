@@ -572,7 +572,9 @@ WRS_FN Reservoir wrs_combine(bool has_history, Reservoir hist, vec3 cur_color, f
 //     16x16 pixels, identical for a sharp and a foveated image of the same scene) with the one
 //     stored when the sample was taken, so a shading-rate change is never a change;
 //   - the kept sample carries its sub-pixel offset and follows the motion vectors; a sample that
-//     leaves its pixel's footprint is looked up in the neighbouring pixel, else it is no history.
+//     leaves its pixel's footprint is looked up in the neighbouring pixel, else it is no history;
+//   - under motion a kept sample is shown as the tent-weighted mean of the tracked samples of its
+//     quality at the pixel centre (wrs_shown_add); the reservoir stores the sample itself.
 // ---------------------------------------------------------------------------------------------
 
 const uint WRS_RULE_MERGE = 0u;      // equal quality: running mean (default)
@@ -784,6 +786,28 @@ WRS_FN bool wrs_track_end(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS
     d = use_near ? wrs_track_snap(s.dn) : s.d;
     q = use_near ? s.qn : s.q;
     return s.has_inside || s.has_near;
+}
+
+// Display of a kept sample under motion (docs/retention.md "Display"). The tracked samples of the
+// 2x2 lookup sit at sub-pixel offsets from the pixel centre, so showing the one inside the footprint
+// shows a colour up to half a pixel away; on sharp, aliased content that is the wrong side of an edge.
+// Shown instead: the tent-weighted mean (bilinear on the samples' lattice) of the tracked samples of
+// the kept sample's quality that pass the depth test, each weighted by max(0, 1 - |d|) per axis of
+// its offset d from the centre. The reservoir keeps the sample itself, so the display never feeds
+// back into what is stored. Fed one tap at a time, as wrs_track_consider; acc = (sum w c, sum w).
+WRS_FN void wrs_shown_add(WRS_INOUT(vec4) acc, uvec4 pk, uvec2 qk, vec2 pos, float hq, float z_cur, float dz,
+                          float tau) {
+    if (!wrs_packed_tracked_valid(pk)) return;
+    float qual = wrs_f16_to_f32(pk.y >> 16u);
+    if (abs(qual - hq) > hq * WRS_Q_EQUAL) return;
+    if (wrs_depth_flush(wrs_f16_to_f32(pk.w & 0xffffu), z_cur, dz, tau)) return;
+    vec2 dk = wrs_track_offset(qk, vec2(wrs_offset_value(pk.w >> 16u), wrs_offset_value(pk.w >> 24u)), pos);
+    float w = max(0.0f, 1.0f - abs(dk.x)) * max(0.0f, 1.0f - abs(dk.y));
+    vec3 col = vec3(wrs_f16_to_f32(pk.x & 0xffffu), wrs_f16_to_f32(pk.x >> 16u), wrs_f16_to_f32(pk.y & 0xffffu));
+    acc += vec4(col.x * w, col.y * w, col.z * w, w);
+}
+WRS_FN vec3 wrs_shown_end(vec4 acc, vec3 kept) {
+    return acc.w > 0.0f ? vec3(acc.x / acc.w, acc.y / acc.w, acc.z / acc.w) : kept;
 }
 
 // Per-channel min and max of four pyramid taps, widened into [lo, hi]; returns the range of their

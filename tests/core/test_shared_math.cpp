@@ -738,6 +738,46 @@ TEST(Retention, PackedLayoutRoundTrips) {
     EXPECT_FALSE(wrs_tracked_valid(wrs_unpack_tracked(uvec4(0u))));
 }
 
+// A kept sample under motion shows the tent-weighted mean of the tracked samples of its quality
+// (wrs_shown_add): bilinear weights on the samples' lattice; other qualities, depth failures and
+// empty storage take no part; nothing usable leaves the kept colour.
+TEST(Retention, ShownColourIsTheTentMeanOfSameQualitySamples) {
+    const float q = 1.0f;
+    // Samples stored at pixels (4..5, 6..7), all at offset 0; the centre's previous position is
+    // (5.25, 7.0) in pixel units, so the samples at x = 4.5 and 5.5 are 0.75 and 0.25 away in x,
+    // and those at y = 6.5 and 7.5 both 0.5 away in y.
+    auto packed = [&](vec3 col, float quality, float z) {
+        Tracked t = tracked(col, quality, 50.0f);
+        t.z = z;
+        t.d = vec2(0.0f);
+        return wrs_pack_tracked(t, vec2(0.5f));
+    };
+    const vec2 pos(5.25f, 7.0f);
+    const uvec2 qs[4] = {uvec2(4, 6), uvec2(5, 6), uvec2(4, 7), uvec2(5, 7)};
+    const vec3 cols[4] = {vec3(0.0f), vec3(1.0f), vec3(0.0f), vec3(1.0f)};
+    vec4 acc(0.0f);
+    for (int k = 0; k < 4; ++k) wrs_shown_add(acc, packed(cols[k], q, 2.0f), qs[k], pos, q, 2.0f, 0.0f, 0.1f);
+    // x weights 0.25 (left) and 0.75 (right), y 0.5 and 0.5: 0.75 of the right column's colour.
+    EXPECT_NEAR(acc.w, 1.0f, 1e-6f);
+    EXPECT_NEAR(wrs_shown_end(acc, vec3(9.0f)).x, 0.75f, 1e-3f);
+    // A sample of another quality, one behind another surface, and empty storage take no part.
+    acc = vec4(0.0f);
+    wrs_shown_add(acc, packed(vec3(1.0f), q, 2.0f), qs[1], pos, q, 2.0f, 0.0f, 0.1f);
+    wrs_shown_add(acc, packed(vec3(0.0f), q / 64.0f, 2.0f), qs[0], pos, q, 2.0f, 0.0f, 0.1f);
+    wrs_shown_add(acc, packed(vec3(0.0f), q, 3.0f), qs[2], pos, q, 2.0f, 0.0f, 0.1f);
+    wrs_shown_add(acc, uvec4(0u), qs[3], pos, q, 2.0f, 0.0f, 0.1f);
+    EXPECT_NEAR(acc.w, 0.375f, 1e-6f);
+    EXPECT_NEAR(wrs_shown_end(acc, vec3(9.0f)).x, 1.0f, 1e-3f);
+    // Unknown depth on either side is no depth failure; a sample a pixel or more away weighs 0.
+    acc = vec4(0.0f);
+    wrs_shown_add(acc, packed(vec3(0.5f), q, 0.0f), qs[1], pos, q, 2.0f, 0.0f, 0.1f);
+    EXPECT_NEAR(acc.w, 0.375f, 1e-6f);
+    wrs_shown_add(acc, packed(vec3(0.5f), q, 2.0f), uvec2(7, 7), pos, q, 2.0f, 0.0f, 0.1f);
+    EXPECT_NEAR(acc.w, 0.375f, 1e-6f);
+    // Nothing usable: the kept colour.
+    EXPECT_EQ(wrs_shown_end(vec4(0.0f), vec3(0.25f, 0.5f, 0.75f)), vec3(0.25f, 0.5f, 0.75f));
+}
+
 TEST(Retention, DitheredOffsetsFollowASlowDriftInExpectation) {
     // A sample drifting 0.001 px per frame (a quarter of a code) for 1000 frames ends 1 px away
     // (wrapped into the footprint by the tracking, here just accumulated) with a frame-varying dither.
