@@ -193,10 +193,12 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     const bool on_screen = wrs_track_start(p, size0, mv, pos, base);
                     const uint taps = c.moved ? 4u : 1u;  // as retain.comp: without motion, the pixel's own
                     TrackState ts = wrs_track_begin(p);
+                    uvec4 tap[4] = {uvec4(0u), uvec4(0u), uvec4(0u), uvec4(0u)};  // all-zero: not read
                     for (uint k = 0; k < taps && on_screen; ++k) {
                         uvec2 qk;
                         if (!wrs_track_tap(base, k, size0, qk)) continue;
-                        wrs_track_consider(ts, prev_[eye][std::size_t(qk.y) * W + qk.x], qk, pos);
+                        tap[k] = prev_[eye][std::size_t(qk.y) * W + qk.x];
+                        wrs_track_consider(ts, tap[k], qk, pos);
                     }
                     Tracked h;
                     vec2 d;
@@ -208,17 +210,10 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         has_history = false;
                     // As retain.comp: a kept sample shows the tent-weighted mean of the tracked
                     // samples of its quality (wrs_shown_add); the oracle judges that.
-                    vec3 h_shown = h.color;
-                    if (has_history && c.moved) {
-                        vec4 acc(0.0f);
-                        for (uint k = 0; k < 4u; ++k) {
-                            uvec2 qk;
-                            if (!wrs_track_tap(base, k, size0, qk)) continue;
-                            wrs_shown_add(acc, prev_[eye][std::size_t(qk.y) * W + qk.x], qk, pos, h.q, c.z, dz,
-                                          params.tuning.y);
-                        }
-                        h_shown = wrs_shown_end(acc, h.color);
-                    }
+                    const vec3 h_shown = has_history && c.moved
+                                             ? wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, h, c.z,
+                                                               dz, params.tuning.y)
+                                             : h.color;
                     float rnd = wrs_rand(x, y, eye, frame, seed);
                     Trace& t = trace_[eye][idx];
                     Tracked hd = h;

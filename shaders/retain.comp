@@ -35,17 +35,6 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, ino
     return wrs_bilinear(c00, c10, c01, c11, f);
 }
 
-// The shown colour of the kept sample h (wrs_shown_add over the 2x2 taps read for it).
-vec3 shown_mean(uvec4 tap[4], ivec2 base, vec2 pos, Tracked h, float z, float dz) {
-    vec4 acc = vec4(0.0);
-    for (uint k = 0u; k < 4u; ++k) {
-        uvec2 qk;
-        wrs_track_tap(base, k, frame.size.xy, qk);
-        wrs_shown_add(acc, tap[k], qk, pos, h.q, z, dz, frame.tuning.y);
-    }
-    return wrs_shown_end(acc, h.color);
-}
-
 void main() {
     uint eye;
     uvec2 p;
@@ -90,7 +79,7 @@ void main() {
     // and every stored offset lies inside its own): one read instead of four, the same result.
     uint taps = c.moved ? 4u : 1u;
     TrackState ts = wrs_track_begin(p);
-    uvec4 tap[4];  // kept for the display of a kept sample (shown_mean)
+    uvec4 tap[4];  // kept for the display of a kept sample (wrs_shown_color)
     for (uint k = 0u; k < 4u; ++k) {
         tap[k] = uvec4(0u);  // all-zero storage is no sample
         uvec2 qk;
@@ -111,7 +100,8 @@ void main() {
     // judges the history as it would be shown, needs it before its decision).
     bool show_mean = has_history && c.moved;
     vec3 h_shown = h.color;
-    if (RULE == WRS_RULE_ORACLE && show_mean) h_shown = shown_mean(tap, base, pos, h, c.z, dz);
+    if (RULE == WRS_RULE_ORACLE && show_mean)
+        h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
     float rnd = wrs_rand(p.x, p.y, eye, frame.size.z, frame.size.w);
     uint outcome;
     float margin;
@@ -120,7 +110,7 @@ void main() {
     Tracked r = wrs_retain(RULE, has_history, hd, d, c, ref.rgb, rnd, outcome, margin);
     if (outcome == WRS_OUT_KEPT) r.color = h.color;  // the sample itself is stored; only the display differs
     if (RULE != WRS_RULE_ORACLE && show_mean && outcome == WRS_OUT_KEPT)
-        h_shown = shown_mean(tap, base, pos, h, c.z, dz);
+        h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
     vec3 shown = outcome == WRS_OUT_KEPT ? h_shown : r.color;

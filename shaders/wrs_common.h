@@ -652,15 +652,22 @@ WRS_FN uvec4 wrs_pack_tracked(Tracked r, vec2 u) {
     p.w = wrs_f32_to_f16(r.z) | (wrs_offset_code(r.d.x, u.x) << 16u) | (wrs_offset_code(r.d.y, u.y) << 24u);
     return p;
 }
+// Single fields of a packed reservoir, for the lookups that unpack only what they test.
+WRS_FN vec3 wrs_packed_color(uvec4 p) {
+    return vec3(wrs_f16_to_f32(p.x & 0xffffu), wrs_f16_to_f32(p.x >> 16u), wrs_f16_to_f32(p.y & 0xffffu));
+}
+WRS_FN float wrs_packed_quality(uvec4 p) { return wrs_f16_to_f32(p.y >> 16u); }
+WRS_FN float wrs_packed_depth(uvec4 p) { return wrs_f16_to_f32(p.w & 0xffffu); }
+WRS_FN vec2 wrs_packed_offset(uvec4 p) { return vec2(wrs_offset_value(p.w >> 16u), wrs_offset_value(p.w >> 24u)); }
 WRS_FN Tracked wrs_unpack_tracked(uvec4 p) {
     Tracked r;
-    r.color = vec3(wrs_f16_to_f32(p.x & 0xffffu), wrs_f16_to_f32(p.x >> 16u), wrs_f16_to_f32(p.y & 0xffffu));
-    r.q = wrs_f16_to_f32(p.y >> 16u);
+    r.color = wrs_packed_color(p);
+    r.q = wrs_packed_quality(p);
     r.w_sum = wrs_f16_to_f32(p.z & 0xffffu);
     r.fp = wrs_fp_value((p.z >> 16u) & 0xffu);
     r.flags = p.z >> 24u;
-    r.z = wrs_f16_to_f32(p.w & 0xffffu);
-    r.d = vec2(wrs_offset_value(p.w >> 16u), wrs_offset_value(p.w >> 24u));
+    r.z = wrs_packed_depth(p);
+    r.d = wrs_packed_offset(p);
     return r;
 }
 // Usable as history: finite, positive quality and weight. All-zero storage (no history) fails.
@@ -761,8 +768,8 @@ WRS_FN TrackState wrs_track_begin(uvec2 p) {
 // The packed reservoir pk stored at tap qk, for the pixel whose centre was at pos (wrs_track_start).
 WRS_FN void wrs_track_consider(WRS_INOUT(TrackState) s, uvec4 pk, uvec2 qk, vec2 pos) {
     if (!wrs_packed_tracked_valid(pk)) return;
-    float qual = wrs_f16_to_f32(pk.y >> 16u);
-    vec2 dk = wrs_track_offset(qk, vec2(wrs_offset_value(pk.w >> 16u), wrs_offset_value(pk.w >> 24u)), pos);
+    float qual = wrs_packed_quality(pk);
+    vec2 dk = wrs_track_offset(qk, wrs_packed_offset(pk), pos);
     if (wrs_track_inside(dk)) {
         if (s.has_inside && !wrs_track_prefer(qual, dk, s.hq, s.d)) return;
         s.has_inside = true;
@@ -798,16 +805,31 @@ WRS_FN bool wrs_track_end(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS
 WRS_FN void wrs_shown_add(WRS_INOUT(vec4) acc, uvec4 pk, uvec2 qk, vec2 pos, float hq, float z_cur, float dz,
                           float tau) {
     if (!wrs_packed_tracked_valid(pk)) return;
-    float qual = wrs_f16_to_f32(pk.y >> 16u);
-    if (abs(qual - hq) > hq * WRS_Q_EQUAL) return;
-    if (wrs_depth_flush(wrs_f16_to_f32(pk.w & 0xffffu), z_cur, dz, tau)) return;
-    vec2 dk = wrs_track_offset(qk, vec2(wrs_offset_value(pk.w >> 16u), wrs_offset_value(pk.w >> 24u)), pos);
+    if (abs(wrs_packed_quality(pk) - hq) > hq * WRS_Q_EQUAL) return;
+    if (wrs_depth_flush(wrs_packed_depth(pk), z_cur, dz, tau)) return;
+    vec2 dk = wrs_track_offset(qk, wrs_packed_offset(pk), pos);
     float w = max(0.0f, 1.0f - abs(dk.x)) * max(0.0f, 1.0f - abs(dk.y));
-    vec3 col = vec3(wrs_f16_to_f32(pk.x & 0xffffu), wrs_f16_to_f32(pk.x >> 16u), wrs_f16_to_f32(pk.y & 0xffffu));
+    vec3 col = wrs_packed_color(pk);
     acc += vec4(col.x * w, col.y * w, col.z * w, w);
 }
 WRS_FN vec3 wrs_shown_end(vec4 acc, vec3 kept) {
     return acc.w > 0.0f ? vec3(acc.x / acc.w, acc.y / acc.w, acc.z / acc.w) : kept;
+}
+// The shown colour of the kept sample h from the packed taps t0..t3 of the 2x2 lookup at `base`
+// (all-zero where a tap was not read), as the shader and the CPU reference both compute it.
+WRS_FN vec3 wrs_shown_color(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, uvec2 size, vec2 pos, Tracked h,
+                            float z_cur, float dz, float tau) {
+    vec4 acc = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    uvec2 qk;
+    wrs_track_tap(base, 0u, size, qk);
+    wrs_shown_add(acc, t0, qk, pos, h.q, z_cur, dz, tau);
+    wrs_track_tap(base, 1u, size, qk);
+    wrs_shown_add(acc, t1, qk, pos, h.q, z_cur, dz, tau);
+    wrs_track_tap(base, 2u, size, qk);
+    wrs_shown_add(acc, t2, qk, pos, h.q, z_cur, dz, tau);
+    wrs_track_tap(base, 3u, size, qk);
+    wrs_shown_add(acc, t3, qk, pos, h.q, z_cur, dz, tau);
+    return wrs_shown_end(acc, h.color);
 }
 
 // Per-channel min and max of four pyramid taps, widened into [lo, hi]; returns the range of their
