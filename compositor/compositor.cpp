@@ -30,12 +30,14 @@ std::string_view toString(Method m) {
             return "wrs";
         case Method::Oracle:
             return "oracle";
+        case Method::OracleQ:
+            return "oracle-q";
     }
     return "?";
 }
 std::string_view toString(EqualQuality e) { return e == EqualQuality::Merge ? "merge" : "reservoir"; }
 std::optional<Method> parseMethod(std::string_view name) {
-    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle})
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle, Method::OracleQ})
         if (name == toString(m)) return m;
     return std::nullopt;
 }
@@ -129,8 +131,8 @@ Status checkConfig(const CompositorConfig& c) {
     if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return refuse("fallback fovea size must be in (0°, 180°]");
     if (bad(c.depthTau, 0.0f, 1e6f)) return refuse("depth tolerance must be positive and finite");
     // Enums may come from casts of file or command-line values: out-of-range ones are refused, not guessed.
-    if (uint8_t(c.method) > uint8_t(Method::Oracle))
-        return refuse("method must be fov, fov+taa, wrs-paper, wrs or oracle");
+    if (uint8_t(c.method) > uint8_t(Method::OracleQ))
+        return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle or oracle-q");
     if (uint8_t(c.equalQuality) > uint8_t(EqualQuality::Reservoir)) return refuse("equal-quality rule must be merge or reservoir");
     if (uint8_t(c.foveation) > uint8_t(FoveationMode::Gauss))
         return refuse("foveation mode must be none, mip or gauss");
@@ -139,6 +141,12 @@ Status checkConfig(const CompositorConfig& c) {
 }
 
 }  // namespace
+
+uint32_t retainRule(const CompositorConfig& c) {
+    if (c.method == Method::Oracle) return gpu::WRS_RULE_ORACLE;
+    if (c.method == Method::OracleQ) return gpu::WRS_RULE_ORACLE_Q;
+    return uint32_t(c.equalQuality);
+}
 
 double Traffic::perPixel() const {
     double b = 0;
@@ -159,7 +167,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     const uint32_t first = gpu::wrs_first_stored_level(uint32_t(c.foveation));
     double levels = 0;
     for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
-    const bool retain = c.method == Method::Wrs || c.method == Method::Oracle;
+    const bool retain = usesRetainPass(c.method);
     const bool temporal = c.method != Method::Fov;
     const bool pyramid = c.foveation != FoveationMode::None || retain;
     const bool usesDepth = c.method == Method::WrsPaper || retain;
@@ -639,7 +647,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         configPending_ = false;
     }
     const bool wrsPaper = config_.method == Method::WrsPaper;
-    const bool retain = config_.method == Method::Wrs || config_.method == Method::Oracle;
+    const bool retain = usesRetainPass(config_.method);
     const bool taa = config_.method == Method::FovTaa;
     const bool temporal = wrsPaper || retain || taa;  // a pass with history in the reservoir buffers
     // `retain` needs level 4 for its fingerprint whatever the foveation (a box pyramid for `none`).
@@ -796,7 +804,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     }
     stamp(2);
     if (retain) {
-        const uint32_t rule = config_.method == Method::Oracle ? gpu::WRS_RULE_ORACLE : uint32_t(config_.equalQuality);
+        const uint32_t rule = retainRule(config_);
         dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace});
         computeBarrier(cb);
     } else if (wrsPaper) {

@@ -10,7 +10,7 @@
 //   2. foveate  – eccentricity, foveated colour, weight p̂ (method `fov` writes the output here)
 //   3. wrs      – reprojection, depth flush, biased combine, reservoir store, output (`wrs-paper`)
 //      or taa   – reprojected history clipped to the neighbourhood's variance box (method `fov+taa`)
-//   2+3. retain – foveation fused with quality-aware retention (methods `wrs` and `oracle`): no
+//   2+3. retain – foveation fused with quality-aware retention (`wrs`, `oracle`, `oracle-q`): no
 //                 candidate buffer; the pyramid is built for every foveation mode (fingerprint)
 #pragma once
 
@@ -39,9 +39,16 @@ namespace wrsfov {
 /// fov: foveation only; fovTaa: foveation + TAA baseline (Karis/Salvi); wrsPaper: foveation + WRS
 /// as published (eq. 6 + eq. 7); wrs: foveation + quality-aware retention (wrs_common.h, the
 /// default); oracle: keeps whichever of history and candidate is closer to the submitted
-/// (unfoveated) colour, the ceiling of any keep-or-replace rule with wrs's reprojection. The oracle
-/// exists for evaluation only: it needs the full-rate image, which a foveated renderer never has.
-enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle };
+/// (unfoveated) colour, the ceiling of any keep-or-replace rule with wrs's reprojection; oracleQ:
+/// the oracle restricted to retention, keeping the history only when it is closer and of higher
+/// quality than the candidate (the ceiling of keeping what foveation throws away, without choosing
+/// among equally sharp samples). The oracles exist for evaluation only: they need the full-rate
+/// image, which a foveated renderer never has.
+enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle, OracleQ };
+/// The evaluation-only methods (Oracle, OracleQ).
+constexpr bool isOracle(Method m) { return m == Method::Oracle || m == Method::OracleQ; }
+/// Methods whose foveation and retention run fused in the retain pass (wrs and the oracles).
+constexpr bool usesRetainPass(Method m) { return m == Method::Wrs || isOracle(m); }
 /// What `wrs` does with a candidate of the same quality as the kept sample (shader WRS_RULE_*).
 enum class EqualQuality : uint8_t { Merge = 0, Reservoir = 1 };
 /// Values equal the shader constants WRS_FOV_*.
@@ -51,7 +58,7 @@ enum class ChangeMetric : uint8_t { Off = 0, LStar = 1, DeltaE94 = 2 };
 
 std::string_view toString(Method m);
 std::string_view toString(EqualQuality e);
-/// "fov", "fov+taa", "wrs-paper", "wrs", "oracle"; nullopt for anything else.
+/// "fov", "fov+taa", "wrs-paper", "wrs", "oracle", "oracle-q"; nullopt for anything else.
 std::optional<Method> parseMethod(std::string_view name);
 std::string_view toString(FoveationMode m);
 /// "none", "mip", "gauss"; nullopt for anything else.
@@ -85,6 +92,9 @@ struct CompositorConfig {
     /// bit either way; off runs every pixel through the per-pixel path (bench and preview --no-skip).
     bool skipTiles = true;
 };
+/// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
+/// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
+uint32_t retainRule(const CompositorConfig& c);
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 /// On a CPU device (Mesa lavapipe) timestamps do not bracket the dispatches between them: a pass's

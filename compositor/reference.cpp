@@ -27,7 +27,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const uint frame = params.size.z, seed = params.size.w;
     const uint mode = uint(config_.foveation);
     const bool wrs = config_.method == Method::WrsPaper;
-    const bool retain = config_.method == Method::Wrs || config_.method == Method::Oracle;
+    const bool retain = usesRetainPass(config_.method);
     const bool taa = config_.method == Method::FovTaa;
 
     for (uint eye = 0; eye < 2; ++eye) {
@@ -150,7 +150,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
 
         if (retain) {
             // Pass 2 of wrs / oracle (shaders/retain.comp): candidate, tracked history, retention.
-            const uint rule = config_.method == Method::Oracle ? WRS_RULE_ORACLE : uint(config_.equalQuality);
+            const uint rule = retainRule(config_);
             auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
                 if (level == 0u) {
                     vec4 c = at(0u, p);
@@ -205,7 +205,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     uvec2 q;
                     bool has_history = wrs_track_end(ts, h, d, q);
                     float dz = wrs_finite(mv.z) ? mv.z : 0.0f;
-                    if (hasDepth && has_history && rule != WRS_RULE_ORACLE &&
+                    if (hasDepth && has_history && !wrs_rule_is_oracle(rule) &&
                         wrs_depth_flush(h.z, c.z, dz, params.tuning.y))
                         has_history = false;
                     // As retain.comp: a kept sample shows the tent-weighted mean of the tracked
@@ -217,7 +217,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     float rnd = wrs_rand(x, y, eye, frame, seed);
                     Trace& t = trace_[eye][idx];
                     Tracked hd = h;
-                    if (rule == WRS_RULE_ORACLE) hd.color = h_shown;
+                    if (wrs_rule_is_oracle(rule)) hd.color = h_shown;
                     Tracked r = wrs_retain(rule, has_history, hd, d, c, vec3(ref), rnd, t.outcome, t.margin);
                     if (t.outcome == WRS_OUT_KEPT) r.color = h.color;
                     res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));

@@ -284,7 +284,7 @@ cv::Mat toBgr8(const HostImage& img) {
     return bgr;
 }
 
-bool tracksBirth(Method m) { return m == Method::WrsPaper || m == Method::Wrs || m == Method::Oracle; }
+bool tracksBirth(Method m) { return m == Method::WrsPaper || usesRetainPass(m); }
 
 // Stale pixels of one eye: the colour submitted when the shown sample was taken (birth, linear) is
 // more than 4/255 outside the range of the 3x3 neighbourhood of the submitted colour now (ref,
@@ -564,20 +564,24 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     }
                     results.push_back(c);
                 }
-                // Retention efficiency against fov and the oracle of this cell.
+                // Retention efficiency against fov and each oracle of this cell.
                 const std::size_t first = results.size() - (runs.size() - 1);
-                const CellResult *fovCell = nullptr, *oracleCell = nullptr;
+                const CellResult *fovCell = nullptr, *oracleCell = nullptr, *oracleQCell = nullptr;
                 for (std::size_t k = first; k < results.size(); ++k) {
                     if (results[k].method == Method::Fov) fovCell = &results[k];
                     if (results[k].method == Method::Oracle) oracleCell = &results[k];
+                    if (results[k].method == Method::OracleQ) oracleQCell = &results[k];
                 }
-                if (fovCell && oracleCell) {
-                    const double gain = fovCell->mse - oracleCell->mse, gainNear = fovCell->nearMse - oracleCell->nearMse;
+                auto efficiency = [&](const CellResult* bound, double CellResult::*whole, double CellResult::*near) {
+                    if (!fovCell || !bound) return;
+                    const double gain = fovCell->mse - bound->mse, gainNear = fovCell->nearMse - bound->nearMse;
                     for (std::size_t k = first; k < results.size(); ++k) {
-                        if (gain > 0) results[k].eta = (fovCell->mse - results[k].mse) / gain;
-                        if (gainNear > 0) results[k].etaNear = (fovCell->nearMse - results[k].nearMse) / gainNear;
+                        if (gain > 0) results[k].*whole = (fovCell->mse - results[k].mse) / gain;
+                        if (gainNear > 0) results[k].*near = (fovCell->nearMse - results[k].nearMse) / gainNear;
                     }
-                }
+                };
+                efficiency(oracleCell, &CellResult::eta, &CellResult::etaNear);
+                efficiency(oracleQCell, &CellResult::etaQ, &CellResult::etaQNear);
                 // Crops of the left eye's last frame for the smallest fovea: around the point the gaze
                 // left about a second ago (where kept samples make the difference) and at the gaze.
                 if (!o.cropDir.empty() && fovea == o.foveas.front() && !gazePx.empty()) {
@@ -763,6 +767,7 @@ cv::Scalar methodColour(Method m) {
     case Method::WrsPaper: return {150, 150, 150};
     case Method::Wrs: return {200, 90, 20};
     case Method::Oracle: return {170, 40, 170};
+    case Method::OracleQ: return {120, 170, 230};
     }
     return {0, 0, 0};
 }
@@ -815,14 +820,15 @@ std::string bandName(std::size_t b) {
                                    : fmt(kEccBands[b], 0) + "–" + fmt(kEccBands[b + 1], 0) + "°";
 }
 
-// Where the error and the oracle's gain lie: MSE per eccentricity band, η per band, and each band's
-// share of the oracle's gain over the whole image (band MSE gain × the band's share of pixels).
+// Where the error and the oracles' gains lie: MSE per eccentricity band, η per band, and each band's
+// share of each oracle's gain over the whole image (band MSE gain × the band's share of pixels).
 void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) {
     md << "\n## Error by eccentricity\n\n"
           "MSE (sRGB, ×1000) per band of eccentricity from the gaze, over all counted frames; *px* the band's "
-          "share of the pixels; *η* per band against fov and the oracle of the same cell; *oracle gain share*: "
-          "the band's part of the oracle's whole-image MSE gain over fov (where a keep-or-replace rule could "
-          "gain, and how much of it lies where every candidate is equally blurred).\n";
+          "share of the pixels; *η* per band against fov and the oracle of the same cell, *η_q* against the "
+          "retention oracle (oracle-q); *gain share*: the band's part of that oracle's whole-image MSE gain over "
+          "fov (where a keep-or-replace rule could gain, and how much of it lies where every candidate is "
+          "equally blurred).\n";
     auto same = [](const CellResult& a, const CellResult& b) {
         return a.scene == b.scene && a.mode == b.mode && a.foveaDeg == b.foveaDeg;
     };
@@ -831,11 +837,12 @@ void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) 
         bool seen = false;
         for (std::size_t j = 0; j < i; ++j) seen = seen || same(results[j], first);
         if (seen) continue;
-        const CellResult *fov = nullptr, *oracle = nullptr;
+        const CellResult *fov = nullptr, *oracle = nullptr, *oracleQ = nullptr;
         for (const CellResult& c : results) {
             if (!same(c, first)) continue;
             if (c.method == Method::Fov) fov = &c;
             if (c.method == Method::Oracle) oracle = &c;
+            if (c.method == Method::OracleQ) oracleQ = &c;
         }
         md << "\n" << toString(first.scene) << ", " << toString(first.mode) << ", fovea " << fmt(first.foveaDeg, 1)
            << "°\n\n| method |";
@@ -851,23 +858,27 @@ void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) 
             for (double v : c.bandMse) md << " " << fmt(1000 * v, 2) << " |";
             md << "\n";
         }
-        if (!fov || !oracle) continue;
-        double total = 0.0;
-        for (std::size_t b = 0; b < first.bandMse.size(); ++b)
-            total += (fov->bandMse[b] - oracle->bandMse[b]) * fov->bandShare[b];
-        md << "| oracle gain share |";
-        for (std::size_t b = 0; b < first.bandMse.size(); ++b)
-            md << " " << fmt(total > 0 ? 100 * (fov->bandMse[b] - oracle->bandMse[b]) * fov->bandShare[b] / total : 0.0, 0)
-               << " % |";
-        md << "\n";
-        for (const CellResult& c : results) {
-            if (!same(c, first) || c.method == Method::Fov || c.method == Method::Oracle) continue;
-            md << "| η " << toString(c.method) << " |";
-            for (std::size_t b = 0; b < first.bandMse.size(); ++b) {
-                const double g = fov->bandMse[b] - oracle->bandMse[b];
-                md << " " << (g > 1e-12 ? fmt((fov->bandMse[b] - c.bandMse[b]) / g) : std::string("n/a")) << " |";
-            }
+        if (!fov) continue;
+        for (const CellResult* bound : {oracle, oracleQ}) {
+            if (!bound) continue;
+            double total = 0.0;
+            for (std::size_t b = 0; b < first.bandMse.size(); ++b)
+                total += (fov->bandMse[b] - bound->bandMse[b]) * fov->bandShare[b];
+            md << "| " << toString(bound->method) << " gain share |";
+            for (std::size_t b = 0; b < first.bandMse.size(); ++b)
+                md << " "
+                   << fmt(total > 0 ? 100 * (fov->bandMse[b] - bound->bandMse[b]) * fov->bandShare[b] / total : 0.0, 0)
+                   << " % |";
             md << "\n";
+            for (const CellResult& c : results) {
+                if (!same(c, first) || c.method == Method::Fov || isOracle(c.method)) continue;
+                md << "| " << (bound == oracle ? "η " : "η_q ") << toString(c.method) << " |";
+                for (std::size_t b = 0; b < first.bandMse.size(); ++b) {
+                    const double g = fov->bandMse[b] - bound->bandMse[b];
+                    md << " " << (g > 1e-12 ? fmt((fov->bandMse[b] - c.bandMse[b]) / g) : std::string("n/a")) << " |";
+                }
+                md << "\n";
+            }
         }
     }
 }
@@ -882,7 +893,8 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     csv << "scene,method,mode,fovea_deg,frames,pyramid_ms,foveate_ms,temporal_ms,total_ms,per_eye_ms,"
            "copy_ms,copy_floor_ms,traffic_bytes,bytes_per_px,floor_bytes_per_px,ratio_to_floor_bytes,ratio_to_copy,"
            "ratio_to_copy_floor,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
-           "temporal_instability,mse,near_gaze_mse,eta,eta_near_gaze,stale_fraction,stale_mse,stale_fov_mse\n";
+           "temporal_instability,mse,near_gaze_mse,eta,eta_near_gaze,stale_fraction,stale_mse,stale_fov_mse,eta_q,"
+           "eta_q_near_gaze\n";
     for (const auto& c : results)
         csv << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg << ','
             << c.frames << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal << ',' << c.gpu.total
@@ -891,7 +903,7 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << c.gpu.total / c.fovTotalMs << ','
             << c.shadingFraction << ',' << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
             << ',' << c.mse << ',' << c.nearMse << ',' << c.eta << ',' << c.etaNear << ',' << c.staleFraction << ','
-            << c.staleMse << ',' << c.staleFovMse << '\n';
+            << c.staleMse << ',' << c.staleFovMse << ',' << c.etaQ << ',' << c.etaQNear << '\n';
 
     auto find = [&](SceneKind scene, FoveationMode mode, Method m, float fovea) -> const CellResult* {
         for (const auto& c : results)
@@ -932,20 +944,35 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             if (!fov) continue;
             md << "- **" << toString(scene) << ", " << toString(mode) << ", fovea " << fmt(f0, 1) << "°**: ";
             const CellResult* oracle = find(scene, mode, Method::Oracle, f0);
+            const CellResult* oracleQ = find(scene, mode, Method::OracleQ, f0);
             if (oracle)
                 md << "the oracle bound gains " << fmt(oracle->psnr - fov->psnr) << " dB full / "
-                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov. ";
+                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov";
+            if (oracleQ)
+                md << (oracle ? ", the retention bound (oracle-q) " : "the retention bound (oracle-q) gains ")
+                   << fmt(oracleQ->psnr - fov->psnr) << " dB full / " << fmt(oracleQ->nearPsnr - fov->nearPsnr)
+                   << " dB near gaze";
+            if (oracle || oracleQ) md << ". ";
             bool firstM = true;
             for (Method m : o.methods) {
-                if (m == Method::Fov || m == Method::Oracle) continue;
+                if (m == Method::Fov || isOracle(m)) continue;
                 const CellResult* c = find(scene, mode, m, f0);
                 if (!c) continue;
                 const double dFull = c->psnr - fov->psnr, dNear = c->nearPsnr - fov->nearPsnr;
-                md << (firstM ? "" : "; ") << "`" << toString(m) << "` "
-                   << (dNear > 0.05 ? "beats fov by " : dNear < -0.05 ? "loses to fov by " : "ties with fov, ")
-                   << fmt(dFull) << " dB full / " << fmt(dNear) << " dB near gaze";
-                if (!std::isnan(c->eta) || !std::isnan(c->etaNear))
-                    md << " (η " << fmt(c->eta) << " / " << fmt(c->etaNear) << ")";
+                md << (firstM ? "" : "; ") << "`" << toString(m) << "` ";
+                if (!std::isnan(dNear) || !std::isnan(dFull))  // NaN: a run without error metrics (--scaling)
+                    md << (dNear > 0.05 ? "beats fov by " : dNear < -0.05 ? "loses to fov by " : "ties with fov, ")
+                       << fmt(dFull) << " dB full / " << fmt(dNear) << " dB near gaze";
+                else
+                    md << "runs";
+                const bool eta = !std::isnan(c->eta) || !std::isnan(c->etaNear);
+                const bool etaQ = !std::isnan(c->etaQ) || !std::isnan(c->etaQNear);
+                if (eta || etaQ) {
+                    md << " (";
+                    if (eta) md << "η " << fmt(c->eta) << " / " << fmt(c->etaNear);
+                    if (etaQ) md << (eta ? ", " : "") << "η_q " << fmt(c->etaQ) << " / " << fmt(c->etaQNear);
+                    md << ")";
+                }
                 md << " at " << fmt(c->gpu.total / fov->gpu.total) << "× fov's GPU time";
                 if (!std::isnan(c->staleMse) && c->staleFraction > 0)
                     md << ", stale-pixel MSE " << fmt(c->staleMse, 5) << " vs fov " << fmt(c->staleFovMse, 5);
@@ -959,7 +986,10 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
           "- *η* / *η near*: retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, "
           "whole image / within 10°: 0 = no better than fov, 1 = as good as the oracle (which keeps, per pixel, "
           "whichever of history and candidate is closer to the reference). n/a without fov and oracle, or when "
-          "the oracle gains nothing.\n"
+          "the oracle gains nothing. *η_q* / *η_q near*: the same against the retention oracle `oracle-q`, which "
+          "keeps the history only where it is closer to the reference *and* of higher quality than the candidate: "
+          "the ceiling of keeping what foveation throws away, without the oracle's choice among equally or less "
+          "sharp samples (which needs the reference to see which of two blurred values happens to be closer).\n"
           "- *SSIM*, *FLIP* (NVIDIA FLIP, 0..1, lower is better): every "
        << o.heavyEvery
        << "th counted frame. *ecc-MSE*: MSE weighted by the cone-density falloff of eccentricity.\n"
@@ -978,13 +1008,14 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
             md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"
-               << "| method | fovea | near PSNR | PSNR | η | η near | SSIM | FLIP | ecc-MSE | temporal | stale | "
-                  "stale MSE | fov there | GPU ms | ×copy | ×copy floor | ×fov | B/px | shading |\n"
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+               << "| method | fovea | near PSNR | PSNR | η | η near | η_q | η_q near | SSIM | FLIP | ecc-MSE | temporal "
+                  "| stale | stale MSE | fov there | GPU ms | ×copy | ×copy floor | ×fov | B/px | shading |\n"
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
             for (const auto& c : results) {
                 if (c.scene != scene || c.mode != mode) continue;
                 md << "| " << toString(c.method) << " | " << fmt(c.foveaDeg, 1) << "° | " << fmt(c.nearPsnr) << " | "
-                   << fmt(c.psnr) << " | " << fmt(c.eta) << " | " << fmt(c.etaNear) << " | " << fmt(c.ssim, 4)
+                   << fmt(c.psnr) << " | " << fmt(c.eta) << " | " << fmt(c.etaNear) << " | " << fmt(c.etaQ) << " | "
+                   << fmt(c.etaQNear) << " | " << fmt(c.ssim, 4)
                    << " | " << fmt(c.flip, 4) << " | " << fmt(c.eccMse, 5) << " | " << fmt(c.temporal, 5) << " | "
                    << (std::isnan(c.staleFraction) ? std::string("n/a") : fmt(100 * c.staleFraction, 3) + " %")
                    << " | " << fmt(c.staleMse, 5) << " | " << fmt(c.staleFovMse, 5) << " | " << fmt(c.gpu.total, 3)

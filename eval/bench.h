@@ -24,7 +24,7 @@ std::optional<SceneKind> parseScene(std::string_view name);
 
 struct BenchOptions {
     std::vector<SceneKind> scenes{SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic};
-    std::vector<Method> methods{Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle};
+    std::vector<Method> methods{Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle, Method::OracleQ};
     std::vector<float> foveas{5.0f, 7.5f, 10.0f};  ///< diameters in degrees
     std::vector<FoveationMode> modes{FoveationMode::Mip, FoveationMode::Gauss};
     uint32_t width = 320, height = 288;  ///< per eye
@@ -76,6 +76,9 @@ struct CellResult {
     /// Retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, full image and
     /// near gaze; NaN without fov and oracle in the cell or when the oracle gains nothing.
     double eta = std::numeric_limits<double>::quiet_NaN(), etaNear = std::numeric_limits<double>::quiet_NaN();
+    /// The same against the retention oracle (`oracle-q`: history kept only when closer and of higher
+    /// quality than the candidate), whole image and near gaze; NaN without fov and oracle-q in the cell.
+    double etaQ = std::numeric_limits<double>::quiet_NaN(), etaQNear = std::numeric_limits<double>::quiet_NaN();
     /// Stale pixels (wrs-paper, wrs, oracle; NaN otherwise): pixels showing a sample whose submitted
     /// colour when taken lies more than 4/255 outside the 3x3 neighbourhood of the submitted colour
     /// now. Their share of all pixels, the method's MSE over them and fov's MSE over the same pixels.

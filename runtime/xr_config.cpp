@@ -64,7 +64,7 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
             c.compose = false;
             return {};
         }
-        if (!m || *m == Method::Oracle) return bad(key, v, "fov, fov+taa, wrs-paper, wrs or off");
+        if (!m || isOracle(*m)) return bad(key, v, "fov, fov+taa, wrs-paper, wrs or off");
         c.compositor.method = *m;
         c.compose = true;
     } else if (key == "fovea") {

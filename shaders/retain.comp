@@ -1,4 +1,4 @@
-// Pass 2 of method `wrs` (and the evaluation-only `oracle`): foveation and quality-aware
+// Pass 2 of method `wrs` (and the evaluation-only `oracle` and `oracle-q`): foveation and quality-aware
 // retention in one pass (shaders/wrs_common.h, "Quality-aware retention"). Per pixel: the foveated
 // candidate with its quality and tap range, the level-4 fingerprint, the tracked reprojection of
 // the kept sample, the depth and change tests, the retention rule, the reservoir store and the output.
@@ -92,7 +92,7 @@ void main() {
     uvec2 q;
     bool has_history = wrs_track_end(ts, h, d, q);
     float dz = wrs_finite(mv.z) ? mv.z : 0.0;
-    if (HAS_DEPTH && has_history && RULE != WRS_RULE_ORACLE && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
+    if (HAS_DEPTH && has_history && !wrs_rule_is_oracle(RULE) && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
         has_history = false;
 
     // What a kept sample shows under motion: the tent-weighted mean of the tracked samples of its
@@ -100,16 +100,16 @@ void main() {
     // judges the history as it would be shown, needs it before its decision).
     bool show_mean = has_history && c.moved;
     vec3 h_shown = h.color;
-    if (RULE == WRS_RULE_ORACLE && show_mean)
+    if (wrs_rule_is_oracle(RULE) && show_mean)
         h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
     float rnd = wrs_rand(p.x, p.y, eye, frame.size.z, frame.size.w);
     uint outcome;
     float margin;
     Tracked hd = h;
-    if (RULE == WRS_RULE_ORACLE) hd.color = h_shown;
+    if (wrs_rule_is_oracle(RULE)) hd.color = h_shown;
     Tracked r = wrs_retain(RULE, has_history, hd, d, c, ref.rgb, rnd, outcome, margin);
     if (outcome == WRS_OUT_KEPT) r.color = h.color;  // the sample itself is stored; only the display differs
-    if (RULE != WRS_RULE_ORACLE && show_mean && outcome == WRS_OUT_KEPT)
+    if (!wrs_rule_is_oracle(RULE) && show_mean && outcome == WRS_OUT_KEPT)
         h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;

@@ -580,6 +580,12 @@ WRS_FN Reservoir wrs_combine(bool has_history, Reservoir hist, vec3 cur_color, f
 const uint WRS_RULE_MERGE = 0u;      // equal quality: running mean (default)
 const uint WRS_RULE_RESERVOIR = 1u;  // equal quality: A-Chao combine with the eq. 6 bias
 const uint WRS_RULE_ORACLE = 2u;     // evaluation only: keep whichever is closer to the reference
+// Evaluation only: the oracle restricted to retention. The history is kept iff it is closer to the
+// reference *and* of higher quality than the candidate; otherwise the candidate is taken. The ceiling
+// of keeping what foveation throws away, without the plain oracle's selection among equally or less
+// sharp samples (which needs the reference to tell which of two blurred values happens to be closer).
+const uint WRS_RULE_ORACLE_Q = 3u;
+WRS_FN bool wrs_rule_is_oracle(uint rule) { return rule == WRS_RULE_ORACLE || rule == WRS_RULE_ORACLE_Q; }
 
 // Pyramid level whose L* is the change-test fingerprint (the pyramid pass stores L* in its alpha).
 const uint WRS_FP_LEVEL = 4u;
@@ -901,12 +907,18 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
         outcome = WRS_OUT_KEPT;
         return kept;
     }
-    if (rule == WRS_RULE_ORACLE) {
+    if (wrs_rule_is_oracle(rule)) {
         float dh = wrs_srgb_dist2(h.color, ref);
         float dc = wrs_srgb_dist2(c.color, ref);
         margin = abs(dh - dc) / max(max(dh, dc), 1e-12f);
-        outcome = dh < dc ? WRS_OUT_KEPT : WRS_OUT_BETTER;
-        return dh < dc ? kept : fresh;
+        bool keep = dh < dc;
+        if (rule == WRS_RULE_ORACLE_Q) {
+            float hi_q = c.q * (1.0f + WRS_Q_EQUAL);
+            margin = min(margin, abs(h.q - hi_q) / h.q);
+            keep = keep && h.q > hi_q;
+        }
+        outcome = keep ? WRS_OUT_KEPT : WRS_OUT_BETTER;
+        return keep ? kept : fresh;
     }
     // Change test against the fingerprint the sample was taken with.
     bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved;

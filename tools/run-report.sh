@@ -2,11 +2,11 @@
 # The main job on its built-in default: installs what is missing, builds, and runs wrsfov-bench at a
 # pixel density where foveation matters, 300 frames (3.3 s of gaze) per cell, fovea 5°, foveation mip:
 #   out/report/monitor/  monitor mode (the paper's 76°x60° desktop setting) at 1024x768, scene text
-#                        (reading): fov, wrs-paper, wrs and the oracle bound; static content, so no
+#                        (reading): fov, wrs-paper, wrs and the two oracle bounds; static content, so no
 #                        stale-pixel tracking (its evaluation-only buffers would count in the times)
 #   out/report/hmd/      HMD stereo at 12.1 px/deg (the central 40°x40° of each eye, 504x504), scene
 #                        dynamic (moving boxes, a light change, lateral head motion): fov, fov+taa,
-#                        wrs-paper, wrs and the oracle
+#                        wrs-paper, wrs, the oracle and the retention oracle (oracle-q)
 #   out/report/speed/    time and bytes at 512^2, 1024^2 and 2048^2 per eye (HMD stereo, atrium with
 #                        depth and motion): fov, fov+taa, wrs-paper, wrs (scaling.md, scaling.png)
 # Each has table.md (summary first), results.csv, plots and crops; out/report/index.md links them.
@@ -27,10 +27,10 @@ mkdir -p out/report
 start=$(date +%s)
 common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
 echo "== 1/3: monitor mode, text, 1024x768"
-"$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle --no-stale "${common[@]}" \
+"$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
   --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 2/3: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
-"$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle \
+"$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 3/3: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
 "$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --out out/report/speed \

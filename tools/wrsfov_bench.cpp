@@ -101,10 +101,12 @@ int main(int argc, char** argv) {
                 "free-viewing gaze), sequence (the frames of --sequence).");
     cli::listOption(app, "--methods", o.methods,
                 cli::list(cli::oneOf(named({Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs,
-                                            Method::Oracle}))),
+                                            Method::Oracle, Method::OracleQ}))),
                 "Methods: fov (foveation only), fov+taa (foveation and TAA), wrs-paper (WRS as published), wrs "
                 "(quality-aware retention), oracle (keeps whichever of history and candidate is closer to the "
-                "reference: the ceiling of a keep-or-replace rule, evaluation only).");
+                "reference: the ceiling of a keep-or-replace rule, evaluation only), oracle-q (the oracle keeping "
+                "the history only where it is also of higher quality than the candidate: the ceiling of retention "
+                "alone, evaluation only).");
     cli::listOption(app, "--fovea", o.foveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
                 "Fovea diameters in degrees, each in (0, 60].")
         ->type_name("DEG,...");

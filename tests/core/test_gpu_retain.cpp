@@ -107,7 +107,7 @@ protected:
     void step(std::vector<Lane*> lanes, uint64_t index, const std::array<EyeFrame, 2>& eyes) {
         for (Lane* l : lanes) {
             const Method m = l->comp->config().method;
-            if (m == Method::Wrs || m == Method::Oracle) {
+            if (usesRetainPass(m)) {
                 std::vector<glm::uvec4> prev[2];
                 if (index > 1)
                     for (uint32_t e = 0; e < 2; ++e) {

@@ -46,7 +46,7 @@ TEST_F(Tiles, SkippingGivesTheSameOutputBitForBit) {
                         ASSERT_TRUE(appA.submit(n, eyes).ok());
                         ASSERT_TRUE(appB.submit(n, eyes).ok());
                         const bool classes = mode != FoveationMode::None &&
-                                             (method == Method::Fov || method == Method::Wrs || method == Method::Oracle);
+                                             (method == Method::Fov || usesRetainPass(method));
                         EXPECT_EQ((*a)->stats().tiled, classes);
                         EXPECT_FALSE((*b)->stats().tiled);
                         tiledRuns += (*a)->stats().tiled;

@@ -153,7 +153,7 @@ TEST_P(GpuVsCpu, SixtyRandomFramesMatchReference) {
     cfg.foveaDeg = 10.0f;
     cfg.seed = 7;
     cfg.equalQuality = c.rule;
-    const bool retain = c.method == Method::Wrs || c.method == Method::Oracle;
+    const bool retain = usesRetainPass(c.method);
     RetainTally rt;
     auto comp = Compositor::create(context(), cfg);
     ASSERT_TRUE(comp.ok()) << comp.error().message;
@@ -220,7 +220,7 @@ TEST_P(GpuVsCpu, SixtyRandomFramesMatchReference) {
         EXPECT_GT(rt.decisions, 50000u);
         // Every branch of the rule must be exercised for the comparison to mean anything.
         const std::vector<uint32_t> branches =
-            c.method == Method::Oracle
+            isOracle(c.method)
                 ? std::vector<uint32_t>{gpu::WRS_OUT_KEPT, gpu::WRS_OUT_BETTER}
                 : std::vector<uint32_t>{gpu::WRS_OUT_CHANGED, gpu::WRS_OUT_BETTER, gpu::WRS_OUT_KEPT,
                                         // with `none`, quality is p̂: equal only inside the fovea
@@ -262,6 +262,8 @@ INSTANTIATE_TEST_SUITE_P(
                            std::nullopt, ChangeMetric::LStar, false},
                       Case{"oracle_mip_motion", Method::Oracle, FoveationMode::Mip, Format::RGBA8_SRGB, Format::D32F,
                            Format::RG16F, ChangeMetric::LStar, false},
+                      Case{"oracle_q_gauss_depth_motion", Method::OracleQ, FoveationMode::Gauss, Format::RGBA8_SRGB,
+                           Format::D32F, Format::RGBA16F, ChangeMetric::LStar, false},
                       Case{"taa_mip_motion", Method::FovTaa, FoveationMode::Mip, Format::RGBA8_SRGB, Format::D32F,
                            Format::RG16F, ChangeMetric::LStar, false},
                       Case{"fov_mip", Method::Fov, FoveationMode::Mip, Format::RGBA8_SRGB, std::nullopt, std::nullopt,

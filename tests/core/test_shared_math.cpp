@@ -845,11 +845,35 @@ TEST(Retention, RuleOutcomes) {
     // Oracle: whichever is closer to the reference.
     r = wrs_retain(WRS_RULE_ORACLE, true, h, vec2(0.0f), retainInput(vec3(0.6f), 1.0f, 50.0f), vec3(0.32f), 0.5f, outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    // Retention oracle: the closer history only when it is of higher quality than the candidate. The
+    // fingerprint, far beyond the change test's tolerance, plays no part in either oracle.
+    const vec3 ref(0.32f);
+    for (float fp : {50.0f, 90.0f}) {
+        r = wrs_retain(WRS_RULE_ORACLE_Q, true, h, vec2(0.0f), retainInput(vec3(0.6f), 1.0f, fp), ref, 0.5f, outcome, margin);
+        EXPECT_EQ(outcome, WRS_OUT_BETTER) << "equal quality: the candidate, however much farther";
+        EXPECT_EQ(r.color, vec3(0.6f));
+        r = wrs_retain(WRS_RULE_ORACLE_Q, true, low, vec2(0.0f), retainInput(vec3(0.6f), 1.0f / 16.0f, fp), ref, 0.5f, outcome,
+                       margin);
+        EXPECT_EQ(outcome, WRS_OUT_BETTER) << "lower quality: the candidate";
+        r = wrs_retain(WRS_RULE_ORACLE_Q, true, h, vec2(0.1f, 0.0f), retainInput(vec3(0.6f), 1.0f / 64.0f, fp), ref, 0.5f,
+                       outcome, margin);
+        EXPECT_EQ(outcome, WRS_OUT_KEPT) << "higher quality and closer: kept";
+        EXPECT_EQ(r.color, grey);
+        EXPECT_EQ(r.d.x, 0.1f);
+        r = wrs_retain(WRS_RULE_ORACLE_Q, true, h, vec2(0.0f), retainInput(vec3(0.33f), 1.0f / 64.0f, fp), ref, 0.5f,
+                       outcome, margin);
+        EXPECT_EQ(outcome, WRS_OUT_BETTER) << "higher quality but farther: the candidate";
+    }
+    // Within 2^-10 the qualities are equal, and the margin says how close the quality test was.
+    r = wrs_retain(WRS_RULE_ORACLE_Q, true, h, vec2(0.0f), retainInput(vec3(0.6f), 1.0f - 1.0f / 2048.0f, 50.0f), ref, 0.5f,
+                   outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_BETTER);
+    EXPECT_LT(margin, 1e-3f);
     // An invalid candidate (q = 0) never replaces history.
     r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), retainInput(vec3(0.0f), 0.0f, 50.0f), grey, 0.5f, outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_KEPT);
     // ... not even when the poisoned patch moved the fingerprint (wrsfov-stress, streams invalid/nonfinite).
-    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR, WRS_RULE_ORACLE}) {
+    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR, WRS_RULE_ORACLE, WRS_RULE_ORACLE_Q}) {
         r = wrs_retain(rule, true, h, vec2(0.0f), retainInput(vec3(0.0f), 0.0f, 0.0f), grey, 0.5f, outcome, margin);
         EXPECT_EQ(outcome, WRS_OUT_KEPT) << rule;
         EXPECT_EQ(r.color, grey);
@@ -865,7 +889,7 @@ TEST(Retention, MillionAdversarialStepsKeepTheInvariants) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     const float qs[] = {1.0f, 1.0f / 64.0f, 1.0f / 256.0f, 0.0f, 1e-40f, 0.37f};
     const float cs[] = {0.0f, 0.3f, 1.0f, 65504.0f, 1e-8f};
-    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR, WRS_RULE_ORACLE}) {
+    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR, WRS_RULE_ORACLE, WRS_RULE_ORACLE_Q}) {
         uvec4 stored(0u);
         uint64_t bad = 0, valid = 0;
         for (uint f = 0; f < 1000000u; ++f) {

@@ -40,7 +40,7 @@ TEST(Traffic, WithinTheBudgetsAt1024x768) {
 }
 
 TEST(Traffic, EveryMethodMovesAtLeastItsFloorAndTheFrameBytesFollow) {
-    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle})
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle, Method::OracleQ})
         for (FoveationMode mode : {FoveationMode::None, FoveationMode::Mip, FoveationMode::Gauss})
             for (int inputsMask = 0; inputsMask < 4; ++inputsMask) {
                 CompositorConfig c;
@@ -53,8 +53,8 @@ TEST(Traffic, EveryMethodMovesAtLeastItsFloorAndTheFrameBytesFollow) {
                 EXPECT_GT(t.floor, 0.0) << what;
                 EXPECT_NEAR(double(trafficBytes(c, in)), t.perPixel() * 300 * 200 * 2, 1.0) << what;
                 EXPECT_NEAR(double(floorBytes(c, in)), t.floor * 300 * 200 * 2, 1.0) << what;
-                // `none` builds no pyramid, except the fingerprint level of wrs and oracle.
-                const bool retain = m == Method::Wrs || m == Method::Oracle;
+                // `none` builds no pyramid, except the fingerprint level of wrs and the oracles.
+                const bool retain = usesRetainPass(m);
                 EXPECT_EQ(passBytes(t, "pyramid") > 0, mode != FoveationMode::None || retain) << what;
             }
 }

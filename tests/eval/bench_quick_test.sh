@@ -11,22 +11,30 @@ for f in results.csv table.md error_vs_time_text_mip.png error_vs_time_atrium_mi
          error_vs_fovea_atrium_mip.png eta_text_mip.png eta_atrium_mip.png crops_text_mip_5.png crops_atrium_mip_5.png; do
   [ -s "$out/$f" ] || { echo "missing or empty: $out/$f"; exit 1; }
 done
-# header + 2 scenes x 1 mode x 2 foveas x 5 methods
+# header + 2 scenes x 1 mode x 2 foveas x 6 methods
 rows=$(wc -l < "$out/results.csv")
-[ "$rows" -eq 21 ] || { echo "results.csv has $rows lines, expected 21"; exit 1; }
+[ "$rows" -eq 25 ] || { echo "results.csv has $rows lines, expected 25"; exit 1; }
 # every timing and ratio is a finite positive number (the pyramid may take no measurable time; wrs
-# and oracle have no separate foveate pass)
-awk -F, 'NR > 1 { for (i = 6; i <= 15; i++) if (!($i + 0 > 0) && i != 7 && !(i == 8 && ($2 == "wrs" || $2 == "oracle"))) { print "bad value in column " i ": " $0; exit 1 } }' \
+# and the oracles have no separate foveate pass)
+awk -F, 'NR > 1 { for (i = 6; i <= 15; i++) if (!($i + 0 > 0) && i != 7 && !(i == 8 && ($2 == "wrs" || $2 == "oracle" || $2 == "oracle-q"))) { print "bad value in column " i ": " $0; exit 1 } }' \
+  "$out/results.csv"
+# η_q (columns 34, 35): 1 for the retention oracle itself and 0 for fov wherever that oracle gains
+head -1 "$out/results.csv" | grep -q ",eta_q,eta_q_near_gaze$" || { echo "no eta_q columns"; exit 1; }
+awk -F, 'NR > 1 && ($2 == "oracle-q" || $2 == "fov") { want = $2 == "fov" ? 0 : 1
+  for (i = 34; i <= 35; i++) if ($i != "nan" && ($i - want > 1e-9 || want - $i > 1e-9)) { print "eta_q of " $2 ": " $0; exit 1 } }' \
   "$out/results.csv"
 grep -q "Equal-quality fovea" "$out/table.md"
 grep -q "^## Summary" "$out/table.md"
 grep -q "^| oracle | 5.0°" "$out/table.md"
+grep -q "^| oracle-q | 5.0°" "$out/table.md"
 grep -q "^| wrs-paper | 5.0°" "$out/table.md"
 grep -q "^| wrs | 5.0°" "$out/table.md"
-# error by eccentricity: 20 cells x 5 bands, the shares of one cell summing to 1
+# error by eccentricity: 24 cells x 5 bands, the shares of one cell summing to 1
 grep -q "^## Error by eccentricity" "$out/table.md"
 grep -q "^| oracle gain share |" "$out/table.md"
+grep -q "^| oracle-q gain share |" "$out/table.md"
+grep -q "^| η_q wrs |" "$out/table.md"
 rows=$(wc -l < "$out/ecc_bands.csv")
-[ "$rows" -eq 101 ] || { echo "ecc_bands.csv has $rows lines, expected 101"; exit 1; }
+[ "$rows" -eq 121 ] || { echo "ecc_bands.csv has $rows lines, expected 121"; exit 1; }
 awk -F, 'NR > 1 { k = $1 FS $2 FS $3 FS $4; s[k] += $7 } END { for (k in s) if (s[k] < 0.999999 || s[k] > 1.000001) { print "band shares of " k " sum to " s[k]; exit 1 } }'   "$out/ecc_bands.csv"
 echo "bench --quick: all outputs present"

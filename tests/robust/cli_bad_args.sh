@@ -40,7 +40,7 @@ done
 check bench_fovea_empty_list 2 "--fovea: missing value (DEG,...)" "$bench" --fovea ,
 check bench_scenes_unknown 2 "--scenes: 'moon' is not one of text, atrium, dynamic, sequence" "$bench" --scenes moon
 check bench_scenes_empty 2 "must not be empty" "$bench" --scenes ""
-check bench_methods_unknown 2 "--methods: 'magic' is not one of fov, fov+taa, wrs-paper, wrs, oracle" "$bench" --methods magic
+check bench_methods_unknown 2 "--methods: 'magic' is not one of fov, fov+taa, wrs-paper, wrs, oracle, oracle-q" "$bench" --methods magic
 check bench_methods_empty 2 "--methods: missing value (NAME,...)" "$bench" --methods ,
 check bench_modes_unknown 2 "--modes: 'blur' is not one of mip, gauss, none" "$bench" --modes blur
 check bench_change_unknown 2 "--change: 'lab' is not one of off, lstar, de94" "$bench" --change lab

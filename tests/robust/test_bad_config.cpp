@@ -48,9 +48,11 @@ std::vector<ConfigRow> refusedRows() {
         r.push_back({std::string(f.name) + "_just_too_large",
                      [m = f.member, v = f.tooLarge](CompositorConfig& c) { c.*m = v; }, f.message});
     }
+    // The first value past each enum's last, and 255.
+    for (uint8_t v : {uint8_t(uint8_t(Method::OracleQ) + 1), uint8_t(255)})
+        r.push_back({"method_" + std::to_string(v), [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
     for (uint8_t v : {uint8_t(5), uint8_t(255)}) {
         const std::string n = std::to_string(v);
-        r.push_back({"method_" + n, [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
         r.push_back(
             {"foveation_" + n, [v](CompositorConfig& c) { c.foveation = FoveationMode(v); }, "foveation mode must be"});
         r.push_back(

@@ -78,6 +78,7 @@ TEST(XrConfig, EveryBadValueNamesItsKeyAndSource) {
     };
     const std::vector<Case> cases = {
         {"method", "oracle", "fov, fov+taa, wrs-paper, wrs or off"},
+        {"method", "oracle-q", "fov, fov+taa, wrs-paper, wrs or off"},
         {"method", "magic", "'method' = 'magic'"},
         {"fovea", "0", "[0.5, 60]"},
         {"fovea", "nan", "[0.5, 60]"},
