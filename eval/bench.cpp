@@ -257,8 +257,7 @@ struct Accum {
 };
 
 // Adds each pixel's squared error (sRGB, mean over channels, as psnr) to its eccentricity band.
-void addBandErrors(const HostImage& reference, const HostImage& test, const cv::Mat& ecc, Accum& a) {
-    const cv::Mat r = toMat(reference), t = toMat(test);
+void addBandErrors(const cv::Mat& r, const cv::Mat& t, const cv::Mat& ecc, Accum& a) {
     for (int y = 0; y < r.rows; ++y) {
         const float* pr = r.ptr<float>(y);
         const float* pt = t.ptr<float>(y);
@@ -453,7 +452,9 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
                     }
                     HostImage ref[2];
-                    cv::Mat ecc[2];
+                    // The reference as the metrics read it (sRGB floats), its eccentricity and the
+                    // eccentricity weights: once per frame, shared by every method of the cell.
+                    cv::Mat refMat[2], ecc[2], eccWeights[2];
                     double shading[2] = {0, 0};
                     // The copy kernel doubles a frame's GPU work: it runs on every copyEvery-th counted frame.
                     const bool copyFrame = f >= o.warmup && (f - o.warmup) % std::max(1, o.copyEvery) == 0;
@@ -466,7 +467,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         }
                         if (Status s = run.app->submit(uint64_t(f + 1), t, eyes); !s)
                             return benchError("bench: frame " + std::to_string(f) + " refused: " + s.message());
-                        for (uint32_t e = 0; e < 2; ++e) {
+                        for (uint32_t e = 0; e < 2 && (o.qualityMetrics || !o.cropDir.empty()); ++e) {
                             auto out = run.comp->readOutput(e);
                             if (!out) return out.error();
                             run.last[e] = std::move(*out);
@@ -479,12 +480,20 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             for (int e = 0; e < evalEyes; ++e) {
                                 const gpu::EyeParams& ep = run.comp->lastParams().eye[e];
                                 ecc[e] = eccentricityMap(o.width, o.height, ep);
+                                if (o.qualityMetrics) {
+                                    eccWeights[e] = eccentricityWeights(ecc[e]);
+                                    refMat[e] = toMat(ref[e]);
+                                }
                                 if (f >= o.warmup)
                                     shading[e] = shadingFraction(mode, ecc[e], ep.gaze.w, run.comp->lastParams().tuning.x);
                             }
                             continue;
                         }
-                        for (int e = 0; e < evalEyes; ++e) run.acc.instab[e].addFrame(ref[e], run.last[e]);
+                        cv::Mat outMat[2];
+                        for (int e = 0; e < evalEyes && o.qualityMetrics; ++e) {
+                            outMat[e] = toMat(run.last[e]);
+                            run.acc.instab[e].addFrame(refMat[e], outMat[e]);
+                        }
                         if (f < o.warmup) continue;
                         const FrameStats& st = run.comp->stats();
                         run.acc.mono = st.monoViews;
@@ -498,21 +507,26 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                                 run.acc.copyFloor.push_back(st.gpu.copyFloor);
                             }
                         }
+                        if (!o.qualityMetrics) {
+                            for (int e = 0; e < evalEyes; ++e) run.acc.shading += shading[e];
+                            run.acc.n += evalEyes;
+                            continue;
+                        }
                         const bool heavy = (f - o.warmup) % std::max(1, o.heavyEvery) == 0;
                         for (int e = 0; e < evalEyes; ++e) {
                             const gpu::EyeParams& ep = run.comp->lastParams().eye[e];
-                            run.acc.mse += mseFromPsnr(psnr(ref[e], run.last[e]));
+                            run.acc.mse += meanSquaredError(refMat[e], outMat[e]);
                             // Near-gaze PSNR is NaN only when no pixel lies within 10° (gaze far outside the
                             // view); such an eye-frame adds nothing there (counted as zero error).
-                            double np = nearGazePsnr(ref[e], run.last[e], ecc[e]);
+                            double np = nearGazePsnr(refMat[e], outMat[e], ecc[e]);
                             run.acc.nearMse += std::isnan(np) ? 0.0 : mseFromPsnr(np);
-                            run.acc.eccMse += eccentricityWeightedMse(ref[e], run.last[e], ecc[e]);
+                            run.acc.eccMse += weightedMse(refMat[e], outMat[e], eccWeights[e]);
                             run.acc.shading += shading[e];
-                            addBandErrors(ref[e], run.last[e], ecc[e], run.acc);
+                            addBandErrors(refMat[e], outMat[e], ecc[e], run.acc);
                             if (heavy) {
-                                run.acc.ssim += ssim(ref[e], run.last[e]);
+                                run.acc.ssim += ssim(refMat[e], outMat[e]);
                                 FlipOptions fo{pixelsPerDegreeAtCentre(o.width, ep.fov_tan)};
-                                run.acc.flip += flip(ref[e], run.last[e], fo).mean;
+                                run.acc.flip += flip(refMat[e], outMat[e], fo).mean;
                                 // fov runs before the temporal methods (methods in option order), so its
                                 // output of this frame is there when fov is listed first.
                                 if (o.staleStats && tracksBirth(run.method) && fovRun >= 0 && fovRun < int(r)) {
@@ -557,6 +571,11 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         c.bandShare[b] = px > 0 ? a.bandPx[b] / px : 0.0;
                     }
                     c.nearMse = a.nearMse / std::max(1, a.n);
+                    if (!o.qualityMetrics) {
+                        const double nan = std::numeric_limits<double>::quiet_NaN();
+                        c.psnr = c.nearPsnr = c.eccMse = c.ssim = c.flip = c.temporal = c.mse = c.nearMse = nan;
+                        c.bandMse.fill(nan);
+                    }
                     if (a.stalePxTotal > 0) {
                         c.staleFraction = a.stalePx / a.stalePxTotal;
                         c.staleMse = a.stalePx > 0 ? a.staleSe / a.stalePx : 0.0;

@@ -35,6 +35,10 @@ struct BenchOptions {
     /// Stale-pixel statistics: wrs-paper, wrs and the oracle keep birth colours (trackBirth, 32 B/px
     /// more traffic and the time it takes). Off for timing runs: the passes as an application gets them.
     bool staleStats = true;
+    /// Error metrics (PSNR, near-gaze PSNR, SSIM, FLIP, temporal instability, bands, stale pixels).
+    /// Off (the scaling sweep, which reports time and bytes): no output is read back and the quality
+    /// fields of the results are NaN; times, bytes and the shading fraction are measured as before.
+    bool qualityMetrics = true;
     /// CompositorConfig::skipTiles (--no-skip turns it off: the same output, the per-pixel path).
     bool skipTiles = true;
     uint32_t seed = 1;

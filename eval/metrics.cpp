@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
@@ -28,6 +29,15 @@ std::string firstNonFinite(const cv::Mat& m) {
     const int cn = m.channels();
     for (int y = 0; y < m.rows; ++y) {
         const float* p = m.ptr<float>(y);
+        // A row is tested whole first (exponent bits all ones: NaN or infinity), a loop the compiler
+        // vectorises; only a row that fails is searched for the first such value.
+        uint32_t any = 0;
+        for (int i = 0; i < m.cols * cn; ++i) {
+            uint32_t bits;
+            std::memcpy(&bits, p + i, 4);
+            any |= uint32_t((bits & 0x7f800000u) == 0x7f800000u);
+        }
+        if (!any) continue;
         for (int i = 0; i < m.cols * cn; ++i)
             if (!std::isfinite(p[i])) return "(" + std::to_string(i / cn) + ", " + std::to_string(y) + ")";
     }
@@ -118,14 +128,26 @@ cv::Mat toMat(const HostImage& image) {
              std::to_string(image.height) + " " + std::string(layers::toString(image.format)) + " needs " +
              std::to_string(expected));
     cv::Mat out(int(image.height), int(image.width), CV_32FC3);
-    const bool linear = image.format == Format::RGBA16F;
-    for (uint32_t y = 0; y < image.height; ++y) {
+    if (image.format != Format::RGBA16F) {
+        // 8-bit: the values HostImage::fetch gives (code / 255), from a table, without its per-texel dispatch.
+        std::array<float, 256> unorm;
+        for (int i = 0; i < 256; ++i) unorm[i] = float(i) / 255.0f;
+        const auto* in = reinterpret_cast<const uint8_t*>(image.data.data());
+        for (uint32_t y = 0; y < image.height; ++y) {
+            float* o = out.ptr<float>(int(y));
+            const uint8_t* p = in + std::size_t(y) * image.width * 4;
+            for (uint32_t x = 0; x < image.width; ++x)
+                for (int c = 0; c < 3; ++c) o[3 * x + c] = unorm[p[4 * x + c]];
+        }
+        return out;
+    }
+    for (uint32_t y = 0; y < image.height; ++y) {  // RGBA16F: linear, encoded to sRGB here
         float* o = out.ptr<float>(int(y));
         for (uint32_t x = 0; x < image.width; ++x) {
             glm::vec4 t = image.fetch(x, y);
             for (int c = 0; c < 3; ++c) {
                 float v = t[c];
-                if (linear && std::isfinite(v)) v = gpu::wrs_linear_to_srgb(v);
+                if (std::isfinite(v)) v = gpu::wrs_linear_to_srgb(v);
                 o[3 * x + c] = v;
             }
         }
@@ -220,16 +242,24 @@ cv::Mat eccentricityWeights(const cv::Mat& eccentricity, double fovea_deg) {
 
 double eccentricityWeightedMse(const cv::Mat& reference, const cv::Mat& test, const cv::Mat& eccentricity,
                                double fovea_deg) {
+    checkEccentricity(eccentricity, reference.size());
+    return weightedMse(reference, test, eccentricityWeights(eccentricity, fovea_deg));
+}
+double weightedMse(const cv::Mat& reference, const cv::Mat& test, const cv::Mat& weights) {
     Pair p = preparePair(reference, test);
-    checkEccentricity(eccentricity, p.ref.size());
-    cv::Mat w = eccentricityWeights(eccentricity, fovea_deg);
+    if (weights.type() != CV_32FC1 || weights.size() != p.ref.size())
+        fail("weights must be CV_32FC1 of the images' size (" + sizeText(p.ref) + ")");
+    if (std::string at = firstNonFinite(weights); !at.empty()) fail("weight at pixel " + at + " is not finite");
+    double lo = 0.0;
+    cv::minMaxLoc(weights, &lo);
+    if (lo < 0.0) fail("weights must not be negative");
     double num = 0.0, den = 0.0;
     forEachSqErr(p, [&](int x, int y, double e) {
-        double wi = w.at<float>(y, x);
+        double wi = weights.at<float>(y, x);
         num += wi * e;
         den += wi;
     });
-    return den > 0.0 ? num / den : 0.0;  // weights are > 0 for any finite eccentricity
+    return den > 0.0 ? num / den : 0.0;  // eccentricity weights are > 0 for any finite eccentricity
 }
 double eccentricityWeightedMse(const HostImage& reference, const HostImage& test, const cv::Mat& eccentricity,
                                double fovea_deg) {

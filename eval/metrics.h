@@ -103,6 +103,9 @@ double eccentricityWeightedMse(const cv::Mat& reference, const cv::Mat& test, co
 /// Eccentricity-weighted MSE of two HostImages (see toMat).
 double eccentricityWeightedMse(const HostImage& reference, const HostImage& test, const cv::Mat& eccentricity,
                                double fovea_deg = kWeightFoveaDeg);
+/// The same with weights already computed (eccentricityWeights; CV_32FC1 of the images' size, finite,
+/// >= 0): for callers that score several images against one reference and gaze.
+double weightedMse(const cv::Mat& reference, const cv::Mat& test, const cv::Mat& weights);
 
 // ---------------------------------------------------------------------------------------------
 // FLIP (LDR), Andersson et al. 2020

@@ -41,7 +41,7 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_
     o.foveas.resize(1);
     o.modes.resize(1);
     o.staleStats = false;
-    o.heavyEvery = 1000000;  // no SSIM/FLIP: this sweep is about time
+    o.qualityMetrics = false;  // this sweep is about time and bytes: no read-back, no error metrics
     std::vector<eval::ScalingStep> steps;
     for (uint32_t size : sizes) {
         eval::BenchOptions so = o;
@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
                  "(options given as well win).");
     cli::listOption(app, "--scaling", scaling, cli::list(cli::integer<uint32_t>(64, 4096)),
                 "Time and bytes at square sizes S per eye (pixels per side, each 64..4096, e.g. 512,1024,2048): "
-                "one scene, the first fovea and mode, no SSIM, FLIP or stale statistics; unless given, scene "
+                "one scene, the first fovea and mode, no error metrics (nothing is read back); unless given, scene "
                 "atrium, methods fov,fov+taa,wrs, 20 frames with 5 warm-up. Writes scaling.md, scaling.csv, "
                 "scaling.png.")
         ->type_name("S,...");

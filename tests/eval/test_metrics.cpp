@@ -66,6 +66,19 @@ TEST(EvalConvert, Rgba8IsCodeOver255InRgbOrder) {
     EXPECT_FLOAT_EQ(m.at<cv::Vec3f>(0, 1)[1], 128.0f / 255.0f);
 }
 
+TEST(EvalConvert, EveryRgba8CodeIsWhatFetchGives) {
+    // toMat reads 8-bit texels through a table; HostImage::fetch is the definition it must equal.
+    for (layers::Format f : {layers::Format::RGBA8, layers::Format::RGBA8_SRGB}) {
+        HostImage h = HostImage::make(f, 256, 3);
+        for (uint32_t i = 0; i < h.data.size(); ++i) h.data[i] = std::byte(uint8_t(i * 7 + i / 256));
+        cv::Mat m = toMat(h);
+        for (uint32_t y = 0; y < 3; ++y)
+            for (uint32_t x = 0; x < 256; ++x)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_EQ(m.at<cv::Vec3f>(int(y), int(x))[c], h.fetch(x, y)[c]) << x << "," << y << "," << c;
+    }
+}
+
 TEST(EvalConvert, Rgba16fIsLinearAndGetsSrgbEncoded) {
     HostImage h = HostImage::make(layers::Format::RGBA16F, 1, 1);
     h.store(0, 0, glm::vec4(0.5f, 0.0f, 1.0f, 1.0f));
@@ -319,6 +332,26 @@ TEST(EvalWeightedMse, SinglePixelErrorIsWeightedByItsEccentricity) {
     EXPECT_GT(centre, 20.0 * corner);
     // Plain MSE does not tell them apart.
     EXPECT_EQ(meanSquaredError(ref, t_centre), meanSquaredError(ref, t_corner));
+}
+
+TEST(EvalWeightedMse, PrecomputedWeightsGiveTheSameValueAndBadWeightsAreRefused) {
+    cv::Mat ecc = eccentricityMap(40, 30, kFov90, kAhead);
+    cv::Mat a = randomImage(40, 30, 3, 0.0f, 1.0f), b = randomImage(40, 30, 4, 0.0f, 1.0f);
+    const cv::Mat w = eccentricityWeights(ecc);
+    EXPECT_EQ(weightedMse(a, b, w), eccentricityWeightedMse(a, b, ecc));
+    // Uniform weights: the plain MSE.
+    EXPECT_NEAR(weightedMse(a, b, cv::Mat(30, 40, CV_32F, cv::Scalar(2.0))), meanSquaredError(a, b), 1e-12);
+    EXPECT_NE(thrownMessage([&] { weightedMse(a, b, cv::Mat(30, 41, CV_32F, cv::Scalar(1.0))); }).find("weights must be"),
+              std::string::npos);
+    EXPECT_NE(thrownMessage([&] { weightedMse(a, b, cv::Mat(30, 40, CV_64F, cv::Scalar(1.0))); }).find("weights must be"),
+              std::string::npos);
+    cv::Mat bad = w.clone();
+    bad.at<float>(7, 5) = std::numeric_limits<float>::infinity();
+    EXPECT_NE(thrownMessage([&] { weightedMse(a, b, bad); }).find("weight at pixel (5, 7) is not finite"), std::string::npos);
+    bad.at<float>(7, 5) = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(weightedMse(a, b, bad), std::invalid_argument);
+    bad.at<float>(7, 5) = -0.5f;
+    EXPECT_NE(thrownMessage([&] { weightedMse(a, b, bad); }).find("must not be negative"), std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------
