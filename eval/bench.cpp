@@ -44,6 +44,14 @@ namespace {
 constexpr double kFps = 90.0;
 Error benchError(const std::string& m) { return Error{1, m}; }
 
+// The part of fov's MSE a bound (oracle, oracle-q) removes, or 0 where it removes less than 1 % of it
+// (a band where every candidate is equally blurred: there a ratio against it is noise, e.g. 388 for a
+// 0.2 % gain). η and η_q are n/a against no gain.
+double boundGain(double fovMse, double boundMse) {
+    const double gain = fovMse - boundMse;
+    return gain > 0.01 * fovMse ? gain : 0.0;
+}
+
 // Frames of one scene as the application submits them (CPU images, both eyes).
 class SceneFrames {
 public:
@@ -593,7 +601,8 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 }
                 auto efficiency = [&](const CellResult* bound, double CellResult::*whole, double CellResult::*near) {
                     if (!fovCell || !bound) return;
-                    const double gain = fovCell->mse - bound->mse, gainNear = fovCell->nearMse - bound->nearMse;
+                    const double gain = boundGain(fovCell->mse, bound->mse),
+                                 gainNear = boundGain(fovCell->nearMse, bound->nearMse);
                     for (std::size_t k = first; k < results.size(); ++k) {
                         if (gain > 0) results[k].*whole = (fovCell->mse - results[k].mse) / gain;
                         if (gainNear > 0) results[k].*near = (fovCell->nearMse - results[k].nearMse) / gainNear;
@@ -845,7 +854,8 @@ void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) 
     md << "\n## Error by eccentricity\n\n"
           "MSE (sRGB, ×1000) per band of eccentricity from the gaze, over all counted frames; *px* the band's "
           "share of the pixels; *η* per band against fov and the oracle of the same cell, *η_q* against the "
-          "retention oracle (oracle-q); *gain share*: the band's part of that oracle's whole-image MSE gain over "
+          "retention oracle (oracle-q), n/a where that oracle removes less than 1 % of fov's MSE in the band; "
+          "*gain share*: the band's part of that oracle's whole-image MSE gain over "
           "fov (where a keep-or-replace rule could gain, and how much of it lies where every candidate is "
           "equally blurred).\n";
     auto same = [](const CellResult& a, const CellResult& b) {
@@ -893,8 +903,8 @@ void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) 
                 if (!same(c, first) || c.method == Method::Fov || isOracle(c.method)) continue;
                 md << "| " << (bound == oracle ? "η " : "η_q ") << toString(c.method) << " |";
                 for (std::size_t b = 0; b < first.bandMse.size(); ++b) {
-                    const double g = fov->bandMse[b] - bound->bandMse[b];
-                    md << " " << (g > 1e-12 ? fmt((fov->bandMse[b] - c.bandMse[b]) / g) : std::string("n/a")) << " |";
+                    const double g = boundGain(fov->bandMse[b], bound->bandMse[b]);
+                    md << " " << (g > 0 ? fmt((fov->bandMse[b] - c.bandMse[b]) / g) : std::string("n/a")) << " |";
                 }
                 md << "\n";
             }
@@ -1005,7 +1015,8 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
           "- *η* / *η near*: retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, "
           "whole image / within 10°: 0 = no better than fov, 1 = as good as the oracle (which keeps, per pixel, "
           "whichever of history and candidate is closer to the reference). n/a without fov and oracle, or when "
-          "the oracle gains nothing. *η_q* / *η_q near*: the same against the retention oracle `oracle-q`, which "
+          "the oracle removes less than 1 % of fov's MSE there. *η_q* / *η_q near*: the same against the "
+          "retention oracle `oracle-q`, which "
           "keeps the history only where it is closer to the reference *and* of higher quality than the candidate: "
           "the ceiling of keeping what foveation throws away, without the oracle's choice among equally or less "
           "sharp samples (which needs the reference to see which of two blurred values happens to be closer).\n"
