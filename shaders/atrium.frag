@@ -13,6 +13,7 @@ layout(location = 3) flat in uint v_material;
 layout(location = 4) in vec4 v_prev_clip;
 layout(location = 5) in float v_zcur;
 layout(location = 6) in float v_zprev;
+layout(location = 7) in vec4 v_cur_clip;
 
 layout(location = 0) out vec4 out_color;   // written to an sRGB view: hardware encodes
 layout(location = 1) out vec4 out_motion;  // RGBA16F: dx, dy (pixels), dz = z_prev - z_cur, 0
@@ -52,8 +53,9 @@ void main() {
     float light = cam.light.x * (0.45 + 0.55 * max(dot(n, l), 0.0));
     out_color = vec4(base * light, 1.0);
 
-    vec2 cur = gl_FragCoord.xy;
-    vec2 ndc_prev = v_prev_clip.xy / v_prev_clip.w;
-    vec2 prev = (ndc_prev * 0.5 + 0.5) * cam.viewport.xy;
+    // Both ends from interpolated clip positions computed the same way (not gl_FragCoord), so a
+    // point that did not move gets exactly zero motion rather than interpolation rounding.
+    vec2 cur = (v_cur_clip.xy / v_cur_clip.w * 0.5 + 0.5) * cam.viewport.xy;
+    vec2 prev = (v_prev_clip.xy / v_prev_clip.w * 0.5 + 0.5) * cam.viewport.xy;
     out_motion = vec4(prev - cur, v_zprev - v_zcur, 0.0);
 }

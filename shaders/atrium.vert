@@ -16,6 +16,7 @@ layout(location = 3) flat out uint v_material;
 layout(location = 4) out vec4 v_prev_clip;
 layout(location = 5) out float v_zcur;
 layout(location = 6) out float v_zprev;
+layout(location = 7) out vec4 v_cur_clip;
 
 void main() {
     vec4 world = draw.model * vec4(in_pos, 1.0);
@@ -28,4 +29,5 @@ void main() {
     v_zcur = -(cam.view * world).z;
     v_zprev = -(cam.prev_view * prev_world).z;
     gl_Position = cam.view_proj * world;
+    v_cur_clip = gl_Position;
 }
