@@ -767,13 +767,18 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
     }
     // A foveating pass over every pixel, or one indirect dispatch per tile class (constant 5).
-    auto dispatchPixels = [&](int shader, std::array<uint32_t, 6> constants) {
+    // `aliased`: the pass reads a buffer it also writes (the in-place reservoirs). Each invocation
+    // touches only its own pixel and the classes' tiles are disjoint, but a barrier between the class
+    // dispatches keeps the order explicit, as synchronization validation (which tracks whole
+    // descriptor ranges) requires.
+    auto dispatchPixels = [&](int shader, std::array<uint32_t, 6> constants, bool aliased = false) {
         if (!tiled) {
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
             vkCmdDispatch(cb, gx, gy, eyes);
             return;
         }
         for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
+            if (aliased && cls > 0) computeBarrier(cb);
             constants[5] = 1 + cls;
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
             vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
@@ -805,7 +810,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     stamp(2);
     if (retain) {
         const uint32_t rule = retainRule(config_);
-        dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace});
+        dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace}, inPlace);
         computeBarrier(cb);
     } else if (wrsPaper) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
@@ -818,7 +823,10 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         computeBarrier(cb);
     }
     if (mono) {
-        // Right eye = left eye: output layer, and the history this frame wrote.
+        // Right eye = left eye: output layer, and the history this frame wrote; the copies read and
+        // write what the passes wrote.
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
         VkImageCopy ic{};
         ic.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         ic.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1};
