@@ -170,6 +170,7 @@ using DescriptorPool = Handle<VkDescriptorPool, vkDestroyDescriptorPool>;
 using Sampler = Handle<VkSampler, vkDestroySampler>;
 using QueryPool = Handle<VkQueryPool, vkDestroyQueryPool>;
 using Fence = Handle<VkFence, vkDestroyFence>;
+using Semaphore = Handle<VkSemaphore, vkDestroySemaphore>;
 using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
 
 /// A global memory barrier: everything in `srcStage` with `srcAccess` before, `dstStage` with

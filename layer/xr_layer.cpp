@@ -6,11 +6,14 @@
 // their images imported (Compositor::importSwapchain); at xrEndFrame the first projection layer's two
 // views (and their depth) are composited, the output copied into a swapchain of the layer's own
 // made by the runtime, and a patched copy of the frame end (that swapchain in place of the
-// application's) goes down the chain; the application's structures are never modified. Gaze comes
+// application's) goes down the chain. Both are submitted on the application's queue and not waited
+// for in xrEndFrame: the compositor's reads of an application swapchain are waited for in
+// xrWaitSwapchainImage and before it is destroyed; the application's structures are never modified. Gaze comes
 // from the runtime's XR_EXT_eye_gaze_interaction through an action set of the layer's own, else from
 // the configured source (WRSFOV_LAYER_*). Anything unsupported passes through with one log line;
 // an error inside the layer disables it for the session instead of failing the call.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -115,6 +118,18 @@ struct SessionState {
     int64_t outFormat = 0;
     uint64_t frames = 0, processed = 0, gpuFrames = 0, fallbackFrames = 0;
     double gpuMs = 0;
+    // Host time spent in the layer's part of xrEndFrame (recording and submitting, no GPU wait).
+    double endFrameMs = 0;
+    // The frame's GPU work is submitted, not waited for: the compositor's passes signal `composited`,
+    // the copy into the output swapchain waits for it and signals `copied`. The compositor waits for
+    // its own last frame when it next needs it (the next frame, a wait on an application swapchain
+    // it read, teardown); the copy's command buffer is waited for before it is recorded again.
+    VkCommandBuffer copyCb = VK_NULL_HANDLE;
+    vk::Fence copied;
+    vk::Semaphore composited;
+    bool copyInFlight = false;
+    bool statsPending = false;  // the last submitted frame's GPU times are not yet counted
+    bool hostTimed = false;     // a CPU device: the times run from submission to the wait (an upper bound)
     XrTime epoch = 0;
     std::map<int, bool> logged;
 };
@@ -135,6 +150,40 @@ void disable(SessionState& s, const std::string& why) {
     s.disabled = true;
     s.why = why;
     logLine("disabled for this session: " + why + " (frames pass through untouched)");
+}
+
+/// Counts the GPU times of the last submitted frame once it has finished (the compositor fills them
+/// when it waits for it, whoever asked).
+void countStats(SessionState& s) {
+    if (!s.statsPending || !s.comp) return;
+    s.statsPending = false;
+    const FrameStats& stats = s.comp->stats();
+    if (stats.gpu.valid) s.gpuMs += stats.gpu.total, ++s.gpuFrames;
+    s.hostTimed = stats.gpu.hostTimed;
+}
+
+/// Waits for the compositor's last frame (its reads of the application's swapchains, its output).
+void waitComposited(SessionState& s) {
+    if (!s.comp) return;
+    if (Status st = s.comp->waitFrame(); !st) disable(s, st.message());
+    countStats(s);
+}
+
+/// Waits for the last copy into the output swapchain.
+void waitCopied(SessionState& s) {
+    if (!s.copyInFlight) return;
+    s.copyInFlight = false;
+    const VkResult r = s.ctx->waitSubmission(s.copied.get());
+    VkFence f = s.copied.get();
+    vkResetFences(s.ctx->device(), 1, &f);
+    if (r != VK_SUCCESS) disable(s, std::string("copying the output: ") + vk::resultString(r));
+}
+
+/// Everything the layer submitted has finished: before a swapchain it used is destroyed, and at the
+/// end of the session.
+void settle(SessionState& s) {
+    waitComposited(s);
+    waitCopied(s);
 }
 
 std::optional<layers::Format> colorFormat(int64_t f) {
@@ -365,16 +414,23 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySession(XrSession session) {
     if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
     SessionState& s = it->second;
     const Next& n = g_instances.at(s.instance).next;
-    char gpu[64] = "-";
+    settle(s);
+    char gpu[64] = "-", host[64] = "-";
     if (s.gpuFrames) std::snprintf(gpu, sizeof gpu, "%.2f ms", s.gpuMs / double(s.gpuFrames));
+    if (s.processed) std::snprintf(host, sizeof host, "%.2f ms", s.endFrameMs / double(s.processed));
     logLine("session ended: " + std::to_string(s.processed) + " of " + std::to_string(s.frames) +
-            " frames foveated, passes " + gpu + " a frame on average, gaze fallback in " +
-            std::to_string(s.fallbackFrames) + (s.disabled ? " (disabled: " + s.why + ")" : ""));
+            " frames foveated, passes " + gpu + " a frame on average" +
+            (s.hostTimed ? " (host-timed from submission to the wait: an upper bound)" : "") + " (in xrEndFrame " + host +
+            "), gaze fallback in " + std::to_string(s.fallbackFrames) +
+            (s.disabled ? " (disabled: " + s.why + ")" : ""));
     if (s.out) n.destroySwapchain(s.out);
     if (s.gazeSpace) n.destroySpace(s.gazeSpace);
     for (auto sc = g_swapchains.begin(); sc != g_swapchains.end();)
         sc = sc->second.session == session ? g_swapchains.erase(sc) : std::next(sc);
     s.comp.reset();
+    if (s.copyCb) s.ctx->freeCommandBuffer(s.copyCb);
+    s.copied.reset();
+    s.composited.reset();
     s.ctx.reset();
     g_sessions.erase(it);
     return n.destroySession(session);
@@ -445,6 +501,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySwapchain(XrSwapchain swapchain) {
     auto it = g_swapchains.find(swapchain);
     if (it == g_swapchains.end()) return XR_ERROR_HANDLE_INVALID;
     const Next* n = nextOfSession(it->second.session);
+    // The compositor's last frame may still read it (the application waited for its own work only).
+    if (it->second.imported) waitComposited(g_sessions.at(it->second.session));
     g_swapchains.erase(it);
     return n->destroySwapchain(swapchain);
 }
@@ -494,6 +552,19 @@ XRAPI_ATTR XrResult XRAPI_CALL layerAcquireSwapchainImage(XrSwapchain swapchain,
     return r;
 }
 
+// The runtime below knows only its own reads of the image; the compositor's reads of the last frame
+// may still be running (the layer does not wait for them in xrEndFrame), and the application may
+// render on a queue other than the one the compositor uses. Waiting here keeps the promise of
+// xrWaitSwapchainImage: the image is free to write. By then the frame has normally long finished.
+XRAPI_ATTR XrResult XRAPI_CALL layerWaitSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageWaitInfo* info) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_swapchains.find(swapchain);
+    if (it == g_swapchains.end()) return XR_ERROR_HANDLE_INVALID;
+    XrResult r = nextOfSession(it->second.session)->waitSwapchainImage(swapchain, info);
+    if (r == XR_SUCCESS && it->second.imported) waitComposited(g_sessions.at(it->second.session));
+    return r;
+}
+
 XRAPI_ATTR XrResult XRAPI_CALL layerReleaseSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo* info) {
     std::lock_guard lock(g_mutex);
     auto it = g_swapchains.find(swapchain);
@@ -512,6 +583,7 @@ XRAPI_ATTR XrResult XRAPI_CALL layerReleaseSwapchainImage(XrSwapchain swapchain,
 /// The layer's output swapchain of w x h, two layers; made (again) when the size changes.
 bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w, uint32_t h) {
     if (s.out && s.outWidth == w && s.outHeight == h) return true;
+    waitCopied(s);
     if (s.out) n.destroySwapchain(s.out);
     s.out = XR_NULL_HANDLE;
     s.outImages.clear();
@@ -630,30 +702,66 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
     const auto g = eyeGaze(s, n, proj, info.displayTime);
     fe.gaze[0] = g[0];
     fe.gaze[1] = g[1];
-    if (Status st = s.comp->endFrame(fe); !st) {
+    // The last frame's GPU times (its work has normally finished by now; endFrame waits for it anyway).
+    waitComposited(s);
+    if (s.disabled) return false;
+    if (!s.composited) {
+        VkSemaphoreCreateInfo sci{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VkSemaphore sem = VK_NULL_HANDLE;
+        VkFence fence = VK_NULL_HANDLE;
+        const VkDevice dev = s.ctx->device();
+        if (vkCreateSemaphore(dev, &sci, nullptr, &sem) != VK_SUCCESS ||
+            vkCreateFence(dev, &fci, nullptr, &fence) != VK_SUCCESS) {
+            if (sem) vkDestroySemaphore(dev, sem, nullptr);
+            disable(s, "no semaphore or fence for the frame's work");
+            return false;
+        }
+        s.composited = vk::Semaphore(dev, sem);
+        s.copied = vk::Fence(dev, fence);
+        s.copyCb = s.ctx->allocateCommandBuffer();
+    }
+    FrameSubmission submission;
+    submission.mode = FrameSubmission::Mode::Submit;
+    const VkSemaphore composited = s.composited.get();
+    submission.signalSemaphores = {&composited, 1};
+    if (Status st = s.comp->endFrame(fe, submission); !st) {
         if (st.error().code == int(layers::SubmitError::DeviceFailure)) disable(s, st.message());
         return once(100 + st.error().code, st.message());
     }
+    s.statsPending = true;
     const FrameStats& stats = s.comp->stats();
-    if (stats.gpu.valid) s.gpuMs += stats.gpu.total, ++s.gpuFrames;
     if (stats.gazeFallback[0] || stats.gazeFallback[1]) ++s.fallbackFrames;
-    if (s.frames % 300 == 0)
-        logLine("frame " + std::to_string(s.frames) + ": passes " + std::to_string(stats.gpu.total) + " ms, gaze " +
-                (stats.gazeFallback[0] || stats.gazeFallback[1] ? "fallback (view centre)" : "tracked"));
-    const uint32_t w = s.comp->width(), h = s.comp->height();
-    if (!ensureOutput(s, n, session, w, h)) {
-        disable(s, "the runtime made no RGBA8 swapchain for the output");
-        return false;
+    if (s.frames % 300 == 0) {
+        char line[160];
+        std::snprintf(line, sizeof line, "frame %llu: passes %.2f ms a frame so far, gaze %s",
+                      (unsigned long long)s.frames, s.gpuFrames ? s.gpuMs / double(s.gpuFrames) : 0.0,
+                      stats.gazeFallback[0] || stats.gazeFallback[1] ? "fallback (view centre)" : "tracked");
+        logLine(line);
     }
+    const uint32_t w = s.comp->width(), h = s.comp->height();
+    // The copy waits for the semaphore the compositor signalled: from here on this frame's
+    // semaphore signal must be consumed, so every failure below still submits or waits it out.
+    auto abandon = [&](const std::string& why) {
+        waitComposited(s);  // the semaphore stays signalled: no later frame uses it
+        s.composited.reset();
+        disable(s, why);
+        return false;
+    };
+    waitCopied(s);  // the last frame's copy, before its command buffer is recorded again
+    if (s.disabled) return abandon(s.why);
+    if (!ensureOutput(s, n, session, w, h)) return abandon("the runtime made no RGBA8 swapchain for the output");
     uint32_t index = 0;
     XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
     wi.timeout = XR_INFINITE_DURATION;
-    if (n.acquireSwapchainImage(s.out, nullptr, &index) != XR_SUCCESS || n.waitSwapchainImage(s.out, &wi) != XR_SUCCESS) {
-        disable(s, "the output swapchain could not be acquired");
-        return false;
-    }
+    if (n.acquireSwapchainImage(s.out, nullptr, &index) != XR_SUCCESS || n.waitSwapchainImage(s.out, &wi) != XR_SUCCESS)
+        return abandon("the output swapchain could not be acquired");
     const VkImage dst = s.outImages.at(index);
-    Status copied = s.ctx->submitAndWait([&](VkCommandBuffer cb) {
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VkResult rec = vkBeginCommandBuffer(s.copyCb, &bi);
+    if (rec == VK_SUCCESS) {
+        VkCommandBuffer cb = s.copyCb;
         vk::layoutTransition(cb, dst, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                              VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
         VkImageCopy c{};
@@ -662,14 +770,26 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
         c.extent = {w, h, 1};
         vkCmdCopyImage(cb, s.comp->outputImage().handle(), VK_IMAGE_LAYOUT_GENERAL, dst,
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        // Back to the layout the runtime expects at release, visible to whatever it runs next on the queue.
         vk::layoutTransition(cb, dst, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                              VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-    });
-    n.releaseSwapchainImage(s.out, nullptr);
-    if (!copied) {
-        disable(s, "copying the output: " + copied.message());
-        return false;
+        rec = vkEndCommandBuffer(cb);
     }
+    if (rec == VK_SUCCESS) {
+        const VkPipelineStageFlags stage = VK_PIPELINE_STAGE_TRANSFER_BIT;
+        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        si.waitSemaphoreCount = 1;
+        si.pWaitSemaphores = &composited;
+        si.pWaitDstStageMask = &stage;
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &s.copyCb;
+        rec = s.ctx->submitNoWait(si, s.copied.get());
+        s.copyInFlight = rec == VK_SUCCESS;
+    }
+    // Released without waiting: the copy is on the session's queue, ahead of anything the runtime
+    // submits there to read the image (XR_KHR_vulkan_enable: images are released to that queue).
+    n.releaseSwapchainImage(s.out, nullptr);
+    if (rec != VK_SUCCESS) return abandon(std::string("copying the output: ") + vk::resultString(rec));
     patched = proj;
     for (uint32_t e = 0; e < 2; ++e) {
         views[e] = proj.views[e];  // pose, fov and the chained depth info stay the application's
@@ -699,7 +819,9 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
     XrCompositionLayerProjection patched{};
     std::array<XrCompositionLayerProjectionView, 2> views{};
     const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[projIndex]);
+    const auto t0 = std::chrono::steady_clock::now();
     if (!process(s, n, session, *info, proj, patched, views)) return n.endFrame(session, info);
+    s.endFrameMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ++s.processed;
     std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
     layers[projIndex] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&patched);
@@ -727,6 +849,7 @@ const Entry kEntries[] = {
     WRSFOV_ENTRY(xrDestroySwapchain, layerDestroySwapchain),
     WRSFOV_ENTRY(xrEnumerateSwapchainImages, layerEnumerateSwapchainImages),
     WRSFOV_ENTRY(xrAcquireSwapchainImage, layerAcquireSwapchainImage),
+    WRSFOV_ENTRY(xrWaitSwapchainImage, layerWaitSwapchainImage),
     WRSFOV_ENTRY(xrReleaseSwapchainImage, layerReleaseSwapchainImage),
     WRSFOV_ENTRY(xrEndFrame, layerEndFrame),
 };
