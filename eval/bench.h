@@ -78,10 +78,12 @@ struct CellResult {
     double psnr = 0, ssim = 0, nearPsnr = 0, eccMse = 0, flip = 0, temporal = 0;
     double mse = 0, nearMse = 0;  ///< mean squared error (sRGB, 0..1), full image and within 10° of gaze
     /// Retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, full image and
-    /// near gaze; NaN without fov and oracle in the cell or when the oracle gains nothing.
+    /// near gaze; NaN without fov and oracle in the cell or where the oracle removes less than 1 % of
+    /// fov's MSE.
     double eta = std::numeric_limits<double>::quiet_NaN(), etaNear = std::numeric_limits<double>::quiet_NaN();
     /// The same against the retention oracle (`oracle-q`: history kept only when closer and of higher
-    /// quality than the candidate), whole image and near gaze; NaN without fov and oracle-q in the cell.
+    /// quality than the candidate), whole image and near gaze; NaN without fov and oracle-q in the cell
+    /// or where oracle-q removes less than 1 % of fov's MSE.
     double etaQ = std::numeric_limits<double>::quiet_NaN(), etaQNear = std::numeric_limits<double>::quiet_NaN();
     /// Stale pixels (wrs-paper, wrs, oracle; NaN otherwise): pixels showing a sample whose submitted
     /// colour when taken lies more than 4/255 outside the 3x3 neighbourhood of the submitted colour

@@ -129,7 +129,6 @@ struct SessionState {
     vk::Semaphore composited;
     bool copyInFlight = false;
     bool statsPending = false;  // the last submitted frame's GPU times are not yet counted
-    bool hostTimed = false;     // a CPU device: the times run from submission to the wait (an upper bound)
     XrTime epoch = 0;
     std::map<int, bool> logged;
 };
@@ -152,21 +151,15 @@ void disable(SessionState& s, const std::string& why) {
     logLine("disabled for this session: " + why + " (frames pass through untouched)");
 }
 
-/// Counts the GPU times of the last submitted frame once it has finished (the compositor fills them
-/// when it waits for it, whoever asked).
-void countStats(SessionState& s) {
-    if (!s.statsPending || !s.comp) return;
-    s.statsPending = false;
-    const FrameStats& stats = s.comp->stats();
-    if (stats.gpu.valid) s.gpuMs += stats.gpu.total, ++s.gpuFrames;
-    s.hostTimed = stats.gpu.hostTimed;
-}
-
-/// Waits for the compositor's last frame (its reads of the application's swapchains, its output).
+/// Waits for the compositor's last frame (its reads of the application's swapchains, its output) and
+/// counts its GPU times, which the compositor fills in when it waits.
 void waitComposited(SessionState& s) {
     if (!s.comp) return;
     if (Status st = s.comp->waitFrame(); !st) disable(s, st.message());
-    countStats(s);
+    if (!s.statsPending) return;
+    s.statsPending = false;
+    const FrameStats& stats = s.comp->stats();
+    if (stats.gpu.valid) s.gpuMs += stats.gpu.total, ++s.gpuFrames;
 }
 
 /// Waits for the last copy into the output swapchain.
@@ -415,12 +408,14 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySession(XrSession session) {
     SessionState& s = it->second;
     const Next& n = g_instances.at(s.instance).next;
     settle(s);
+    // On a CPU device the compositor times a frame by the host, from submission to the wait for it
+    // (PassTimes::hostTimed), which here comes a frame later: an upper bound.
     char gpu[64] = "-", host[64] = "-";
     if (s.gpuFrames) std::snprintf(gpu, sizeof gpu, "%.2f ms", s.gpuMs / double(s.gpuFrames));
     if (s.processed) std::snprintf(host, sizeof host, "%.2f ms", s.endFrameMs / double(s.processed));
     logLine("session ended: " + std::to_string(s.processed) + " of " + std::to_string(s.frames) +
             " frames foveated, passes " + gpu + " a frame on average" +
-            (s.hostTimed ? " (host-timed from submission to the wait: an upper bound)" : "") + " (in xrEndFrame " + host +
+            (s.gpuFrames && s.ctx->isCpuDevice() ? " (host-timed from submission to the wait: an upper bound)" : "") + " (in xrEndFrame " + host +
             "), gaze fallback in " + std::to_string(s.fallbackFrames) +
             (s.disabled ? " (disabled: " + s.why + ")" : ""));
     if (s.out) n.destroySwapchain(s.out);
