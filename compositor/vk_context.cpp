@@ -44,6 +44,9 @@ void fatal(const char* file, int line, const char* call, VkResult r) {
 
 namespace {
 
+// How long a wait on a device already lost may take (a never-submitted fence must not hang).
+constexpr uint64_t kLostWaitNs = 5'000'000'000ull;
+
 Error vkError(const std::string& what, VkResult r) {
     return Error{static_cast<int>(r), what + " failed: " + resultString(r)};
 }
@@ -618,7 +621,13 @@ VkResult Context::submitNoWait(const VkSubmitInfo& submit, VkFence fence) {
 }
 
 VkResult Context::waitSubmission(VkFence fence) {
-    if (deviceLost_) return VK_ERROR_DEVICE_LOST;
+    if (deviceLost_) {
+        // Still waited for, a bounded time: on a lost device the wait returns at once, and after an
+        // injected loss the work really runs, so the caller may reset the fence and destroy the
+        // semaphores the batch used once this returns (no object in use is torn down).
+        vkWaitForFences(device_, 1, &fence, VK_TRUE, kLostWaitNs);
+        return VK_ERROR_DEVICE_LOST;
+    }
     VkResult r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
     // An injected loss lets the batch finish first, so that the device stays consistent for teardown.
     if (r == VK_SUCCESS && faults_.loseDevice && ++faultSubmissions_ == faults_.loseDevice) {

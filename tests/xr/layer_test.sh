@@ -50,6 +50,10 @@ CLI_FIXED=1 cli_check oom 0 "60 shown as submitted" run oom \
 exec 3>&-
 check lost_disabled grep -q "disabled for this session: .*VK_ERROR_DEVICE_LOST\|disabled for this session: .*device" "$out/lost.log"
 check lost_some_foveated grep -Eq "session ended: ([1-9]|[1-5][0-9]) of 60 frames foveated" "$out/lost.log"
+# The layer's own work is finished before its fence and semaphore are reused or destroyed, after a
+# loss too (the injected loss lets the work run; a real one returns at once).
+check lost_teardown_clean sh -c "! grep -q 'Validation Error' '$out/lost.log'"
+check oom_teardown_clean sh -c "! grep -q 'Validation Error' '$out/oom.log'"
 check oom_disabled grep -q "disabled for this session: compositor: .*OUT_OF_DEVICE_MEMORY" "$out/oom.log"
 check oom_none_foveated grep -q "session ended: 0 of 60 frames foveated" "$out/oom.log"
 check layer_gaze_from_runtime grep -q "gaze from the runtime's eye tracking" "$out/layer.log"
