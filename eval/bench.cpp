@@ -223,6 +223,7 @@ Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptio
         ao.path = o.path;
         ao.monitor = o.monitor;
         ao.fovDeg = o.hmdFovDeg;
+        ao.materialSamples = o.materialSamples;
         auto af = AtriumFrames::create(ctx, ao);
         if (!af) return af.error();
         setup.frames = std::move(*af);
@@ -949,8 +950,10 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                                             fmt(o.hmdFovDeg, 0) + "° of each eye's view)"
                                       : std::string(" per eye (HMD stereo)"))
        << ", " << fmt(centrePixelsPerDegree(o), 1)
-       << " px/deg at the view centre (atrium, dynamic; text has its own layout), "
-       << o.frames << " frames at 90 Hz (" << o.warmup << " warm-up). Times measured on **" << deviceName << "**"
+       << " px/deg at the view centre (atrium, dynamic; text has its own layout; their procedural materials "
+       << (o.materialSamples > 1 ? "filtered over each pixel, " + std::to_string(o.materialSamples) + " shading samples"
+                                 : std::string("point-sampled, aliased"))
+       << "), " << o.frames << " frames at 90 Hz (" << o.warmup << " warm-up). Times measured on **" << deviceName << "**"
        << (cpuDevice ? " — Mesa lavapipe, a CPU renderer: absolute times say little about a GPU, ratios in the same "
                        "run (×copy, ×fov) say more"
                      : "")

@@ -50,6 +50,9 @@ struct BenchOptions {
     /// HMD stereo of atrium and dynamic: > 0 uses a symmetric square field of view of this many
     /// degrees per eye instead of the HMD's own (AtriumOptions::fovDeg).
     float hmdFovDeg = 0.0f;
+    /// Shading samples per pixel of atrium's and dynamic's procedural materials
+    /// (AtriumOptions::materialSamples): 4 filtered, 1 point-sampled (aliased).
+    uint32_t materialSamples = 4;
     /// SceneKind::Sequence: the sequence directory. Its frames are the reference as submitted (at
     /// full quality), its gaze comes from gaze.csv (synthetic free viewing without one), frame f is
     /// displayed at f / fps of the json. width/height must be the sequence's, frames <= its frame count.

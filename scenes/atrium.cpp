@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <glm/gtc/matrix_transform.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -114,6 +115,8 @@ glm::mat4 projection(const layers::Fov& fov, float n, float f, bool reversedZ) {
 Result<std::unique_ptr<AtriumRenderer>> AtriumRenderer::create(vk::Context& ctx, const AtriumOptions& options) {
     if (options.width == 0 || options.height == 0) return err("atrium: size must be positive");
     if (!(options.nearZ > 0 && options.farZ > options.nearZ)) return err("atrium: needs 0 < near < far");
+    if (options.materialSamples != 1 && options.materialSamples != 4)
+        return err("atrium: material samples must be 1 or 4, not " + std::to_string(options.materialSamples));
     std::unique_ptr<AtriumRenderer> r(new AtriumRenderer(ctx, options));
     if (Status s = r->init(); !s) return s.error();
     return r;
@@ -448,7 +451,7 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
         cam.prev_view_proj = proj * cam.prev_view;
         cam.viewport = glm::vec4(W, H, options_.nearZ, options_.farZ);
         cam.eye_pos = glm::vec4(glm::vec3(glm::inverse(cam.view)[3]), options_.reversedZ ? 1.0f : 0.0f);
-        cam.light = glm::vec4(atriumLight(options_, t), 0.0f, 0.0f, 0.0f);
+        cam.light = glm::vec4(atriumLight(options_, t), float(options_.materialSamples), 0.0f, 0.0f);
         std::memcpy(cameras_[e].mapped(), &cam, sizeof(cam));
     }
     VkFormat colorViewFormat = cf;

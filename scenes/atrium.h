@@ -51,6 +51,12 @@ struct AtriumOptions {
     /// this many degrees per eye (the central part of the HMD view), e.g. to reach a pixel density
     /// at a size a CPU renderer can afford.
     float fovDeg = 0.0f;
+    /// Shading samples per pixel of the procedural materials (floor checker, bricks, column stripes,
+    /// the boxes): 4 filters them over the pixel's footprint (rotated grid, averaged in linear colour),
+    /// as mipmapping filters an application's textures; 1 point-samples them at the pixel centre, which
+    /// aliases the stripes and checker edges (the scene before filtering, docs/retention.md). Geometry
+    /// edges are not anti-aliased either way.
+    uint32_t materialSamples = 4;
 };
 
 /// Scale of the room light at time t: 1, except in the `dynamic` scene, whose light dims to 0.6 at

@@ -1,5 +1,5 @@
 // Atrium scene: procedural high-frequency materials (bricks, checkers, stripes, a text poster
-// texture), simple lighting, sRGB colour, motion vectors in pixels and the linear depth change.
+// texture; filtered over the pixel footprint unless AtriumOptions::materialSamples is 1), simple lighting, sRGB colour, motion vectors in pixels and the linear depth change.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "atrium.glsl"
@@ -32,21 +32,38 @@ vec3 bricks(vec2 uv) {
     return mortar ? vec3(0.75, 0.72, 0.68) : vec3(0.55 + 0.2 * n, 0.22 + 0.08 * n, 0.15);
 }
 
-void main() {
+vec3 material(vec2 uv) {
     vec3 base;
     if (v_material == 0u) {
-        base = mix(vec3(0.08), vec3(0.85), checker(v_uv, 16.0));           // floor
+        base = mix(vec3(0.08), vec3(0.85), checker(uv, 16.0));           // floor
     } else if (v_material == 1u) {
-        base = bricks(v_uv);                                                 // walls
+        base = bricks(uv);                                                 // walls
     } else if (v_material == 2u) {
-        float s = step(0.5, fract(v_uv.y * 40.0));
+        float s = step(0.5, fract(uv.y * 40.0));
         base = mix(vec3(0.2, 0.35, 0.7), vec3(0.9, 0.9, 0.8), s);           // columns: fine stripes
     } else if (v_material == 3u) {
-        base = texture(poster, v_uv).rgb;                                    // posters with text
+        base = texture(poster, uv).rgb;                                    // posters with text
     } else if (v_material == 4u) {
-        base = mix(vec3(0.9, 0.3, 0.1), vec3(0.1, 0.1, 0.1), checker(v_uv, 6.0));  // moving objects
+        base = mix(vec3(0.9, 0.3, 0.1), vec3(0.1, 0.1, 0.1), checker(uv, 6.0));  // moving objects
     } else {
         base = vec3(0.6, 0.6, 0.65);                                         // ceiling
+    }
+    return base;
+}
+
+void main() {
+    // Procedural materials filtered over the pixel's footprint, as a mipmapped texture would be: four
+    // rotated-grid shading samples in the material's uv (the 4x pattern of MSAA), averaged in linear
+    // colour. With one sample the material is point-sampled at the pixel centre (aliased).
+    vec3 base;
+    if (cam.light.y > 1.5) {
+        vec2 dx = dFdx(v_uv), dy = dFdy(v_uv);
+        const vec2 o[4] = vec2[4](vec2(-0.375, -0.125), vec2(0.125, -0.375), vec2(0.375, 0.125), vec2(-0.125, 0.375));
+        base = vec3(0.0);
+        for (int i = 0; i < 4; ++i) base += material(v_uv + dx * o[i].x + dy * o[i].y);
+        base *= 0.25;
+    } else {
+        base = material(v_uv);
     }
     vec3 n = normalize(v_normal);
     vec3 l = normalize(vec3(0.3, 1.0, 0.5));

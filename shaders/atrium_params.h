@@ -14,7 +14,8 @@ struct AtriumCamera {
     vec4 eye_pos;         // world position of the eye, w: reversed-Z (1) or not (0)
     mat4 view;            // world -> view, this frame (linear depth)
     mat4 prev_view;       // world -> view, previous frame
-    vec4 light;           // x: scale of the room light (the `dynamic` scene dims it), yzw: pad
+    vec4 light;           // x: scale of the room light (the `dynamic` scene dims it), y: shading samples
+                          // per pixel of the procedural materials (1 or 4, AtriumOptions::materialSamples), zw: pad
 };
 
 // Per draw: object transform now and one frame ago, material.

@@ -143,6 +143,12 @@ int main(int argc, char** argv) {
                 "of the HMD's, to reach a pixel density at a size the device can afford.")
         ->type_name("DEG")
         ->default_str("the HMD's own views");
+    cli::option(app, "--material-samples", o.materialSamples,
+                cli::oneOf(std::vector<std::pair<std::string, uint32_t>>{{"1", 1u}, {"4", 4u}}),
+                "Shading samples per pixel of atrium's and dynamic's procedural materials: 4 filters them over "
+                "the pixel (as mipmapping filters textures), 1 point-samples them (aliased stripes and checker "
+                "edges, which no sub-pixel reprojection can follow).")
+        ->type_name("N");
     app.add_flag("--no-stale", noStale,
                  "No stale-pixel statistics, so wrs-paper, wrs and the oracle run without the birth buffers "
                  "(32 B/px of evaluation-only traffic): the passes as an application gets them.");

@@ -1,6 +1,7 @@
 // The atrium scene: deterministic, and its motion vectors agree with the camera: reprojecting the
 // previous frame's colour with them reproduces the current frame.
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -199,6 +200,48 @@ TEST_F(Atrium, StaticCameraHasZeroMotion) {
             ASSERT_EQ(mv.y, 0.0f) << x << "," << y;
             ASSERT_LT(std::fabs(mv.z), 1e-3f);
         }
+}
+
+// Filtered materials (four shading samples per pixel, the default) against point-sampled ones: the
+// same geometry (depth and motion bit for bit), about the same mean colour, much less contrast between
+// neighbouring pixels (the stripes and checker edges alias when point-sampled); 2 samples is refused.
+TEST_F(Atrium, FilteredMaterialsRemovePixelScaleAliasing) {
+    scenes::AtriumOptions o;
+    o.width = W;
+    o.height = H;
+    o.monitor = true;
+    Frame f[2];
+    for (int i = 0; i < 2; ++i) {
+        o.materialSamples = i == 0 ? 1u : 4u;
+        auto r = scenes::AtriumRenderer::create(context(), o);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        f[i] = render(**r, 0.5, 0.5 - 1 / 90.0, 0);
+    }
+    EXPECT_EQ(f[0].depth.data, f[1].depth.data);
+    EXPECT_EQ(f[0].motion.data, f[1].motion.data);
+    double mean[2] = {0, 0}, step[2] = {0, 0};
+    for (int i = 0; i < 2; ++i) {
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                glm::vec4 c = f[i].color.fetch(x, y);
+                mean[i] += (c.x + c.y + c.z) / 3.0;
+                if (x + 1 < W) {
+                    glm::vec4 n = f[i].color.fetch(x + 1, y);
+                    step[i] += (std::fabs(c.x - n.x) + std::fabs(c.y - n.y) + std::fabs(c.z - n.z)) / 3.0;
+                }
+            }
+        mean[i] /= double(W) * H;
+        step[i] /= double(W - 1) * H;
+    }
+    std::printf("mean sRGB %.4f point-sampled, %.4f filtered; mean |step| %.4f, %.4f\n", mean[0], mean[1], step[0],
+                step[1]);
+    // sRGB means: averaging in linear colour brightens mixed pixels a little.
+    EXPECT_NEAR(mean[1], mean[0], 0.03);
+    EXPECT_LT(step[1], 0.8 * step[0]);
+    o.materialSamples = 2;
+    auto bad = scenes::AtriumRenderer::create(context(), o);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("material samples"), std::string::npos) << bad.error().message;
 }
 
 TEST_F(Atrium, RejectsWrongSwapchains) {
