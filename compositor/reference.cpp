@@ -210,7 +210,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         has_history = false;
                     // As retain.comp: a kept sample shows the tent-weighted mean of the tracked
                     // samples of its quality (wrs_shown_add); the oracle judges that.
-                    const vec3 h_shown = has_history && c.moved
+                    vec3 h_shown = has_history && c.moved
                                              ? wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, h, c.z,
                                                                dz, params.tuning.y)
                                              : h.color;
@@ -220,6 +220,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     if (wrs_rule_is_oracle(rule)) hd.color = h_shown;
                     Tracked r = wrs_retain(rule, has_history, hd, d, c, vec3(ref), rnd, t.outcome, t.margin);
                     if (t.outcome == WRS_OUT_KEPT) r.color = h.color;
+                    if (!wrs_rule_is_oracle(rule) && t.outcome == WRS_OUT_KEPT)
+                        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, mode != WRS_FOV_NONE && uint(lv.x) == 0u);
                     res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));
                     t.hadHistory = has_history;
                     t.keep = t.outcome == WRS_OUT_KEPT || t.outcome == WRS_OUT_MERGED;

@@ -838,6 +838,18 @@ WRS_FN vec3 wrs_shown_color(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, 
     return wrs_shown_end(acc, h.color);
 }
 
+// A kept sample (of higher quality than the candidate) against a candidate that blends in level 0:
+// the pixel's own full-rate colour is one of the candidate's taps, so their box [lo, hi] holds the
+// true colour at the pixel centre, and a shown colour more than one 8-bit step outside it is clipped
+// to it per channel, which can only bring each channel nearer the truth. `exact`: the candidate's
+// level a is 0 and foveation is ours (with `none` the application's level 0 is itself foveated).
+// Display only: the reservoir keeps the sample itself.
+WRS_FN vec3 wrs_kept_shown(vec3 shown, vec3 lo, vec3 hi, bool exact) {
+    vec3 slack = vec3(1.0f / 255.0f, 1.0f / 255.0f, 1.0f / 255.0f);
+    if (exact && (any(lessThan(shown, lo - slack)) || any(greaterThan(shown, hi + slack)))) return clamp(shown, lo, hi);
+    return shown;
+}
+
 // Per-channel min and max of four pyramid taps, widened into [lo, hi]; returns the range of their
 // alpha (at the fingerprint level: the L* range).
 WRS_FN float wrs_taps_range(vec4 a, vec4 b, vec4 c, vec4 d, WRS_INOUT(vec3) lo, WRS_INOUT(vec3) hi) {

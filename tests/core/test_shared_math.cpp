@@ -778,6 +778,29 @@ TEST(Retention, ShownColourIsTheTentMeanOfSameQualitySamples) {
     EXPECT_EQ(wrs_shown_end(vec4(0.0f), vec3(0.25f, 0.5f, 0.75f)), vec3(0.25f, 0.5f, 0.75f));
 }
 
+// A kept sample shown against a candidate that blends in level 0 (its box holds the true colour) is
+// clipped to that box when more than one 8-bit step outside, and so never moves away from any colour
+// inside the box; otherwise (inside, within the slack, or no level 0) it is shown as it is.
+TEST(Retention, KeptSampleIsClippedToABoxHoldingTheTruth) {
+    const vec3 lo(0.2f, 0.3f, 0.4f), hi(0.5f, 0.6f, 0.7f);
+    EXPECT_EQ(wrs_kept_shown(vec3(0.9f, 0.45f, 0.1f), lo, hi, true), vec3(0.5f, 0.45f, 0.4f));
+    EXPECT_EQ(wrs_kept_shown(vec3(0.9f, 0.45f, 0.1f), lo, hi, false), vec3(0.9f, 0.45f, 0.1f));
+    EXPECT_EQ(wrs_kept_shown(vec3(0.3f, 0.4f, 0.5f), lo, hi, true), vec3(0.3f, 0.4f, 0.5f));
+    const vec3 justOut = hi + vec3(0.5f / 255.0f);  // within the slack: fp16 rounding, not a change
+    EXPECT_EQ(wrs_kept_shown(justOut, lo, hi, true), justOut);
+    // Per channel never farther from a truth inside the box (fixed seed, 100 000 cases).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 100000; ++i) {
+        vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+        vec3 l = min(a, b), h = max(a, b);
+        vec3 truth = l + (h - l) * vec3(u(rng), u(rng), u(rng));
+        vec3 shown(u(rng), u(rng), u(rng));
+        vec3 s = wrs_kept_shown(shown, l, h, true);
+        for (int c = 0; c < 3; ++c) ASSERT_LE(std::fabs(s[c] - truth[c]), std::fabs(shown[c] - truth[c])) << i;
+    }
+}
+
 TEST(Retention, DitheredOffsetsFollowASlowDriftInExpectation) {
     // A sample drifting 0.001 px per frame (a quarter of a code) for 1000 frames ends 1 px away
     // (wrapped into the footprint by the tracking, here just accumulated) with a frame-varying dither.
