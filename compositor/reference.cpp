@@ -211,9 +211,9 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     // As retain.comp: a kept sample shows the tent-weighted mean of the tracked
                     // samples of its quality (wrs_shown_add); the oracle judges that.
                     vec3 h_shown = has_history && c.moved
-                                             ? wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, h, c.z,
-                                                               dz, params.tuning.y)
-                                             : h.color;
+                                       ? wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, h, c.z, dz,
+                                                         params.tuning.y)
+                                       : h.color;
                     float rnd = wrs_rand(x, y, eye, frame, seed);
                     Trace& t = trace_[eye][idx];
                     Tracked hd = h;

@@ -1,5 +1,6 @@
 // Atrium scene: procedural high-frequency materials (bricks, checkers, stripes, a text poster
-// texture; filtered over the pixel footprint unless AtriumOptions::materialSamples is 1), simple lighting, sRGB colour, motion vectors in pixels and the linear depth change.
+// texture; filtered over the pixel footprint unless AtriumOptions::materialSamples is 1), simple
+// lighting, sRGB colour, motion vectors in pixels and the linear depth change.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "atrium.glsl"
