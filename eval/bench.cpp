@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <span>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
@@ -50,6 +51,19 @@ Error benchError(const std::string& m) { return Error{1, m}; }
 double boundGain(double fovMse, double boundMse) {
     const double gain = fovMse - boundMse;
     return gain > 0.01 * fovMse ? gain : 0.0;
+}
+
+// The result of method m in the cell (scene, mode, fovea) among `results`, or nullptr.
+const CellResult* findCell(std::span<const CellResult> results, SceneKind scene, FoveationMode mode, float fovea,
+                           Method m) {
+    for (const CellResult& c : results)
+        if (c.scene == scene && c.mode == mode && c.foveaDeg == fovea && c.method == m) return &c;
+    return nullptr;
+}
+
+// Whether a device name is Mesa's CPU renderer (the report says its times are a CPU's).
+bool isCpuRenderer(const std::string& deviceName) {
+    return deviceName.find("llvmpipe") != std::string::npos || deviceName.find("lavapipe") != std::string::npos;
 }
 
 // Frames of one scene as the application submits them (CPU images, both eyes).
@@ -594,12 +608,10 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 }
                 // Retention efficiency against fov and each oracle of this cell.
                 const std::size_t first = results.size() - (runs.size() - 1);
-                const CellResult *fovCell = nullptr, *oracleCell = nullptr, *oracleQCell = nullptr;
-                for (std::size_t k = first; k < results.size(); ++k) {
-                    if (results[k].method == Method::Fov) fovCell = &results[k];
-                    if (results[k].method == Method::Oracle) oracleCell = &results[k];
-                    if (results[k].method == Method::OracleQ) oracleQCell = &results[k];
-                }
+                const auto cell = std::span<const CellResult>(results).subspan(first);
+                const CellResult* fovCell = findCell(cell, scene, mode, fovea, Method::Fov);
+                const CellResult* oracleCell = findCell(cell, scene, mode, fovea, Method::Oracle);
+                const CellResult* oracleQCell = findCell(cell, scene, mode, fovea, Method::OracleQ);
                 auto efficiency = [&](const CellResult* bound, double CellResult::*whole, double CellResult::*near) {
                     if (!fovCell || !bound) return;
                     const double gain = boundGain(fovCell->mse, bound->mse),
@@ -867,13 +879,9 @@ void writeBandSection(std::ostream& md, const std::vector<CellResult>& results) 
         bool seen = false;
         for (std::size_t j = 0; j < i; ++j) seen = seen || same(results[j], first);
         if (seen) continue;
-        const CellResult *fov = nullptr, *oracle = nullptr, *oracleQ = nullptr;
-        for (const CellResult& c : results) {
-            if (!same(c, first)) continue;
-            if (c.method == Method::Fov) fov = &c;
-            if (c.method == Method::Oracle) oracle = &c;
-            if (c.method == Method::OracleQ) oracleQ = &c;
-        }
+        const CellResult* fov = findCell(results, first.scene, first.mode, first.foveaDeg, Method::Fov);
+        const CellResult* oracle = findCell(results, first.scene, first.mode, first.foveaDeg, Method::Oracle);
+        const CellResult* oracleQ = findCell(results, first.scene, first.mode, first.foveaDeg, Method::OracleQ);
         md << "\n" << toString(first.scene) << ", " << toString(first.mode) << ", fovea " << fmt(first.foveaDeg, 1)
            << "°\n\n| method |";
         for (std::size_t b = 0; b < first.bandMse.size(); ++b) md << " " << bandName(b) << " |";
@@ -935,12 +943,10 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             << ',' << c.mse << ',' << c.nearMse << ',' << c.eta << ',' << c.etaNear << ',' << c.staleFraction << ','
             << c.staleMse << ',' << c.staleFovMse << ',' << c.etaQ << ',' << c.etaQNear << '\n';
 
-    auto find = [&](SceneKind scene, FoveationMode mode, Method m, float fovea) -> const CellResult* {
-        for (const auto& c : results)
-            if (c.scene == scene && c.mode == mode && c.method == m && c.foveaDeg == fovea) return &c;
-        return nullptr;
+    auto find = [&](SceneKind scene, FoveationMode mode, Method m, float fovea) {
+        return findCell(results, scene, mode, fovea, m);
     };
-    const bool cpuDevice = deviceName.find("llvmpipe") != std::string::npos || deviceName.find("lavapipe") != std::string::npos;
+    const bool cpuDevice = isCpuRenderer(deviceName);
 
     std::ofstream md(dir + "/table.md");
     if (!md) return Error{1, "cannot write " + dir + "/table.md"};
@@ -1116,7 +1122,7 @@ Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOpti
     csv.precision(7);
     csv << "width,height,scene,method,mode,megapixels_per_frame,total_ms,copy_ms,copy_floor_ms,bytes_per_px,"
            "floor_bytes_per_px,ratio_to_fov,ratio_to_copy,ratio_to_copy_floor,ns_per_px\n";
-    const bool cpuDevice = deviceName.find("llvmpipe") != std::string::npos || deviceName.find("lavapipe") != std::string::npos;
+    const bool cpuDevice = isCpuRenderer(deviceName);
     md << "# wrsfov scaling\n\nTime and bytes per frame at " << steps.size() << " sizes, "
        << (o.monitor ? "monitor mode" : "HMD stereo (both eyes)") << ", fovea " << fmt(o.foveas.front(), 1)
        << "°, foveation " << toString(o.modes.front()) << ", " << o.frames - o.warmup << " counted frames per cell, "
