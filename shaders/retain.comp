@@ -109,12 +109,13 @@ void main() {
     if (wrs_rule_is_oracle(RULE)) hd.color = h_shown;
     Tracked r = wrs_retain(RULE, has_history, hd, d, c, ref.rgb, rnd, outcome, margin);
     if (outcome == WRS_OUT_KEPT) r.color = h.color;  // the sample itself is stored; only the display differs
-    if (!wrs_rule_is_oracle(RULE) && show_mean && outcome == WRS_OUT_KEPT)
-        h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
+    if (!wrs_rule_is_oracle(RULE) && outcome == WRS_OUT_KEPT) {
+        if (show_mean)
+            h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
+        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
+    }
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
-    if (!wrs_rule_is_oracle(RULE) && outcome == WRS_OUT_KEPT)
-        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
     vec3 shown = outcome == WRS_OUT_KEPT ? h_shown : r.color;
     store_output(eye, p, shown);
     if (frame.tuning.z != 0.0) {
