@@ -85,7 +85,8 @@ enum Binding : uint32_t {
     kBirthPrev = 10,
     kBirthCur = 11,
     kSrgbTable = 12,
-    kTiles = 13
+    kTiles = 13,
+    kTileHeld = 14
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 // Timestamps: the frame's start, after pyramid, foveate, wrs/taa/retain; then before and after a copy
@@ -148,6 +149,28 @@ uint32_t retainRule(const CompositorConfig& c) {
     return uint32_t(c.equalQuality);
 }
 
+float floorQuality(const CompositorConfig& c) {
+    return usesRetainPass(c.method) ? gpu::wrs_rule_floor(retainRule(c), uint32_t(c.foveation)) : 0.0f;
+}
+
+double FrameStats::retainShare() const {
+    uint64_t all = 0;
+    for (uint32_t n : tiles) all += n;
+    if (!retained) return 0.0;
+    if (all == 0) return 1.0;
+    return double(all - tiles[gpu::WRS_TILE_SKIP]) / double(all);
+}
+
+double FrameStats::farShare() const {
+    uint64_t all = 0;
+    for (uint32_t n : tiles) all += n;
+    return all ? double(tiles[gpu::WRS_TILE_FAR] + tiles[gpu::WRS_TILE_SKIP]) / double(all) : 0.0;
+}
+
+bool runsSparse(const CompositorConfig& c) {
+    return c.sparseRetention && c.skipTiles && usesRetainPass(c.method) && floorQuality(c) > 0.0f;
+}
+
 double Traffic::perPixel() const {
     double b = 0;
     for (const PassTraffic& p : passes) b += p.read + p.write;
@@ -190,9 +213,16 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
         t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
                             history + output + birth});
     if (c.method == Method::FovTaa) t.passes.push_back({"taa", 16 + history + motion, history + output});
+    // Sparse retention: the retain pass in the tiles that ran it; the others run the foveating pass
+    // (with the birth colour when tracked), and the classification reads the far tiles' motion.
+    const bool sparse = retain && runsSparse(c);
+    const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
+    if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.farShare, 0.0, 1.0), 0.0});
     if (retain)  // the fingerprint level is among the stored ones in every mode
-        t.passes.push_back({"retain", in.colorBytes + levelsRead + history + depth + motion + birth, history + output + birth});
-    t.floor = in.colorBytes + output + (temporal ? 2 * history + depth + motion : 0);
+        t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth),
+                            share * (history + output + birth)});
+    if (sparse) t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * (output + birth)});
+    t.floor = in.colorBytes + output + (temporal ? share * (2 * history + depth + motion) : 0);
     return t;
 }
 
@@ -243,7 +273,9 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
         const glm::uvec2 s = gpu::wrs_level_size(size0, k);
         p.levels[k] = glm::uvec4(s, k == 0 ? 0u : gpu::wrs_level_offset(size0, k) - level0, stored);
     }
-    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, config.trackBirth ? 1.0f : 0.0f, 0.0f);
+    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, config.trackBirth ? 1.0f : 0.0f,
+                         floorQuality(config));
+    p.held = glm::uvec4(0u, 0u, runsSparse(config) ? 1u : 0u, 0u);  // the offsets are the compositor's
     return p;
 }
 
@@ -278,7 +310,7 @@ Status Compositor::init() {
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
          binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
-         binding(kTiles, ssbo)});
+         binding(kTiles, ssbo), binding(kTileHeld, ssbo)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -288,7 +320,7 @@ Status Compositor::init() {
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 24},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 34},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 38},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 5;
@@ -398,14 +430,14 @@ double Compositor::timeCopy(uint64_t bytes) {
     return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
 }
 
-VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 6> constants) {
-    std::array<uint32_t, 7> key{uint32_t(shader), constants[0], constants[1], constants[2],
-                                constants[3],     constants[4], constants[5]};
+VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> constants) {
+    std::array<uint32_t, 8> key{uint32_t(shader)};
+    std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.get();
-    VkSpecializationMapEntry entries[6];
-    for (uint32_t i = 0; i < 6; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-    VkSpecializationInfo spec{6, entries, sizeof(constants), constants.data()};
+    VkSpecializationMapEntry entries[7];
+    for (uint32_t i = 0; i < 7; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{7, entries, sizeof(constants), constants.data()};
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -429,7 +461,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     // Levels 1..4 only (level 0 is the submitted image), fp16 RGBA.
     const uint64_t pyramidTexels =
         (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES;
-    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles;
+    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts;
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
@@ -446,12 +478,18 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     {
         // Tile lists: the classes' indirect dispatches, then a list of every tile of both eyes per class.
         const uint64_t tileCount = uint64_t(groups(width, gpu::WRS_TILE)) * groups(height, gpu::WRS_TILE) * WRS_EYES;
-        auto r = ctx_.createBuffer(16 * gpu::WRS_TILE_CLASSES + tileCount * 4 * gpu::WRS_TILE_CLASSES,
+        auto r = ctx_.createBuffer(16 * gpu::WRS_TILE_LISTS + tileCount * 4 * gpu::WRS_TILE_LISTS,
                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                                    false);
         if (!r) return named("tile lists", r.error());
         tiles = std::move(*r);
+        auto h = ctx_.createBuffer(2 * tileCount * 4, usage, false);
+        if (!h) return named("held qualities", h.error());
+        held = std::move(*h);
+        auto c = ctx_.createBuffer(16 * gpu::WRS_TILE_LISTS, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+        if (!c) return named("tile counts", c.error());
+        counts = std::move(*c);
     }
 
     vk::ImageCreateInfo oci;
@@ -484,6 +522,10 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     birth_[0] = std::move(births[0]);
     birth_[1] = std::move(births[1]);
     tiles_ = std::move(tiles);
+    tileHeld_ = std::move(held);
+    tileCounts_ = std::move(counts);
+    held_ = Held::Unknown;
+    lastTiled_ = false;
     birthAllocated_ = birth;
     for (uint32_t set = 0; set < 4; ++set) {
         // Sets 0, 1 read reservoirs[i] and write reservoirs[1 - i]; sets 2, 3 read and write reservoirs[i].
@@ -494,7 +536,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
             {reservoirs_[o].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
             {birth_[o].handle(), 0, VK_WHOLE_SIZE}};
         const uint32_t bindings[7] = {kFrame, kPyramidBuf, kCandidate, kResPrev, kResCur, kBirthPrev, kBirthCur};
-        VkWriteDescriptorSet w[9];
+        VkWriteDescriptorSet w[10];
         for (int k = 0; k < 7; ++k)
             w[k] =
                 vk::bufferWrite(sets_[set], bindings[k],
@@ -503,7 +545,9 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         w[7] = vk::imageWrite(sets_[set], kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &oi);
         VkDescriptorBufferInfo ti{tiles_.handle(), 0, VK_WHOLE_SIZE};
         w[8] = vk::bufferWrite(sets_[set], kTiles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &ti);
-        vkUpdateDescriptorSets(ctx_.device(), 9, w, 0, nullptr);
+        VkDescriptorBufferInfo hi{tileHeld_.handle(), 0, VK_WHOLE_SIZE};
+        w[9] = vk::bufferWrite(sets_[set], kTileHeld, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &hi);
+        vkUpdateDescriptorSets(ctx_.device(), 10, w, 0, nullptr);
     }
     width_ = width;
     height_ = height;
@@ -659,6 +703,14 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     stats_.usedMotion = hasMotion && temporal;
     stats_.historyReset = temporal && !historyValid_;
     params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
+    // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
+    const bool sparse = runsSparse(config_);
+    const uint32_t tilesPerEye = groups(w, gpu::WRS_TILE) * groups(h, gpu::WRS_TILE);
+    const uint32_t tileCount = tilesPerEye * WRS_EYES;
+    params_.held.x = heldPrev_ * tileCount;
+    params_.held.y = (1 - heldPrev_) * tileCount;
+    stats_.sparse = sparse;
+    stats_.retained = usesRetainPass(config_.method);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
     // Without motion, `wrs` and the oracle read only each pixel's own reservoir, so they update the
@@ -748,6 +800,14 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     }
+    if (sparse && (!historyValid_ || held_ == Held::Unknown)) {
+        // The held qualities this frame reads: nothing after a reset (the reservoirs are empty), and
+        // anything where the last frame did not record them (every pixel's reservoir is real there).
+        const uint32_t word = historyValid_ ? 0x3f800000u : 0u;  // 1.0f: the best quality there is
+        vkCmdFillBuffer(cb, tileHeld_.handle(), VkDeviceSize(params_.held.x) * 4, VkDeviceSize(tileCount) * 4, word);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    }
     auto stamp = [&](uint32_t i) {
         if (timing) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
     };
@@ -755,12 +815,13 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
     stamp(0);
     if (tiled) {
-        uint32_t args[gpu::WRS_TILE_CLASSES][4];
+        uint32_t args[gpu::WRS_TILE_LISTS][4];
         for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
         vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kClassify, {uint32_t(config_.foveation)}));
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kClassify, {uint32_t(config_.foveation), sparse, hasMotion}));
         vkCmdDispatch(cb, groups(groups(w, gpu::WRS_TILE), WRS_GROUP_X), groups(groups(h, gpu::WRS_TILE), WRS_GROUP_Y), eyes);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
@@ -771,7 +832,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // touches only its own pixel and the classes' tiles are disjoint, but a barrier between the class
     // dispatches keeps the order explicit, as synchronization validation (which tracks whole
     // descriptor ranges) requires.
-    auto dispatchPixels = [&](int shader, std::array<uint32_t, 6> constants, bool aliased = false) {
+    auto dispatchPixels = [&](int shader, std::array<uint32_t, 7> constants, bool aliased = false) {
         if (!tiled) {
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
             vkCmdDispatch(cb, gx, gy, eyes);
@@ -783,6 +844,12 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
             vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
         }
+        if (!sparse) return;
+        // Tiles that skip retention: the foveating pass writes their output (and birth colours).
+        if (aliased) computeBarrier(cb);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kFoveate, {uint32_t(config_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
+        vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
     };
     if (pyramid) {
         const bool gauss = config_.foveation == FoveationMode::Gauss;
@@ -810,7 +877,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     stamp(2);
     if (retain) {
         const uint32_t rule = retainRule(config_);
-        dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace}, inPlace);
+        dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace, 0, sparse}, inPlace);
         computeBarrier(cb);
     } else if (wrsPaper) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
@@ -836,17 +903,30 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         const VkBufferCopy bc{0, eyeBytes, eyeBytes};
         if (temporal) vkCmdCopyBuffer(cb, reservoirs_[written].handle(), reservoirs_[written].handle(), 1, &bc);
         if (temporal && birthAllocated_) vkCmdCopyBuffer(cb, birth_[written].handle(), birth_[written].handle(), 1, &bc);
+        const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + tilesPerEye) * 4,
+                              VkDeviceSize(tilesPerEye) * 4};
+        if (sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     }
     stamp(3);
     transitionInputs(false);
+    if (tiled && !record) {
+        // The lists' counts, for FrameStats::tiles.
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        const VkBufferCopy tc{0, 0, 16 * gpu::WRS_TILE_LISTS};
+        vkCmdCopyBuffer(cb, tiles_.handle(), tileCounts_.handle(), 1, &tc);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                          VK_ACCESS_HOST_READ_BIT);
+    }
     // The output (and the history) is visible to whatever the caller runs next on the queue or
     // after its semaphores: presentation, a copy, its own composition.
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                       VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                       VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+    lastTiled_ = tiled && !record;  // waitFrame reads the counts
     if (!record) {
         VK_CHECK(vkEndCommandBuffer(cb));
         VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
@@ -877,11 +957,23 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     } else {
         historyValid_ = false;  // the history buffers did not follow this frame
     }
+    if (sparse) heldPrev_ = 1 - heldPrev_;
+    held_ = sparse ? Held::Valid : Held::Unknown;
+    lastSparse_ = sparse;
     validator_.accept(frame);
     return {};
 }
 
 void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes) {
+    if (lastTiled_) {
+        for (uint32_t k = 0; k < gpu::WRS_TILE_LISTS; ++k)
+            std::memcpy(&stats_.tiles[k], static_cast<const uint8_t*>(tileCounts_.mapped()) + 16 * k, 4);
+    }
+    TrafficInputs in = trafficIn;
+    if (stats_.sparse && lastTiled_) {
+        in.retainShare = stats_.retainShare();
+        in.farShare = stats_.farShare();
+    }
     if (ctx_.timestampPeriodNs() <= 0) return;
     uint64_t ts[kFrameStamps];
     if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kFrameStamps, sizeof(ts), ts, sizeof(uint64_t),
@@ -901,8 +993,8 @@ void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uin
         // The yardsticks, each in a submission of its own after the frame: lavapipe moves time
         // between adjacent dispatches of one submission, which made a copy recorded before the
         // passes read as a fraction of what it costs alone.
-        stats_.gpu.copy = timeCopy(trafficBytes(config_, trafficIn) / WRS_EYES * eyes);
-        stats_.gpu.copyFloor = timeCopy(floorBytes(config_, trafficIn) / WRS_EYES * eyes);
+        stats_.gpu.copy = timeCopy(trafficBytes(config_, in) / WRS_EYES * eyes);
+        stats_.gpu.copyFloor = timeCopy(floorBytes(config_, in) / WRS_EYES * eyes);
     }
 }
 
@@ -922,7 +1014,29 @@ Result<HostImage> Compositor::readOutput(uint32_t eye) {
 
 Result<std::vector<glm::uvec4>> Compositor::readReservoirs(uint32_t eye) {
     if (eye >= WRS_EYES || !output_) return Error{1, "no reservoirs: eye out of range or no frame composited yet"};
-    return readBuffer(reservoirs_[current_], eye);
+    auto res = readBuffer(reservoirs_[current_], eye);
+    if (!res || !lastSparse_) return res;
+    // Tiles that stored nothing hold whatever an earlier frame left there: no sample.
+    auto held = readTileHeld(eye);
+    if (!held) return held.error();
+    const uint32_t tx = groups(width_, gpu::WRS_TILE);
+    for (uint32_t y = 0; y < height_; ++y)
+        for (uint32_t x = 0; x < width_; ++x)
+            if ((*held)[(y / gpu::WRS_TILE) * tx + x / gpu::WRS_TILE] == 0.0f)
+                (*res)[std::size_t(y) * width_ + x] = glm::uvec4(0u);
+    return res;
+}
+
+Result<std::vector<float>> Compositor::readTileHeld(uint32_t eye) {
+    if (eye >= WRS_EYES || !output_) return Error{1, "no held qualities: eye out of range or no frame composited yet"};
+    if (!lastSparse_) return std::vector<float>{};
+    const uint64_t perEye = uint64_t(groups(width_, gpu::WRS_TILE)) * groups(height_, gpu::WRS_TILE);
+    // The last frame wrote the half the next one reads.
+    auto words = readWords(tileHeld_, (heldPrev_ * WRS_EYES + eye) * perEye, perEye);
+    if (!words) return words.error();
+    std::vector<float> out(perEye);
+    std::memcpy(out.data(), words->data(), perEye * 4);
+    return out;
 }
 
 Result<std::vector<glm::vec4>> Compositor::readBirth(uint32_t eye) {
@@ -937,20 +1051,28 @@ Result<std::vector<glm::vec4>> Compositor::readBirth(uint32_t eye) {
 
 Result<std::vector<glm::uvec4>> Compositor::readBuffer(const vk::Buffer& buffer, uint32_t eye) {
     const uint64_t n = uint64_t(width_) * height_;
-    auto staging = ctx_.createBuffer(n * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    auto words = readWords(buffer, eye * n * 4, n * 4);
+    if (!words) return words.error();
+    std::vector<glm::uvec4> out(n);
+    std::memcpy(out.data(), words->data(), n * 16);
+    return out;
+}
+
+Result<std::vector<uint32_t>> Compositor::readWords(const vk::Buffer& buffer, uint64_t first, uint64_t count) {
+    auto staging = ctx_.createBuffer(count * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
     if (!staging) return staging.error();
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                           VK_ACCESS_TRANSFER_READ_BIT);
-        VkBufferCopy region{eye * n * 16, 0, n * 16};
+        VkBufferCopy region{first * 4, 0, count * 4};
         vkCmdCopyBuffer(cb, buffer.handle(), staging->handle(), 1, &region);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                           VK_ACCESS_HOST_READ_BIT);
     });
     if (!s) return s.error();
-    std::vector<glm::uvec4> out(n);
-    std::memcpy(out.data(), staging->mapped(), n * 16);
+    std::vector<uint32_t> out(count);
+    std::memcpy(out.data(), staging->mapped(), count * 4);
     return out;
 }
 
@@ -967,6 +1089,11 @@ Status Compositor::writeReservoirs(uint32_t eye, const std::vector<glm::uvec4>& 
                           VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
         VkBufferCopy region{0, eye * n * 16, n * 16};
         vkCmdCopyBuffer(cb, staging->handle(), reservoirs_[current_].handle(), 1, &region);
+        if (held_ == Held::Valid) {
+            // Every pixel of the eye now holds what was written: its tiles count as holding anything.
+            const uint64_t perEye = uint64_t(groups(width_, gpu::WRS_TILE)) * groups(height_, gpu::WRS_TILE);
+            vkCmdFillBuffer(cb, tileHeld_.handle(), (heldPrev_ * WRS_EYES + eye) * perEye * 4, perEye * 4, 0x3f800000u);
+        }
     });
     if (!s) return s;
     historyValid_ = true;

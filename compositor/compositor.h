@@ -91,10 +91,20 @@ struct CompositorConfig {
     /// own that computes no eccentricity (docs/speed.md "Tiles"). The output is the same bit for
     /// bit either way; off runs every pixel through the per-pixel path (bench and preview --no-skip).
     bool skipTiles = true;
+    /// Sparse retention (docs/retention.md "Sparse retention"; `wrs` and `oracle-q` with skipTiles and
+    /// foveation `mip` or `gauss`): far tiles where no sample sharper than the floor quality can be
+    /// held run the foveating pass alone, with no reservoir traffic, so retention's cost follows
+    /// the area the gaze has visited. The output is the same bit for bit either way; the reservoirs
+    /// differ only in skipped tiles, which store nothing (readReservoirs shows them empty).
+    bool sparseRetention = true;
 };
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
 uint32_t retainRule(const CompositorConfig& c);
+/// The floor rule's quality of a config (wrs_rule_floor; 0 for methods without the retain pass).
+float floorQuality(const CompositorConfig& c);
+/// Whether frames with config `c` run sparse retention (CompositorConfig::sparseRetention and what it needs).
+bool runsSparse(const CompositorConfig& c);
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 /// On a CPU device (Mesa lavapipe) timestamps do not bracket the dispatches between them: a pass's
@@ -115,6 +125,9 @@ struct PassTimes {
 struct TrafficInputs {
     uint32_t width = 0, height = 0;
     uint32_t colorBytes = 4, depthBytes = 0, motionBytes = 0;
+    /// Sparse retention (runsSparse): the share of tiles that ran retention, and the share of far
+    /// tiles, whose motion the classification reads (FrameStats::tiles; mean over frames in a bench).
+    double retainShare = 1.0, farShare = 0.0;
 };
 /// Bytes one pass reads and writes per pixel of one view, from its bindings and formats
 /// (shaders/bindings.glsl), each texel of each binding counted once: the memory traffic of the pass
@@ -151,6 +164,19 @@ struct FrameStats {
     /// The foveating pass ran per tile class (CompositorConfig::skipTiles and a method and mode
     /// that have classes).
     bool tiled = false;
+    /// The retain pass ran (usesRetainPass).
+    bool retained = false;
+    /// Sparse retention ran (runsSparse).
+    bool sparse = false;
+    /// Tiled frames (Wait and Submit modes): tiles of both eyes on each list (WRS_TILE_FOVEA, MID,
+    /// FAR, ANY and SKIP), read back after the frame; all zero otherwise.
+    std::array<uint32_t, gpu::WRS_TILE_LISTS> tiles{};
+    /// Share of the tiles that ran retention (every list but SKIP) in a tiled frame of a method
+    /// with the retain pass; 1 where every pixel ran it (or the counts were not read back: Record
+    /// mode), 0 for methods without it.
+    double retainShare() const;
+    /// Share of the tiles on the far and skip lists (0 without counts).
+    double farShare() const;
 };
 
 /// How a swapchain's images are made when an application renders into them with Vulkan (an OpenXR
@@ -237,12 +263,18 @@ public:
 
     /// The last frame's output of one eye: RGBA8, sRGB-encoded.
     Result<HostImage> readOutput(uint32_t eye);
-    /// The reservoirs the last frame wrote (packed, see wrs_common.h), W*H per eye.
+    /// The reservoirs the last frame wrote (packed, see wrs_common.h), W*H per eye. Tiles that stored
+    /// nothing (sparse retention) read as all-zero: no sample.
     Result<std::vector<glm::uvec4>> readReservoirs(uint32_t eye);
+    /// The held quality of each 8x8 tile of one eye after the last frame (row-major, float; 0: the tile
+    /// stored nothing), as sparse retention's next classification reads it. Empty when the last frame
+    /// did not run sparse retention (every tile then counts as holding anything).
+    Result<std::vector<float>> readTileHeld(uint32_t eye);
     /// CompositorConfig::trackBirth: per pixel of one eye, the linear colour submitted when the
     /// shown sample was taken (W*H, rgb; alpha unused).
     Result<std::vector<glm::vec4>> readBirth(uint32_t eye);
-    /// Replaces the history the next frame reads (tests use it to line up with the reference).
+    /// Replaces the history the next frame reads (tests use it to line up with the reference). The
+    /// eye's tiles then count as holding anything: the next frame runs retention in all of them.
     Status writeReservoirs(uint32_t eye, const std::vector<glm::uvec4>& packed);
     /// The output image (2 layers, layer = eye), in VK_IMAGE_LAYOUT_GENERAL.
     const vk::Image& outputImage() const { return output_; }
@@ -256,7 +288,9 @@ private:
     Status init();
     Status resize(uint32_t width, uint32_t height, bool birth);
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
-    VkPipeline pipeline(int shader, std::array<uint32_t, 6> constants);
+    /// `count` 32-bit words of a buffer from word `first`.
+    Result<std::vector<uint32_t>> readWords(const vk::Buffer& buffer, uint64_t first, uint64_t count);
+    VkPipeline pipeline(int shader, std::array<uint32_t, 7> constants);
     /// GPU milliseconds of the copy kernel moving `bytes` (half read, half written), alone in a submission.
     double timeCopy(uint64_t bytes);
     Result<HostImage> readImageLayer(uint32_t layer);
@@ -281,7 +315,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 7>, vk::Pipeline> pipelines_;
+    std::map<std::array<uint32_t, 8>, vk::Pipeline> pipelines_;
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;
@@ -292,6 +326,17 @@ private:
     bool birthAllocated_ = false;
     vk::Buffer copySrc_, copyDst_;  // the copy kernel's buffers (measureCopy)
     vk::Buffer tiles_;              // tile classes: indirect dispatches and tile lists (skipTiles)
+    vk::Buffer tileCounts_;         // host-visible copy of the lists' counts (FrameStats::tiles)
+    // Sparse retention: per tile and eye the held quality (float bits), two frames' worth: the frame
+    // reads the half at heldPrev_ and writes the other one.
+    vk::Buffer tileHeld_;
+    uint32_t heldPrev_ = 0;
+    // What the half at heldPrev_ says: written by the last frame (Valid), all zero after a history
+    // reset (nothing held), or unknown (the last frame did not run sparse retention, or reservoirs were
+    // written from outside: the next sparse frame first marks every tile as holding anything).
+    enum class Held : uint8_t { Valid, Unknown } held_ = Held::Unknown;
+    bool lastSparse_ = false;   // the last frame ran sparse retention
+    bool lastTiled_ = false;    // the last frame's tile counts are in tileCounts_
     uint32_t current_ = 0;  // reservoirs_[current_] holds the latest frame's reservoirs
     bool historyValid_ = false;
     vk::Image output_;

@@ -16,8 +16,9 @@ glm::u8vec4 encodeOutput(glm::vec3 linear) {
     return glm::u8vec4(q(s.x), q(s.y), q(s.z), 255);
 }
 
-void Reference::setHistory(uint32_t eye, std::vector<glm::uvec4> packed) {
+void Reference::setHistory(uint32_t eye, std::vector<glm::uvec4> packed, std::vector<float> held) {
     res_[eye] = std::move(packed);
+    held_[eye] = std::move(held);
     history_ = true;
 }
 
@@ -151,6 +152,42 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         if (retain) {
             // Pass 2 of wrs / oracle (shaders/retain.comp): candidate, tracked history, retention.
             const uint rule = retainRule(config_);
+            // Sparse retention (classify.comp): the held qualities the step reads (nothing after a
+            // reset; anything where none were recorded), and which far tiles skip retention.
+            const bool sparse = runsSparse(config_);
+            const uvec2 tiles((W + WRS_TILE - 1u) / WRS_TILE, (H + WRS_TILE - 1u) / WRS_TILE);
+            std::vector<float> heldPrev(std::size_t(tiles.x) * tiles.y, history_ ? 1.0f : 0.0f);
+            if (history_ && held_[eye].size() == heldPrev.size()) heldPrev = held_[eye];
+            std::vector<bool> skip(heldPrev.size(), false);
+            std::vector<float> heldCur(heldPrev.size(), 0.0f);
+            for (uint ty = 0; sparse && ty < tiles.y; ++ty)
+                for (uint tx = 0; tx < tiles.x; ++tx) {
+                    const uvec2 t(tx, ty);
+                    const uint cls = wrs_tile_class(mode, t, size0, ep.fov_tan, vec3(ep.gaze), ep.gaze.w, params.tuning.x);
+                    if (cls != WRS_TILE_FAR) continue;
+                    float held = heldPrev[ty * tiles.x + tx];
+                    if (hasMotion) {
+                        vec2 lo(0.0f), hi(0.0f);
+                        for (uint y = ty * WRS_TILE; y < std::min((ty + 1u) * WRS_TILE, H); ++y)
+                            for (uint x = tx * WRS_TILE; x < std::min((tx + 1u) * WRS_TILE, W); ++x) {
+                                vec2 mv = vec2(in.motion->fetch(x, y)) * vec2(ep.motion_scale);
+                                if (!wrs_finite(mv.x) || !wrs_finite(mv.y)) continue;
+                                lo = min(lo, mv);
+                                hi = max(hi, mv);
+                            }
+                        uvec2 s0, s1;
+                        held = 0.0f;
+                        if (!wrs_tile_sources(t, size0, lo, hi, s0, s1)) {
+                        } else if ((s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) > WRS_SOURCE_TILES_MAX) {
+                            held = 1.0f;
+                        } else {
+                            for (uint sy = s0.y; sy <= s1.y; ++sy)
+                                for (uint sx = s0.x; sx <= s1.x; ++sx) held = std::max(held, heldPrev[sy * tiles.x + sx]);
+                        }
+                    }
+                    skip[ty * tiles.x + tx] = wrs_tile_skips(cls, held, params.tuning.w);
+                }
+            auto tileOf = [&](uvec2 q) { return std::size_t(q.y / WRS_TILE) * tiles.x + q.x / WRS_TILE; };
             auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
                 if (level == 0u) {
                     vec4 c = at(0u, p);
@@ -169,6 +206,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 for (uint x = 0; x < W; ++x) {
                     uvec2 p(x, y);
                     std::size_t idx = std::size_t(y) * W + x;
+                    // A skipped tile: the candidate (the foveate pass's output above), nothing stored.
+                    if (skip[tileOf(p)]) continue;
                     vec3 ray = wrs_pixel_ray(x, y, W, H, ep.fov_tan);
                     float e = wrs_eccentricity_deg(ray, vec3(ep.gaze));
                     float r_f = ep.gaze.w;
@@ -186,6 +225,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec3 flo(0.0f), fhi(0.0f);
                     c.fp = sampleRange(WRS_FP_LEVEL, p, flo, fhi, c.fp_range).w;
                     c.z = hasDepth ? zlin[idx] : 0.0f;
+                    c.q_floor = params.tuning.w;
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
                     vec2 pos;
@@ -197,7 +237,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     for (uint k = 0; k < taps && on_screen; ++k) {
                         uvec2 qk;
                         if (!wrs_track_tap(base, k, size0, qk)) continue;
-                        tap[k] = prev_[eye][std::size_t(qk.y) * W + qk.x];
+                        tap[k] = sparse && heldPrev[tileOf(qk)] == 0.0f ? wrs_floor_sample(params.tuning.w)
+                                                                        : prev_[eye][std::size_t(qk.y) * W + qk.x];
                         wrs_track_consider(ts, tap[k], qk, pos);
                     }
                     Tracked h;
@@ -223,6 +264,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     if (!wrs_rule_is_oracle(rule) && t.outcome == WRS_OUT_KEPT)
                         h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, mode != WRS_FOV_NONE && uint(lv.x) == 0u);
                     res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));
+                    if (r.q > 0.0f) heldCur[tileOf(p)] = std::max(heldCur[tileOf(p)], r.q);
                     t.hadHistory = has_history;
                     t.keep = t.outcome == WRS_OUT_KEPT || t.outcome == WRS_OUT_MERGED;
                     t.rnd = rnd;
@@ -230,6 +272,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     glm::u8vec4 o = encodeOutput(t.outcome == WRS_OUT_KEPT ? h_shown : r.color);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                 }
+            held_[eye] = sparse ? std::move(heldCur) : std::vector<float>{};
             continue;
         }
 

@@ -42,12 +42,16 @@ public:
 
     void setConfig(const CompositorConfig& config) { config_ = config; }
     void resetHistory() { history_ = false; }
-    /// Replaces the history the next step reads (packed reservoirs, W*H).
-    void setHistory(uint32_t eye, std::vector<glm::uvec4> packed);
+    /// Replaces the history the next step reads (packed reservoirs, W*H) and, for sparse retention,
+    /// the held quality of each tile (Compositor::readTileHeld; empty: every tile may hold anything).
+    void setHistory(uint32_t eye, std::vector<glm::uvec4> packed, std::vector<float> held = {});
 
     const std::vector<glm::uvec4>& reservoirs(uint32_t eye) const { return res_[eye]; }
     const HostImage& output(uint32_t eye) const { return out_[eye]; }
     const std::vector<Trace>& trace(uint32_t eye) const { return trace_[eye]; }
+    /// Sparse retention: the held quality of each tile after the last step (row-major; 0: stored
+    /// nothing); empty when the step did not run sparse retention.
+    const std::vector<float>& tileHeld(uint32_t eye) const { return held_[eye]; }
     /// Foveated colour (linear RGB) and weight p̂ per pixel.
     const std::vector<glm::vec4>& candidates(uint32_t eye) const { return cand_[eye]; }
 
@@ -55,6 +59,7 @@ private:
     CompositorConfig config_;
     bool history_ = false;
     std::array<std::vector<glm::uvec4>, 2> prev_, res_;
+    std::array<std::vector<float>, 2> held_;
     std::array<std::vector<glm::vec4>, 2> cand_;
     std::array<std::vector<Trace>, 2> trace_;
     std::array<HostImage, 2> out_;

@@ -27,13 +27,20 @@ layout(std430, set = 0, binding = 11) writeonly buffer BirthCur { vec4 birth_cur
 layout(std430, set = 0, binding = 12) readonly buffer SrgbTable { float srgb_table[256]; };
 // Tiles (classify.comp): per class an indirect dispatch (x = its tiles, y = z = 1), then the
 // classes' tile lists, class k at k * tile_capacity(): eye << 30 | ty << 15 | tx.
-layout(std430, set = 0, binding = 13) buffer Tiles { uvec4 tile_args[WRS_TILE_CLASSES]; uint tile_list[]; };
+layout(std430, set = 0, binding = 13) buffer Tiles { uvec4 tile_args[WRS_TILE_LISTS]; uint tile_list[]; };
+// Sparse retention: per tile and eye the best quality the tile stored (float bits; 0: nothing), the
+// previous frame's at frame.held.x, this frame's at frame.held.y.
+layout(std430, set = 0, binding = 14) buffer TileHeld { uint tile_held[]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
 uint eye_index(uint eye) { return eye; }
 uvec2 tile_count() { return (frame.size.xy + uvec2(WRS_TILE - 1u)) / WRS_TILE; }
 uint tile_capacity() { uvec2 t = tile_count(); return t.x * t.y * 2u; }
+// Index of tile t of an eye among the tiles of both eyes (TileHeld).
+uint tile_index(uint eye, uvec2 t) { uvec2 n = tile_count(); return (eye * n.y + t.y) * n.x + t.x; }
+// The held quality of tile t in the previous frame.
+float held_prev(uint eye, uvec2 t) { return uintBitsToFloat(tile_held[frame.held.x + tile_index(eye, t)]); }
 // The pixel and eye of this invocation: over the whole image (tile == 0: groups of
 // WRS_GROUP_X x WRS_GROUP_Y pixels, z = eye), or in the gl_WorkGroupID.x-th tile of class tile - 1
 // (an indirect dispatch of one group per tile; the eye is the same for the whole group).

@@ -7,6 +7,7 @@
 layout(constant_id = 0) const uint FOV_MODE = 1u;
 layout(constant_id = 1) const bool WRITE_OUTPUT = false;
 // 0: every pixel; 1 + class: the tiles of one class (WRITE_OUTPUT only: no weight, no eccentricity).
+// The skip list (1 + WRS_TILE_SKIP) is the far tiles where sparse retention runs this pass alone.
 layout(constant_id = 5) const uint TILE = 0u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
@@ -39,6 +40,8 @@ void main() {
 
     if (WRITE_OUTPUT) {
         store_output(eye, p, c.rgb);
+        // A skipped tile shows its candidate, taken now (the stale-pixel evaluation's birth colour).
+        if (TILE == 1u + WRS_TILE_SKIP && frame.tuning.z != 0.0) birth_cur[pixel_index(eye, p)] = vec4(level0.rgb, 0.0);
     } else {
         candidate[pixel_index(eye, p)] = vec4(c.rgb, w);
     }

@@ -15,7 +15,13 @@ layout(constant_id = 3) const uint RULE = 0u;
 layout(constant_id = 4) const bool IN_PLACE = false;
 // 0: every pixel (levels per pixel); 1 + class: the tiles of one class (wrs_tile_levels, no eccentricity).
 layout(constant_id = 5) const uint TILE = 0u;
+// Sparse retention (tiled only; docs/retention.md "Sparse retention"): a tap in a tile that stored
+// nothing reads as a floor-quality sample at its centre (wrs_floor_sample), and each group (one tile)
+// records the best quality it stored in TileHeld.
+layout(constant_id = 6) const bool SPARSE = false;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
+
+shared uint group_held;
 
 // Bilinear sample of `level` at the centre of pixel p; widens [lo, hi] by the four taps' colours and
 // returns their alpha range in `arange` (the L* range at the fingerprint level).
@@ -35,12 +41,15 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, ino
     return wrs_bilinear(c00, c10, c01, c11, f);
 }
 
-void main() {
-    uint eye;
-    uvec2 p;
-    invocation_pixel(TILE, eye, p);
+// The stored sample at pixel q of the previous frame, as a tracked lookup reads it.
+uvec4 history_tap(uint eye, uvec2 q) {
+    if (SPARSE && tile_held[frame.held.x + tile_index(eye, q / WRS_TILE)] == 0u) return wrs_floor_sample(frame.tuning.w);
+    return res_prev[pixel_index(eye, q)];
+}
+
+// Retention at pixel p: stores its reservoir and output; returns the quality stored.
+float retain_pixel(uint eye, uvec2 p) {
     uvec2 size = frame.size.xy;
-    if (any(greaterThanEqual(p, size))) return;
     EyeParams ep = frame.eye[eye];
     uint idx = pixel_index(eye, p);
 
@@ -67,6 +76,7 @@ void main() {
         c.fp = sample_level(eye, WRS_FP_LEVEL, p, ref, flo, fhi, c.fp_range).a;
     }
     c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
+    c.q_floor = frame.tuning.w;
 
     // Tracked reprojection of the kept sample.
     vec3 mv = vec3(0.0);
@@ -84,7 +94,7 @@ void main() {
         tap[k] = uvec4(0u);  // all-zero storage is no sample
         uvec2 qk;
         if (k >= taps || !on_screen || !wrs_track_tap(base, k, size, qk)) continue;
-        tap[k] = res_prev[pixel_index(eye, qk)];
+        tap[k] = history_tap(eye, qk);
         wrs_track_consider(ts, tap[k], qk, pos);
     }
     Tracked h;
@@ -127,4 +137,23 @@ void main() {
         if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * wrs_merge_weight(h.w_sum, c.q);
         birth_cur[idx] = b;
     }
+    return r.q;
+}
+
+void main() {
+    uint eye;
+    uvec2 p;
+    invocation_pixel(TILE, eye, p);
+    bool inside = all(lessThan(p, frame.size.xy));
+    if (!SPARSE) {
+        if (inside) retain_pixel(eye, p);
+        return;
+    }
+    if (gl_LocalInvocationIndex == 0u) group_held = 0u;
+    barrier();
+    float q = inside ? retain_pixel(eye, p) : 0.0;
+    // Stored qualities are finite and >= 0 (an invalid candidate stores 0), so their bits order as they do.
+    if (q > 0.0) atomicMax(group_held, floatBitsToUint(q));
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) tile_held[frame.held.y + tile_index(eye, p / WRS_TILE)] = group_held;
 }

@@ -154,12 +154,16 @@ const uint WRS_TILE_FOVEA = 1u;  // every pixel e <= r_f: level 0
 const uint WRS_TILE_MID = 2u;    // mip, every pixel in [r_f + 1, r_mid]: level 3
 const uint WRS_TILE_FAR = 3u;    // every pixel past the last blend: level 4
 const uint WRS_TILE_CLASSES = 4u;
+// Sparse retention (docs/retention.md "Sparse retention"): far tiles that can hold nothing sharper
+// than their candidates go on a fifth list and run the foveating pass alone, at `fov`'s cost.
+const uint WRS_TILE_SKIP = 4u;
+const uint WRS_TILE_LISTS = 5u;
 // Slack on the eccentricity range: far above the float rounding of a pixel's e (~1e-4 degrees).
 const float WRS_TILE_MARGIN_DEG = 0.05f;
 
 WRS_FN vec3 wrs_tile_levels(uint cls) {
     if (cls == WRS_TILE_MID) return vec3(3.0f, 3.0f, 0.0f);
-    if (cls == WRS_TILE_FAR) return vec3(4.0f, 4.0f, 0.0f);
+    if (cls == WRS_TILE_FAR || cls == WRS_TILE_SKIP) return vec3(4.0f, 4.0f, 0.0f);
     return vec3(0.0f, 0.0f, 0.0f);
 }
 
@@ -871,6 +875,7 @@ struct RetainInput {
     float fp_range;  // L* range of the four fingerprint taps
     bool moved;   // this pixel has non-zero motion this frame
     float z;      // linear depth now (0 unknown)
+    float q_floor;  // the floor rule's quality (wrs_rule_floor; 0: no floor rule)
 };
 
 // Outcomes of wrs_retain, for statistics and tests.
@@ -880,6 +885,8 @@ const uint WRS_OUT_BETTER = 2u;    // the candidate is of higher quality: the ca
 const uint WRS_OUT_KEPT = 3u;      // the history is of higher quality (or won the combine): kept
 const uint WRS_OUT_MERGED = 4u;    // equal quality: merged
 const uint WRS_OUT_OUTSIDE = 5u;   // equal quality, history outside the taps: clipped, merged (point box: candidate)
+const uint WRS_OUT_FLOOR = 6u;     // a floor-quality history against a floor-quality or invalid candidate: the candidate
+const uint WRS_OUTCOMES = 7u;
 
 WRS_FN Tracked wrs_tracked_from(RetainInput c, float w_sum) {
     Tracked r;
@@ -913,11 +920,14 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
     kept.d = d_new;
     kept.z = c.z;
     if (c.moved) kept.flags = h.flags | WRS_FLAG_MOVED;
-    // An invalid candidate (non-finite input: q = 0) never replaces history, not even through the
-    // change test (a large enough poisoned patch would move the fingerprint).
+    // An invalid candidate (non-finite input: q = 0) never replaces history sharper than the floor,
+    // not even through the change test (a large enough poisoned patch would move the fingerprint).
+    // A floor-quality history is not kept for it (the floor rule below): the pixel shows what `fov`
+    // shows there, and stores the invalid candidate, which no later frame reads as history.
     if (!(c.q > 0.0f)) {
-        outcome = WRS_OUT_KEPT;
-        return kept;
+        bool sharper = h.q > c.q_floor * (1.0f + WRS_Q_EQUAL);
+        outcome = sharper ? WRS_OUT_KEPT : WRS_OUT_FLOOR;
+        return sharper ? kept : fresh;
     }
     if (wrs_rule_is_oracle(rule)) {
         float dh = wrs_srgb_dist2(h.color, ref);
@@ -955,6 +965,14 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
         outcome = WRS_OUT_KEPT;
         return kept;
     }
+    // The floor rule: at the lowest quality the mode has (the far periphery), an equal-quality history
+    // is not combined with the candidate; the candidate is taken fresh. Nothing there can be sharper
+    // than the candidate, so this is what lets a tile that held nothing sharper skip retention
+    // altogether (wrs_tile_skips) with the same output as running it.
+    if (c.q <= c.q_floor * (1.0f + WRS_Q_EQUAL)) {
+        outcome = WRS_OUT_FLOOR;
+        return fresh;
+    }
     if (rule == WRS_RULE_RESERVOIR) {
         WRS_PRECISE float w1 = wrs_biased_history_weight(h.w_sum, c.q, 0.0f, true);
         WRS_PRECISE float total = w1 + c.q;
@@ -990,6 +1008,64 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
     r.d = d_new * (1.0f - t);
     r.w_sum = min(h.w_sum + c.q, WRS_MERGE_CAP * c.q);
     return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sparse retention (docs/retention.md "Sparse retention")
+// ---------------------------------------------------------------------------------------------
+// Only a pixel whose tracked history is sharper than its candidate can keep anything. Each tile's
+// retain workgroup records the best quality it stored, its held quality (float bits, 0: the tile
+// stored nothing); the next frame's classification puts a far tile on the skip list when none of
+// the tiles its tracked lookups can read held anything sharper than the floor. A skipped tile runs
+// the foveating pass alone: no reservoir read or write, no depth fetch. With the floor rule of
+// wrs_retain, the output and every stored sample outside skipped tiles are what running retention
+// everywhere gives, bit for bit.
+
+// The lowest quality a mode's candidates have: the far periphery's 16x16 rate (level 4) for `mip`
+// and `gauss`. `none` has no floor (its weights fall with eccentricity without end): 0.
+WRS_FN float wrs_floor_quality(uint mode) {
+    if (mode == WRS_FOV_NONE) return 0.0f;
+    return wrs_level_quality(vec3(float(WRS_LEVELS - 1), float(WRS_LEVELS - 1), 0.0f));
+}
+// The floor of a rule: the plain oracle chooses among equally sharp samples too, so it has none.
+WRS_FN float wrs_rule_floor(uint rule, uint mode) { return rule == WRS_RULE_ORACLE ? 0.0f : wrs_floor_quality(mode); }
+
+// What a tracked lookup reads from a tile that stored nothing: a floor-quality sample at the pixel's
+// centre, which is what retention would have stored there (every pixel of a skipped tile takes its
+// floor-quality candidate fresh, at offset 0). Only a sample's quality and offset steer the lookup,
+// and a floor-quality history is never kept, merged or shown, so its colour, fingerprint and depth
+// never matter.
+WRS_FN uvec4 wrs_floor_sample(float q_floor) {
+    uint h = wrs_f32_to_f16(q_floor);
+    return uvec4(0u, h << 16u, h, 0u);
+}
+
+// The tiles a tile's tracked lookups can read. A pixel that did not move reads only itself; the 2x2
+// block of one that moved sits at floor(p + mv) (wrs_track_start), so along each axis the tile's
+// pixels read within [floor(first + mv_lo) - 1, floor(last + mv_hi) + 2], first and last being the
+// tile's outer pixels and [mv_lo, mv_hi] the range of its pixels' finite motion, 0 included; the
+// extra pixel each side absorbs the rounding of p + 0.5 + mv - 0.5. Returns false when that range is
+// wholly off-screen; else s0 and s1 are the first and last source tile (inclusive).
+WRS_FN bool wrs_tile_sources(uvec2 t, uvec2 size, vec2 mv_lo, vec2 mv_hi, WRS_OUT(uvec2) s0, WRS_OUT(uvec2) s1) {
+    s0 = t;
+    s1 = t;
+    if (mv_lo.x == 0.0f && mv_lo.y == 0.0f && mv_hi.x == 0.0f && mv_hi.y == 0.0f) return true;  // nothing moved
+    vec2 first = vec2(t * WRS_TILE);
+    vec2 last = vec2(min((t + uvec2(1u, 1u)) * WRS_TILE, size) - uvec2(1u, 1u));
+    vec2 lo = floor(first + mv_lo) - vec2(1.0f, 1.0f);
+    vec2 hi = floor(last + mv_hi) + vec2(2.0f, 2.0f);
+    vec2 top = vec2(size) - vec2(1.0f, 1.0f);
+    s0 = uvec2(clamp(lo, vec2(0.0f, 0.0f), top)) / WRS_TILE;
+    s1 = uvec2(clamp(hi, vec2(0.0f, 0.0f), top)) / WRS_TILE;
+    return hi.x >= 0.0f && hi.y >= 0.0f && lo.x <= top.x && lo.y <= top.y;
+}
+// The most source tiles a classification reads: a tile whose motion spreads wider runs retention,
+// which is always correct.
+const uint WRS_SOURCE_TILES_MAX = 16u;
+// Whether a tile of class `cls`, whose source tiles held at most `held`, skips retention: a far tile
+// (every candidate at the floor) that nothing sharper than the floor can reach.
+WRS_FN bool wrs_tile_skips(uint cls, float held, float q_floor) {
+    return cls == WRS_TILE_FAR && q_floor > 0.0f && held <= q_floor;
 }
 
 // ---------------------------------------------------------------------------------------------

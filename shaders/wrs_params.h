@@ -26,6 +26,9 @@ struct FrameParams {
     // xy: size; z: first texel of the level in an eye's stored pyramid (levels 1.. only, so level 1
     // starts at 0); w: texels of an eye's stored pyramid.
     uvec4 levels[WRS_LEVELS];
+    // Sparse retention (wrs_common.h): x, y: first word of the previous and of this frame's held
+    // qualities in TileHeld (one word per tile, eye-major); z: 1 when far tiles may skip retention; w: pad.
+    uvec4 held;
 };
 
 // Push constants of the pyramid pass: which level is being written.
@@ -40,7 +43,7 @@ WRS_END
 
 #ifdef __cplusplus
 static_assert(sizeof(wrsfov::gpu::EyeParams) == 112);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 112 + 32 + 16 * WRS_LEVELS);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 112 + 32 + 16 * WRS_LEVELS + 16);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 

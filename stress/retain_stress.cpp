@@ -39,6 +39,7 @@ std::vector<RetainStats> runRetainStress(uint64_t frames, uint32_t pixels, uint3
                     c.fp_range = 0.0f;
                     c.moved = false;
                     c.z = wrs_linear_depth(in.depth, kNearZ, kFarZ, false);
+                    c.q_floor = 0.0f;  // streams of arbitrary weights: no floor quality
                     const Tracked h = wrs_unpack_tracked(stored);
                     bool has = wrs_tracked_valid(h);
                     if (has && wrs_depth_flush(h.z, c.z, 0.0f, kDepthTau)) has = false;
@@ -74,9 +75,9 @@ std::string retainMarkdown(const std::vector<RetainStats>& stats) {
           "weight is the candidate's quality. w_sum is bounded by construction (at most "
        << WRS_MERGE_CAP
        << " candidates' quality), so the fp16 field cannot saturate or freeze; there is no counter.\n\n"
-          "| rule | stream | domain | pixel-frames | fresh | changed | better | kept | merged | outside | non-finite "
+          "| rule | stream | domain | pixel-frames | fresh | changed | better | kept | merged | outside | floor | non-finite "
           "stored | valid with q ≤ 0 | q = 0 replaced history | max w_sum | max w_sum / q | verdict |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     bool all = true;
     for (const RetainStats& s : stats) {
         all = all && s.pass();
@@ -92,7 +93,7 @@ std::string retainMarkdown(const std::vector<RetainStats>& stats) {
 
 std::string retainCsv(const std::vector<RetainStats>& stats) {
     std::ostringstream c;
-    c << "rule,stream,domain,pixel_frames,fresh,changed,better,kept,merged,outside,non_finite_stored,"
+    c << "rule,stream,domain,pixel_frames,fresh,changed,better,kept,merged,outside,floor,non_finite_stored,"
          "valid_without_quality,zero_quality_replaced,non_finite_output,wsum_max,wsum_over_q_max,pass\n";
     for (const RetainStats& s : stats) {
         c << s.rule << ',' << s.stream << ',' << s.domain << ',' << s.pixelFrames;

@@ -8,12 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "shaders/wrs_common.h"
+
 namespace wrsfov::stress {
 
 struct RetainStats {
     std::string stream, domain, rule;
     uint64_t pixelFrames = 0;
-    uint64_t outcomes[6] = {};        ///< WRS_OUT_* counts
+    uint64_t outcomes[gpu::WRS_OUTCOMES] = {};  ///< WRS_OUT_* counts
     uint64_t nonFiniteStored = 0;     ///< a stored field not finite
     uint64_t validWithoutQuality = 0; ///< stored usable (valid) with q <= 0
     uint64_t zeroQualityReplaced = 0; ///< a q = 0 candidate replaced usable history

@@ -37,6 +37,8 @@ Reservoirs stepBoth(Compositor& gpu, StereoApp& app, Reference& ref, uint64_t fr
 /// Two compositors that ran the same frames agree bit for bit: both eyes' outputs, and both eyes'
 /// reservoirs (methods with history only). `what` names the comparison in failure messages.
 void expectSameOutputs(Compositor& a, Compositor& b, const std::string& what);
+/// Reservoirs equal byte for byte, except in tiles that sparse retention skipped in one of the two
+/// (they stored nothing there; where both ran it the skipped tiles read as zero in both).
 void expectSameReservoirs(Compositor& a, Compositor& b, const std::string& what);
 
 /// Every reservoir unpacks finite, with w_sum > 0 and M >= 1 (the invariant of docs/conventions.md, "Reservoirs").

@@ -112,7 +112,7 @@ protected:
                 if (index > 1)
                     for (uint32_t e = 0; e < 2; ++e) {
                         prev[e] = *l->comp->readReservoirs(e);
-                        l->ref->setHistory(e, prev[e]);
+                        l->ref->setHistory(e, prev[e], *l->comp->readTileHeld(e));
                     }
                 ASSERT_TRUE(l->app->submit(index, eyes).ok());
                 l->ref->step(l->comp->lastParams(), referenceInputs(eyes));

@@ -672,6 +672,7 @@ RetainInput retainInput(vec3 c, float q, float fp, float range = 0.0f, bool move
     in.fp_range = range;
     in.moved = moved;
     in.z = 0.0f;
+    in.q_floor = 0.0f;  // no floor rule unless a test asks for it
     return in;
 }
 
@@ -937,6 +938,160 @@ TEST(Retention, MillionAdversarialStepsKeepTheInvariants) {
         EXPECT_EQ(bad, 0u);
         EXPECT_GT(valid, 500000u);
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sparse retention (docs/retention.md "Sparse retention")
+// ---------------------------------------------------------------------------------------------
+
+TEST(SparseRetention, FloorRuleTakesTheCandidateOnlyAtTheFloor) {
+    const float floorQ = wrs_floor_quality(WRS_FOV_MIP);
+    EXPECT_EQ(floorQ, 1.0f / 256.0f);
+    EXPECT_EQ(wrs_floor_quality(WRS_FOV_GAUSS), 1.0f / 256.0f);
+    EXPECT_EQ(wrs_floor_quality(WRS_FOV_NONE), 0.0f);
+    EXPECT_EQ(wrs_rule_floor(WRS_RULE_ORACLE, WRS_FOV_MIP), 0.0f);
+    EXPECT_EQ(wrs_rule_floor(WRS_RULE_ORACLE_Q, WRS_FOV_MIP), floorQ);
+    const vec3 grey(0.3f);
+    uint outcome;
+    float margin;
+    auto in = [&](float q, float qFloor) {
+        RetainInput c = retainInput(vec3(0.31f), q, 50.0f);
+        c.q_floor = qFloor;
+        return c;
+    };
+    for (uint rule : {WRS_RULE_MERGE, WRS_RULE_RESERVOIR}) {
+        // Equal quality at the floor: the candidate, fresh (no merge, no random combine).
+        Tracked r = wrs_retain(rule, true, tracked(vec3(0.3f), floorQ, 50.0f), vec2(0.2f, 0.0f), in(floorQ, floorQ), grey,
+                               0.0f, outcome, margin);
+        EXPECT_EQ(outcome, WRS_OUT_FLOOR);
+        EXPECT_EQ(r.color, vec3(0.31f));
+        EXPECT_EQ(r.w_sum, floorQ);
+        EXPECT_EQ(r.d, vec2(0.0f));
+        // Without a floor (foveation none, or q_floor 0) the same decision merges or combines as before.
+        wrs_retain(rule, true, tracked(vec3(0.3f), floorQ, 50.0f), vec2(0.2f, 0.0f), in(floorQ, 0.0f), grey, 0.0f,
+                   outcome, margin);
+        EXPECT_NE(outcome, WRS_OUT_FLOOR);
+        // Above the floor equal quality still merges (rule merge) or combines.
+        wrs_retain(rule, true, tracked(vec3(0.3f), 1.0f / 64.0f, 50.0f), vec2(0.0f), in(1.0f / 64.0f, floorQ), grey,
+                   0.0f, outcome, margin);
+        EXPECT_TRUE(outcome == WRS_OUT_MERGED || outcome == WRS_OUT_KEPT) << outcome;
+        // A sharper history is kept against a floor candidate.
+        wrs_retain(rule, true, tracked(vec3(0.3f), 1.0f, 50.0f), vec2(0.0f), in(floorQ, floorQ), grey, 0.0f, outcome,
+                   margin);
+        EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    }
+    // An invalid candidate (q = 0) keeps a history sharper than the floor, not one at the floor: that
+    // pixel stores the invalid candidate (read as no history later) and shows what fov shows.
+    Tracked r = wrs_retain(WRS_RULE_MERGE, true, tracked(vec3(0.3f), 1.0f / 64.0f, 50.0f), vec2(0.0f), in(0.0f, floorQ),
+                           grey, 0.0f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    r = wrs_retain(WRS_RULE_MERGE, true, tracked(vec3(0.3f), floorQ, 50.0f), vec2(0.0f), in(0.0f, floorQ), grey, 0.0f,
+                   outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_FLOOR);
+    EXPECT_FALSE(wrs_tracked_valid(wrs_unpack_tracked(wrs_pack_tracked(r, vec2(0.5f)))));
+    // The retention oracle keeps only sharper samples, so the floor changes nothing but the invalid case.
+    wrs_retain(WRS_RULE_ORACLE_Q, true, tracked(vec3(0.3f), floorQ, 50.0f), vec2(0.0f), in(floorQ, floorQ), vec3(0.3f),
+               0.0f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_BETTER);
+}
+
+TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
+    // What a lookup reads from a tile that stored nothing: valid, of the floor quality, at offset 0,
+    // exactly as a fresh floor-quality candidate is stored (the lookup's preference uses only these).
+    const float floorQ = wrs_floor_quality(WRS_FOV_MIP);
+    const uvec4 p = wrs_floor_sample(floorQ);
+    ASSERT_TRUE(wrs_packed_tracked_valid(p));
+    EXPECT_EQ(wrs_packed_quality(p), floorQ);
+    EXPECT_EQ(wrs_packed_offset(p), vec2(0.0f));
+    RetainInput c = retainInput(vec3(0.7f, 0.2f, 0.1f), floorQ, 61.0f);
+    const uvec4 fresh = wrs_pack_tracked(wrs_tracked_from(c, floorQ), vec2(0.99f, 0.0f));
+    EXPECT_EQ(wrs_packed_quality(fresh), wrs_packed_quality(p));
+    EXPECT_EQ(wrs_packed_offset(fresh), wrs_packed_offset(p));
+    // Both steer the 2x2 lookup alike from every position.
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-1.2f, 1.2f);
+    for (int i = 0; i < 10000; ++i) {
+        const vec2 pos(5.5f + u(rng), 5.5f + u(rng));
+        TrackState a = wrs_track_begin(uvec2(5u)), b = wrs_track_begin(uvec2(5u));
+        const uvec2 q(5u + uint(i & 1), 5u + uint((i >> 1) & 1));
+        wrs_track_consider(a, p, q, pos);
+        wrs_track_consider(b, fresh, q, pos);
+        EXPECT_EQ(a.has_inside, b.has_inside);
+        EXPECT_EQ(a.has_near, b.has_near);
+        EXPECT_EQ(a.d, b.d);
+        EXPECT_EQ(a.dn, b.dn);
+    }
+}
+
+TEST(SparseRetention, TileSourcesHoldEveryTapALookupReads) {
+    // For random tiles, sizes and per-pixel motion (zero, sub-pixel, large, off-screen, non-finite),
+    // every pixel a tracked lookup of the tile reads (wrs_track_start / wrs_track_tap) lies in a source
+    // tile, computed from the motion range as classify.comp and the reference do. 20 000 tiles.
+    std::mt19937 rng(2024);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    uint64_t taps = 0, wide = 0, offScreen = 0;
+    for (int n = 0; n < 20000; ++n) {
+        const uvec2 size(1u + uint(u(rng) * 90.0f), 1u + uint(u(rng) * 70.0f));
+        const uvec2 tiles((size + uvec2(WRS_TILE - 1u)) / WRS_TILE);
+        const uvec2 t(uint(u(rng) * float(tiles.x)) % tiles.x, uint(u(rng) * float(tiles.y)) % tiles.y);
+        const float scale = n % 4 == 0 ? 0.0f : (n % 4 == 1 ? 1.5f : (n % 4 == 2 ? 12.0f : 200.0f));
+        const vec2 shift((u(rng) - 0.5f) * scale, (u(rng) - 0.5f) * scale);
+        std::vector<std::pair<uvec2, vec3>> px;
+        vec2 lo(0.0f), hi(0.0f);
+        for (uint y = t.y * WRS_TILE; y < std::min((t.y + 1u) * WRS_TILE, size.y); ++y)
+            for (uint x = t.x * WRS_TILE; x < std::min((t.x + 1u) * WRS_TILE, size.x); ++x) {
+                vec3 mv(shift + vec2(u(rng) - 0.5f, u(rng) - 0.5f) * (scale > 0.0f ? 2.0f : 0.0f), 0.0f);
+                if (u(rng) < 0.1f) mv = vec3(0.0f);
+                if (u(rng) < 0.02f) mv.x = kNaN;
+                if (u(rng) < 0.01f) mv.y = kInf;
+                px.push_back({uvec2(x, y), mv});
+                if (!wrs_finite(mv.x) || !wrs_finite(mv.y)) continue;
+                lo = min(lo, vec2(mv));
+                hi = max(hi, vec2(mv));
+            }
+        uvec2 s0, s1;
+        const bool any = wrs_tile_sources(t, size, lo, hi, s0, s1);
+        if ((s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) > WRS_SOURCE_TILES_MAX) {
+            ++wide;  // classified as holding anything: nothing to check
+            continue;
+        }
+        for (auto [p, mv] : px) {
+            const bool moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
+            vec2 pos;
+            ivec2 base;
+            if (!wrs_track_start(p, size, mv, pos, base)) {
+                ++offScreen;
+                continue;
+            }
+            for (uint k = 0; k < (moved ? 4u : 1u); ++k) {
+                uvec2 q;
+                if (!wrs_track_tap(base, k, size, q)) continue;
+                ++taps;
+                ASSERT_TRUE(any) << "tile " << t.x << "," << t.y << ": a tap on screen, sources said none";
+                const uvec2 qt = q / WRS_TILE;
+                ASSERT_TRUE(qt.x >= s0.x && qt.x <= s1.x && qt.y >= s0.y && qt.y <= s1.y)
+                    << "tile " << t.x << "," << t.y << " pixel " << p.x << "," << p.y << " reads " << q.x << "," << q.y
+                    << " outside source tiles " << s0.x << "," << s0.y << " .. " << s1.x << "," << s1.y;
+            }
+        }
+    }
+    std::printf("taps checked %llu, tiles too wide %llu, off-screen lookups %llu\n", (unsigned long long)taps,
+                (unsigned long long)wide, (unsigned long long)offScreen);
+    EXPECT_GT(taps, 1000000u);
+    EXPECT_GT(wide, 1000u);
+    EXPECT_GT(offScreen, 1000u);
+}
+
+TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
+    const float floorQ = wrs_floor_quality(WRS_FOV_MIP);
+    EXPECT_TRUE(wrs_tile_skips(WRS_TILE_FAR, 0.0f, floorQ));
+    EXPECT_TRUE(wrs_tile_skips(WRS_TILE_FAR, floorQ, floorQ));
+    EXPECT_FALSE(wrs_tile_skips(WRS_TILE_FAR, std::nextafter(floorQ, 1.0f), floorQ));
+    EXPECT_FALSE(wrs_tile_skips(WRS_TILE_FAR, 0.0f, 0.0f));  // no floor (none, the oracle): never
+    for (uint cls : {WRS_TILE_ANY, WRS_TILE_FOVEA, WRS_TILE_MID}) EXPECT_FALSE(wrs_tile_skips(cls, 0.0f, floorQ));
+    // A skipped tile is foveated with the far tiles' levels.
+    EXPECT_TRUE(wrs_tile_levels(WRS_TILE_SKIP) == wrs_tile_levels(WRS_TILE_FAR));
+    EXPECT_EQ(wrs_level_quality(wrs_tile_levels(WRS_TILE_FAR)), floorQ);
 }
 
 }  // namespace

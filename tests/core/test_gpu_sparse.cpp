@@ -1,0 +1,215 @@
+// Sparse retention on the GPU (docs/retention.md "Sparse retention"): far tiles where no sample
+// sharper than the floor can be held skip retention and run the foveating pass alone. A compositor
+// that does so gives the same output, bit for bit, and the same reservoirs outside the skipped tiles
+// as one that runs retention in every tile, for `wrs` (both equal-quality rules) and `oracle-q`, both
+// foveation modes with classes, no motion, sub-pixel drift and random motion (large, off-screen),
+// mono views, an invalid gaze and a saccade back into a visited area. And the tiles that run
+// retention follow the gaze: where it has been, not the whole image.
+#include <algorithm>
+#include <cmath>
+
+#include "gpu_checks.h"
+
+namespace wrsfov::test {
+namespace {
+
+class Sparse : public GpuTest {};
+
+constexpr uint32_t W = 160, H = 120;  // 20 x 15 tiles
+
+layers::Fov wideFov() { return layers::Fov{std::atan(-0.8f), std::atan(0.8f), std::atan(0.6f), std::atan(-0.6f)}; }
+glm::vec3 gazeAtPixel(double x, double y) {
+    double tx = -0.8 + (x + 0.5) / W * 1.6, ty = 0.6 - (y + 0.5) / H * 1.2;
+    return glm::vec3(glm::normalize(glm::dvec3(tx, ty, -1.0)));
+}
+// Fine texture shifted by (sx, sy) pixels, scaled in brightness.
+HostImage texture(float sx, float sy, float brightness) {
+    HostImage img = HostImage::make(layers::Format::RGBA16F, W, H);
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            const float u = float(x) + 0.5f - sx, v = float(y) + 0.5f - sy;
+            const float c = 0.5f + 0.35f * std::sin(u * 2.1f) * std::sin(v * 1.7f) + 0.1f * std::sin(u * 0.05f);
+            img.store(x, y, glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f));
+        }
+    return img;
+}
+HostImage motionImage(float mx, float my) {
+    HostImage img = HostImage::make(layers::Format::RG16F, W, H);
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) img.store(x, y, glm::vec4(mx, my, 0, 0));
+    return img;
+}
+
+enum class Motion { None, Drift, Random };
+
+// The gaze path: a fixation at A, a saccade to B, back to A (visited), an invalid sample, then C.
+glm::vec3 gazeAt(uint64_t f) {
+    if (f <= 8) return gazeAtPixel(40, 40);
+    if (f <= 16) return gazeAtPixel(120, 80);
+    if (f <= 22) return gazeAtPixel(42, 41);
+    return gazeAtPixel(90, 30);
+}
+
+TEST_F(Sparse, SameOutputAsRetentionInEveryTile) {
+    struct Case {
+        Method method;
+        EqualQuality rule;
+        FoveationMode mode;
+        Motion motion;
+    };
+    std::vector<Case> cases;
+    for (FoveationMode mode : {FoveationMode::Mip, FoveationMode::Gauss})
+        for (Motion motion : {Motion::None, Motion::Drift, Motion::Random}) {
+            cases.push_back({Method::Wrs, EqualQuality::Merge, mode, motion});
+            cases.push_back({Method::OracleQ, EqualQuality::Merge, mode, motion});
+        }
+    cases.push_back({Method::Wrs, EqualQuality::Reservoir, FoveationMode::Mip, Motion::Drift});
+    double minShare = 1.0;
+    for (const Case& c : cases) {
+        const std::string name = std::string(toString(c.method)) + " " + std::string(toString(c.rule)) + " " +
+                                 std::string(toString(c.mode)) + " motion " + std::to_string(int(c.motion));
+        SCOPED_TRACE(name);
+        CompositorConfig cfg;
+        cfg.method = c.method;
+        cfg.equalQuality = c.rule;
+        cfg.foveation = c.mode;
+        cfg.foveaDeg = 5.0f;
+        cfg.seed = 7;
+        CompositorConfig dense = cfg;
+        dense.sparseRetention = false;
+        auto a = Compositor::create(context(), cfg);
+        auto b = Compositor::create(context(), dense);
+        ASSERT_TRUE(a.ok() && b.ok());
+        const std::optional<layers::Format> mf =
+            c.motion == Motion::None ? std::nullopt : std::optional<layers::Format>(layers::Format::RGBA16F);
+        StereoApp appA(**a, W, H, layers::Format::RGBA16F, layers::Format::D32F, mf);
+        StereoApp appB(**b, W, H, layers::Format::RGBA16F, layers::Format::D32F, mf);
+        RandomScene scene(11);
+        const HostImage depth = scene.depth(layers::Format::D32F, W, H);
+        for (uint64_t f = 1; f <= 26; ++f) {
+            std::array<EyeFrame, 2> eyes;
+            const glm::vec2 s = c.motion == Motion::Drift ? glm::vec2(0.37f, 0.21f) * float(f) : glm::vec2(0.0f);
+            for (int e = 0; e < 2; ++e) {
+                eyes[e].fov = wideFov();
+                // A light change at frame 20 flushes what A's second visit kept.
+                eyes[e].color = c.motion == Motion::Random ? scene.color(layers::Format::RGBA16F, W, H)
+                                                           : texture(s.x, s.y, f == 20 ? 0.7f : 1.0f);
+                eyes[e].depth = depth;
+                if (c.motion == Motion::Drift) {
+                    HostImage m = motionImage(-0.37f, -0.21f);
+                    HostImage m16 = HostImage::make(layers::Format::RGBA16F, W, H);
+                    for (uint32_t y = 0; y < H; ++y)
+                        for (uint32_t x = 0; x < W; ++x) m16.store(x, y, m.fetch(x, y));
+                    eyes[e].motion = m16;
+                } else if (c.motion == Motion::Random) {
+                    eyes[e].motion = scene.motion(layers::Format::RGBA16F, W, H);
+                }
+                eyes[e].gaze = {gazeAt(f) + glm::vec3(0.0f, 0.002f * float(e), 0.0f), f != 23, 1.0f};
+            }
+            ASSERT_TRUE(appA.submit(f, eyes).ok());
+            ASSERT_TRUE(appB.submit(f, eyes).ok());
+            EXPECT_TRUE((*a)->stats().sparse);
+            EXPECT_FALSE((*b)->stats().sparse);
+            EXPECT_EQ((*b)->stats().retainShare(), 1.0);
+            const std::string what = "frame " + std::to_string(f);
+            expectSameOutputs(**a, **b, what);
+            expectSameReservoirs(**a, **b, what);
+            if (HasFailure()) return;
+            if (f > 1) minShare = std::min(minShare, (*a)->stats().retainShare());
+        }
+    }
+    // The comparison means something only where tiles were skipped.
+    EXPECT_LT(minShare, 0.5);
+}
+
+TEST_F(Sparse, MonoViewsMatchStereo) {
+    for (Motion motion : {Motion::None, Motion::Drift}) {
+        CompositorConfig cfg;
+        cfg.method = Method::Wrs;
+        CompositorConfig dense = cfg;
+        dense.sparseRetention = false;
+        auto a = Compositor::create(context(), cfg);
+        auto b = Compositor::create(context(), dense);
+        ASSERT_TRUE(a.ok() && b.ok());
+        HostStereoApp::Options o;
+        o.width = W;
+        o.height = H;
+        o.color = layers::Format::RGBA16F;
+        if (motion == Motion::Drift) o.motion = layers::Format::RG16F;
+        o.monoView = true;
+        auto appA = HostStereoApp::create(**a, o);
+        auto appB = HostStereoApp::create(**b, o);
+        ASSERT_TRUE(appA.ok() && appB.ok());
+        for (uint64_t f = 1; f <= 20; ++f) {
+            const glm::vec2 s = motion == Motion::Drift ? glm::vec2(0.37f, 0.21f) * float(f) : glm::vec2(0.0f);
+            std::array<EyeSubmission, 2> eyes;
+            eyes[0].fov = wideFov();
+            eyes[0].color = texture(s.x, s.y, 1.0f);
+            if (motion == Motion::Drift) eyes[0].motion = motionImage(-0.37f, -0.21f);
+            eyes[0].gaze = {gazeAt(f), true, 1.0f};
+            eyes[1] = eyes[0];
+            ASSERT_TRUE((*appA)->submit(f, f / 90.0, eyes).ok());
+            ASSERT_TRUE((*appB)->submit(f, f / 90.0, eyes).ok());
+            EXPECT_TRUE((*a)->stats().monoViews && (*a)->stats().sparse);
+            const std::string what = "frame " + std::to_string(f);
+            expectSameOutputs(**a, **b, what);
+            expectSameReservoirs(**a, **b, what);
+            // The right eye's held qualities are the left eye's.
+            EXPECT_EQ(*(*a)->readTileHeld(0), *(*a)->readTileHeld(1)) << what;
+            if (HasFailure()) return;
+        }
+    }
+}
+
+TEST_F(Sparse, RetentionFollowsTheVisitedArea) {
+    // A still scene: fixate A, then B. The tiles around A keep their sharp samples and keep running
+    // retention after the gaze left; far tiles neither fixation reached skip; a light change flushes
+    // A's samples and its tiles go back to skipping.
+    CompositorConfig cfg;
+    cfg.method = Method::Wrs;
+    auto comp = Compositor::create(context(), cfg);
+    ASSERT_TRUE(comp.ok());
+    HostStereoApp::Options o;
+    o.width = W;
+    o.height = H;
+    o.color = layers::Format::RGBA16F;
+    auto app = HostStereoApp::create(**comp, o);
+    ASSERT_TRUE(app.ok());
+    const uint32_t tx = W / gpu::WRS_TILE;
+    const float floorQ = gpu::wrs_floor_quality(gpu::WRS_FOV_MIP);
+    auto run = [&](uint64_t from, uint64_t to, glm::vec3 gaze, float brightness) {
+        for (uint64_t f = from; f <= to; ++f) {
+            std::array<EyeSubmission, 2> eyes;
+            for (int e = 0; e < 2; ++e) {
+                eyes[e].fov = wideFov();
+                eyes[e].color = texture(0, 0, brightness);
+                eyes[e].gaze = {gaze, true, 1.0f};
+            }
+            EXPECT_TRUE((*app)->submit(f, f / 90.0, eyes).ok());
+        }
+        return (*comp)->stats().retainShare();
+    };
+    const double atA = run(1, 10, gazeAtPixel(40, 40), 1.0f);
+    const std::vector<float> heldA = *(*comp)->readTileHeld(0);
+    const double atB = run(11, 20, gazeAtPixel(120, 80), 1.0f);
+    const std::vector<float> heldB = *(*comp)->readTileHeld(0);
+    std::printf("retain share: at A %.3f, then at B %.3f\n", atA, atB);
+    const std::size_t tileA = (40 / gpu::WRS_TILE) * tx + 40 / gpu::WRS_TILE, tileB = (80 / gpu::WRS_TILE) * tx + 120 / gpu::WRS_TILE;
+    const std::size_t corner = (H / gpu::WRS_TILE - 1) * tx;  // bottom left: far from both
+    EXPECT_EQ(heldA[tileA], 1.0f) << "the fixated tile holds full-rate samples";
+    EXPECT_EQ(heldB[tileA], 1.0f) << "and keeps them after the gaze left";
+    EXPECT_EQ(heldB[tileB], 1.0f);
+    EXPECT_EQ(heldB[corner], 0.0f) << "a far tile the gaze never reached stores nothing";
+    EXPECT_GT(atB, atA) << "both visited areas run retention";
+    EXPECT_LT(atB, 0.6) << "but not the whole image";
+    // The light change flushes A's samples (change test): A's tiles hold the floor, then nothing.
+    run(21, 23, gazeAtPixel(120, 80), 0.6f);
+    const std::vector<float> heldC = *(*comp)->readTileHeld(0);
+    EXPECT_LE(heldC[tileA], floorQ) << "A's samples were flushed by the light change";
+    const double after = (*comp)->stats().retainShare();
+    EXPECT_LT(after, atB);
+    std::printf("after the light change: %.3f\n", after);
+}
+
+}  // namespace
+}  // namespace wrsfov::test
