@@ -275,6 +275,8 @@ struct Accum {
     int n = 0, heavy = 0;
     std::vector<double> pyramid, foveate, temporal, total, copy, copyFloor;
     bool mono = false;  ///< the passes ran once for both views (FrameStats::monoViews)
+    double retainShare = 0, farShare = 0;  ///< sums over counted frames (FrameStats::retainShare, farShare)
+    int shareFrames = 0;
     TemporalInstability instab[2];
     std::array<double, kEccBands.size() - 1> bandSe{}, bandPx{};  ///< squared error and pixels per band
 };
@@ -447,6 +449,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.change = o.change;
                     cc.measureCopy = i >= 0;
                     cc.skipTiles = o.skipTiles;
+                    cc.sparseRetention = o.sparseRetention;
                     cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();
@@ -520,6 +523,11 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         if (f < o.warmup) continue;
                         const FrameStats& st = run.comp->stats();
                         run.acc.mono = st.monoViews;
+                        if (st.retained) {
+                            run.acc.retainShare += st.retainShare();
+                            run.acc.farShare += st.farShare();
+                            run.acc.shareFrames++;
+                        }
                         if (st.gpu.valid) {
                             run.acc.pyramid.push_back(st.gpu.pyramid);
                             run.acc.foveate.push_back(st.gpu.foveate);
@@ -573,9 +581,16 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     c.frames = o.frames - o.warmup;
                     c.gpu = {median(a.pyramid), median(a.foveate), median(a.temporal), median(a.total),
                              median(a.copy),    median(a.copyFloor), !a.total.empty()};
-                    c.traffic = traffic(run.comp->config(), trafficIn);
+                    // Sparse retention: the bytes of the tiles that ran retention and of those that did not.
+                    TrafficInputs cellIn = trafficIn;
+                    if (a.shareFrames > 0) {
+                        c.retainShare = a.retainShare / a.shareFrames;
+                        cellIn.retainShare = c.retainShare;
+                        cellIn.farShare = a.farShare / a.shareFrames;
+                    }
+                    c.traffic = traffic(run.comp->config(), cellIn);
                     // Identical views run the passes once (monitor mode, FrameStats::monoViews); so does the copy.
-                    c.trafficBytes = double(trafficBytes(run.comp->config(), trafficIn)) / (a.mono ? 2 : 1);
+                    c.trafficBytes = double(trafficBytes(run.comp->config(), cellIn)) / (a.mono ? 2 : 1);
                     c.copyMs = median(a.copy);
                     c.copyFloorMs = median(a.copyFloor);
                     c.shadingFraction = a.shading / std::max(1, a.n);
@@ -932,7 +947,7 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
            "copy_ms,copy_floor_ms,traffic_bytes,bytes_per_px,floor_bytes_per_px,ratio_to_floor_bytes,ratio_to_copy,"
            "ratio_to_copy_floor,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
            "temporal_instability,mse,near_gaze_mse,eta,eta_near_gaze,stale_fraction,stale_mse,stale_fov_mse,eta_q,"
-           "eta_q_near_gaze\n";
+           "eta_q_near_gaze,retain_share\n";
     for (const auto& c : results)
         csv << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg << ','
             << c.frames << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal << ',' << c.gpu.total
@@ -941,7 +956,7 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << c.gpu.total / c.fovTotalMs << ','
             << c.shadingFraction << ',' << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
             << ',' << c.mse << ',' << c.nearMse << ',' << c.eta << ',' << c.etaNear << ',' << c.staleFraction << ','
-            << c.staleMse << ',' << c.staleFovMse << ',' << c.etaQ << ',' << c.etaQNear << '\n';
+            << c.staleMse << ',' << c.staleFovMse << ',' << c.etaQ << ',' << c.etaQNear << ',' << c.retainShare << '\n';
 
     auto find = [&](SceneKind scene, FoveationMode mode, Method m, float fovea) {
         return findCell(results, scene, mode, fovea, m);
@@ -1042,14 +1057,16 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
           "- *GPU ms*: median GPU time per frame, both eyes; *×copy*: against a copy kernel moving the same "
           "bytes in the same submission; *×copy floor*: against a copy kernel moving only the method's floor "
           "bytes (see Traffic); *×fov*: against fov in the same cell; *B/px*: bytes the passes read and write per "
-          "pixel of one view; *shading*: the fraction of full-rate shading the foveation represents.\n";
+          "pixel of one view; *shading*: the fraction of full-rate shading the foveation represents; *retain*: "
+          "the share of 8×8 tiles that ran retention (sparse retention skips far tiles that can hold nothing "
+          "sharper than their candidates), mean over the counted frames.\n";
 
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
             md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"
                << "| method | fovea | near PSNR | PSNR | η | η near | η_q | η_q near | SSIM | FLIP | ecc-MSE | temporal "
-                  "| stale | stale MSE | fov there | GPU ms | ×copy | ×copy floor | ×fov | B/px | shading |\n"
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+                  "| stale | stale MSE | fov there | GPU ms | ×copy | ×copy floor | ×fov | B/px | shading | retain |\n"
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
             for (const auto& c : results) {
                 if (c.scene != scene || c.mode != mode) continue;
                 md << "| " << toString(c.method) << " | " << fmt(c.foveaDeg, 1) << "° | " << fmt(c.nearPsnr) << " | "
@@ -1060,7 +1077,8 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                    << " | " << fmt(c.staleMse, 5) << " | " << fmt(c.staleFovMse, 5) << " | " << fmt(c.gpu.total, 3)
                    << " | " << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.gpu.total / c.copyFloorMs) << " | "
                    << fmt(c.gpu.total / c.fovTotalMs) << " | " << fmt(c.traffic.perPixel(), 1) << " | "
-                   << fmt(c.shadingFraction, 3) << " |\n";
+                   << fmt(c.shadingFraction, 3) << " | "
+                   << (std::isnan(c.retainShare) ? std::string("n/a") : fmt(100 * c.retainShare, 1) + " %") << " |\n";
             }
             float eq = equalQualityFovea(results, scene, mode);
             md << "\nEqual-quality fovea (smallest wrs fovea below 10° with near-gaze PSNR ≥ fov at 10°): "

@@ -41,6 +41,9 @@ struct BenchOptions {
     bool qualityMetrics = true;
     /// CompositorConfig::skipTiles (--no-skip turns it off: the same output, the per-pixel path).
     bool skipTiles = true;
+    /// CompositorConfig::sparseRetention (--dense-retention turns it off: the same output, retention in
+    /// every tile).
+    bool sparseRetention = true;
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;
@@ -94,6 +97,9 @@ struct CellResult {
     double staleFraction = std::numeric_limits<double>::quiet_NaN();
     double staleMse = std::numeric_limits<double>::quiet_NaN(), staleFovMse = std::numeric_limits<double>::quiet_NaN();
     double fovTotalMs = 0;    ///< the `fov` method's median total in the same cell (for ratios)
+    /// Methods with the retain pass: mean share of tiles that ran retention (FrameStats::retainShare);
+    /// NaN for the others.
+    double retainShare = std::numeric_limits<double>::quiet_NaN();
     /// MSE (sRGB, 0..1) per eccentricity band (kEccBands), and the share of pixels in each band.
     std::array<double, kEccBands.size() - 1> bandMse{}, bandShare{};
 };

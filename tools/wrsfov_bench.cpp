@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
     cli::Size size{o.width, o.height};
-    bool quick = false, noStale = false, noSkip = false;
+    bool quick = false, noStale = false, noSkip = false, dense = false;
 
     CLI::App app{
         "Run time against error: sweeps scenes x methods x fovea sizes x foveation modes with synthetic gaze, "
@@ -156,6 +156,10 @@ int main(int argc, char** argv) {
                  "Every pixel through the per-pixel path: no tile classes (fovea, mid and far periphery "
                  "tiles with constant levels, docs/speed.md \"Tiles\"). The output is the same bit for bit; "
                  "the time shows what the classes save.");
+    app.add_flag("--dense-retention", dense,
+                 "Retention in every tile (no sparse retention, docs/retention.md \"Sparse retention\"): the "
+                 "same output bit for bit; the time and bytes show what skipping the far tiles that hold "
+                 "nothing sharper saves.");
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");
@@ -182,6 +186,7 @@ int main(int argc, char** argv) {
     o.height = size.height;
     o.staleStats = !noStale;
     o.skipTiles = !noSkip;
+    o.sparseRetention = !dense;
     if (quick) {
         if (!scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
         if (!sizeGiven) o.width = 160, o.height = 144;
