@@ -204,7 +204,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info
     const XrVersion v = info->applicationInfo.apiVersion;
     if (XR_VERSION_MAJOR(v) != 1 || XR_VERSION_MINOR(v) != 0) return XR_ERROR_API_VERSION_UNSUPPORTED;
     if (info->applicationInfo.applicationName[0] == '\0') return XR_ERROR_NAME_INVALID;
-    if (info->enabledApiLayerCount > 0) return XR_ERROR_API_LAYER_NOT_PRESENT;  // the loader strips its layers
+    // The loader passes the create info down unchanged: the names of the layers it enabled (and
+    // loaded above us) arrive here. The runtime has no layers of its own, so it only checks them.
+    if (info->enabledApiLayerCount > 0 && !info->enabledApiLayerNames) return XR_ERROR_VALIDATION_FAILURE;
+    for (uint32_t i = 0; i < info->enabledApiLayerCount; ++i)
+        if (!info->enabledApiLayerNames[i]) return XR_ERROR_VALIDATION_FAILURE;
     auto inst = std::make_unique<Instance>();
     for (uint32_t i = 0; i < info->enabledExtensionCount; ++i) {
         const char* e = info->enabledExtensionNames ? info->enabledExtensionNames[i] : nullptr;

@@ -785,5 +785,52 @@ TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     EXPECT_EQ(src[0], b.binding);
 }
 
+/// An instance of its own (no session) with these extensions; XR_NULL_HANDLE on failure.
+XrInstance bareInstance(const std::vector<const char*>& extensions, const std::vector<const char*>& layers = {}) {
+    XrInstanceCreateInfo ici{XR_TYPE_INSTANCE_CREATE_INFO};
+    std::snprintf(ici.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "wrsfov-xr-bare");
+    ici.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
+    ici.enabledExtensionCount = uint32_t(extensions.size());
+    ici.enabledExtensionNames = extensions.data();
+    ici.enabledApiLayerCount = uint32_t(layers.size());
+    ici.enabledApiLayerNames = layers.data();
+    XrInstance inst = XR_NULL_HANDLE;
+    const XrResult r = xrCreateInstance(&ici, &inst);
+    EXPECT_EQ(r, XR_SUCCESS);
+    return r == XR_SUCCESS ? inst : XR_NULL_HANDLE;
+}
+
+// The loader hands the application's XrInstanceCreateInfo to the runtime unchanged, so the names of
+// the API layers the application enabled reach the runtime, which must accept them. Here the OpenXR
+// core validation layer (installed with the system's OpenXR packages) is enabled by name, through the
+// real loader; where XR_API_LAYER_PATH hides it (the run through our own layer), our layer is.
+TEST(XrClient, InstanceWithApiLayersEnabledByName) {
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateApiLayerProperties(0, &n, nullptr), XR_SUCCESS);
+    std::vector<XrApiLayerProperties> props(n, {XR_TYPE_API_LAYER_PROPERTIES});
+    ASSERT_EQ(xrEnumerateApiLayerProperties(n, &n, props.data()), XR_SUCCESS);
+    const char* env = std::getenv("XR_ENABLE_API_LAYERS");
+    const std::string enabledByEnv = env ? env : "";
+    std::string chosen;
+    for (const char* want : {"XR_APILAYER_LUNARG_core_validation", "XR_APILAYER_WRSFOV_foveation"})
+        for (const auto& p : props)
+            if (chosen.empty() && std::strcmp(p.layerName, want) == 0 && enabledByEnv.find(want) == std::string::npos)
+                chosen = want;
+    if (chosen.empty()) {
+        // Only where the environment enabled the layers already, or XR_API_LAYER_PATH hides the rest.
+        ASSERT_TRUE(!enabledByEnv.empty() || std::getenv("XR_API_LAYER_PATH"))
+            << "XR_APILAYER_LUNARG_core_validation is not installed";
+        GTEST_SKIP() << "no API layer left to enable by name";
+    }
+    const char* name = chosen.c_str();
+    XrInstance inst = bareInstance({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME}, {name});
+    ASSERT_NE(inst, XR_NULL_HANDLE) << "with " << name << " enabled";
+    XrSystemGetInfo sgi{XR_TYPE_SYSTEM_GET_INFO};
+    sgi.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
+    XrSystemId sys = XR_NULL_SYSTEM_ID;
+    EXPECT_EQ(xrGetSystem(inst, &sgi, &sys), XR_SUCCESS);
+    EXPECT_EQ(xrDestroyInstance(inst), XR_SUCCESS);
+}
+
 }  // namespace
 }  // namespace wrsfov::xrtest
