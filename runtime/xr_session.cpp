@@ -627,6 +627,10 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitSwapchainImage(XrSwapchain h, const XrSwapc
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    // One image at a time is waited for: a second wait before its release is out of order, and
+    // changes nothing (the images stay acquired for later legitimate waits).
+    for (uint32_t i = 0; i < sc->images->info().imageCount; ++i)
+        if (sc->images->isWaited(i)) return XR_ERROR_CALL_ORDER_INVALID;
     // Frame end is synchronous: an acquired image is free as soon as it is acquired.
     return sc->images->wait() ? XR_SUCCESS : XR_ERROR_CALL_ORDER_INVALID;
 }

@@ -832,5 +832,32 @@ TEST(XrClient, InstanceWithApiLayersEnabledByName) {
     EXPECT_EQ(xrDestroyInstance(inst), XR_SUCCESS);
 }
 
+// One image at a time is waited for: a second xrWaitSwapchainImage before the release is out of
+// order and changes nothing, so the waits that follow the release still work.
+TEST(XrClient, SecondWaitBeforeReleaseIsRefused) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    Swapchain sc;
+    ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 1, kColorUsage, sc), XR_SUCCESS);
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    uint32_t idx[2];
+    ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[0]), XR_SUCCESS);
+    ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[1]), XR_SUCCESS);
+    ASSERT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_ERROR_CALL_ORDER_INVALID);
+    ASSERT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);  // the second acquired image
+    EXPECT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_ERROR_CALL_ORDER_INVALID);  // nothing acquired
+    // The ring goes on as before.
+    for (int f = 0; f < 3; ++f) {
+        uint32_t i = 0;
+        ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &i), XR_SUCCESS);
+        ASSERT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);
+        ASSERT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    }
+}
+
 }  // namespace
 }  // namespace wrsfov::xrtest
