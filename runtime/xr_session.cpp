@@ -744,7 +744,7 @@ XrResult checkSpaceWarp(Session* s, const XrCompositionLayerSpaceWarpInfoFB& w) 
         return XR_ERROR_VALIDATION_FAILURE;
     if (XrResult r = checkSubImage(s, w.motionVectorSubImage, nullptr); r != XR_SUCCESS) return r;
     if (XrResult r = checkSubImage(s, w.depthSubImage, nullptr); r != XR_SUCCESS) return r;
-    if (!isValidPose(w.appSpaceDeltaPose)) return XR_ERROR_POSE_INVALID;
+    if (!isValidPose(spaceWarpDeltaPose(w.appSpaceDeltaPose))) return XR_ERROR_POSE_INVALID;
     if (!(w.minDepth >= 0.0f && w.minDepth < w.maxDepth && w.maxDepth <= 1.0f)) return XR_ERROR_VALIDATION_FAILURE;
     auto ok = [](float z) { return z > 0.0f && !std::isnan(z); };
     if (!ok(w.nearZ) || !ok(w.farZ) || w.nearZ == w.farZ) return XR_ERROR_VALIDATION_FAILURE;
@@ -792,8 +792,9 @@ XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
             }
         } else if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
             auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(l);
+            // A quad of size {0, 0} (or of zero width or height) is valid and covers nothing.
             if (q->eyeVisibility > XR_EYE_VISIBILITY_RIGHT || !std::isfinite(q->size.width) ||
-                !std::isfinite(q->size.height) || q->size.width <= 0.0f || q->size.height <= 0.0f)
+                !std::isfinite(q->size.height) || q->size.width < 0.0f || q->size.height < 0.0f)
                 return XR_ERROR_VALIDATION_FAILURE;
             if (!isValidPose(q->pose)) return XR_ERROR_POSE_INVALID;
             if (XrResult r = checkSubImage(s, q->subImage, nullptr); r != XR_SUCCESS) return r;
@@ -886,6 +887,7 @@ void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const
     for (uint32_t i = projIndex + 1; i < info->layerCount; ++i) {
         if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
         auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(info->layers[i]);
+        if (q->size.width == 0.0f || q->size.height == 0.0f) continue;  // covers nothing
         Pose space;
         if (!spacePose(*getSpace(q->space), t, space)) continue;  // an untracked space: not shown
         const Pose quadInStage = space * fromXr(q->pose);

@@ -417,10 +417,16 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
         {"near == far", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.farZ = s.nearZ; }, XR_ERROR_VALIDATION_FAILURE},
         {"empty depth range", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.minDepth = s.maxDepth; },
          XR_ERROR_VALIDATION_FAILURE},
-        {"unknown flag", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.layerFlags = 0x80; }, XR_ERROR_VALIDATION_FAILURE},
+        {"unknown flag", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.layerFlags = 0x80; },
+         XR_ERROR_VALIDATION_FAILURE},
         {"bad delta pose", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.appSpaceDeltaPose.orientation.w = 0.5f; },
          XR_ERROR_POSE_INVALID},
-        {"motion rect outside", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.motionVectorSubImage.imageRect.offset.x = 1; },
+        // XrPosef{} (a zero quaternion): what an application without locomotion leaves there; read as
+        // the identity.
+        {"zero-initialised delta pose", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.appSpaceDeltaPose = XrPosef{}; },
+         XR_SUCCESS},
+        {"motion rect outside",
+         [](XrCompositionLayerSpaceWarpInfoFB& s) { s.motionVectorSubImage.imageRect.offset.x = 1; },
          XR_ERROR_SWAPCHAIN_RECT_INVALID},
         {"good again", [](XrCompositionLayerSpaceWarpInfoFB&) {}, XR_SUCCESS},
     };
@@ -452,7 +458,7 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
     auto opened = eval::SequenceReader::open(dir);
     ASSERT_TRUE(opened) << opened.error().message;
     auto& r = *opened;
-    EXPECT_EQ(r->info().frameCount, 2u);  // the two good frames
+    EXPECT_EQ(r->info().frameCount, 3u);  // the three good frames
     ASSERT_TRUE(r->info().motion.has_value());
     EXPECT_EQ(*r->info().motion, eval::MotionUnits::Pixels);
     ASSERT_TRUE(r->info().depth.has_value());  // from the space-warp info
@@ -518,8 +524,9 @@ TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
         ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
             StereoLayer sl;
             sl.build(*c, fs.predictedDisplayTime, color);
-            XrCompositionLayerQuad q[2] = {{XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}};
-            for (int k = 0; k < 2; ++k) {
+            XrCompositionLayerQuad q[3] = {
+                {XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}};
+            for (int k = 0; k < 3; ++k) {
                 q[k].space = view;
                 q[k].pose.orientation.w = 1.0f;
                 q[k].subImage.swapchain = k ? green.handle : red.handle;
@@ -531,9 +538,14 @@ TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
             q[1].eyeVisibility = XR_EYE_VISIBILITY_LEFT;
             q[1].pose.position = {0.0f, -0.35f, -1.0f};  // below the red one
             q[1].size = {0.2f, 0.2f};
+            // A quad of size {0, 0} is valid and covers nothing (the red one stays visible through it).
+            q[2].eyeVisibility = XR_EYE_VISIBILITY_BOTH;
+            q[2].pose.position = {0.0f, 0.0f, -0.5f};
+            q[2].size = {0.0f, 0.0f};
             std::vector<const XrCompositionLayerBaseHeader*> ls{
                 sl.header(), reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[0]),
-                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[1])};
+                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[1]),
+                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[2])};
             XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
             return xrEndFrame(c->session, &fe);
         }),
