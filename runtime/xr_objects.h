@@ -63,6 +63,7 @@ struct Action final : Object {
     std::string name, localizedName;
     XrActionType actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
     std::vector<XrPath> subactionPaths;
+    bool destroyed = false;  // the handle is gone, its names free again; bindings may still refer to it
 };
 
 struct ActionSet final : Object {
@@ -71,6 +72,7 @@ struct ActionSet final : Object {
     std::string name, localizedName;
     uint32_t priority = 0;
     bool attached = false;
+    bool destroyed = false;  // the handle is gone (an attached set lives on in its sessions), its names free
     std::vector<std::unique_ptr<Action>> actions;
 };
 

@@ -106,15 +106,18 @@ bool wellFormedPath(const char* s) {
     return true;
 }
 
-/// Action and action-set names: lower case, digits, '-', '_', '.'; not empty.
-bool wellFormedName(const char* s, std::size_t max) {
+/// Action and action-set names: NAME_INVALID when empty, PATH_FORMAT_INVALID when not one well-formed
+/// path component (lower case, digits, '-', '_', '.'; terminated within the array).
+XrResult checkName(const char* s, std::size_t max) {
     const std::size_t n = strnlen(s, max);
-    if (n == 0 || n == max) return false;
+    if (n == 0) return XR_ERROR_NAME_INVALID;
+    if (n == max) return XR_ERROR_PATH_FORMAT_INVALID;
     for (std::size_t i = 0; i < n; ++i) {
         const char c = s[i];
-        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.')) return false;
+        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.'))
+            return XR_ERROR_PATH_FORMAT_INVALID;
     }
-    return true;
+    return XR_SUCCESS;
 }
 
 }  // namespace
@@ -708,10 +711,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSet(XrInstance h, const XrActionSet
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_ACTION_SET_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (!wellFormedName(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE)) return XR_ERROR_PATH_FORMAT_INVALID;
+    if (XrResult r = checkName(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE); r != XR_SUCCESS) return r;
     if (strnlen(info->localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE) == 0)
         return XR_ERROR_LOCALIZED_NAME_INVALID;
     for (auto& s : inst->actionSets) {
+        if (s->destroyed) continue;  // its names were released with its handle
         if (s->name == info->actionSetName) return XR_ERROR_NAME_DUPLICATED;
         if (s->localizedName == info->localizedActionSetName) return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
@@ -732,8 +736,12 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroyActionSet(XrActionSet h) {
     if (!set) return XR_ERROR_HANDLE_INVALID;
     // An attached set lives on in its sessions (the handle is gone; the spec lets the runtime keep it).
     auto& sets = set->instance->actionSets;
-    for (auto& a : set->actions) unregisterObject(a.get());
+    for (auto& a : set->actions) {
+        if (!a->destroyed) unregisterObject(a.get());
+        a->destroyed = true;
+    }
     unregisterObject(set);
+    set->destroyed = true;
     if (!set->attached)
         for (auto it = sets.begin(); it != sets.end(); ++it)
             if (it->get() == set) {
@@ -759,10 +767,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateAction(XrActionSet h, const XrActionCreat
         default:
             return XR_ERROR_VALIDATION_FAILURE;
     }
-    if (!wellFormedName(info->actionName, XR_MAX_ACTION_NAME_SIZE)) return XR_ERROR_PATH_FORMAT_INVALID;
+    if (XrResult r = checkName(info->actionName, XR_MAX_ACTION_NAME_SIZE); r != XR_SUCCESS) return r;
     if (strnlen(info->localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE) == 0)
         return XR_ERROR_LOCALIZED_NAME_INVALID;
     for (auto& a : set->actions) {
+        if (a->destroyed) continue;  // its names were released with its handle
         if (a->name == info->actionName) return XR_ERROR_NAME_DUPLICATED;
         if (a->localizedName == info->localizedActionName) return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
@@ -796,6 +805,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroyAction(XrAction h) {
     Action* a = getAction(h);
     if (!a) return XR_ERROR_HANDLE_INVALID;
     unregisterObject(a);  // the object stays with its set (bindings and spaces may refer to it)
+    a->destroyed = true;  // its names may be used again
     return XR_SUCCESS;
 }
 

@@ -871,5 +871,53 @@ TEST(XrClient, SecondWaitBeforeReleaseIsRefused) {
     }
 }
 
+// Action and action-set names: an empty name is NAME_INVALID (a malformed one PATH_FORMAT_INVALID),
+// and destroying an action or a set, attached or not, frees its name and localized name.
+TEST(XrClient, ActionNamesAreCheckedAndFreedOnDestroy) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.localizedActionSetName, "Set");
+    XrActionSet set = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_NAME_INVALID);
+    std::strcpy(asci.actionSetName, "Bad Name");
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_PATH_FORMAT_INVALID);
+    std::strcpy(asci.actionSetName, "set");
+    asci.localizedActionSetName[0] = '\0';
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_LOCALIZED_NAME_INVALID);
+    std::strcpy(asci.localizedActionSetName, "Set");
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+    std::strcpy(aci.localizedActionName, "Action");
+    XrAction action = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateAction(set, &aci, &action), XR_ERROR_NAME_INVALID);
+    std::strcpy(aci.actionName, "Bad Name");
+    EXPECT_EQ(xrCreateAction(set, &aci, &action), XR_ERROR_PATH_FORMAT_INVALID);
+    std::strcpy(aci.actionName, "action");
+    ASSERT_EQ(xrCreateAction(set, &aci, &action), XR_SUCCESS);
+    XrAction again = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateAction(set, &aci, &again), XR_ERROR_NAME_DUPLICATED);
+    std::strcpy(aci.actionName, "other");
+    EXPECT_EQ(xrCreateAction(set, &aci, &again), XR_ERROR_LOCALIZED_NAME_DUPLICATED);
+    ASSERT_EQ(xrDestroyAction(action), XR_SUCCESS);
+    std::strcpy(aci.actionName, "action");
+    ASSERT_EQ(xrCreateAction(set, &aci, &action), XR_SUCCESS) << "the destroyed action's names";
+
+    // A set destroyed while attached lives on in the session, its names do not.
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 1;
+    att.actionSets = &set;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    ASSERT_EQ(xrDestroyActionSet(set), XR_SUCCESS);
+    EXPECT_EQ(xrDestroyAction(action), XR_ERROR_HANDLE_INVALID);  // went with its set
+    XrActionSet set2 = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set2), XR_SUCCESS) << "the destroyed attached set's names";
+    ASSERT_EQ(xrCreateAction(set2, &aci, &action), XR_SUCCESS);
+    ASSERT_EQ(xrDestroyActionSet(set2), XR_SUCCESS);
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set2), XR_SUCCESS) << "the destroyed set's names";
+}
+
 }  // namespace
 }  // namespace wrsfov::xrtest
