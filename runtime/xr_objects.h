@@ -117,7 +117,8 @@ struct Session final : Object {
     std::vector<std::unique_ptr<Space>> spaces;
     std::vector<std::unique_ptr<Swapchain>> swapchains;
     std::vector<ActionSet*> attachedSets;
-    bool eyeGazeBound = false;  // an attached action is bound to the eye-gaze pose
+    bool eyeGazeBound = false;    // an attached pose action is bound to the eye-gaze pose
+    bool eyeGazeCurrent = false;  // ... and the eye-gaze profile became current (at an xrSyncActions)
     bool synced = false;        // xrSyncActions ran while focused
 
     // Frame loop.

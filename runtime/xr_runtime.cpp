@@ -662,46 +662,123 @@ Session* getSession(XrSession h) { return lookup<Session>(h, ObjectType::Session
 const char* const kEyeGazeProfile = "/interaction_profiles/ext/eye_gaze_interaction";
 const char* const kEyeGazePose = "/user/eyes_ext/input/gaze_ext/pose";
 
-/// The interaction profiles accepted for suggestions and the top-level user paths of each.
+/// One input or output of an interaction profile: its path under the top-level user path, and the
+/// one user path that has it where only one does (the Touch controller's buttons).
+struct Component {
+    const char* path;
+    const char* onlyUser = nullptr;
+};
+
+/// The interaction profiles of OpenXR 1.0 (and of XR_EXT_eye_gaze_interaction when it is enabled):
+/// their top-level user paths and the components 1.0 gives them. Components that later versions or
+/// extensions add (grip_surface, palm_ext, dpad, proximity, ...) are not here, so with an OpenXR 1.0
+/// instance they are unsupported paths, as the specification requires.
 struct Profile {
     const char* path;
     std::vector<const char*> users;
+    std::vector<Component> components;
+    const char* extension = nullptr;  // needed to use the profile at all
 };
+
 const std::vector<Profile>& profiles() {
     static const std::vector<const char*> hands = {"/user/hand/left", "/user/hand/right"};
+    constexpr const char* left = "/user/hand/left";
+    constexpr const char* right = "/user/hand/right";
+    // One profile's components in a few lines rather than one per line.
+    // clang-format off
     static const std::vector<Profile> p = {
-        {"/interaction_profiles/khr/simple_controller", hands},
-        {"/interaction_profiles/google/daydream_controller", hands},
-        {"/interaction_profiles/htc/vive_controller", hands},
-        {"/interaction_profiles/htc/vive_pro", {"/user/head"}},
-        {"/interaction_profiles/microsoft/motion_controller", hands},
-        {"/interaction_profiles/microsoft/xbox_controller", {"/user/gamepad"}},
-        {"/interaction_profiles/oculus/go_controller", hands},
-        {"/interaction_profiles/oculus/touch_controller", hands},
-        {"/interaction_profiles/valve/index_controller", hands},
-        {kEyeGazeProfile, {"/user/eyes_ext"}},
+        {"/interaction_profiles/khr/simple_controller",
+         hands,
+         {{"/input/select/click"}, {"/input/menu/click"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {"/interaction_profiles/google/daydream_controller",
+         hands,
+         {{"/input/select/click"}, {"/input/trackpad"}, {"/input/trackpad/x"}, {"/input/trackpad/y"},
+          {"/input/trackpad/click"}, {"/input/trackpad/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"}}},
+        {"/interaction_profiles/htc/vive_controller",
+         hands,
+         {{"/input/system/click"}, {"/input/squeeze/click"}, {"/input/menu/click"}, {"/input/trigger/click"},
+          {"/input/trigger/value"}, {"/input/trackpad"}, {"/input/trackpad/x"}, {"/input/trackpad/y"},
+          {"/input/trackpad/click"}, {"/input/trackpad/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {"/interaction_profiles/htc/vive_pro",
+         {"/user/head"},
+         {{"/input/system/click"}, {"/input/volume_up/click"}, {"/input/volume_down/click"},
+          {"/input/mute_mic/click"}}},
+        {"/interaction_profiles/microsoft/motion_controller",
+         hands,
+         {{"/input/menu/click"}, {"/input/squeeze/click"}, {"/input/trigger/value"}, {"/input/thumbstick"},
+          {"/input/thumbstick/x"}, {"/input/thumbstick/y"}, {"/input/thumbstick/click"}, {"/input/trackpad"},
+          {"/input/trackpad/x"}, {"/input/trackpad/y"}, {"/input/trackpad/click"}, {"/input/trackpad/touch"},
+          {"/input/grip/pose"}, {"/input/aim/pose"}, {"/output/haptic"}}},
+        {"/interaction_profiles/microsoft/xbox_controller",
+         {"/user/gamepad"},
+         {{"/input/menu/click"}, {"/input/view/click"}, {"/input/a/click"}, {"/input/b/click"}, {"/input/x/click"},
+          {"/input/y/click"}, {"/input/dpad_down/click"}, {"/input/dpad_right/click"}, {"/input/dpad_up/click"},
+          {"/input/dpad_left/click"}, {"/input/shoulder_left/click"}, {"/input/shoulder_right/click"},
+          {"/input/thumbstick_left/click"}, {"/input/thumbstick_right/click"}, {"/input/trigger_left/value"},
+          {"/input/trigger_right/value"}, {"/input/thumbstick_left"}, {"/input/thumbstick_left/x"},
+          {"/input/thumbstick_left/y"}, {"/input/thumbstick_right"}, {"/input/thumbstick_right/x"},
+          {"/input/thumbstick_right/y"}, {"/output/haptic_left"}, {"/output/haptic_right"},
+          {"/output/haptic_left_trigger"}, {"/output/haptic_right_trigger"}}},
+        {"/interaction_profiles/oculus/go_controller",
+         hands,
+         {{"/input/system/click"}, {"/input/trigger/click"}, {"/input/back/click"}, {"/input/trackpad"},
+          {"/input/trackpad/x"}, {"/input/trackpad/y"}, {"/input/trackpad/click"}, {"/input/trackpad/touch"},
+          {"/input/grip/pose"}, {"/input/aim/pose"}}},
+        {"/interaction_profiles/oculus/touch_controller",
+         hands,
+         {{"/input/x/click", left}, {"/input/x/touch", left}, {"/input/y/click", left}, {"/input/y/touch", left},
+          {"/input/menu/click", left}, {"/input/a/click", right}, {"/input/a/touch", right},
+          {"/input/b/click", right}, {"/input/b/touch", right}, {"/input/system/click", right},
+          {"/input/squeeze/value"}, {"/input/trigger/value"}, {"/input/trigger/touch"}, {"/input/thumbstick"},
+          {"/input/thumbstick/x"}, {"/input/thumbstick/y"}, {"/input/thumbstick/click"},
+          {"/input/thumbstick/touch"}, {"/input/thumbrest/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {"/interaction_profiles/valve/index_controller",
+         hands,
+         {{"/input/system/click"}, {"/input/system/touch"}, {"/input/a/click"}, {"/input/a/touch"},
+          {"/input/b/click"}, {"/input/b/touch"}, {"/input/squeeze/value"}, {"/input/squeeze/force"},
+          {"/input/trigger/click"}, {"/input/trigger/value"}, {"/input/trigger/touch"}, {"/input/thumbstick"},
+          {"/input/thumbstick/x"}, {"/input/thumbstick/y"}, {"/input/thumbstick/click"},
+          {"/input/thumbstick/touch"}, {"/input/trackpad"}, {"/input/trackpad/x"}, {"/input/trackpad/y"},
+          {"/input/trackpad/force"}, {"/input/trackpad/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {kEyeGazeProfile, {"/user/eyes_ext"}, {{"/input/gaze_ext/pose"}}, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME},
     };
+    // clang-format on
     return p;
 }
 
-bool endsWith(const std::string& s, const char* suffix) {
-    const std::size_t n = std::strlen(suffix);
-    return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+/// The top-level user paths an instance knows: those of its profiles (/user/eyes_ext only with
+/// XR_EXT_eye_gaze_interaction enabled).
+bool knownUserPath(const Instance& inst, const std::string& user) {
+    for (const Profile& p : profiles())
+        if (!p.extension || inst.enabled(p.extension))
+            for (const char* u : p.users)
+                if (user == u) return true;
+    return false;
 }
 
-/// Whether `binding` is a plausible source of `profile` for an action of `type`. Components are not
-/// checked against each profile's full list: a binding under a top-level path of the profile, of the
-/// right kind (pose, haptic output, other input), is accepted; the eye-gaze profile has exactly one.
-bool bindingFits(const Profile& profile, const std::string& binding, XrActionType type) {
-    if (std::strcmp(profile.path, kEyeGazeProfile) == 0)
-        return binding == kEyeGazePose && type == XR_ACTION_TYPE_POSE_INPUT;
+/// Whether `binding` is a source of `profile`: a top-level user path of the profile followed by one
+/// of its components for that user path, or by an identifier alone (`/input/trigger`, which the
+/// runtime resolves to the identifier's component). The action's type is not checked: the
+/// specification lets an application suggest any action for any source (a pose or haptic source for
+/// a boolean action, say); a source whose type cannot feed the action is simply never bound to it.
+bool bindingFits(const Profile& profile, const std::string& binding) {
     for (const char* user : profile.users) {
         const std::string u = user;
-        if (binding.compare(0, u.size(), u) != 0) continue;
+        if (binding.size() <= u.size() || binding.compare(0, u.size(), u) != 0 || binding[u.size()] != '/') continue;
         const std::string rest = binding.substr(u.size());
-        if (type == XR_ACTION_TYPE_VIBRATION_OUTPUT) return rest == "/output/haptic" || endsWith(rest, "/haptic");
-        if (rest.rfind("/input/", 0) != 0) return false;
-        return (type == XR_ACTION_TYPE_POSE_INPUT) == endsWith(rest, "/pose");
+        const bool identifier = std::count(rest.begin(), rest.end(), '/') == 2;  // "/input/trigger"
+        for (const Component& c : profile.components) {
+            if (c.onlyUser && u != c.onlyUser) continue;
+            const std::string path = c.path;
+            if (rest == path) return true;
+            if (identifier && path.size() > rest.size() && path.compare(0, rest.size(), rest) == 0 &&
+                path[rest.size()] == '/')
+                return true;
+        }
     }
     return false;
 }
@@ -780,10 +857,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateAction(XrActionSet h, const XrActionCreat
     for (uint32_t i = 0; i < info->countSubactionPaths; ++i) {
         const std::string p = set->instance->pathString(info->subactionPaths[i]);
         if (p.empty()) return XR_ERROR_PATH_INVALID;
-        bool topLevel = false;
-        for (const char* u : {"/user/hand/left", "/user/hand/right", "/user/head", "/user/gamepad", "/user/eyes_ext"})
-            topLevel = topLevel || p == u;
-        if (!topLevel) return XR_ERROR_PATH_UNSUPPORTED;
+        if (!knownUserPath(*set->instance, p)) return XR_ERROR_PATH_UNSUPPORTED;
         for (XrPath q : sub)
             if (q == info->subactionPaths[i]) return XR_ERROR_PATH_UNSUPPORTED;  // duplicated
         sub.push_back(info->subactionPaths[i]);
@@ -821,10 +895,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSuggestInteractionProfileBindings(
     if (profilePath.empty()) return XR_ERROR_PATH_INVALID;
     const Profile* profile = nullptr;
     for (const auto& p : profiles())
-        if (profilePath == p.path) profile = &p;
+        if (profilePath == p.path && (!p.extension || inst->enabled(p.extension))) profile = &p;
     if (!profile) return XR_ERROR_PATH_UNSUPPORTED;
-    if (profilePath == kEyeGazeProfile && !inst->enabled(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME))
-        return XR_ERROR_PATH_UNSUPPORTED;
     std::vector<XrActionSuggestedBinding> bindings;
     for (uint32_t i = 0; i < suggested->countSuggestedBindings; ++i) {
         const XrActionSuggestedBinding& b = suggested->suggestedBindings[i];
@@ -833,7 +905,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSuggestInteractionProfileBindings(
         if (a->set->attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
         const std::string binding = inst->pathString(b.binding);
         if (binding.empty()) return XR_ERROR_PATH_INVALID;
-        if (!bindingFits(*profile, binding, a->actionType)) return XR_ERROR_PATH_UNSUPPORTED;
+        if (!bindingFits(*profile, binding)) return XR_ERROR_PATH_UNSUPPORTED;
         bindings.push_back(b);
     }
     inst->suggested[suggested->interactionProfile] = std::move(bindings);
@@ -857,20 +929,17 @@ XRAPI_ATTR XrResult XRAPI_CALL xrAttachSessionActionSets(XrSession h, const XrSe
     Instance* inst = s->instance;
     for (ActionSet* set : sets) set->attached = true;
     s->attachedSets = sets;
-    // Our simulated HMD has eyes and no controllers: only the eye-gaze profile can become current.
+    // Our simulated HMD has eyes and no controllers: only the eye-gaze profile can become current,
+    // and only for a pose action (a binding of another type is suggested but never bound). It becomes
+    // current at the next xrSyncActions, the one call in which the specification lets a runtime
+    // change interaction profiles (and queue XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED).
     auto eyes = inst->pathIds.find(kEyeGazeProfile);
     if (eyes != inst->pathIds.end() && inst->suggested.count(eyes->second))
         for (const auto& b : inst->suggested[eyes->second])
             for (ActionSet* set : sets)
                 for (auto& a : set->actions)
-                    if (reinterpret_cast<XrAction>(a.get()) == b.action) s->eyeGazeBound = true;
-    if (s->eyeGazeBound) {
-        XrEventDataBuffer e{XR_TYPE_EVENT_DATA_BUFFER};
-        auto* changed = reinterpret_cast<XrEventDataInteractionProfileChanged*>(&e);
-        changed->type = XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
-        changed->session = h;
-        inst->pushEvent(e);
-    }
+                    if (reinterpret_cast<XrAction>(a.get()) == b.action && a->actionType == XR_ACTION_TYPE_POSE_INPUT)
+                        s->eyeGazeBound = true;
     return XR_SUCCESS;
 }
 
@@ -883,12 +952,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetCurrentInteractionProfile(XrSession h, XrPat
     if (s->attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
     const std::string user = s->instance->pathString(topLevelUserPath);
     if (user.empty()) return XR_ERROR_PATH_INVALID;
-    bool known = false;
-    for (const char* u : {"/user/hand/left", "/user/hand/right", "/user/head", "/user/gamepad", "/user/eyes_ext"})
-        known = known || user == u;
-    if (!known) return XR_ERROR_PATH_UNSUPPORTED;
+    if (!knownUserPath(*s->instance, user)) return XR_ERROR_PATH_UNSUPPORTED;
     state->interactionProfile =
-        user == "/user/eyes_ext" && s->eyeGazeBound ? s->instance->path(kEyeGazeProfile) : XR_NULL_PATH;
+        user == "/user/eyes_ext" && s->eyeGazeCurrent ? s->instance->path(kEyeGazeProfile) : XR_NULL_PATH;
     return XR_SUCCESS;
 }
 
@@ -903,6 +969,20 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSyncActions(XrSession h, const XrActionsSyncInf
         if (!set) return XR_ERROR_HANDLE_INVALID;
         if (std::find(s->attachedSets.begin(), s->attachedSets.end(), set) == s->attachedSets.end())
             return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+        const XrPath sub = info->activeActionSets[i].subactionPath;
+        if (sub != XR_NULL_PATH) {
+            const std::string p = s->instance->pathString(sub);
+            if (p.empty()) return XR_ERROR_PATH_INVALID;
+            if (!knownUserPath(*s->instance, p)) return XR_ERROR_PATH_UNSUPPORTED;
+        }
+    }
+    if (s->eyeGazeBound && !s->eyeGazeCurrent) {
+        s->eyeGazeCurrent = true;
+        XrEventDataBuffer e{XR_TYPE_EVENT_DATA_BUFFER};
+        auto* changed = reinterpret_cast<XrEventDataInteractionProfileChanged*>(&e);
+        changed->type = XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
+        changed->session = h;
+        s->instance->pushEvent(e);
     }
     s->synced = sessionFocused(*s);
     return s->synced ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;

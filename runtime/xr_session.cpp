@@ -128,7 +128,7 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::Pro
 }  // namespace
 
 bool boundToEyeGaze(const Session& s, const Action* a) {
-    if (!s.eyeGazeBound || !a) return false;
+    if (!s.eyeGazeCurrent || !a || a->actionType != XR_ACTION_TYPE_POSE_INPUT) return false;
     const Instance& inst = *s.instance;
     auto profile = inst.pathIds.find("/interaction_profiles/ext/eye_gaze_interaction");
     if (profile == inst.pathIds.end()) return false;

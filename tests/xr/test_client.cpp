@@ -704,16 +704,20 @@ TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     s.countSuggestedBindings = 1;
     s.suggestedBindings = &b;
     ASSERT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
-    // A boolean on the gaze pose, an unknown profile, a pose on a click: refused.
-    XrActionSuggestedBinding wrong{select, b.binding};
-    s.suggestedBindings = &wrong;
-    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    // An unknown profile is refused; a source of another type than the action's is a valid
+    // suggestion (never bound): a boolean on the gaze pose, a pose on a click.
+    XrActionSuggestedBinding both[2] = {{gaze, b.binding}, {select, b.binding}};
+    s.suggestedBindings = both;
+    s.countSuggestedBindings = 2;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
+    s.countSuggestedBindings = 1;
+    s.suggestedBindings = &b;
     s.interactionProfile = path(c->instance, "/interaction_profiles/acme/teapot");
     EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
     XrActionSuggestedBinding click{gaze, path(c->instance, "/user/hand/left/input/select/click")};
     s.interactionProfile = path(c->instance, "/interaction_profiles/khr/simple_controller");
     s.suggestedBindings = &click;
-    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
     XrActionSuggestedBinding okClick{select, click.binding};
     s.suggestedBindings = &okClick;
     EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
@@ -735,19 +739,29 @@ TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
     EXPECT_EQ(xrAttachSessionActionSets(c->session, &att), XR_ERROR_ACTIONSETS_ALREADY_ATTACHED);
     EXPECT_EQ(xrCreateAction(set, &aci, &select), XR_ERROR_ACTIONSETS_ALREADY_ATTACHED);
-    bool profileChanged = false;
-    for (const auto& e : c->poll()) profileChanged |= e.type == XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
-    EXPECT_TRUE(profileChanged);
+    // Interaction profiles change only in xrSyncActions: nothing yet after the attach.
+    auto profileChanged = [&] {
+        bool changed = false;
+        for (const auto& e : c->poll()) changed |= e.type == XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
+        return changed;
+    };
+    EXPECT_FALSE(profileChanged()) << "queued by xrAttachSessionActionSets";
     ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips), XR_SUCCESS);
-    EXPECT_EQ(ips.interactionProfile, path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction"));
-    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
-    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));  // no controllers on this HMD
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));
 
     XrActiveActionSet active{set, XR_NULL_PATH};
     XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
     sync.countActiveActionSets = 1;
     sync.activeActionSets = &active;
     EXPECT_EQ(xrSyncActions(c->session, &sync), XR_SESSION_NOT_FOCUSED);
+    EXPECT_TRUE(profileChanged()) << "not queued by the first xrSyncActions";
+    EXPECT_FALSE(profileChanged());
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction"));
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));  // no controllers on this HMD
+    EXPECT_EQ(xrSyncActions(c->session, &sync), XR_SESSION_NOT_FOCUSED);
+    EXPECT_FALSE(profileChanged()) << "a second change event without a change";
 
     Swapchain color;
     ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 2, kColorUsage, color), XR_SUCCESS);
@@ -917,6 +931,131 @@ TEST(XrClient, ActionNamesAreCheckedAndFreedOnDestroy) {
     ASSERT_EQ(xrCreateAction(set2, &aci, &action), XR_SUCCESS);
     ASSERT_EQ(xrDestroyActionSet(set2), XR_SUCCESS);
     ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set2), XR_SUCCESS) << "the destroyed set's names";
+}
+
+// xrSuggestInteractionProfileBindings against the interaction profiles of OpenXR 1.0: every
+// component of each profile, for an action of any type; paths that later versions or extensions add,
+// paths below a component and components of the other hand are PATH_UNSUPPORTED; so is the eye-gaze
+// profile on an instance without XR_EXT_eye_gaze_interaction.
+TEST(XrClient, SuggestedBindingsFollowTheOpenXR10Profiles) {
+    XrInstance inst = bareInstance({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME});
+    ASSERT_NE(inst, XR_NULL_HANDLE);
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "bindings");
+    std::strcpy(asci.localizedActionSetName, "Bindings");
+    XrActionSet set = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(inst, &asci, &set), XR_SUCCESS);
+    const XrActionType types[] = {XR_ACTION_TYPE_BOOLEAN_INPUT, XR_ACTION_TYPE_FLOAT_INPUT,
+                                  XR_ACTION_TYPE_VECTOR2F_INPUT, XR_ACTION_TYPE_POSE_INPUT,
+                                  XR_ACTION_TYPE_VIBRATION_OUTPUT};
+    std::vector<XrAction> actions;
+    for (XrActionType t : types) {
+        XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+        aci.actionType = t;
+        std::snprintf(aci.actionName, XR_MAX_ACTION_NAME_SIZE, "a%d", int(t));
+        std::snprintf(aci.localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, "A %d", int(t));
+        XrAction a = XR_NULL_HANDLE;
+        ASSERT_EQ(xrCreateAction(set, &aci, &a), XR_SUCCESS);
+        actions.push_back(a);
+    }
+    auto suggest = [&](const std::string& profile, const std::string& binding, XrAction a) {
+        XrActionSuggestedBinding b{a, path(inst, binding.c_str())};
+        XrInteractionProfileSuggestedBinding s{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+        s.interactionProfile = path(inst, profile.c_str());
+        s.countSuggestedBindings = 1;
+        s.suggestedBindings = &b;
+        return xrSuggestInteractionProfileBindings(inst, &s);
+    };
+    struct Case {
+        const char* profile;
+        const char* user;
+        std::vector<const char*> valid;    // 1.0 components
+        std::vector<const char*> invalid;  // not 1.0 (later versions, extensions), or not this profile's
+    };
+    const std::vector<Case> cases = {
+        {"khr/simple_controller",
+         "/user/hand/left",
+         {"/input/select/click", "/input/menu/click", "/input/grip/pose", "/input/aim/pose", "/output/haptic"},
+         {"/input/grip_surface/pose", "/input/palm_ext/pose", "/input/trigger/value", "/input/select/click/invalid"}},
+        {"google/daydream_controller",
+         "/user/hand/right",
+         {"/input/select/click", "/input/trackpad", "/input/trackpad/x", "/input/trackpad/touch", "/input/aim/pose"},
+         {"/output/haptic", "/input/grip_surface/pose", "/input/trackpad/dpad_up"}},
+        {"htc/vive_controller",
+         "/user/hand/left",
+         {"/input/system/click", "/input/squeeze/click", "/input/trigger/value", "/input/trackpad/y", "/output/haptic"},
+         {"/input/squeeze/value", "/input/grip_surface/pose", "/input/trackpad/dpad_center"}},
+        {"htc/vive_pro",
+         "/user/head",
+         {"/input/system/click", "/input/volume_up/click", "/input/volume_down/click", "/input/mute_mic/click"},
+         {"/input/menu/click", "/output/haptic"}},
+        {"microsoft/motion_controller",
+         "/user/hand/right",
+         {"/input/menu/click", "/input/thumbstick", "/input/thumbstick/click", "/input/trackpad/touch",
+          "/input/grip/pose", "/output/haptic"},
+         {"/input/system/click", "/input/thumbstick/dpad_left", "/input/grip_surface/pose"}},
+        {"microsoft/xbox_controller",
+         "/user/gamepad",
+         {"/input/menu/click", "/input/a/click", "/input/dpad_up/click", "/input/trigger_left/value",
+          "/input/thumbstick_right", "/output/haptic_left_trigger"},
+         {"/input/trigger/value", "/output/haptic", "/input/thumbstick_left/dpad_up"}},
+        {"oculus/go_controller",
+         "/user/hand/left",
+         {"/input/system/click", "/input/trigger/click", "/input/back/click", "/input/trackpad", "/input/grip/pose"},
+         {"/output/haptic", "/input/grip_surface/pose"}},
+        {"oculus/touch_controller",
+         "/user/hand/left",
+         {"/input/x/click", "/input/y/touch", "/input/menu/click", "/input/squeeze/value", "/input/thumbrest/touch",
+          "/input/aim/pose", "/output/haptic"},
+         {"/input/a/click", "/input/system/click", "/input/thumb_resting_surfaces/proximity",
+          "/input/trigger/proximity_fb", "/input/grip_surface/pose"}},
+        {"oculus/touch_controller",
+         "/user/hand/right",
+         {"/input/a/click", "/input/b/touch", "/input/system/click", "/input/trigger/touch"},
+         {"/input/x/click", "/input/menu/click"}},
+        {"valve/index_controller",
+         "/user/hand/right",
+         {"/input/system/touch", "/input/squeeze/force", "/input/trackpad/force", "/input/thumbstick/touch",
+          "/output/haptic"},
+         {"/input/grip_surface/pose", "/input/thumbstick/dpad_down", "/input/trigger/proximity"}},
+    };
+    for (const Case& k : cases) {
+        const std::string profile = std::string("/interaction_profiles/") + k.profile;
+        for (const char* v : k.valid)
+            for (XrAction a : actions)  // any action type may be suggested for any source
+                EXPECT_EQ(suggest(profile, k.user + std::string(v), a), XR_SUCCESS) << profile << " " << k.user << v;
+        for (const char* v : k.invalid)
+            EXPECT_EQ(suggest(profile, k.user + std::string(v), actions[0]), XR_ERROR_PATH_UNSUPPORTED)
+                << profile << " " << k.user << v;
+    }
+    // An identifier alone names its component ("/input/trigger" is the trigger's value or click).
+    EXPECT_EQ(suggest("/interaction_profiles/valve/index_controller", "/user/hand/left/input/trigger", actions[1]),
+              XR_SUCCESS);
+    // The conformance suite's malformed sources and profiles.
+    for (const char* bad : {"/invalid", "/user/invalid", "/user/hand/invalid", "/user/hand/right",
+                            "/user/hand/right/invalid", "/user/hand/right/input", "/user/hand/invalid/input",
+                            "/user/invalid/right/input", "/invalid/hand/right/input",
+                            "/user/hand/left/input_bad/menu/click", "/user/hand/right/input/select/click/invalid"})
+        EXPECT_EQ(suggest("/interaction_profiles/khr/simple_controller", bad, actions[0]), XR_ERROR_PATH_UNSUPPORTED)
+            << bad;
+    for (const char* bad : {"/invalid", "/interaction_profiles", "/interaction_profiles/invalid",
+                            "/interaction_profiles/khr/simple_controller/invalid",
+                            "/interaction_profiles/ext/eye_gaze_interaction"})  // extension not enabled
+        EXPECT_EQ(suggest(bad, "/user/hand/left/input/select/click", actions[0]), XR_ERROR_PATH_UNSUPPORTED) << bad;
+    EXPECT_EQ(
+        suggest("/interaction_profiles/ext/eye_gaze_interaction", "/user/eyes_ext/input/gaze_ext/pose", actions[3]),
+        XR_ERROR_PATH_UNSUPPORTED);
+    // /user/eyes_ext is no top-level user path without the extension.
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+    std::strcpy(aci.actionName, "eyes");
+    std::strcpy(aci.localizedActionName, "Eyes");
+    XrPath eyes = path(inst, "/user/eyes_ext");
+    aci.countSubactionPaths = 1;
+    aci.subactionPaths = &eyes;
+    XrAction a = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateAction(set, &aci, &a), XR_ERROR_PATH_UNSUPPORTED);
+    EXPECT_EQ(xrDestroyInstance(inst), XR_SUCCESS);
 }
 
 }  // namespace
