@@ -216,12 +216,21 @@ bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gaze = nul
 GazeState gazeAt(Session& s, XrTime time);
 /// Whether `action` is bound to the eye-gaze pose in the session's current interaction profile.
 bool boundToEyeGaze(const Session& s, const Action* action);
-/// A call's subaction path is XR_NULL_PATH or one the action was created with.
-inline bool acceptsSubaction(const Action& a, XrPath subaction) {
-    return subaction == XR_NULL_PATH ||
-           std::find(a.subactionPaths.begin(), a.subactionPaths.end(), subaction) != a.subactionPaths.end();
-}
+/// A call's subaction path: XR_NULL_PATH or one the action was created with; PATH_INVALID for a
+/// value that is no path of the instance (never made by xrStringToPath), PATH_UNSUPPORTED for another.
+XrResult checkSubaction(const Action& a, XrPath subaction);
 bool sessionFocused(const Session& s);
+
+/// Primary stereo is the one view configuration; another one the specification defines (mono, the
+/// extensions' quad and first-person-observer views) is VIEW_CONFIGURATION_TYPE_UNSUPPORTED, a value
+/// it does not define (XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM) VALIDATION_FAILURE.
+inline XrResult checkViewConfiguration(XrViewConfigurationType t) {
+    constexpr int kQuadVarjo = 1000037000, kFirstPersonObserverMsft = 1000054000;
+    if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_SUCCESS;
+    if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO || int(t) == kQuadVarjo || int(t) == kFirstPersonObserverMsft)
+        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    return XR_ERROR_VALIDATION_FAILURE;
+}
 
 // Two-call idiom: capacity 0 asks for the count.
 template <typename T>

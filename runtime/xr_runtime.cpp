@@ -136,6 +136,14 @@ std::string Instance::pathString(XrPath p) const {
     return paths[p - 1];
 }
 
+XrResult checkSubaction(const Action& a, XrPath subaction) {
+    if (subaction == XR_NULL_PATH) return XR_SUCCESS;
+    if (a.set->instance->pathString(subaction).empty()) return XR_ERROR_PATH_INVALID;
+    return std::find(a.subactionPaths.begin(), a.subactionPaths.end(), subaction) != a.subactionPaths.end()
+               ? XR_SUCCESS
+               : XR_ERROR_PATH_UNSUPPORTED;
+}
+
 void Instance::pushEvent(const XrEventDataBuffer& e) {
     constexpr std::size_t kMaxEvents = 256;
     if (events.size() >= kMaxEvents) {
@@ -302,13 +310,18 @@ XRAPI_ATTR XrResult XRAPI_CALL xrPollEvent(XrInstance h, XrEventDataBuffer* even
     return XR_SUCCESS;
 }
 
+/// A value without a name in our headers is printed as the specification asks:
+/// `unknown` followed by the value in decimal (XR_UNKNOWN_SUCCESS_n, XR_UNKNOWN_FAILURE_-n,
+/// XR_UNKNOWN_STRUCTURE_TYPE_n).
 template <typename Enum>
-XrResult enumString(XrInstance h, Enum value, char* buffer, std::size_t size, const char* (*name)(Enum)) {
+XrResult enumString(XrInstance h, Enum value, char* buffer, std::size_t size, const char* (*name)(Enum),
+                    const char* unknown) {
     std::lock_guard lock(apiMutex());
     if (!getInstance(h)) return XR_ERROR_HANDLE_INVALID;
     if (!buffer) return XR_ERROR_VALIDATION_FAILURE;
     if (const char* n = name(value)) std::snprintf(buffer, size, "%s", n);
-    else std::snprintf(buffer, size, "XR_UNKNOWN_%d", int(value));
+    else
+        std::snprintf(buffer, size, "%s%d", unknown, int(value));
     return XR_SUCCESS;
 }
 
@@ -328,11 +341,12 @@ const char* structureName(XrStructureType t) {
 #undef WRSFOV_ENUM_CASE
 
 XRAPI_ATTR XrResult XRAPI_CALL xrResultToString(XrInstance h, XrResult value, char buffer[XR_MAX_RESULT_STRING_SIZE]) {
-    return enumString(h, value, buffer, XR_MAX_RESULT_STRING_SIZE, &resultName);
+    return enumString(h, value, buffer, XR_MAX_RESULT_STRING_SIZE, &resultName,
+                      XR_SUCCEEDED(value) ? "XR_UNKNOWN_SUCCESS_" : "XR_UNKNOWN_FAILURE_");
 }
 XRAPI_ATTR XrResult XRAPI_CALL xrStructureTypeToString(XrInstance h, XrStructureType value,
                                                        char buffer[XR_MAX_STRUCTURE_NAME_SIZE]) {
-    return enumString(h, value, buffer, XR_MAX_STRUCTURE_NAME_SIZE, &structureName);
+    return enumString(h, value, buffer, XR_MAX_STRUCTURE_NAME_SIZE, &structureName, "XR_UNKNOWN_STRUCTURE_TYPE_");
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetSystem(XrInstance h, const XrSystemGetInfo* info, XrSystemId* id) {
@@ -343,8 +357,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetSystem(XrInstance h, const XrSystemGetInfo* 
         *id = kSystemId;
         return XR_SUCCESS;
     }
-    return info->formFactor == XR_FORM_FACTOR_HANDHELD_DISPLAY ? XR_ERROR_FORM_FACTOR_UNSUPPORTED
-                                                               : XR_ERROR_VALIDATION_FAILURE;
+    // Any other value, known or not (XR_FORM_FACTOR_MAX_ENUM included), is a form factor this
+    // runtime does not have: the specification's answer for it is FORM_FACTOR_UNSUPPORTED.
+    return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetSystemProperties(XrInstance h, XrSystemId id, XrSystemProperties* props) {
@@ -379,7 +394,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateEnvironmentBlendModes(XrInstance h, Xr
                                                                 uint32_t* countOutput, XrEnvironmentBlendMode* modes) {
     std::lock_guard lock(apiMutex());
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     return fillArray<XrEnvironmentBlendMode>(capacity, countOutput, modes, {XR_ENVIRONMENT_BLEND_MODE_OPAQUE});
 }
 
@@ -397,7 +412,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetViewConfigurationProperties(XrInstance h, Xr
     std::lock_guard lock(apiMutex());
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
     if (!props || props->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     props->viewConfigurationType = type;
     props->fovMutable = XR_FALSE;
     return XR_SUCCESS;
@@ -410,7 +425,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurationViews(XrInstance h, X
     std::lock_guard lock(apiMutex());
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
     *countOutput = 2;
     if (capacity == 0) return XR_SUCCESS;
@@ -1002,7 +1017,7 @@ XrResult actionStateCheck(XrSession h, const XrActionStateGetInfo* info, XrActio
     if (std::find(session->attachedSets.begin(), session->attachedSets.end(), action->set) ==
         session->attachedSets.end())
         return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (!acceptsSubaction(*action, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
+    if (XrResult r = checkSubaction(*action, info->subactionPath); r != XR_SUCCESS) return r;
     return XR_SUCCESS;
 }
 
@@ -1109,7 +1124,7 @@ XrResult hapticCheck(XrSession h, const XrHapticActionInfo* info) {
     if (a->actionType != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
     if (std::find(s->attachedSets.begin(), s->attachedSets.end(), a->set) == s->attachedSets.end())
         return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (!acceptsSubaction(*a, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
+    if (XrResult r = checkSubaction(*a, info->subactionPath); r != XR_SUCCESS) return r;
     return s->synced ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
 }
 

@@ -316,8 +316,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession h, const XrSessionBeginI
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
     if (s->running) return XR_ERROR_SESSION_RUNNING;
-    if (info->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(info->primaryViewConfigurationType); r != XR_SUCCESS) return r;
     if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
     s->running = true;
     s->nextDisplayTime = 0;
@@ -381,7 +380,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrRefer
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (XrResult r = checkReferenceType(info->referenceSpaceType); r != XR_SUCCESS) return r;
+    // Any type the session does not offer, a value no specification defines included
+    // (XR_REFERENCE_SPACE_TYPE_MAX_ENUM), cannot be created: REFERENCE_SPACE_UNSUPPORTED, as the
+    // specification words it for this call (xrGetReferenceSpaceBoundsRect calls a made-up value a
+    // validation failure).
+    if (checkReferenceType(info->referenceSpaceType) != XR_SUCCESS) return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
     if (!isValidPose(info->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
     auto sp = std::make_unique<Space>();
     sp->session = s;
@@ -413,7 +416,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession h, const XrActionSp
     Action* a = getAction(info->action);
     if (!a) return XR_ERROR_HANDLE_INVALID;
     if (a->actionType != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (!acceptsSubaction(*a, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
+    if (XrResult r = checkSubaction(*a, info->subactionPath); r != XR_SUCCESS) return r;
     if (!isValidPose(info->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
     auto sp = std::make_unique<Space>();
     sp->session = s;
@@ -1052,8 +1055,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession h, const XrViewLocateInfo
     if (!info || info->type != XR_TYPE_VIEW_LOCATE_INFO || !viewState || viewState->type != XR_TYPE_VIEW_STATE ||
         !countOutput)
         return XR_ERROR_VALIDATION_FAILURE;
-    if (info->viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(info->viewConfigurationType); r != XR_SUCCESS) return r;
     if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
     Space* base = getSpace(info->space);
     if (!base || base->session != s) return XR_ERROR_HANDLE_INVALID;

@@ -1058,5 +1058,108 @@ TEST(XrClient, SuggestedBindingsFollowTheOpenXR10Profiles) {
     EXPECT_EQ(xrDestroyInstance(inst), XR_SUCCESS);
 }
 
+// Values outside an enumeration and paths never made: the specification's (and the conformance
+// suite's) results.
+TEST(XrClient, InvalidEnumValuesAndPaths) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    XrSystemGetInfo sgi{XR_TYPE_SYSTEM_GET_INFO};
+    sgi.formFactor = XR_FORM_FACTOR_MAX_ENUM;
+    XrSystemId sys = 0;
+    EXPECT_EQ(xrGetSystem(c->instance, &sgi, &sys), XR_ERROR_FORM_FACTOR_UNSUPPORTED);
+
+    XrReferenceSpaceCreateInfo rci{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_MAX_ENUM;
+    rci.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace space = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateReferenceSpace(c->session, &rci, &space), XR_ERROR_REFERENCE_SPACE_UNSUPPORTED);
+    EXPECT_EQ(space, XrSpace(XR_NULL_HANDLE));
+    rci.referenceSpaceType = XrReferenceSpaceType(1000038000);  // XR_MSFT_unbounded_reference_space's
+    EXPECT_EQ(xrCreateReferenceSpace(c->session, &rci, &space), XR_ERROR_REFERENCE_SPACE_UNSUPPORTED);
+    XrExtent2Df bounds;
+    EXPECT_EQ(xrGetReferenceSpaceBoundsRect(c->session, XR_REFERENCE_SPACE_TYPE_MAX_ENUM, &bounds),
+              XR_ERROR_VALIDATION_FAILURE);
+
+    // A view configuration no specification defines is a validation failure, a defined one this
+    // system lacks is unsupported.
+    XrViewConfigurationProperties vcp{XR_TYPE_VIEW_CONFIGURATION_PROPERTIES};
+    EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, &vcp),
+              XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO, &vcp),
+              XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
+    uint32_t n = 0;
+    EXPECT_EQ(
+        xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, 0, &n, nullptr),
+        XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(
+        xrEnumerateEnvironmentBlendModes(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, 0, &n, nullptr),
+        XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(
+        xrEnumerateEnvironmentBlendModes(c->instance, c->system, XrViewConfigurationType(1000037000), 0, &n, nullptr),
+        XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);  // XR_VARJO_quad_views'
+    XrSessionBeginInfo sbi{XR_TYPE_SESSION_BEGIN_INFO};
+    sbi.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM;
+    EXPECT_EQ(xrBeginSession(c->session, &sbi), XR_ERROR_VALIDATION_FAILURE);
+
+    // A subaction path that no xrStringToPath made is PATH_INVALID; a path the action was not made
+    // with is PATH_UNSUPPORTED.
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "enums");
+    std::strcpy(asci.localizedActionSetName, "Enums");
+    XrActionSet set = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+    std::strcpy(aci.actionName, "click");
+    std::strcpy(aci.localizedActionName, "Click");
+    const XrPath left = path(c->instance, "/user/hand/left");
+    aci.countSubactionPaths = 1;
+    aci.subactionPaths = &left;
+    XrAction action = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateAction(set, &aci, &action), XR_SUCCESS);
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 1;
+    att.actionSets = &set;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    const XrPath never = XrPath(0x7ffff0);
+    char buf[64];
+    ASSERT_EQ(xrPathToString(c->instance, never, 64, &n, buf), XR_ERROR_PATH_INVALID);
+    XrActionStateGetInfo gi{XR_TYPE_ACTION_STATE_GET_INFO};
+    gi.action = action;
+    gi.subactionPath = never;
+    XrActionStateBoolean st{XR_TYPE_ACTION_STATE_BOOLEAN};
+    EXPECT_EQ(xrGetActionStateBoolean(c->session, &gi, &st), XR_ERROR_PATH_INVALID);
+    gi.subactionPath = path(c->instance, "/user/hand/right");
+    EXPECT_EQ(xrGetActionStateBoolean(c->session, &gi, &st), XR_ERROR_PATH_UNSUPPORTED);
+    XrActiveActionSet active{set, never};
+    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    EXPECT_EQ(xrSyncActions(c->session, &sync), XR_ERROR_PATH_INVALID);
+    XrInteractionProfileState ips{XR_TYPE_INTERACTION_PROFILE_STATE};
+    EXPECT_EQ(xrGetCurrentInteractionProfile(c->session, never, &ips), XR_ERROR_PATH_INVALID);
+}
+
+// xrResultToString and xrStructureTypeToString name every value: unknown ones as the specification
+// spells them, with the value in decimal.
+TEST(XrClient, UnknownEnumValuesToString) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    char buf[XR_MAX_RESULT_STRING_SIZE];
+    ASSERT_EQ(xrResultToString(c->instance, XR_ERROR_CALL_ORDER_INVALID, buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_ERROR_CALL_ORDER_INVALID");
+    ASSERT_EQ(xrResultToString(c->instance, XrResult(0x7ffffffe), buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_UNKNOWN_SUCCESS_2147483646");
+    ASSERT_EQ(xrResultToString(c->instance, XrResult(int32_t(0x80000000)), buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_UNKNOWN_FAILURE_-2147483648");
+    ASSERT_EQ(xrResultToString(c->instance, XrResult(-999), buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_UNKNOWN_FAILURE_-999");
+    char type[XR_MAX_STRUCTURE_NAME_SIZE];
+    ASSERT_EQ(xrStructureTypeToString(c->instance, XR_TYPE_FRAME_STATE, type), XR_SUCCESS);
+    EXPECT_STREQ(type, "XR_TYPE_FRAME_STATE");
+    ASSERT_EQ(xrStructureTypeToString(c->instance, XrStructureType(0x7ffffffe), type), XR_SUCCESS);
+    EXPECT_STREQ(type, "XR_UNKNOWN_STRUCTURE_TYPE_2147483646");
+}
+
 }  // namespace
 }  // namespace wrsfov::xrtest
