@@ -220,6 +220,21 @@ XrResult destroySession(Session* s) {
     s->compositor.reset();
     s->context.reset();
     unregisterObject(s);
+    // Events of the session still queued go with it: an application must never receive a handle it
+    // has destroyed (a later session may even reuse the address).
+    const XrSession handle = reinterpret_cast<XrSession>(s);
+    std::erase_if(inst->events, [handle](const XrEventDataBuffer& e) {
+        switch (e.type) {
+            case XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED:
+                return reinterpret_cast<const XrEventDataSessionStateChanged&>(e).session == handle;
+            case XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED:
+                return reinterpret_cast<const XrEventDataInteractionProfileChanged&>(e).session == handle;
+            case XR_TYPE_EVENT_DATA_REFERENCE_SPACE_CHANGE_PENDING:
+                return reinterpret_cast<const XrEventDataReferenceSpaceChangePending&>(e).session == handle;
+            default:
+                return false;
+        }
+    });
     // The messenger goes with the session: the application may destroy its VkInstance right after.
     if (inst->messenger) {
         auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(

@@ -1161,5 +1161,19 @@ TEST(XrClient, UnknownEnumValuesToString) {
     EXPECT_STREQ(type, "XR_UNKNOWN_STRUCTURE_TYPE_2147483646");
 }
 
+// Destroying a session drops the events it still had queued: none names a destroyed handle.
+TEST(XrClient, DestroyedSessionLeavesNoEvents) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    const XrSession gone = c->session;  // IDLE and READY are queued, not yet polled
+    ASSERT_EQ(xrDestroySession(gone), XR_SUCCESS);
+    c->session = XR_NULL_HANDLE;
+    for (const XrEventDataBuffer& e : c->poll()) {
+        ASSERT_NE(e.type, XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED)
+            << "state " << reinterpret_cast<const XrEventDataSessionStateChanged&>(e).state
+            << " of a destroyed session";
+    }
+}
+
 }  // namespace
 }  // namespace wrsfov::xrtest
