@@ -1175,5 +1175,64 @@ TEST(XrClient, DestroyedSessionLeavesNoEvents) {
     }
 }
 
+// An instance without XR_EXT_eye_gaze_interaction sees none of it, whatever runs below (through the
+// API layer, which enables the extension for itself, this is the layer's invisibility); an attach
+// of no action sets is refused whatever a layer adds.
+TEST(XrClient, EyeGazeNotEnabledIsNotVisible) {
+    auto c = Client::create({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME});
+    ASSERT_TRUE(c);
+    XrSystemEyeGazeInteractionPropertiesEXT eye{XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT};
+    XrSystemProperties props{XR_TYPE_SYSTEM_PROPERTIES};
+    props.next = &eye;
+    ASSERT_EQ(xrGetSystemProperties(c->instance, c->system, &props), XR_SUCCESS);
+    EXPECT_EQ(eye.supportsEyeGazeInteraction, XR_FALSE);
+
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "app");
+    std::strcpy(asci.localizedActionSetName, "App");
+    XrActionSet set = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+    std::strcpy(aci.actionName, "pose");
+    std::strcpy(aci.localizedActionName, "Pose");
+    XrAction pose = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateAction(set, &aci, &pose), XR_SUCCESS);
+    XrActionSuggestedBinding b{pose, path(c->instance, "/user/eyes_ext/input/gaze_ext/pose")};
+    XrInteractionProfileSuggestedBinding s{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+    s.interactionProfile = path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction");
+    s.countSuggestedBindings = 1;
+    s.suggestedBindings = &b;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    b.binding = path(c->instance, "/user/hand/left/input/aim/pose");
+    s.interactionProfile = path(c->instance, "/interaction_profiles/khr/simple_controller");
+    ASSERT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
+
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 0;
+    att.actionSets = &set;
+    EXPECT_EQ(xrAttachSessionActionSets(c->session, &att), XR_ERROR_VALIDATION_FAILURE);
+    att.countActionSets = 1;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    XrActiveActionSet active{set, XR_NULL_PATH};
+    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    Swapchain color;
+    ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 2, kColorUsage, color), XR_SUCCESS);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                      [&](uint32_t) { return checker(c->viewWidth, c->viewHeight, 4, 0, 255); });
+    runToFocused(*c, color);
+    ASSERT_EQ(xrSyncActions(c->session, &sync), XR_SUCCESS);
+    ASSERT_EQ(xrSyncActions(c->session, &sync), XR_SUCCESS);
+    for (const auto& e : c->poll())
+        EXPECT_NE(e.type, XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED) << "no profile of the application's changed";
+    XrInteractionProfileState ips{XR_TYPE_INTERACTION_PROFILE_STATE};
+    EXPECT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips),
+              XR_ERROR_PATH_UNSUPPORTED);
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));
+}
+
 }  // namespace
 }  // namespace wrsfov::xrtest
