@@ -74,9 +74,13 @@ struct Next {
     PFN_xrStringToPath stringToPath = nullptr;
     PFN_xrCreateActionSet createActionSet = nullptr;
     PFN_xrCreateAction createAction = nullptr;
+    PFN_xrDestroyActionSet destroyActionSet = nullptr;
     PFN_xrSuggestInteractionProfileBindings suggestInteractionProfileBindings = nullptr;
     PFN_xrAttachSessionActionSets attachSessionActionSets = nullptr;
     PFN_xrSyncActions syncActions = nullptr;
+    PFN_xrGetSystemProperties getSystemProperties = nullptr;
+    PFN_xrGetCurrentInteractionProfile getCurrentInteractionProfile = nullptr;
+    PFN_xrPollEvent pollEvent = nullptr;
     PFN_xrCreateActionSpace createActionSpace = nullptr;
     PFN_xrCreateReferenceSpace createReferenceSpace = nullptr;
     PFN_xrLocateSpace locateSpace = nullptr;
@@ -88,10 +92,19 @@ struct InstanceState {
     bool passThrough = false;  // DISABLE_XR_APILAYER_WRSFOV_foveation: every call goes straight down
     RuntimeConfig config;
     bool eyeGaze = false;  // the runtime's XR_EXT_eye_gaze_interaction is enabled
+    // The application enabled XR_EXT_eye_gaze_interaction itself. When only the layer did, the
+    // extension must stay invisible: the system properties say no eye-gaze interaction, the profile
+    // and its user path are unsupported, and the profile changes it causes are not reported.
+    bool appEyeGaze = false;
     XrActionSet gazeSet = XR_NULL_HANDLE;
     XrAction gazeAction = XR_NULL_HANDLE;
-    XrPath eyeProfile = XR_NULL_PATH, eyePose = XR_NULL_PATH;
-    bool appSuggestedEyes = false;
+    XrPath eyeProfile = XR_NULL_PATH, eyePose = XR_NULL_PATH, eyeUser = XR_NULL_PATH;
+    bool appSuggestedEyes = false;  // the application suggested bindings for the eye-gaze profile
+    // The top-level user paths of the other OpenXR 1.0 profiles: what the application can see change.
+    std::vector<XrPath> otherUsers;
+
+    /// The layer's eye gaze must not show through to the application.
+    bool hideEyes() const { return eyeGaze && (!appEyeGaze || !appSuggestedEyes); }
 };
 
 struct SwapchainState {
@@ -111,6 +124,9 @@ struct SessionState {
     std::string why;
     XrSpace gazeSpace = XR_NULL_HANDLE;
     bool gazeAttached = false;
+    // The interaction profile of each of InstanceState::otherUsers the application last heard of
+    // (an XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED only the layer's binding caused is dropped).
+    std::vector<XrPath> profilesSeen;
     // The layer's output swapchain (2 layers, layer = eye), made by the runtime.
     XrSwapchain out = XR_NULL_HANDLE;
     std::vector<VkImage> outImages;
@@ -137,6 +153,7 @@ std::mutex g_mutex;
 std::map<XrInstance, InstanceState> g_instances;
 std::map<XrSession, SessionState> g_sessions;
 std::map<XrSwapchain, SwapchainState> g_swapchains;
+std::map<XrActionSet, XrInstance> g_actionSets;  // the application's, for the checks of xrCreateAction
 
 template <typename F>
 void load(PFN_xrGetInstanceProcAddr gipa, XrInstance inst, const char* name, F& fn) {
@@ -232,6 +249,7 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     std::vector<const char*> exts(info->enabledExtensionNames, info->enabledExtensionNames + info->enabledExtensionCount);
     bool eyeGaze = false;
     for (const char* e : exts) eyeGaze = eyeGaze || std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0;
+    const bool appEyeGaze = eyeGaze;
     XrApiLayerCreateInfo down = *layerInfo;
     down.nextInfo = mine->next;
     XrResult r = XR_ERROR_EXTENSION_NOT_PRESENT;
@@ -250,6 +268,7 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     InstanceState& st = g_instances[*instance];
     st.config = *config;
     st.eyeGaze = eyeGaze;
+    st.appEyeGaze = appEyeGaze;
     Next& n = st.next;
     n.getInstanceProcAddr = mine->nextGetInstanceProcAddr;
     auto gipa = n.getInstanceProcAddr;
@@ -267,9 +286,13 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     load(gipa, *instance, "xrStringToPath", n.stringToPath);
     load(gipa, *instance, "xrCreateActionSet", n.createActionSet);
     load(gipa, *instance, "xrCreateAction", n.createAction);
+    load(gipa, *instance, "xrDestroyActionSet", n.destroyActionSet);
     load(gipa, *instance, "xrSuggestInteractionProfileBindings", n.suggestInteractionProfileBindings);
     load(gipa, *instance, "xrAttachSessionActionSets", n.attachSessionActionSets);
     load(gipa, *instance, "xrSyncActions", n.syncActions);
+    load(gipa, *instance, "xrGetSystemProperties", n.getSystemProperties);
+    load(gipa, *instance, "xrGetCurrentInteractionProfile", n.getCurrentInteractionProfile);
+    load(gipa, *instance, "xrPollEvent", n.pollEvent);
     load(gipa, *instance, "xrCreateActionSpace", n.createActionSpace);
     load(gipa, *instance, "xrCreateReferenceSpace", n.createReferenceSpace);
     load(gipa, *instance, "xrLocateSpace", n.locateSpace);
@@ -286,7 +309,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
         if (n.createActionSet(*instance, &asci, &st.gazeSet) != XR_SUCCESS ||
             n.createAction(st.gazeSet, &aci, &st.gazeAction) != XR_SUCCESS ||
             n.stringToPath(*instance, kEyeProfile, &st.eyeProfile) != XR_SUCCESS ||
-            n.stringToPath(*instance, kEyePose, &st.eyePose) != XR_SUCCESS) {
+            n.stringToPath(*instance, kEyePose, &st.eyePose) != XR_SUCCESS ||
+            n.stringToPath(*instance, "/user/eyes_ext", &st.eyeUser) != XR_SUCCESS) {
             logLine("eye gaze: the layer's action set could not be made; configured gaze instead");
             st.eyeGaze = false;
         } else {
@@ -296,6 +320,10 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
             s.countSuggestedBindings = 1;
             s.suggestedBindings = &b;
             if (n.suggestInteractionProfileBindings(*instance, &s) != XR_SUCCESS) st.eyeGaze = false;
+        }
+        for (const char* u : {"/user/hand/left", "/user/hand/right", "/user/head", "/user/gamepad"}) {
+            XrPath p = XR_NULL_PATH;
+            if (n.stringToPath(*instance, u, &p) == XR_SUCCESS) st.otherUsers.push_back(p);
         }
     }
     logLine(std::string("on: method ") + std::string(toString(config->compositor.method)) + ", fovea " +
@@ -322,6 +350,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroyInstance(XrInstance instance) {
                 sc = sc->second.session == s->first ? g_swapchains.erase(sc) : std::next(sc);
             s = g_sessions.erase(s);  // compositor before context (member order)
         }
+        for (auto a = g_actionSets.begin(); a != g_actionSets.end();)
+            a = a->second == instance ? g_actionSets.erase(a) : std::next(a);
         g_instances.erase(it);
     }
     return next(instance);
@@ -336,13 +366,114 @@ XRAPI_ATTR XrResult XRAPI_CALL layerSuggestInteractionProfileBindings(
     InstanceState& st = it->second;
     if (!st.eyeGaze || !suggested || suggested->interactionProfile != st.eyeProfile || !suggested->suggestedBindings)
         return st.next.suggestInteractionProfileBindings(instance, suggested);
+    // The profile of an extension the application did not enable is not one it may use.
+    if (!st.appEyeGaze) return XR_ERROR_PATH_UNSUPPORTED;
     std::vector<XrActionSuggestedBinding> b(suggested->suggestedBindings,
                                             suggested->suggestedBindings + suggested->countSuggestedBindings);
     b.push_back({st.gazeAction, st.eyePose});
     XrInteractionProfileSuggestedBinding s = *suggested;
     s.countSuggestedBindings = uint32_t(b.size());
     s.suggestedBindings = b.data();
-    return st.next.suggestInteractionProfileBindings(instance, &s);
+    XrResult r = st.next.suggestInteractionProfileBindings(instance, &s);
+    if (XR_SUCCEEDED(r)) st.appSuggestedEyes = true;
+    return r;
+}
+
+// Eye-gaze interaction the layer enabled for itself is not the application's: the system does not
+// offer it to an application that did not enable it (and the runtime below, asked with it enabled,
+// would say it does).
+XRAPI_ATTR XrResult XRAPI_CALL layerGetSystemProperties(XrInstance instance, XrSystemId systemId,
+                                                        XrSystemProperties* properties) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = it->second;
+    XrResult r = st.next.getSystemProperties(instance, systemId, properties);
+    if (XR_SUCCEEDED(r) && st.eyeGaze && !st.appEyeGaze && properties)
+        for (auto* n = static_cast<XrBaseOutStructure*>(properties->next); n; n = n->next)
+            if (n->type == XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT)
+                reinterpret_cast<XrSystemEyeGazeInteractionPropertiesEXT*>(n)->supportsEyeGazeInteraction = XR_FALSE;
+    return r;
+}
+
+// /user/eyes_ext is a top-level user path only with the extension enabled.
+XRAPI_ATTR XrResult XRAPI_CALL layerCreateActionSet(XrInstance instance, const XrActionSetCreateInfo* info,
+                                                    XrActionSet* actionSet) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    XrResult r = it->second.next.createActionSet(instance, info, actionSet);
+    if (XR_SUCCEEDED(r)) g_actionSets[*actionSet] = instance;
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerDestroyActionSet(XrActionSet actionSet) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_actionSets.find(actionSet);
+    if (it == g_actionSets.end()) return XR_ERROR_HANDLE_INVALID;
+    const XrInstance instance = it->second;
+    g_actionSets.erase(it);
+    return g_instances.at(instance).next.destroyActionSet(actionSet);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerCreateAction(XrActionSet actionSet, const XrActionCreateInfo* info,
+                                                 XrAction* action) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_actionSets.find(actionSet);
+    if (it == g_actionSets.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = g_instances.at(it->second);
+    if (st.eyeGaze && !st.appEyeGaze && info && info->subactionPaths)
+        for (uint32_t i = 0; i < info->countSubactionPaths; ++i)
+            if (info->subactionPaths[i] == st.eyeUser) return XR_ERROR_PATH_UNSUPPORTED;
+    return st.next.createAction(actionSet, info, action);
+}
+
+// /user/eyes_ext has no profile the application may see: unsupported where only the layer enabled the
+// extension, none current where the application enabled it but bound nothing of its own to it.
+XRAPI_ATTR XrResult XRAPI_CALL layerGetCurrentInteractionProfile(XrSession session, XrPath topLevelUserPath,
+                                                                 XrInteractionProfileState* state) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = g_instances.at(it->second.instance);
+    XrResult r = st.next.getCurrentInteractionProfile(session, topLevelUserPath, state);
+    if (XR_SUCCEEDED(r) && st.hideEyes() && topLevelUserPath == st.eyeUser) {
+        if (!st.appEyeGaze) return XR_ERROR_PATH_UNSUPPORTED;
+        state->interactionProfile = XR_NULL_PATH;  // enabled, but bound to nothing of the application's
+    }
+    return r;
+}
+
+// A profile change only the layer's own eye-gaze binding caused is not the application's business:
+// delivered only when a profile the application can see (hands, head, gamepad) did change.
+XRAPI_ATTR XrResult XRAPI_CALL layerPollEvent(XrInstance instance, XrEventDataBuffer* event) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = it->second;
+    const void* next = event ? event->next : nullptr;
+    for (;;) {
+        XrResult r = st.next.pollEvent(instance, event);
+        if (r != XR_SUCCESS || !st.hideEyes() || event->type != XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED)
+            return r;
+        auto s = g_sessions.find(reinterpret_cast<const XrEventDataInteractionProfileChanged*>(event)->session);
+        if (s == g_sessions.end() || !s->second.gazeAttached) return r;
+        std::vector<XrPath> now;
+        for (XrPath user : st.otherUsers) {
+            XrInteractionProfileState ps{XR_TYPE_INTERACTION_PROFILE_STATE};
+            now.push_back(st.next.getCurrentInteractionProfile(s->first, user, &ps) == XR_SUCCESS
+                              ? ps.interactionProfile
+                              : XR_NULL_PATH);
+        }
+        if (s->second.profilesSeen.empty()) s->second.profilesSeen.assign(now.size(), XR_NULL_PATH);
+        if (now != s->second.profilesSeen) {
+            s->second.profilesSeen = now;
+            return r;
+        }
+        // Only the eyes changed: dropped; the next event, if any, is the application's answer.
+        event->type = XR_TYPE_EVENT_DATA_BUFFER;
+        event->next = next;
+    }
 }
 
 // ---- Session ----------------------------------------------------------------------------------
@@ -436,7 +567,11 @@ XRAPI_ATTR XrResult XRAPI_CALL layerAttachSessionActionSets(XrSession session, c
     auto it = g_sessions.find(session);
     if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
     const InstanceState& st = g_instances.at(it->second.instance);
-    if (!st.eyeGaze || !info || !info->actionSets) return st.next.attachSessionActionSets(session, info);
+    // An attach the runtime must refuse (no sets, no array, a wrong type) goes down as it is: adding the
+    // layer's set would make it valid.
+    if (!st.eyeGaze || !info || info->type != XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO || info->countActionSets == 0 ||
+        !info->actionSets)
+        return st.next.attachSessionActionSets(session, info);
     std::vector<XrActionSet> sets(info->actionSets, info->actionSets + info->countActionSets);
     sets.push_back(st.gazeSet);
     XrSessionActionSetsAttachInfo a = *info;
@@ -453,6 +588,9 @@ XRAPI_ATTR XrResult XRAPI_CALL layerSyncActions(XrSession session, const XrActio
     if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
     const InstanceState& st = g_instances.at(it->second.instance);
     if (!it->second.gazeAttached || !info) return st.next.syncActions(session, info);
+    if (!st.appEyeGaze && info->activeActionSets)
+        for (uint32_t i = 0; i < info->countActiveActionSets; ++i)
+            if (info->activeActionSets[i].subactionPath == st.eyeUser) return XR_ERROR_PATH_UNSUPPORTED;
     std::vector<XrActiveActionSet> sets(info->activeActionSets, info->activeActionSets + info->countActiveActionSets);
     sets.push_back({st.gazeSet, XR_NULL_PATH});
     XrActionsSyncInfo s = *info;
@@ -840,6 +978,12 @@ const Entry kEntries[] = {
     WRSFOV_ENTRY(xrDestroySession, layerDestroySession),
     WRSFOV_ENTRY(xrAttachSessionActionSets, layerAttachSessionActionSets),
     WRSFOV_ENTRY(xrSyncActions, layerSyncActions),
+    WRSFOV_ENTRY(xrGetSystemProperties, layerGetSystemProperties),
+    WRSFOV_ENTRY(xrGetCurrentInteractionProfile, layerGetCurrentInteractionProfile),
+    WRSFOV_ENTRY(xrCreateActionSet, layerCreateActionSet),
+    WRSFOV_ENTRY(xrDestroyActionSet, layerDestroyActionSet),
+    WRSFOV_ENTRY(xrCreateAction, layerCreateAction),
+    WRSFOV_ENTRY(xrPollEvent, layerPollEvent),
     WRSFOV_ENTRY(xrCreateSwapchain, layerCreateSwapchain),
     WRSFOV_ENTRY(xrDestroySwapchain, layerDestroySwapchain),
     WRSFOV_ENTRY(xrEnumerateSwapchainImages, layerEnumerateSwapchainImages),

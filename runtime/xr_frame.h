@@ -40,9 +40,20 @@ inline glm::vec3 spaceWarpMotionScale(const layers::Rect& rect) {
     return {-0.5f * float(rect.width), -0.5f * float(rect.height), 0.0f};
 }
 
+/// appSpaceDeltaPose as the compositor uses it: a zero-initialised pose (`XrPosef{}`, the
+/// quaternion {0, 0, 0, 0}) is what an application without locomotion leaves there, and
+/// XR_FB_space_warp's conformance tests submit it; it is read as the identity. Any other
+/// orientation must be a unit quaternion (XR_ERROR_POSE_INVALID otherwise).
+inline XrPosef spaceWarpDeltaPose(XrPosef d) {
+    const XrQuaternionf& q = d.orientation;
+    if (q.x == 0.0f && q.y == 0.0f && q.z == 0.0f && q.w == 0.0f) d.orientation.w = 1.0f;
+    return d;
+}
+
 /// The space-warp appSpaceDeltaPose moved the layer space (artificial locomotion the motion vectors
 /// do not carry): the history no longer lines up.
-inline bool movesLayerSpace(const XrPosef& d) {
+inline bool movesLayerSpace(XrPosef d) {
+    d = spaceWarpDeltaPose(d);
     return std::abs(d.position.x) + std::abs(d.position.y) + std::abs(d.position.z) > 1e-4f ||
            std::abs(std::abs(d.orientation.w) - 1.0f) > 1e-6f;
 }

@@ -63,6 +63,7 @@ struct Action final : Object {
     std::string name, localizedName;
     XrActionType actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
     std::vector<XrPath> subactionPaths;
+    bool destroyed = false;  // the handle is gone, its names free again; bindings may still refer to it
 };
 
 struct ActionSet final : Object {
@@ -71,6 +72,7 @@ struct ActionSet final : Object {
     std::string name, localizedName;
     uint32_t priority = 0;
     bool attached = false;
+    bool destroyed = false;  // the handle is gone (an attached set lives on in its sessions), its names free
     std::vector<std::unique_ptr<Action>> actions;
 };
 
@@ -115,7 +117,8 @@ struct Session final : Object {
     std::vector<std::unique_ptr<Space>> spaces;
     std::vector<std::unique_ptr<Swapchain>> swapchains;
     std::vector<ActionSet*> attachedSets;
-    bool eyeGazeBound = false;  // an attached action is bound to the eye-gaze pose
+    bool eyeGazeBound = false;    // an attached pose action is bound to the eye-gaze pose
+    bool eyeGazeCurrent = false;  // ... and the eye-gaze profile became current (at an xrSyncActions)
     bool synced = false;        // xrSyncActions ran while focused
 
     // Frame loop.
@@ -213,12 +216,21 @@ bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gaze = nul
 GazeState gazeAt(Session& s, XrTime time);
 /// Whether `action` is bound to the eye-gaze pose in the session's current interaction profile.
 bool boundToEyeGaze(const Session& s, const Action* action);
-/// A call's subaction path is XR_NULL_PATH or one the action was created with.
-inline bool acceptsSubaction(const Action& a, XrPath subaction) {
-    return subaction == XR_NULL_PATH ||
-           std::find(a.subactionPaths.begin(), a.subactionPaths.end(), subaction) != a.subactionPaths.end();
-}
+/// A call's subaction path: XR_NULL_PATH or one the action was created with; PATH_INVALID for a
+/// value that is no path of the instance (never made by xrStringToPath), PATH_UNSUPPORTED for another.
+XrResult checkSubaction(const Action& a, XrPath subaction);
 bool sessionFocused(const Session& s);
+
+/// Primary stereo is the one view configuration; another one the specification defines (mono, the
+/// extensions' quad and first-person-observer views) is VIEW_CONFIGURATION_TYPE_UNSUPPORTED, a value
+/// it does not define (XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM) VALIDATION_FAILURE.
+inline XrResult checkViewConfiguration(XrViewConfigurationType t) {
+    constexpr int kQuadVarjo = 1000037000, kFirstPersonObserverMsft = 1000054000;
+    if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_SUCCESS;
+    if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO || int(t) == kQuadVarjo || int(t) == kFirstPersonObserverMsft)
+        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    return XR_ERROR_VALIDATION_FAILURE;
+}
 
 // Two-call idiom: capacity 0 asks for the count.
 template <typename T>

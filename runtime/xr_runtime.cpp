@@ -106,15 +106,18 @@ bool wellFormedPath(const char* s) {
     return true;
 }
 
-/// Action and action-set names: lower case, digits, '-', '_', '.'; not empty.
-bool wellFormedName(const char* s, std::size_t max) {
+/// Action and action-set names: NAME_INVALID when empty, PATH_FORMAT_INVALID when not one well-formed
+/// path component (lower case, digits, '-', '_', '.'; terminated within the array).
+XrResult checkName(const char* s, std::size_t max) {
     const std::size_t n = strnlen(s, max);
-    if (n == 0 || n == max) return false;
+    if (n == 0) return XR_ERROR_NAME_INVALID;
+    if (n == max) return XR_ERROR_PATH_FORMAT_INVALID;
     for (std::size_t i = 0; i < n; ++i) {
         const char c = s[i];
-        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.')) return false;
+        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.'))
+            return XR_ERROR_PATH_FORMAT_INVALID;
     }
-    return true;
+    return XR_SUCCESS;
 }
 
 }  // namespace
@@ -131,6 +134,14 @@ XrPath Instance::path(const std::string& s) {
 std::string Instance::pathString(XrPath p) const {
     if (p == XR_NULL_PATH || p > paths.size()) return {};
     return paths[p - 1];
+}
+
+XrResult checkSubaction(const Action& a, XrPath subaction) {
+    if (subaction == XR_NULL_PATH) return XR_SUCCESS;
+    if (a.set->instance->pathString(subaction).empty()) return XR_ERROR_PATH_INVALID;
+    return std::find(a.subactionPaths.begin(), a.subactionPaths.end(), subaction) != a.subactionPaths.end()
+               ? XR_SUCCESS
+               : XR_ERROR_PATH_UNSUPPORTED;
 }
 
 void Instance::pushEvent(const XrEventDataBuffer& e) {
@@ -204,7 +215,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info
     const XrVersion v = info->applicationInfo.apiVersion;
     if (XR_VERSION_MAJOR(v) != 1 || XR_VERSION_MINOR(v) != 0) return XR_ERROR_API_VERSION_UNSUPPORTED;
     if (info->applicationInfo.applicationName[0] == '\0') return XR_ERROR_NAME_INVALID;
-    if (info->enabledApiLayerCount > 0) return XR_ERROR_API_LAYER_NOT_PRESENT;  // the loader strips its layers
+    // The loader passes the create info down unchanged: the names of the layers it enabled (and
+    // loaded above us) arrive here. The runtime has no layers of its own, so it only checks them.
+    if (info->enabledApiLayerCount > 0 && !info->enabledApiLayerNames) return XR_ERROR_VALIDATION_FAILURE;
+    for (uint32_t i = 0; i < info->enabledApiLayerCount; ++i)
+        if (!info->enabledApiLayerNames[i]) return XR_ERROR_VALIDATION_FAILURE;
     auto inst = std::make_unique<Instance>();
     for (uint32_t i = 0; i < info->enabledExtensionCount; ++i) {
         const char* e = info->enabledExtensionNames ? info->enabledExtensionNames[i] : nullptr;
@@ -295,13 +310,18 @@ XRAPI_ATTR XrResult XRAPI_CALL xrPollEvent(XrInstance h, XrEventDataBuffer* even
     return XR_SUCCESS;
 }
 
+/// A value without a name in our headers is printed as the specification asks:
+/// `unknown` followed by the value in decimal (XR_UNKNOWN_SUCCESS_n, XR_UNKNOWN_FAILURE_-n,
+/// XR_UNKNOWN_STRUCTURE_TYPE_n).
 template <typename Enum>
-XrResult enumString(XrInstance h, Enum value, char* buffer, std::size_t size, const char* (*name)(Enum)) {
+XrResult enumString(XrInstance h, Enum value, char* buffer, std::size_t size, const char* (*name)(Enum),
+                    const char* unknown) {
     std::lock_guard lock(apiMutex());
     if (!getInstance(h)) return XR_ERROR_HANDLE_INVALID;
     if (!buffer) return XR_ERROR_VALIDATION_FAILURE;
     if (const char* n = name(value)) std::snprintf(buffer, size, "%s", n);
-    else std::snprintf(buffer, size, "XR_UNKNOWN_%d", int(value));
+    else
+        std::snprintf(buffer, size, "%s%d", unknown, int(value));
     return XR_SUCCESS;
 }
 
@@ -321,11 +341,12 @@ const char* structureName(XrStructureType t) {
 #undef WRSFOV_ENUM_CASE
 
 XRAPI_ATTR XrResult XRAPI_CALL xrResultToString(XrInstance h, XrResult value, char buffer[XR_MAX_RESULT_STRING_SIZE]) {
-    return enumString(h, value, buffer, XR_MAX_RESULT_STRING_SIZE, &resultName);
+    return enumString(h, value, buffer, XR_MAX_RESULT_STRING_SIZE, &resultName,
+                      XR_SUCCEEDED(value) ? "XR_UNKNOWN_SUCCESS_" : "XR_UNKNOWN_FAILURE_");
 }
 XRAPI_ATTR XrResult XRAPI_CALL xrStructureTypeToString(XrInstance h, XrStructureType value,
                                                        char buffer[XR_MAX_STRUCTURE_NAME_SIZE]) {
-    return enumString(h, value, buffer, XR_MAX_STRUCTURE_NAME_SIZE, &structureName);
+    return enumString(h, value, buffer, XR_MAX_STRUCTURE_NAME_SIZE, &structureName, "XR_UNKNOWN_STRUCTURE_TYPE_");
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetSystem(XrInstance h, const XrSystemGetInfo* info, XrSystemId* id) {
@@ -336,8 +357,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetSystem(XrInstance h, const XrSystemGetInfo* 
         *id = kSystemId;
         return XR_SUCCESS;
     }
-    return info->formFactor == XR_FORM_FACTOR_HANDHELD_DISPLAY ? XR_ERROR_FORM_FACTOR_UNSUPPORTED
-                                                               : XR_ERROR_VALIDATION_FAILURE;
+    // Any other value, known or not (XR_FORM_FACTOR_MAX_ENUM included), is a form factor this
+    // runtime does not have: the specification's answer for it is FORM_FACTOR_UNSUPPORTED.
+    return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetSystemProperties(XrInstance h, XrSystemId id, XrSystemProperties* props) {
@@ -372,7 +394,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateEnvironmentBlendModes(XrInstance h, Xr
                                                                 uint32_t* countOutput, XrEnvironmentBlendMode* modes) {
     std::lock_guard lock(apiMutex());
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     return fillArray<XrEnvironmentBlendMode>(capacity, countOutput, modes, {XR_ENVIRONMENT_BLEND_MODE_OPAQUE});
 }
 
@@ -390,7 +412,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetViewConfigurationProperties(XrInstance h, Xr
     std::lock_guard lock(apiMutex());
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
     if (!props || props->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     props->viewConfigurationType = type;
     props->fovMutable = XR_FALSE;
     return XR_SUCCESS;
@@ -403,7 +425,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurationViews(XrInstance h, X
     std::lock_guard lock(apiMutex());
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
     *countOutput = 2;
     if (capacity == 0) return XR_SUCCESS;
@@ -655,46 +677,123 @@ Session* getSession(XrSession h) { return lookup<Session>(h, ObjectType::Session
 const char* const kEyeGazeProfile = "/interaction_profiles/ext/eye_gaze_interaction";
 const char* const kEyeGazePose = "/user/eyes_ext/input/gaze_ext/pose";
 
-/// The interaction profiles accepted for suggestions and the top-level user paths of each.
+/// One input or output of an interaction profile: its path under the top-level user path, and the
+/// one user path that has it where only one does (the Touch controller's buttons).
+struct Component {
+    const char* path;
+    const char* onlyUser = nullptr;
+};
+
+/// The interaction profiles of OpenXR 1.0 (and of XR_EXT_eye_gaze_interaction when it is enabled):
+/// their top-level user paths and the components 1.0 gives them. Components that later versions or
+/// extensions add (grip_surface, palm_ext, dpad, proximity, ...) are not here, so with an OpenXR 1.0
+/// instance they are unsupported paths, as the specification requires.
 struct Profile {
     const char* path;
     std::vector<const char*> users;
+    std::vector<Component> components;
+    const char* extension = nullptr;  // needed to use the profile at all
 };
+
 const std::vector<Profile>& profiles() {
     static const std::vector<const char*> hands = {"/user/hand/left", "/user/hand/right"};
+    constexpr const char* left = "/user/hand/left";
+    constexpr const char* right = "/user/hand/right";
+    // One profile's components in a few lines rather than one per line.
+    // clang-format off
     static const std::vector<Profile> p = {
-        {"/interaction_profiles/khr/simple_controller", hands},
-        {"/interaction_profiles/google/daydream_controller", hands},
-        {"/interaction_profiles/htc/vive_controller", hands},
-        {"/interaction_profiles/htc/vive_pro", {"/user/head"}},
-        {"/interaction_profiles/microsoft/motion_controller", hands},
-        {"/interaction_profiles/microsoft/xbox_controller", {"/user/gamepad"}},
-        {"/interaction_profiles/oculus/go_controller", hands},
-        {"/interaction_profiles/oculus/touch_controller", hands},
-        {"/interaction_profiles/valve/index_controller", hands},
-        {kEyeGazeProfile, {"/user/eyes_ext"}},
+        {"/interaction_profiles/khr/simple_controller",
+         hands,
+         {{"/input/select/click"}, {"/input/menu/click"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {"/interaction_profiles/google/daydream_controller",
+         hands,
+         {{"/input/select/click"}, {"/input/trackpad"}, {"/input/trackpad/x"}, {"/input/trackpad/y"},
+          {"/input/trackpad/click"}, {"/input/trackpad/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"}}},
+        {"/interaction_profiles/htc/vive_controller",
+         hands,
+         {{"/input/system/click"}, {"/input/squeeze/click"}, {"/input/menu/click"}, {"/input/trigger/click"},
+          {"/input/trigger/value"}, {"/input/trackpad"}, {"/input/trackpad/x"}, {"/input/trackpad/y"},
+          {"/input/trackpad/click"}, {"/input/trackpad/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {"/interaction_profiles/htc/vive_pro",
+         {"/user/head"},
+         {{"/input/system/click"}, {"/input/volume_up/click"}, {"/input/volume_down/click"},
+          {"/input/mute_mic/click"}}},
+        {"/interaction_profiles/microsoft/motion_controller",
+         hands,
+         {{"/input/menu/click"}, {"/input/squeeze/click"}, {"/input/trigger/value"}, {"/input/thumbstick"},
+          {"/input/thumbstick/x"}, {"/input/thumbstick/y"}, {"/input/thumbstick/click"}, {"/input/trackpad"},
+          {"/input/trackpad/x"}, {"/input/trackpad/y"}, {"/input/trackpad/click"}, {"/input/trackpad/touch"},
+          {"/input/grip/pose"}, {"/input/aim/pose"}, {"/output/haptic"}}},
+        {"/interaction_profiles/microsoft/xbox_controller",
+         {"/user/gamepad"},
+         {{"/input/menu/click"}, {"/input/view/click"}, {"/input/a/click"}, {"/input/b/click"}, {"/input/x/click"},
+          {"/input/y/click"}, {"/input/dpad_down/click"}, {"/input/dpad_right/click"}, {"/input/dpad_up/click"},
+          {"/input/dpad_left/click"}, {"/input/shoulder_left/click"}, {"/input/shoulder_right/click"},
+          {"/input/thumbstick_left/click"}, {"/input/thumbstick_right/click"}, {"/input/trigger_left/value"},
+          {"/input/trigger_right/value"}, {"/input/thumbstick_left"}, {"/input/thumbstick_left/x"},
+          {"/input/thumbstick_left/y"}, {"/input/thumbstick_right"}, {"/input/thumbstick_right/x"},
+          {"/input/thumbstick_right/y"}, {"/output/haptic_left"}, {"/output/haptic_right"},
+          {"/output/haptic_left_trigger"}, {"/output/haptic_right_trigger"}}},
+        {"/interaction_profiles/oculus/go_controller",
+         hands,
+         {{"/input/system/click"}, {"/input/trigger/click"}, {"/input/back/click"}, {"/input/trackpad"},
+          {"/input/trackpad/x"}, {"/input/trackpad/y"}, {"/input/trackpad/click"}, {"/input/trackpad/touch"},
+          {"/input/grip/pose"}, {"/input/aim/pose"}}},
+        {"/interaction_profiles/oculus/touch_controller",
+         hands,
+         {{"/input/x/click", left}, {"/input/x/touch", left}, {"/input/y/click", left}, {"/input/y/touch", left},
+          {"/input/menu/click", left}, {"/input/a/click", right}, {"/input/a/touch", right},
+          {"/input/b/click", right}, {"/input/b/touch", right}, {"/input/system/click", right},
+          {"/input/squeeze/value"}, {"/input/trigger/value"}, {"/input/trigger/touch"}, {"/input/thumbstick"},
+          {"/input/thumbstick/x"}, {"/input/thumbstick/y"}, {"/input/thumbstick/click"},
+          {"/input/thumbstick/touch"}, {"/input/thumbrest/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {"/interaction_profiles/valve/index_controller",
+         hands,
+         {{"/input/system/click"}, {"/input/system/touch"}, {"/input/a/click"}, {"/input/a/touch"},
+          {"/input/b/click"}, {"/input/b/touch"}, {"/input/squeeze/value"}, {"/input/squeeze/force"},
+          {"/input/trigger/click"}, {"/input/trigger/value"}, {"/input/trigger/touch"}, {"/input/thumbstick"},
+          {"/input/thumbstick/x"}, {"/input/thumbstick/y"}, {"/input/thumbstick/click"},
+          {"/input/thumbstick/touch"}, {"/input/trackpad"}, {"/input/trackpad/x"}, {"/input/trackpad/y"},
+          {"/input/trackpad/force"}, {"/input/trackpad/touch"}, {"/input/grip/pose"}, {"/input/aim/pose"},
+          {"/output/haptic"}}},
+        {kEyeGazeProfile, {"/user/eyes_ext"}, {{"/input/gaze_ext/pose"}}, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME},
     };
+    // clang-format on
     return p;
 }
 
-bool endsWith(const std::string& s, const char* suffix) {
-    const std::size_t n = std::strlen(suffix);
-    return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+/// The top-level user paths an instance knows: those of its profiles (/user/eyes_ext only with
+/// XR_EXT_eye_gaze_interaction enabled).
+bool knownUserPath(const Instance& inst, const std::string& user) {
+    for (const Profile& p : profiles())
+        if (!p.extension || inst.enabled(p.extension))
+            for (const char* u : p.users)
+                if (user == u) return true;
+    return false;
 }
 
-/// Whether `binding` is a plausible source of `profile` for an action of `type`. Components are not
-/// checked against each profile's full list: a binding under a top-level path of the profile, of the
-/// right kind (pose, haptic output, other input), is accepted; the eye-gaze profile has exactly one.
-bool bindingFits(const Profile& profile, const std::string& binding, XrActionType type) {
-    if (std::strcmp(profile.path, kEyeGazeProfile) == 0)
-        return binding == kEyeGazePose && type == XR_ACTION_TYPE_POSE_INPUT;
+/// Whether `binding` is a source of `profile`: a top-level user path of the profile followed by one
+/// of its components for that user path, or by an identifier alone (`/input/trigger`, which the
+/// runtime resolves to the identifier's component). The action's type is not checked: the
+/// specification lets an application suggest any action for any source (a pose or haptic source for
+/// a boolean action, say); a source whose type cannot feed the action is simply never bound to it.
+bool bindingFits(const Profile& profile, const std::string& binding) {
     for (const char* user : profile.users) {
         const std::string u = user;
-        if (binding.compare(0, u.size(), u) != 0) continue;
+        if (binding.size() <= u.size() || binding.compare(0, u.size(), u) != 0 || binding[u.size()] != '/') continue;
         const std::string rest = binding.substr(u.size());
-        if (type == XR_ACTION_TYPE_VIBRATION_OUTPUT) return rest == "/output/haptic" || endsWith(rest, "/haptic");
-        if (rest.rfind("/input/", 0) != 0) return false;
-        return (type == XR_ACTION_TYPE_POSE_INPUT) == endsWith(rest, "/pose");
+        const bool identifier = std::count(rest.begin(), rest.end(), '/') == 2;  // "/input/trigger"
+        for (const Component& c : profile.components) {
+            if (c.onlyUser && u != c.onlyUser) continue;
+            const std::string path = c.path;
+            if (rest == path) return true;
+            if (identifier && path.size() > rest.size() && path.compare(0, rest.size(), rest) == 0 &&
+                path[rest.size()] == '/')
+                return true;
+        }
     }
     return false;
 }
@@ -704,10 +803,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSet(XrInstance h, const XrActionSet
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_ACTION_SET_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (!wellFormedName(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE)) return XR_ERROR_PATH_FORMAT_INVALID;
+    if (XrResult r = checkName(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE); r != XR_SUCCESS) return r;
     if (strnlen(info->localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE) == 0)
         return XR_ERROR_LOCALIZED_NAME_INVALID;
     for (auto& s : inst->actionSets) {
+        if (s->destroyed) continue;  // its names were released with its handle
         if (s->name == info->actionSetName) return XR_ERROR_NAME_DUPLICATED;
         if (s->localizedName == info->localizedActionSetName) return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
@@ -728,8 +828,12 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroyActionSet(XrActionSet h) {
     if (!set) return XR_ERROR_HANDLE_INVALID;
     // An attached set lives on in its sessions (the handle is gone; the spec lets the runtime keep it).
     auto& sets = set->instance->actionSets;
-    for (auto& a : set->actions) unregisterObject(a.get());
+    for (auto& a : set->actions) {
+        if (!a->destroyed) unregisterObject(a.get());
+        a->destroyed = true;
+    }
     unregisterObject(set);
+    set->destroyed = true;
     if (!set->attached)
         for (auto it = sets.begin(); it != sets.end(); ++it)
             if (it->get() == set) {
@@ -755,10 +859,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateAction(XrActionSet h, const XrActionCreat
         default:
             return XR_ERROR_VALIDATION_FAILURE;
     }
-    if (!wellFormedName(info->actionName, XR_MAX_ACTION_NAME_SIZE)) return XR_ERROR_PATH_FORMAT_INVALID;
+    if (XrResult r = checkName(info->actionName, XR_MAX_ACTION_NAME_SIZE); r != XR_SUCCESS) return r;
     if (strnlen(info->localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE) == 0)
         return XR_ERROR_LOCALIZED_NAME_INVALID;
     for (auto& a : set->actions) {
+        if (a->destroyed) continue;  // its names were released with its handle
         if (a->name == info->actionName) return XR_ERROR_NAME_DUPLICATED;
         if (a->localizedName == info->localizedActionName) return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
@@ -767,10 +872,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateAction(XrActionSet h, const XrActionCreat
     for (uint32_t i = 0; i < info->countSubactionPaths; ++i) {
         const std::string p = set->instance->pathString(info->subactionPaths[i]);
         if (p.empty()) return XR_ERROR_PATH_INVALID;
-        bool topLevel = false;
-        for (const char* u : {"/user/hand/left", "/user/hand/right", "/user/head", "/user/gamepad", "/user/eyes_ext"})
-            topLevel = topLevel || p == u;
-        if (!topLevel) return XR_ERROR_PATH_UNSUPPORTED;
+        if (!knownUserPath(*set->instance, p)) return XR_ERROR_PATH_UNSUPPORTED;
         for (XrPath q : sub)
             if (q == info->subactionPaths[i]) return XR_ERROR_PATH_UNSUPPORTED;  // duplicated
         sub.push_back(info->subactionPaths[i]);
@@ -792,6 +894,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroyAction(XrAction h) {
     Action* a = getAction(h);
     if (!a) return XR_ERROR_HANDLE_INVALID;
     unregisterObject(a);  // the object stays with its set (bindings and spaces may refer to it)
+    a->destroyed = true;  // its names may be used again
     return XR_SUCCESS;
 }
 
@@ -807,10 +910,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSuggestInteractionProfileBindings(
     if (profilePath.empty()) return XR_ERROR_PATH_INVALID;
     const Profile* profile = nullptr;
     for (const auto& p : profiles())
-        if (profilePath == p.path) profile = &p;
+        if (profilePath == p.path && (!p.extension || inst->enabled(p.extension))) profile = &p;
     if (!profile) return XR_ERROR_PATH_UNSUPPORTED;
-    if (profilePath == kEyeGazeProfile && !inst->enabled(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME))
-        return XR_ERROR_PATH_UNSUPPORTED;
     std::vector<XrActionSuggestedBinding> bindings;
     for (uint32_t i = 0; i < suggested->countSuggestedBindings; ++i) {
         const XrActionSuggestedBinding& b = suggested->suggestedBindings[i];
@@ -819,7 +920,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSuggestInteractionProfileBindings(
         if (a->set->attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
         const std::string binding = inst->pathString(b.binding);
         if (binding.empty()) return XR_ERROR_PATH_INVALID;
-        if (!bindingFits(*profile, binding, a->actionType)) return XR_ERROR_PATH_UNSUPPORTED;
+        if (!bindingFits(*profile, binding)) return XR_ERROR_PATH_UNSUPPORTED;
         bindings.push_back(b);
     }
     inst->suggested[suggested->interactionProfile] = std::move(bindings);
@@ -843,20 +944,17 @@ XRAPI_ATTR XrResult XRAPI_CALL xrAttachSessionActionSets(XrSession h, const XrSe
     Instance* inst = s->instance;
     for (ActionSet* set : sets) set->attached = true;
     s->attachedSets = sets;
-    // Our simulated HMD has eyes and no controllers: only the eye-gaze profile can become current.
+    // Our simulated HMD has eyes and no controllers: only the eye-gaze profile can become current,
+    // and only for a pose action (a binding of another type is suggested but never bound). It becomes
+    // current at the next xrSyncActions, the one call in which the specification lets a runtime
+    // change interaction profiles (and queue XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED).
     auto eyes = inst->pathIds.find(kEyeGazeProfile);
     if (eyes != inst->pathIds.end() && inst->suggested.count(eyes->second))
         for (const auto& b : inst->suggested[eyes->second])
             for (ActionSet* set : sets)
                 for (auto& a : set->actions)
-                    if (reinterpret_cast<XrAction>(a.get()) == b.action) s->eyeGazeBound = true;
-    if (s->eyeGazeBound) {
-        XrEventDataBuffer e{XR_TYPE_EVENT_DATA_BUFFER};
-        auto* changed = reinterpret_cast<XrEventDataInteractionProfileChanged*>(&e);
-        changed->type = XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
-        changed->session = h;
-        inst->pushEvent(e);
-    }
+                    if (reinterpret_cast<XrAction>(a.get()) == b.action && a->actionType == XR_ACTION_TYPE_POSE_INPUT)
+                        s->eyeGazeBound = true;
     return XR_SUCCESS;
 }
 
@@ -869,12 +967,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetCurrentInteractionProfile(XrSession h, XrPat
     if (s->attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
     const std::string user = s->instance->pathString(topLevelUserPath);
     if (user.empty()) return XR_ERROR_PATH_INVALID;
-    bool known = false;
-    for (const char* u : {"/user/hand/left", "/user/hand/right", "/user/head", "/user/gamepad", "/user/eyes_ext"})
-        known = known || user == u;
-    if (!known) return XR_ERROR_PATH_UNSUPPORTED;
+    if (!knownUserPath(*s->instance, user)) return XR_ERROR_PATH_UNSUPPORTED;
     state->interactionProfile =
-        user == "/user/eyes_ext" && s->eyeGazeBound ? s->instance->path(kEyeGazeProfile) : XR_NULL_PATH;
+        user == "/user/eyes_ext" && s->eyeGazeCurrent ? s->instance->path(kEyeGazeProfile) : XR_NULL_PATH;
     return XR_SUCCESS;
 }
 
@@ -889,6 +984,20 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSyncActions(XrSession h, const XrActionsSyncInf
         if (!set) return XR_ERROR_HANDLE_INVALID;
         if (std::find(s->attachedSets.begin(), s->attachedSets.end(), set) == s->attachedSets.end())
             return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+        const XrPath sub = info->activeActionSets[i].subactionPath;
+        if (sub != XR_NULL_PATH) {
+            const std::string p = s->instance->pathString(sub);
+            if (p.empty()) return XR_ERROR_PATH_INVALID;
+            if (!knownUserPath(*s->instance, p)) return XR_ERROR_PATH_UNSUPPORTED;
+        }
+    }
+    if (s->eyeGazeBound && !s->eyeGazeCurrent) {
+        s->eyeGazeCurrent = true;
+        XrEventDataBuffer e{XR_TYPE_EVENT_DATA_BUFFER};
+        auto* changed = reinterpret_cast<XrEventDataInteractionProfileChanged*>(&e);
+        changed->type = XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
+        changed->session = h;
+        s->instance->pushEvent(e);
     }
     s->synced = sessionFocused(*s);
     return s->synced ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
@@ -908,7 +1017,7 @@ XrResult actionStateCheck(XrSession h, const XrActionStateGetInfo* info, XrActio
     if (std::find(session->attachedSets.begin(), session->attachedSets.end(), action->set) ==
         session->attachedSets.end())
         return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (!acceptsSubaction(*action, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
+    if (XrResult r = checkSubaction(*action, info->subactionPath); r != XR_SUCCESS) return r;
     return XR_SUCCESS;
 }
 
@@ -1015,7 +1124,7 @@ XrResult hapticCheck(XrSession h, const XrHapticActionInfo* info) {
     if (a->actionType != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
     if (std::find(s->attachedSets.begin(), s->attachedSets.end(), a->set) == s->attachedSets.end())
         return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    if (!acceptsSubaction(*a, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
+    if (XrResult r = checkSubaction(*a, info->subactionPath); r != XR_SUCCESS) return r;
     return s->synced ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
 }
 

@@ -128,7 +128,7 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::Pro
 }  // namespace
 
 bool boundToEyeGaze(const Session& s, const Action* a) {
-    if (!s.eyeGazeBound || !a) return false;
+    if (!s.eyeGazeCurrent || !a || a->actionType != XR_ACTION_TYPE_POSE_INPUT) return false;
     const Instance& inst = *s.instance;
     auto profile = inst.pathIds.find("/interaction_profiles/ext/eye_gaze_interaction");
     if (profile == inst.pathIds.end()) return false;
@@ -220,6 +220,21 @@ XrResult destroySession(Session* s) {
     s->compositor.reset();
     s->context.reset();
     unregisterObject(s);
+    // Events of the session still queued go with it: an application must never receive a handle it
+    // has destroyed (a later session may even reuse the address).
+    const XrSession handle = reinterpret_cast<XrSession>(s);
+    std::erase_if(inst->events, [handle](const XrEventDataBuffer& e) {
+        switch (e.type) {
+            case XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED:
+                return reinterpret_cast<const XrEventDataSessionStateChanged&>(e).session == handle;
+            case XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED:
+                return reinterpret_cast<const XrEventDataInteractionProfileChanged&>(e).session == handle;
+            case XR_TYPE_EVENT_DATA_REFERENCE_SPACE_CHANGE_PENDING:
+                return reinterpret_cast<const XrEventDataReferenceSpaceChangePending&>(e).session == handle;
+            default:
+                return false;
+        }
+    });
     // The messenger goes with the session: the application may destroy its VkInstance right after.
     if (inst->messenger) {
         auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -316,8 +331,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession h, const XrSessionBeginI
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
     if (s->running) return XR_ERROR_SESSION_RUNNING;
-    if (info->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(info->primaryViewConfigurationType); r != XR_SUCCESS) return r;
     if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
     s->running = true;
     s->nextDisplayTime = 0;
@@ -381,7 +395,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrRefer
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (XrResult r = checkReferenceType(info->referenceSpaceType); r != XR_SUCCESS) return r;
+    // Any type the session does not offer, a value no specification defines included
+    // (XR_REFERENCE_SPACE_TYPE_MAX_ENUM), cannot be created: REFERENCE_SPACE_UNSUPPORTED, as the
+    // specification words it for this call (xrGetReferenceSpaceBoundsRect calls a made-up value a
+    // validation failure).
+    if (checkReferenceType(info->referenceSpaceType) != XR_SUCCESS) return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
     if (!isValidPose(info->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
     auto sp = std::make_unique<Space>();
     sp->session = s;
@@ -413,7 +431,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession h, const XrActionSp
     Action* a = getAction(info->action);
     if (!a) return XR_ERROR_HANDLE_INVALID;
     if (a->actionType != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (!acceptsSubaction(*a, info->subactionPath)) return XR_ERROR_PATH_UNSUPPORTED;
+    if (XrResult r = checkSubaction(*a, info->subactionPath); r != XR_SUCCESS) return r;
     if (!isValidPose(info->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
     auto sp = std::make_unique<Space>();
     sp->session = s;
@@ -627,6 +645,10 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitSwapchainImage(XrSwapchain h, const XrSwapc
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    // One image at a time is waited for: a second wait before its release is out of order, and
+    // changes nothing (the images stay acquired for later legitimate waits).
+    for (uint32_t i = 0; i < sc->images->info().imageCount; ++i)
+        if (sc->images->isWaited(i)) return XR_ERROR_CALL_ORDER_INVALID;
     // Frame end is synchronous: an acquired image is free as soon as it is acquired.
     return sc->images->wait() ? XR_SUCCESS : XR_ERROR_CALL_ORDER_INVALID;
 }
@@ -740,7 +762,7 @@ XrResult checkSpaceWarp(Session* s, const XrCompositionLayerSpaceWarpInfoFB& w) 
         return XR_ERROR_VALIDATION_FAILURE;
     if (XrResult r = checkSubImage(s, w.motionVectorSubImage, nullptr); r != XR_SUCCESS) return r;
     if (XrResult r = checkSubImage(s, w.depthSubImage, nullptr); r != XR_SUCCESS) return r;
-    if (!isValidPose(w.appSpaceDeltaPose)) return XR_ERROR_POSE_INVALID;
+    if (!isValidPose(spaceWarpDeltaPose(w.appSpaceDeltaPose))) return XR_ERROR_POSE_INVALID;
     if (!(w.minDepth >= 0.0f && w.minDepth < w.maxDepth && w.maxDepth <= 1.0f)) return XR_ERROR_VALIDATION_FAILURE;
     auto ok = [](float z) { return z > 0.0f && !std::isnan(z); };
     if (!ok(w.nearZ) || !ok(w.farZ) || w.nearZ == w.farZ) return XR_ERROR_VALIDATION_FAILURE;
@@ -788,8 +810,9 @@ XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
             }
         } else if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
             auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(l);
+            // A quad of size {0, 0} (or of zero width or height) is valid and covers nothing.
             if (q->eyeVisibility > XR_EYE_VISIBILITY_RIGHT || !std::isfinite(q->size.width) ||
-                !std::isfinite(q->size.height) || q->size.width <= 0.0f || q->size.height <= 0.0f)
+                !std::isfinite(q->size.height) || q->size.width < 0.0f || q->size.height < 0.0f)
                 return XR_ERROR_VALIDATION_FAILURE;
             if (!isValidPose(q->pose)) return XR_ERROR_POSE_INVALID;
             if (XrResult r = checkSubImage(s, q->subImage, nullptr); r != XR_SUCCESS) return r;
@@ -882,6 +905,7 @@ void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const
     for (uint32_t i = projIndex + 1; i < info->layerCount; ++i) {
         if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
         auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(info->layers[i]);
+        if (q->size.width == 0.0f || q->size.height == 0.0f) continue;  // covers nothing
         Pose space;
         if (!spacePose(*getSpace(q->space), t, space)) continue;  // an untracked space: not shown
         const Pose quadInStage = space * fromXr(q->pose);
@@ -1046,8 +1070,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession h, const XrViewLocateInfo
     if (!info || info->type != XR_TYPE_VIEW_LOCATE_INFO || !viewState || viewState->type != XR_TYPE_VIEW_STATE ||
         !countOutput)
         return XR_ERROR_VALIDATION_FAILURE;
-    if (info->viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (XrResult r = checkViewConfiguration(info->viewConfigurationType); r != XR_SUCCESS) return r;
     if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
     Space* base = getSpace(info->space);
     if (!base || base->session != s) return XR_ERROR_HANDLE_INVALID;

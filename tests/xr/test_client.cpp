@@ -417,10 +417,16 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
         {"near == far", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.farZ = s.nearZ; }, XR_ERROR_VALIDATION_FAILURE},
         {"empty depth range", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.minDepth = s.maxDepth; },
          XR_ERROR_VALIDATION_FAILURE},
-        {"unknown flag", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.layerFlags = 0x80; }, XR_ERROR_VALIDATION_FAILURE},
+        {"unknown flag", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.layerFlags = 0x80; },
+         XR_ERROR_VALIDATION_FAILURE},
         {"bad delta pose", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.appSpaceDeltaPose.orientation.w = 0.5f; },
          XR_ERROR_POSE_INVALID},
-        {"motion rect outside", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.motionVectorSubImage.imageRect.offset.x = 1; },
+        // XrPosef{} (a zero quaternion): what an application without locomotion leaves there; read as
+        // the identity.
+        {"zero-initialised delta pose", [](XrCompositionLayerSpaceWarpInfoFB& s) { s.appSpaceDeltaPose = XrPosef{}; },
+         XR_SUCCESS},
+        {"motion rect outside",
+         [](XrCompositionLayerSpaceWarpInfoFB& s) { s.motionVectorSubImage.imageRect.offset.x = 1; },
          XR_ERROR_SWAPCHAIN_RECT_INVALID},
         {"good again", [](XrCompositionLayerSpaceWarpInfoFB&) {}, XR_SUCCESS},
     };
@@ -452,7 +458,7 @@ TEST(XrClient, SpaceWarpMotionReachesTheCompositorInPixels) {
     auto opened = eval::SequenceReader::open(dir);
     ASSERT_TRUE(opened) << opened.error().message;
     auto& r = *opened;
-    EXPECT_EQ(r->info().frameCount, 2u);  // the two good frames
+    EXPECT_EQ(r->info().frameCount, 3u);  // the three good frames
     ASSERT_TRUE(r->info().motion.has_value());
     EXPECT_EQ(*r->info().motion, eval::MotionUnits::Pixels);
     ASSERT_TRUE(r->info().depth.has_value());  // from the space-warp info
@@ -518,8 +524,9 @@ TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
         ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
             StereoLayer sl;
             sl.build(*c, fs.predictedDisplayTime, color);
-            XrCompositionLayerQuad q[2] = {{XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}};
-            for (int k = 0; k < 2; ++k) {
+            XrCompositionLayerQuad q[3] = {
+                {XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}, {XR_TYPE_COMPOSITION_LAYER_QUAD}};
+            for (int k = 0; k < 3; ++k) {
                 q[k].space = view;
                 q[k].pose.orientation.w = 1.0f;
                 q[k].subImage.swapchain = k ? green.handle : red.handle;
@@ -531,9 +538,14 @@ TEST(XrClient, QuadLayersAreDrawnOverTheProjection) {
             q[1].eyeVisibility = XR_EYE_VISIBILITY_LEFT;
             q[1].pose.position = {0.0f, -0.35f, -1.0f};  // below the red one
             q[1].size = {0.2f, 0.2f};
+            // A quad of size {0, 0} is valid and covers nothing (the red one stays visible through it).
+            q[2].eyeVisibility = XR_EYE_VISIBILITY_BOTH;
+            q[2].pose.position = {0.0f, 0.0f, -0.5f};
+            q[2].size = {0.0f, 0.0f};
             std::vector<const XrCompositionLayerBaseHeader*> ls{
                 sl.header(), reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[0]),
-                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[1])};
+                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[1]),
+                reinterpret_cast<const XrCompositionLayerBaseHeader*>(&q[2])};
             XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
             return xrEndFrame(c->session, &fe);
         }),
@@ -692,16 +704,20 @@ TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     s.countSuggestedBindings = 1;
     s.suggestedBindings = &b;
     ASSERT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
-    // A boolean on the gaze pose, an unknown profile, a pose on a click: refused.
-    XrActionSuggestedBinding wrong{select, b.binding};
-    s.suggestedBindings = &wrong;
-    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    // An unknown profile is refused; a source of another type than the action's is a valid
+    // suggestion (never bound): a boolean on the gaze pose, a pose on a click.
+    XrActionSuggestedBinding both[2] = {{gaze, b.binding}, {select, b.binding}};
+    s.suggestedBindings = both;
+    s.countSuggestedBindings = 2;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
+    s.countSuggestedBindings = 1;
+    s.suggestedBindings = &b;
     s.interactionProfile = path(c->instance, "/interaction_profiles/acme/teapot");
     EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
     XrActionSuggestedBinding click{gaze, path(c->instance, "/user/hand/left/input/select/click")};
     s.interactionProfile = path(c->instance, "/interaction_profiles/khr/simple_controller");
     s.suggestedBindings = &click;
-    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
     XrActionSuggestedBinding okClick{select, click.binding};
     s.suggestedBindings = &okClick;
     EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
@@ -723,19 +739,29 @@ TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
     EXPECT_EQ(xrAttachSessionActionSets(c->session, &att), XR_ERROR_ACTIONSETS_ALREADY_ATTACHED);
     EXPECT_EQ(xrCreateAction(set, &aci, &select), XR_ERROR_ACTIONSETS_ALREADY_ATTACHED);
-    bool profileChanged = false;
-    for (const auto& e : c->poll()) profileChanged |= e.type == XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
-    EXPECT_TRUE(profileChanged);
+    // Interaction profiles change only in xrSyncActions: nothing yet after the attach.
+    auto profileChanged = [&] {
+        bool changed = false;
+        for (const auto& e : c->poll()) changed |= e.type == XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
+        return changed;
+    };
+    EXPECT_FALSE(profileChanged()) << "queued by xrAttachSessionActionSets";
     ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips), XR_SUCCESS);
-    EXPECT_EQ(ips.interactionProfile, path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction"));
-    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
-    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));  // no controllers on this HMD
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));
 
     XrActiveActionSet active{set, XR_NULL_PATH};
     XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
     sync.countActiveActionSets = 1;
     sync.activeActionSets = &active;
     EXPECT_EQ(xrSyncActions(c->session, &sync), XR_SESSION_NOT_FOCUSED);
+    EXPECT_TRUE(profileChanged()) << "not queued by the first xrSyncActions";
+    EXPECT_FALSE(profileChanged());
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction"));
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));  // no controllers on this HMD
+    EXPECT_EQ(xrSyncActions(c->session, &sync), XR_SESSION_NOT_FOCUSED);
+    EXPECT_FALSE(profileChanged()) << "a second change event without a change";
 
     Swapchain color;
     ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 2, kColorUsage, color), XR_SUCCESS);
@@ -783,6 +809,429 @@ TEST(XrClient, EyeGazeActionFollowsTheGenerator) {
     ASSERT_EQ(xrEnumerateBoundSourcesForAction(c->session, &bsi, 2, &n, src), XR_SUCCESS);
     ASSERT_EQ(n, 1u);
     EXPECT_EQ(src[0], b.binding);
+}
+
+/// An instance of its own (no session) with these extensions; XR_NULL_HANDLE on failure.
+XrInstance bareInstance(const std::vector<const char*>& extensions, const std::vector<const char*>& layers = {}) {
+    XrInstanceCreateInfo ici{XR_TYPE_INSTANCE_CREATE_INFO};
+    std::snprintf(ici.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "wrsfov-xr-bare");
+    ici.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
+    ici.enabledExtensionCount = uint32_t(extensions.size());
+    ici.enabledExtensionNames = extensions.data();
+    ici.enabledApiLayerCount = uint32_t(layers.size());
+    ici.enabledApiLayerNames = layers.data();
+    XrInstance inst = XR_NULL_HANDLE;
+    const XrResult r = xrCreateInstance(&ici, &inst);
+    EXPECT_EQ(r, XR_SUCCESS);
+    return r == XR_SUCCESS ? inst : XR_NULL_HANDLE;
+}
+
+// The loader hands the application's XrInstanceCreateInfo to the runtime unchanged, so the names of
+// the API layers the application enabled reach the runtime, which must accept them. Here the OpenXR
+// core validation layer (installed with the system's OpenXR packages) is enabled by name, through the
+// real loader; where XR_API_LAYER_PATH hides it (the run through our own layer), our layer is.
+TEST(XrClient, InstanceWithApiLayersEnabledByName) {
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateApiLayerProperties(0, &n, nullptr), XR_SUCCESS);
+    std::vector<XrApiLayerProperties> props(n, {XR_TYPE_API_LAYER_PROPERTIES});
+    ASSERT_EQ(xrEnumerateApiLayerProperties(n, &n, props.data()), XR_SUCCESS);
+    const char* env = std::getenv("XR_ENABLE_API_LAYERS");
+    const std::string enabledByEnv = env ? env : "";
+    std::string chosen;
+    for (const char* want : {"XR_APILAYER_LUNARG_core_validation", "XR_APILAYER_WRSFOV_foveation"})
+        for (const auto& p : props)
+            if (chosen.empty() && std::strcmp(p.layerName, want) == 0 && enabledByEnv.find(want) == std::string::npos)
+                chosen = want;
+    if (chosen.empty()) {
+        // Only where the environment enabled the layers already, or XR_API_LAYER_PATH hides the rest.
+        ASSERT_TRUE(!enabledByEnv.empty() || std::getenv("XR_API_LAYER_PATH"))
+            << "XR_APILAYER_LUNARG_core_validation is not installed";
+        GTEST_SKIP() << "no API layer left to enable by name";
+    }
+    const char* name = chosen.c_str();
+    XrInstance inst = bareInstance({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME}, {name});
+    ASSERT_NE(inst, XR_NULL_HANDLE) << "with " << name << " enabled";
+    XrSystemGetInfo sgi{XR_TYPE_SYSTEM_GET_INFO};
+    sgi.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
+    XrSystemId sys = XR_NULL_SYSTEM_ID;
+    EXPECT_EQ(xrGetSystem(inst, &sgi, &sys), XR_SUCCESS);
+    EXPECT_EQ(xrDestroyInstance(inst), XR_SUCCESS);
+}
+
+// One image at a time is waited for: a second xrWaitSwapchainImage before the release is out of
+// order and changes nothing, so the waits that follow the release still work.
+TEST(XrClient, SecondWaitBeforeReleaseIsRefused) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    Swapchain sc;
+    ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 1, kColorUsage, sc), XR_SUCCESS);
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    uint32_t idx[2];
+    ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[0]), XR_SUCCESS);
+    ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &idx[1]), XR_SUCCESS);
+    ASSERT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_ERROR_CALL_ORDER_INVALID);
+    ASSERT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);  // the second acquired image
+    EXPECT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    EXPECT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_ERROR_CALL_ORDER_INVALID);  // nothing acquired
+    // The ring goes on as before.
+    for (int f = 0; f < 3; ++f) {
+        uint32_t i = 0;
+        ASSERT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &i), XR_SUCCESS);
+        ASSERT_EQ(xrWaitSwapchainImage(sc.handle, &wi), XR_SUCCESS);
+        ASSERT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    }
+}
+
+// Action and action-set names: an empty name is NAME_INVALID (a malformed one PATH_FORMAT_INVALID),
+// and destroying an action or a set, attached or not, frees its name and localized name.
+TEST(XrClient, ActionNamesAreCheckedAndFreedOnDestroy) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.localizedActionSetName, "Set");
+    XrActionSet set = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_NAME_INVALID);
+    std::strcpy(asci.actionSetName, "Bad Name");
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_PATH_FORMAT_INVALID);
+    std::strcpy(asci.actionSetName, "set");
+    asci.localizedActionSetName[0] = '\0';
+    EXPECT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_ERROR_LOCALIZED_NAME_INVALID);
+    std::strcpy(asci.localizedActionSetName, "Set");
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+    std::strcpy(aci.localizedActionName, "Action");
+    XrAction action = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateAction(set, &aci, &action), XR_ERROR_NAME_INVALID);
+    std::strcpy(aci.actionName, "Bad Name");
+    EXPECT_EQ(xrCreateAction(set, &aci, &action), XR_ERROR_PATH_FORMAT_INVALID);
+    std::strcpy(aci.actionName, "action");
+    ASSERT_EQ(xrCreateAction(set, &aci, &action), XR_SUCCESS);
+    XrAction again = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateAction(set, &aci, &again), XR_ERROR_NAME_DUPLICATED);
+    std::strcpy(aci.actionName, "other");
+    EXPECT_EQ(xrCreateAction(set, &aci, &again), XR_ERROR_LOCALIZED_NAME_DUPLICATED);
+    ASSERT_EQ(xrDestroyAction(action), XR_SUCCESS);
+    std::strcpy(aci.actionName, "action");
+    ASSERT_EQ(xrCreateAction(set, &aci, &action), XR_SUCCESS) << "the destroyed action's names";
+
+    // A set destroyed while attached lives on in the session, its names do not.
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 1;
+    att.actionSets = &set;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    ASSERT_EQ(xrDestroyActionSet(set), XR_SUCCESS);
+    EXPECT_EQ(xrDestroyAction(action), XR_ERROR_HANDLE_INVALID);  // went with its set
+    XrActionSet set2 = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set2), XR_SUCCESS) << "the destroyed attached set's names";
+    ASSERT_EQ(xrCreateAction(set2, &aci, &action), XR_SUCCESS);
+    ASSERT_EQ(xrDestroyActionSet(set2), XR_SUCCESS);
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set2), XR_SUCCESS) << "the destroyed set's names";
+}
+
+// xrSuggestInteractionProfileBindings against the interaction profiles of OpenXR 1.0: every
+// component of each profile, for an action of any type; paths that later versions or extensions add,
+// paths below a component and components of the other hand are PATH_UNSUPPORTED; so is the eye-gaze
+// profile on an instance without XR_EXT_eye_gaze_interaction.
+TEST(XrClient, SuggestedBindingsFollowTheOpenXR10Profiles) {
+    XrInstance inst = bareInstance({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME});
+    ASSERT_NE(inst, XR_NULL_HANDLE);
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "bindings");
+    std::strcpy(asci.localizedActionSetName, "Bindings");
+    XrActionSet set = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(inst, &asci, &set), XR_SUCCESS);
+    const XrActionType types[] = {XR_ACTION_TYPE_BOOLEAN_INPUT, XR_ACTION_TYPE_FLOAT_INPUT,
+                                  XR_ACTION_TYPE_VECTOR2F_INPUT, XR_ACTION_TYPE_POSE_INPUT,
+                                  XR_ACTION_TYPE_VIBRATION_OUTPUT};
+    std::vector<XrAction> actions;
+    for (XrActionType t : types) {
+        XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+        aci.actionType = t;
+        std::snprintf(aci.actionName, XR_MAX_ACTION_NAME_SIZE, "a%d", int(t));
+        std::snprintf(aci.localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, "A %d", int(t));
+        XrAction a = XR_NULL_HANDLE;
+        ASSERT_EQ(xrCreateAction(set, &aci, &a), XR_SUCCESS);
+        actions.push_back(a);
+    }
+    auto suggest = [&](const std::string& profile, const std::string& binding, XrAction a) {
+        XrActionSuggestedBinding b{a, path(inst, binding.c_str())};
+        XrInteractionProfileSuggestedBinding s{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+        s.interactionProfile = path(inst, profile.c_str());
+        s.countSuggestedBindings = 1;
+        s.suggestedBindings = &b;
+        return xrSuggestInteractionProfileBindings(inst, &s);
+    };
+    struct Case {
+        const char* profile;
+        const char* user;
+        std::vector<const char*> valid;    // 1.0 components
+        std::vector<const char*> invalid;  // not 1.0 (later versions, extensions), or not this profile's
+    };
+    const std::vector<Case> cases = {
+        {"khr/simple_controller",
+         "/user/hand/left",
+         {"/input/select/click", "/input/menu/click", "/input/grip/pose", "/input/aim/pose", "/output/haptic"},
+         {"/input/grip_surface/pose", "/input/palm_ext/pose", "/input/trigger/value", "/input/select/click/invalid"}},
+        {"google/daydream_controller",
+         "/user/hand/right",
+         {"/input/select/click", "/input/trackpad", "/input/trackpad/x", "/input/trackpad/touch", "/input/aim/pose"},
+         {"/output/haptic", "/input/grip_surface/pose", "/input/trackpad/dpad_up"}},
+        {"htc/vive_controller",
+         "/user/hand/left",
+         {"/input/system/click", "/input/squeeze/click", "/input/trigger/value", "/input/trackpad/y", "/output/haptic"},
+         {"/input/squeeze/value", "/input/grip_surface/pose", "/input/trackpad/dpad_center"}},
+        {"htc/vive_pro",
+         "/user/head",
+         {"/input/system/click", "/input/volume_up/click", "/input/volume_down/click", "/input/mute_mic/click"},
+         {"/input/menu/click", "/output/haptic"}},
+        {"microsoft/motion_controller",
+         "/user/hand/right",
+         {"/input/menu/click", "/input/thumbstick", "/input/thumbstick/click", "/input/trackpad/touch",
+          "/input/grip/pose", "/output/haptic"},
+         {"/input/system/click", "/input/thumbstick/dpad_left", "/input/grip_surface/pose"}},
+        {"microsoft/xbox_controller",
+         "/user/gamepad",
+         {"/input/menu/click", "/input/a/click", "/input/dpad_up/click", "/input/trigger_left/value",
+          "/input/thumbstick_right", "/output/haptic_left_trigger"},
+         {"/input/trigger/value", "/output/haptic", "/input/thumbstick_left/dpad_up"}},
+        {"oculus/go_controller",
+         "/user/hand/left",
+         {"/input/system/click", "/input/trigger/click", "/input/back/click", "/input/trackpad", "/input/grip/pose"},
+         {"/output/haptic", "/input/grip_surface/pose"}},
+        {"oculus/touch_controller",
+         "/user/hand/left",
+         {"/input/x/click", "/input/y/touch", "/input/menu/click", "/input/squeeze/value", "/input/thumbrest/touch",
+          "/input/aim/pose", "/output/haptic"},
+         {"/input/a/click", "/input/system/click", "/input/thumb_resting_surfaces/proximity",
+          "/input/trigger/proximity_fb", "/input/grip_surface/pose"}},
+        {"oculus/touch_controller",
+         "/user/hand/right",
+         {"/input/a/click", "/input/b/touch", "/input/system/click", "/input/trigger/touch"},
+         {"/input/x/click", "/input/menu/click"}},
+        {"valve/index_controller",
+         "/user/hand/right",
+         {"/input/system/touch", "/input/squeeze/force", "/input/trackpad/force", "/input/thumbstick/touch",
+          "/output/haptic"},
+         {"/input/grip_surface/pose", "/input/thumbstick/dpad_down", "/input/trigger/proximity"}},
+    };
+    for (const Case& k : cases) {
+        const std::string profile = std::string("/interaction_profiles/") + k.profile;
+        for (const char* v : k.valid)
+            for (XrAction a : actions)  // any action type may be suggested for any source
+                EXPECT_EQ(suggest(profile, k.user + std::string(v), a), XR_SUCCESS) << profile << " " << k.user << v;
+        for (const char* v : k.invalid)
+            EXPECT_EQ(suggest(profile, k.user + std::string(v), actions[0]), XR_ERROR_PATH_UNSUPPORTED)
+                << profile << " " << k.user << v;
+    }
+    // An identifier alone names its component ("/input/trigger" is the trigger's value or click).
+    EXPECT_EQ(suggest("/interaction_profiles/valve/index_controller", "/user/hand/left/input/trigger", actions[1]),
+              XR_SUCCESS);
+    // The conformance suite's malformed sources and profiles.
+    for (const char* bad : {"/invalid", "/user/invalid", "/user/hand/invalid", "/user/hand/right",
+                            "/user/hand/right/invalid", "/user/hand/right/input", "/user/hand/invalid/input",
+                            "/user/invalid/right/input", "/invalid/hand/right/input",
+                            "/user/hand/left/input_bad/menu/click", "/user/hand/right/input/select/click/invalid"})
+        EXPECT_EQ(suggest("/interaction_profiles/khr/simple_controller", bad, actions[0]), XR_ERROR_PATH_UNSUPPORTED)
+            << bad;
+    for (const char* bad : {"/invalid", "/interaction_profiles", "/interaction_profiles/invalid",
+                            "/interaction_profiles/khr/simple_controller/invalid",
+                            "/interaction_profiles/ext/eye_gaze_interaction"})  // extension not enabled
+        EXPECT_EQ(suggest(bad, "/user/hand/left/input/select/click", actions[0]), XR_ERROR_PATH_UNSUPPORTED) << bad;
+    EXPECT_EQ(
+        suggest("/interaction_profiles/ext/eye_gaze_interaction", "/user/eyes_ext/input/gaze_ext/pose", actions[3]),
+        XR_ERROR_PATH_UNSUPPORTED);
+    // /user/eyes_ext is no top-level user path without the extension.
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+    std::strcpy(aci.actionName, "eyes");
+    std::strcpy(aci.localizedActionName, "Eyes");
+    XrPath eyes = path(inst, "/user/eyes_ext");
+    aci.countSubactionPaths = 1;
+    aci.subactionPaths = &eyes;
+    XrAction a = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateAction(set, &aci, &a), XR_ERROR_PATH_UNSUPPORTED);
+    EXPECT_EQ(xrDestroyInstance(inst), XR_SUCCESS);
+}
+
+// Values outside an enumeration and paths never made: the specification's (and the conformance
+// suite's) results.
+TEST(XrClient, InvalidEnumValuesAndPaths) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    XrSystemGetInfo sgi{XR_TYPE_SYSTEM_GET_INFO};
+    sgi.formFactor = XR_FORM_FACTOR_MAX_ENUM;
+    XrSystemId sys = 0;
+    EXPECT_EQ(xrGetSystem(c->instance, &sgi, &sys), XR_ERROR_FORM_FACTOR_UNSUPPORTED);
+
+    XrReferenceSpaceCreateInfo rci{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    rci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_MAX_ENUM;
+    rci.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace space = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateReferenceSpace(c->session, &rci, &space), XR_ERROR_REFERENCE_SPACE_UNSUPPORTED);
+    EXPECT_EQ(space, XrSpace(XR_NULL_HANDLE));
+    rci.referenceSpaceType = XrReferenceSpaceType(1000038000);  // XR_MSFT_unbounded_reference_space's
+    EXPECT_EQ(xrCreateReferenceSpace(c->session, &rci, &space), XR_ERROR_REFERENCE_SPACE_UNSUPPORTED);
+    XrExtent2Df bounds;
+    EXPECT_EQ(xrGetReferenceSpaceBoundsRect(c->session, XR_REFERENCE_SPACE_TYPE_MAX_ENUM, &bounds),
+              XR_ERROR_VALIDATION_FAILURE);
+
+    // A view configuration no specification defines is a validation failure, a defined one this
+    // system lacks is unsupported.
+    XrViewConfigurationProperties vcp{XR_TYPE_VIEW_CONFIGURATION_PROPERTIES};
+    EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, &vcp),
+              XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO, &vcp),
+              XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);
+    uint32_t n = 0;
+    EXPECT_EQ(
+        xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, 0, &n, nullptr),
+        XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(
+        xrEnumerateEnvironmentBlendModes(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, 0, &n, nullptr),
+        XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_EQ(
+        xrEnumerateEnvironmentBlendModes(c->instance, c->system, XrViewConfigurationType(1000037000), 0, &n, nullptr),
+        XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);  // XR_VARJO_quad_views'
+    XrSessionBeginInfo sbi{XR_TYPE_SESSION_BEGIN_INFO};
+    sbi.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM;
+    EXPECT_EQ(xrBeginSession(c->session, &sbi), XR_ERROR_VALIDATION_FAILURE);
+
+    // A subaction path that no xrStringToPath made is PATH_INVALID; a path the action was not made
+    // with is PATH_UNSUPPORTED.
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "enums");
+    std::strcpy(asci.localizedActionSetName, "Enums");
+    XrActionSet set = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+    std::strcpy(aci.actionName, "click");
+    std::strcpy(aci.localizedActionName, "Click");
+    const XrPath left = path(c->instance, "/user/hand/left");
+    aci.countSubactionPaths = 1;
+    aci.subactionPaths = &left;
+    XrAction action = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateAction(set, &aci, &action), XR_SUCCESS);
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 1;
+    att.actionSets = &set;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    const XrPath never = XrPath(0x7ffff0);
+    char buf[64];
+    ASSERT_EQ(xrPathToString(c->instance, never, 64, &n, buf), XR_ERROR_PATH_INVALID);
+    XrActionStateGetInfo gi{XR_TYPE_ACTION_STATE_GET_INFO};
+    gi.action = action;
+    gi.subactionPath = never;
+    XrActionStateBoolean st{XR_TYPE_ACTION_STATE_BOOLEAN};
+    EXPECT_EQ(xrGetActionStateBoolean(c->session, &gi, &st), XR_ERROR_PATH_INVALID);
+    gi.subactionPath = path(c->instance, "/user/hand/right");
+    EXPECT_EQ(xrGetActionStateBoolean(c->session, &gi, &st), XR_ERROR_PATH_UNSUPPORTED);
+    XrActiveActionSet active{set, never};
+    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    EXPECT_EQ(xrSyncActions(c->session, &sync), XR_ERROR_PATH_INVALID);
+    XrInteractionProfileState ips{XR_TYPE_INTERACTION_PROFILE_STATE};
+    EXPECT_EQ(xrGetCurrentInteractionProfile(c->session, never, &ips), XR_ERROR_PATH_INVALID);
+}
+
+// xrResultToString and xrStructureTypeToString name every value: unknown ones as the specification
+// spells them, with the value in decimal.
+TEST(XrClient, UnknownEnumValuesToString) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    char buf[XR_MAX_RESULT_STRING_SIZE];
+    ASSERT_EQ(xrResultToString(c->instance, XR_ERROR_CALL_ORDER_INVALID, buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_ERROR_CALL_ORDER_INVALID");
+    ASSERT_EQ(xrResultToString(c->instance, XrResult(0x7ffffffe), buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_UNKNOWN_SUCCESS_2147483646");
+    ASSERT_EQ(xrResultToString(c->instance, XrResult(int32_t(0x80000000)), buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_UNKNOWN_FAILURE_-2147483648");
+    ASSERT_EQ(xrResultToString(c->instance, XrResult(-999), buf), XR_SUCCESS);
+    EXPECT_STREQ(buf, "XR_UNKNOWN_FAILURE_-999");
+    char type[XR_MAX_STRUCTURE_NAME_SIZE];
+    ASSERT_EQ(xrStructureTypeToString(c->instance, XR_TYPE_FRAME_STATE, type), XR_SUCCESS);
+    EXPECT_STREQ(type, "XR_TYPE_FRAME_STATE");
+    ASSERT_EQ(xrStructureTypeToString(c->instance, XrStructureType(0x7ffffffe), type), XR_SUCCESS);
+    EXPECT_STREQ(type, "XR_UNKNOWN_STRUCTURE_TYPE_2147483646");
+}
+
+// Destroying a session drops the events it still had queued: none names a destroyed handle.
+TEST(XrClient, DestroyedSessionLeavesNoEvents) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    const XrSession gone = c->session;  // IDLE and READY are queued, not yet polled
+    ASSERT_EQ(xrDestroySession(gone), XR_SUCCESS);
+    c->session = XR_NULL_HANDLE;
+    for (const XrEventDataBuffer& e : c->poll()) {
+        ASSERT_NE(e.type, XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED)
+            << "state " << reinterpret_cast<const XrEventDataSessionStateChanged&>(e).state
+            << " of a destroyed session";
+    }
+}
+
+// An instance without XR_EXT_eye_gaze_interaction sees none of it, whatever runs below (through the
+// API layer, which enables the extension for itself, this is the layer's invisibility); an attach
+// of no action sets is refused whatever a layer adds.
+TEST(XrClient, EyeGazeNotEnabledIsNotVisible) {
+    auto c = Client::create({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME});
+    ASSERT_TRUE(c);
+    XrSystemEyeGazeInteractionPropertiesEXT eye{XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT};
+    XrSystemProperties props{XR_TYPE_SYSTEM_PROPERTIES};
+    props.next = &eye;
+    ASSERT_EQ(xrGetSystemProperties(c->instance, c->system, &props), XR_SUCCESS);
+    EXPECT_EQ(eye.supportsEyeGazeInteraction, XR_FALSE);
+
+    XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
+    std::strcpy(asci.actionSetName, "app");
+    std::strcpy(asci.localizedActionSetName, "App");
+    XrActionSet set = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateActionSet(c->instance, &asci, &set), XR_SUCCESS);
+    XrActionCreateInfo aci{XR_TYPE_ACTION_CREATE_INFO};
+    aci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+    std::strcpy(aci.actionName, "pose");
+    std::strcpy(aci.localizedActionName, "Pose");
+    XrAction pose = XR_NULL_HANDLE;
+    ASSERT_EQ(xrCreateAction(set, &aci, &pose), XR_SUCCESS);
+    XrActionSuggestedBinding b{pose, path(c->instance, "/user/eyes_ext/input/gaze_ext/pose")};
+    XrInteractionProfileSuggestedBinding s{XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING};
+    s.interactionProfile = path(c->instance, "/interaction_profiles/ext/eye_gaze_interaction");
+    s.countSuggestedBindings = 1;
+    s.suggestedBindings = &b;
+    EXPECT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_ERROR_PATH_UNSUPPORTED);
+    b.binding = path(c->instance, "/user/hand/left/input/aim/pose");
+    s.interactionProfile = path(c->instance, "/interaction_profiles/khr/simple_controller");
+    ASSERT_EQ(xrSuggestInteractionProfileBindings(c->instance, &s), XR_SUCCESS);
+
+    XrSessionActionSetsAttachInfo att{XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO};
+    att.countActionSets = 0;
+    att.actionSets = &set;
+    EXPECT_EQ(xrAttachSessionActionSets(c->session, &att), XR_ERROR_VALIDATION_FAILURE);
+    att.countActionSets = 1;
+    ASSERT_EQ(xrAttachSessionActionSets(c->session, &att), XR_SUCCESS);
+    XrActiveActionSet active{set, XR_NULL_PATH};
+    XrActionsSyncInfo sync{XR_TYPE_ACTIONS_SYNC_INFO};
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    Swapchain color;
+    ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 2, kColorUsage, color), XR_SUCCESS);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                      [&](uint32_t) { return checker(c->viewWidth, c->viewHeight, 4, 0, 255); });
+    runToFocused(*c, color);
+    ASSERT_EQ(xrSyncActions(c->session, &sync), XR_SUCCESS);
+    ASSERT_EQ(xrSyncActions(c->session, &sync), XR_SUCCESS);
+    for (const auto& e : c->poll())
+        EXPECT_NE(e.type, XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED) << "no profile of the application's changed";
+    XrInteractionProfileState ips{XR_TYPE_INTERACTION_PROFILE_STATE};
+    EXPECT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/eyes_ext"), &ips),
+              XR_ERROR_PATH_UNSUPPORTED);
+    ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
+    EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));
 }
 
 }  // namespace
