@@ -31,35 +31,52 @@ namespace wrsfov::eval {
 
 std::string_view toString(ShaderId s) {
     switch (s) {
-    case ShaderId::Classify: return "classify";
-    case ShaderId::Pyramid: return "pyramid";
-    case ShaderId::Foveate: return "foveate";
-    case ShaderId::Wrs: return "wrs";
-    case ShaderId::Taa: return "taa";
-    case ShaderId::Retain: return "retain";
+        case ShaderId::Classify:
+            return "classify";
+        case ShaderId::Pyramid:
+            return "pyramid";
+        case ShaderId::Foveate:
+            return "foveate";
+        case ShaderId::Wrs:
+            return "wrs";
+        case ShaderId::Taa:
+            return "taa";
+        case ShaderId::Retain:
+            return "retain";
     }
     return "?";
 }
 
 std::span<const uint32_t> spirv(ShaderId s) {
     switch (s) {
-    case ShaderId::Classify: return classify_spv;
-    case ShaderId::Pyramid: return pyramid_spv;
-    case ShaderId::Foveate: return foveate_spv;
-    case ShaderId::Wrs: return wrs_spv;
-    case ShaderId::Taa: return taa_spv;
-    case ShaderId::Retain: return retain_spv;
+        case ShaderId::Classify:
+            return classify_spv;
+        case ShaderId::Pyramid:
+            return pyramid_spv;
+        case ShaderId::Foveate:
+            return foveate_spv;
+        case ShaderId::Wrs:
+            return wrs_spv;
+        case ShaderId::Taa:
+            return taa_spv;
+        case ShaderId::Retain:
+            return retain_spv;
     }
     return {};
 }
 
 std::string tileClassName(int tileClass) {
     switch (tileClass) {
-    case kWholeImage: return "whole";
-    case int(gpu::WRS_TILE_ANY): return "any";
-    case int(gpu::WRS_TILE_FOVEA): return "fovea";
-    case int(gpu::WRS_TILE_MID): return "mid";
-    case int(gpu::WRS_TILE_FAR): return "far";
+        case kWholeImage:
+            return "whole";
+        case int(gpu::WRS_TILE_ANY):
+            return "any";
+        case int(gpu::WRS_TILE_FOVEA):
+            return "fovea";
+        case int(gpu::WRS_TILE_MID):
+            return "mid";
+        case int(gpu::WRS_TILE_FAR):
+            return "far";
     }
     return "?";
 }
@@ -115,13 +132,15 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
                 groups += groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
             }
         }
-        add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, gpu::wrs_first_stored_level(fov)}, groups, bytes("pyramid"));
+        add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, gpu::wrs_first_stored_level(fov)}, groups,
+            bytes("pyramid"));
     }
     if (!retain) addPixels("foveate", ShaderId::Foveate, {fov, temporal ? 0u : 1u});
     if (retain)
         addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace});
     else if (c.method == Method::WrsPaper)
-        add("wrs-paper", ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli}, whole, bytes("wrs-paper"));
+        add("wrs-paper", ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli}, whole,
+            bytes("wrs-paper"));
     else if (c.method == Method::FovTaa)
         add("taa", ShaderId::Taa, {hasMotion}, whole, bytes("taa"));
     return v;
@@ -138,8 +157,8 @@ std::optional<VariantKey> parseVariantKey(std::string_view text) {
     if (colon == std::string_view::npos) return std::nullopt;
     VariantKey k;
     bool found = false;
-    for (ShaderId s : {ShaderId::Classify, ShaderId::Pyramid, ShaderId::Foveate, ShaderId::Wrs, ShaderId::Taa,
-                       ShaderId::Retain})
+    for (ShaderId s :
+         {ShaderId::Classify, ShaderId::Pyramid, ShaderId::Foveate, ShaderId::Wrs, ShaderId::Taa, ShaderId::Retain})
         if (toString(s) == text.substr(0, colon)) k.shader = s, found = true;
     if (!found) return std::nullopt;
     std::string_view rest = text.substr(colon + 1);
@@ -154,14 +173,20 @@ std::optional<VariantKey> parseVariantKey(std::string_view text) {
     return k;
 }
 
-Result<ExecutableStats> parseStatistics(std::span<const VkPipelineExecutableStatisticKHR> stats, uint32_t subgroupSize) {
+Result<ExecutableStats> parseStatistics(std::span<const VkPipelineExecutableStatisticKHR> stats,
+                                        uint32_t subgroupSize) {
     auto value = [](const VkPipelineExecutableStatisticKHR& s) -> double {
         switch (s.format) {
-        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR: return s.value.b32 ? 1.0 : 0.0;
-        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR: return double(s.value.i64);
-        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: return double(s.value.u64);
-        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR: return s.value.f64;
-        default: return std::numeric_limits<double>::quiet_NaN();
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR:
+                return s.value.b32 ? 1.0 : 0.0;
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR:
+                return double(s.value.i64);
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
+                return double(s.value.u64);
+            case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR:
+                return s.value.f64;
+            default:
+                return std::numeric_limits<double>::quiet_NaN();
         }
     };
     ExecutableStats out;
@@ -181,8 +206,9 @@ Result<ExecutableStats> parseStatistics(std::span<const VkPipelineExecutableStat
                             {"Spilled SGPRs", &ExecutableStats::spilledSgprs, false}};
     std::string missing;
     for (const Field& f : fields) {
-        auto it = std::find_if(stats.begin(), stats.end(),
-                               [&](const VkPipelineExecutableStatisticKHR& s) { return std::strcmp(s.name, f.name) == 0; });
+        auto it = std::find_if(stats.begin(), stats.end(), [&](const VkPipelineExecutableStatisticKHR& s) {
+            return std::strcmp(s.name, f.name) == 0;
+        });
         if (it != stats.end() && std::isfinite(value(*it))) {
             out.*f.member = value(*it);
         } else if (f.required) {
@@ -263,9 +289,10 @@ Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::strin
     if (!target.family.empty()) {
         const std::string icd = radvIcd();
         if (icd.empty())
-            return unavailable("no RADV loader manifest (radeon_icd.*.json in /usr/share/vulkan/icd.d): Mesa's RADV "
-                               "driver, whose null device gives the statistics for " + target.family +
-                               ", is not installed (Debian: mesa-vulkan-drivers)");
+            return unavailable(
+                "no RADV loader manifest (radeon_icd.*.json in /usr/share/vulkan/icd.d): Mesa's RADV "
+                "driver, whose null device gives the statistics for " +
+                target.family + ", is not installed (Debian: mesa-vulkan-drivers)");
         env.push_back("VK_ICD_FILENAMES=" + icd);
         env.push_back("VK_DRIVER_FILES=" + icd);
         env.push_back("RADV_FORCE_FAMILY=" + target.family);
@@ -303,7 +330,8 @@ Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::strin
     }
     close(fds[0]);
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
 
     // The child's lines: "executable KEY SUBGROUP", "stat NAME\tFORMAT\tVALUE", "skip: ...", "error: ...".
     std::map<VariantKey, std::vector<VkPipelineExecutableStatisticKHR>> raw;
@@ -334,8 +362,8 @@ Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::strin
             messages += (messages.empty() ? "" : "; ") + (line.starts_with("skip: ") ? line.substr(6) : line);
         }
     }
-    const std::string who = target.family.empty() ? "device '" + target.deviceName + "'"
-                                                   : "RADV's null device for " + target.family;
+    const std::string who =
+        target.family.empty() ? "device '" + target.deviceName + "'" : "RADV's null device for " + target.family;
     // RADV aborts on a family it does not know (Mesa 22.3: "radv: Unknown family") before it offers a
     // device: that is a missing null device, not a failure of the model.
     if (WIFSIGNALED(status) && !deviceFound && !target.family.empty())
@@ -401,7 +429,8 @@ bool hasInstanceLayer(const char* name) {
     vkEnumerateInstanceLayerProperties(&n, nullptr);
     std::vector<VkLayerProperties> layers(n);
     vkEnumerateInstanceLayerProperties(&n, layers.data());
-    return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+    return std::any_of(layers.begin(), layers.end(),
+                       [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
 }  // namespace
@@ -435,7 +464,8 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
     const char* layer = "VK_LAYER_KHRONOS_validation";
     const char* debugExt = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
     VkDebugUtilsMessengerCreateInfoEXT dbg{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    dbg.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    dbg.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     dbg.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
     dbg.pfnUserCallback = &onValidation;
     if (validation) {
@@ -469,18 +499,19 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         const std::string name = props.deviceName;
         names += (names.empty() ? "" : ", ") + name;
         std::string upper = target->family;
-        std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return char(std::toupper(c)); });
-        const bool match = target->family.empty() ? name.find(target->deviceName) != std::string::npos
-                                                  : name.find("RADV") != std::string::npos &&
-                                                        name.find(upper) != std::string::npos;
+        std::transform(upper.begin(), upper.end(), upper.begin(),
+                       [](unsigned char c) { return char(std::toupper(c)); });
+        const bool match = target->family.empty()
+                               ? name.find(target->deviceName) != std::string::npos
+                               : name.find("RADV") != std::string::npos && name.find(upper) != std::string::npos;
         if (match && !chosen) chosen = p;
     }
     if (!chosen)
         return skip(target->family.empty()
-                        ? "no Vulkan device's name contains '" + target->deviceName + "' (devices: " +
-                              (names.empty() ? "none" : names) + ")"
-                        : "RADV_FORCE_FAMILY=" + target->family + " gave no RADV null device (devices: " +
-                              (names.empty() ? "none" : names) +
+                        ? "no Vulkan device's name contains '" + target->deviceName +
+                              "' (devices: " + (names.empty() ? "none" : names) + ")"
+                        : "RADV_FORCE_FAMILY=" + target->family +
+                              " gave no RADV null device (devices: " + (names.empty() ? "none" : names) +
                               "); this Mesa's RADV may not know the family or have no null device");
     std::printf("device\t%s\n", names.c_str());
     uint32_t extCount = 0;
@@ -530,12 +561,14 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         if (b == 0) type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (b >= 1 && b <= 3) type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         if (b == 9) type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-        bindings.push_back({b, type, (b >= 1 && b <= 3) ? uint32_t(WRS_EYES) : 1u, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+        bindings.push_back(
+            {b, type, (b >= 1 && b <= 3) ? uint32_t(WRS_EYES) : 1u, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     }
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = uint32_t(bindings.size());
     sl.pBindings = bindings.data();
-    if (vkCreateDescriptorSetLayout(d.device, &sl, nullptr, &d.setLayout) != VK_SUCCESS) return fail("descriptor set layout");
+    if (vkCreateDescriptorSetLayout(d.device, &sl, nullptr, &d.setLayout) != VK_SUCCESS)
+        return fail("descriptor set layout");
     const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::LevelPush)};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
@@ -555,7 +588,8 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         smci.codeSize = code.size_bytes();
         smci.pCode = code.data();
         VkShaderModule module;
-        if (vkCreateShaderModule(d.device, &smci, nullptr, &module) != VK_SUCCESS) return fail("shader module " + toString(k));
+        if (vkCreateShaderModule(d.device, &smci, nullptr, &module) != VK_SUCCESS)
+            return fail("shader module " + toString(k));
         VkSpecializationMapEntry entries[6];
         for (uint32_t i = 0; i < 6; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
         const VkSpecializationInfo spec{6, entries, sizeof(k.constants), k.constants.data()};
@@ -584,17 +618,27 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
             ei.executableIndex = e;
             uint32_t ns = 0;
             getStats(d.device, &ei, &ns, nullptr);
-            std::vector<VkPipelineExecutableStatisticKHR> stats(ns, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
+            std::vector<VkPipelineExecutableStatisticKHR> stats(ns,
+                                                                {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
             getStats(d.device, &ei, &ns, stats.data());
             std::printf("executable\t%s\t%u\n", toString(k).c_str(), exes[e].subgroupSize);
             for (const VkPipelineExecutableStatisticKHR& s : stats) {
                 double val = 0;
                 switch (s.format) {
-                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR: val = s.value.b32; break;
-                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR: val = double(s.value.i64); break;
-                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: val = double(s.value.u64); break;
-                case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR: val = s.value.f64; break;
-                default: continue;
+                    case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR:
+                        val = s.value.b32;
+                        break;
+                    case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR:
+                        val = double(s.value.i64);
+                        break;
+                    case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
+                        val = double(s.value.u64);
+                        break;
+                    case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR:
+                        val = s.value.f64;
+                        break;
+                    default:
+                        continue;
                 }
                 std::printf("stat\t%s\t%d\t%.17g\n", s.name, int(s.format), val);
             }
@@ -611,7 +655,8 @@ std::vector<CostRow> costRows(const CostCell& cell, const std::map<VariantKey, E
     const GpuFigures& g = *cell.gpu;
     const double px = double(cell.width) * cell.height * cell.eyes;
     const double tiles = double(groupsOf(cell.width, gpu::WRS_TILE) * groupsOf(cell.height, gpu::WRS_TILE) * cell.eyes);
-    const std::string size = std::to_string(cell.eyes) + "x" + std::to_string(cell.width) + "x" + std::to_string(cell.height);
+    const std::string size =
+        std::to_string(cell.eyes) + "x" + std::to_string(cell.width) + "x" + std::to_string(cell.height);
     std::vector<CostRow> rows;
     CostRow total{g.name, size, std::string(toString(cell.method)), "total", "all", true};
     for (const PipelineVariant& v : cell.variants) {
@@ -666,7 +711,8 @@ const char* bound(double alu, double mem) { return alu >= mem ? "arithmetic" : "
 
 std::string costTotalsMarkdown(const std::vector<CostRow>& rows) {
     std::ostringstream md;
-    md << "| GPU | size | method | alu µs | mem µs | predicted µs | ×fov | bound |\n|---|---|---|---|---|---|---|---|\n";
+    md << "| GPU | size | method | alu µs | mem µs | predicted µs | ×fov | bound "
+          "|\n|---|---|---|---|---|---|---|---|\n";
     for (const CostRow& r : rows) {
         if (!r.total) continue;
         double fov = std::numeric_limits<double>::quiet_NaN();
@@ -701,7 +747,8 @@ Status writeCostModel(const std::vector<CostRow>& rows, const std::vector<std::s
         csv << r.groups << ',' << bound(r.aluUs, r.memUs) << '\n';
     }
 
-    md << "# wrsfov cost model (static estimate)\n\n" << cellDescription
+    md << "# wrsfov cost model (static estimate)\n\n"
+       << cellDescription
        << "\n\nEvery pipeline the cell dispatches (pass × specialisation constants × tile class, "
           "eval/cost_model.cpp `pipelineVariants`) compiled on RADV's null device for each GPU's family; the "
           "statistics are those of Mesa's ACO compiler (VK_KHR_pipeline_executable_properties). Per row: "
@@ -728,17 +775,19 @@ Status writeCostModel(const std::vector<CostRow>& rows, const std::vector<std::s
     // Per GPU and size: the rows, then one verdict per method and pass.
     std::vector<std::pair<std::string, std::string>> groups;
     for (const CostRow& r : rows)
-        if (std::find(groups.begin(), groups.end(), std::pair{r.gpu, r.size}) == groups.end()) groups.emplace_back(r.gpu, r.size);
+        if (std::find(groups.begin(), groups.end(), std::pair{r.gpu, r.size}) == groups.end())
+            groups.emplace_back(r.gpu, r.size);
     for (const auto& [gpuName, size] : groups) {
-        md << "\n## " << gpuName << ", " << size << "\n\n| method | pass | class | instr. | VGPRs | waves/SIMD | wave | "
+        md << "\n## " << gpuName << ", " << size
+           << "\n\n| method | pass | class | instr. | VGPRs | waves/SIMD | wave | "
               "inv. thr. | cycles/px | B/px | share | alu µs | mem µs | predicted µs |\n"
               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
         for (const CostRow& r : rows) {
             if (r.gpu != gpuName || r.size != size || r.total) continue;
-            md << "| " << r.method << " | " << r.pass << " | " << r.cls << " | " << num(r.stats.instructions, 0) << " | "
-               << num(r.stats.vgprs, 0) << " | " << num(r.stats.wavesPerSimd, 0) << " | " << r.stats.subgroupSize
-               << " | " << num(r.stats.invThroughput, 0) << " | " << num(r.cyclesPerPx, 2) << " | "
-               << num(r.bytesPerPx, 2) << " | " << num(r.share, 3) << " | " << num(r.aluUs, 2) << " | "
+            md << "| " << r.method << " | " << r.pass << " | " << r.cls << " | " << num(r.stats.instructions, 0)
+               << " | " << num(r.stats.vgprs, 0) << " | " << num(r.stats.wavesPerSimd, 0) << " | "
+               << r.stats.subgroupSize << " | " << num(r.stats.invThroughput, 0) << " | " << num(r.cyclesPerPx, 2)
+               << " | " << num(r.bytesPerPx, 2) << " | " << num(r.share, 3) << " | " << num(r.aluUs, 2) << " | "
                << num(r.memUs, 2) << " | " << num(r.predictedUs, 2) << " |\n";
         }
         md << "\nVerdicts:\n\n";

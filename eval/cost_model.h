@@ -6,6 +6,8 @@
 // roofline estimate per pass and tile class for a table of GPUs from public figures.
 #pragma once
 
+#include <vulkan/vulkan.h>
+
 #include <array>
 #include <cstdint>
 #include <map>
@@ -14,8 +16,6 @@
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <vulkan/vulkan.h>
 
 #include "compositor/compositor.h"
 #include "layers/status.h"

@@ -28,10 +28,21 @@ VkPipelineExecutableStatisticKHR stat(const char* name, uint64_t v) {
 
 // What RADV reports for a compute pipeline (names as Mesa 22.3 gives them), in its order.
 std::vector<VkPipelineExecutableStatisticKHR> radvLike(uint64_t inv = 1500) {
-    return {stat("Driver pipeline hash", 123), stat("SGPRs", 128), stat("VGPRs", 72), stat("Spilled SGPRs", 0),
-            stat("Spilled VGPRs", 2), stat("Code size", 13544), stat("LDS size", 0), stat("Scratch size", 0),
-            stat("Subgroups per SIMD", 20), stat("Hash", 1), stat("Instructions", 2561), stat("Copies", 305),
-            stat("Branches", 85), stat("Latency", 5997), stat("Inverse Throughput", inv)};
+    return {stat("Driver pipeline hash", 123),
+            stat("SGPRs", 128),
+            stat("VGPRs", 72),
+            stat("Spilled SGPRs", 0),
+            stat("Spilled VGPRs", 2),
+            stat("Code size", 13544),
+            stat("LDS size", 0),
+            stat("Scratch size", 0),
+            stat("Subgroups per SIMD", 20),
+            stat("Hash", 1),
+            stat("Instructions", 2561),
+            stat("Copies", 305),
+            stat("Branches", 85),
+            stat("Latency", 5997),
+            stat("Inverse Throughput", inv)};
 }
 
 const TrafficInputs kAtrium{512, 512, 4, 4, 8};  // RGBA8 colour, D32F depth, RGBA16F motion
@@ -66,7 +77,8 @@ std::vector<CostRow> rowsFor(const std::vector<Method>& methods, const GpuFigure
     const auto stats = fakeStats(methods, inv);
     std::vector<CostRow> rows;
     for (Method m : methods) {
-        CostCell cell{&gpu, kAtrium.width, kAtrium.height, 2, m, pipelineVariants(config(m), kAtrium), {0.1, 0.05, 0.15, 0.7}};
+        CostCell cell{
+            &gpu, kAtrium.width, kAtrium.height, 2, m, pipelineVariants(config(m), kAtrium), {0.1, 0.05, 0.15, 0.7}};
         auto r = costRows(cell, stats);
         rows.insert(rows.end(), r.begin(), r.end());
     }
@@ -132,7 +144,8 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
               (V{"classify/whole", "pyramid/whole", "foveate/any", "foveate/fovea", "foveate/mid", "foveate/far"}));
     EXPECT_EQ(names(pipelineVariants(config(Method::Wrs), kAtrium)),
               (V{"classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far"}));
-    EXPECT_EQ(names(pipelineVariants(config(Method::FovTaa), kAtrium)), (V{"pyramid/whole", "foveate/whole", "taa/whole"}));
+    EXPECT_EQ(names(pipelineVariants(config(Method::FovTaa), kAtrium)),
+              (V{"pyramid/whole", "foveate/whole", "taa/whole"}));
     EXPECT_EQ(names(pipelineVariants(config(Method::WrsPaper), kAtrium)),
               (V{"pyramid/whole", "foveate/whole", "wrs-paper/whole"}));
     // Constants as endFrame binds them: retain {motion, depth, mode, rule, in place, 1 + class}.
@@ -163,7 +176,7 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
         }
         for (const PipelineVariant& v : vs)
             EXPECT_TRUE(v.pass == "classify" || std::any_of(t.passes.begin(), t.passes.end(),
-                                                             [&](const PassTraffic& p) { return p.pass == v.pass; }))
+                                                            [&](const PassTraffic& p) { return p.pass == v.pass; }))
                 << v.pass;
     }
 }
@@ -224,7 +237,8 @@ TEST(CostModel, MemoryTimeScalesWithBytesAndBandwidth) {
     const auto base = costRows(cell, stats);
     for (PipelineVariant& v : cell.variants) v.bytesPerPx *= 2;
     const auto doubled = costRows(cell, stats);
-    for (std::size_t i = 0; i < base.size(); ++i) EXPECT_NEAR(doubled[i].memUs, 2 * base[i].memUs, 1e-9 * base[i].memUs);
+    for (std::size_t i = 0; i < base.size(); ++i)
+        EXPECT_NEAR(doubled[i].memUs, 2 * base[i].memUs, 1e-9 * base[i].memUs);
     // Less arithmetic per wave makes a pass memory-bound: predicted = max(alu, mem).
     const auto cheap = rowsFor({Method::Wrs}, kGpu, 1);
     for (const CostRow& r : cheap)
@@ -243,9 +257,9 @@ TEST(CostModel, CsvHasTheColumnsARowPerPassClassAndMethodAndTotalsThatSum) {
     std::string header;
     std::getline(csv, header);
     const auto cols = split(header);
-    for (const char* c : {"gpu", "size", "method", "pass", "class", "instructions", "vgprs", "waves_per_simd",
-                          "subgroup_size", "inv_throughput", "cycles_per_px", "bytes_per_px", "share", "alu_us",
-                          "mem_us", "predicted_us"})
+    for (const char* c :
+         {"gpu", "size", "method", "pass", "class", "instructions", "vgprs", "waves_per_simd", "subgroup_size",
+          "inv_throughput", "cycles_per_px", "bytes_per_px", "share", "alu_us", "mem_us", "predicted_us"})
         EXPECT_NE(std::find(cols.begin(), cols.end(), c), cols.end()) << c;
     auto col = [&](const char* name) { return std::size_t(std::find(cols.begin(), cols.end(), name) - cols.begin()); };
     std::map<std::string, std::set<std::string>> seen;  // method -> pass/class
@@ -265,13 +279,16 @@ TEST(CostModel, CsvHasTheColumnsARowPerPassClassAndMethodAndTotalsThatSum) {
         for (int k = 0; k < 3; ++k) sums[method][k] += v[k];
     }
     using S = std::set<std::string>;
-    EXPECT_EQ(seen["fov"], (S{"classify/whole", "pyramid/whole", "foveate/any", "foveate/fovea", "foveate/mid", "foveate/far"}));
-    EXPECT_EQ(seen["wrs"], (S{"classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far"}));
+    EXPECT_EQ(seen["fov"],
+              (S{"classify/whole", "pyramid/whole", "foveate/any", "foveate/fovea", "foveate/mid", "foveate/far"}));
+    EXPECT_EQ(seen["wrs"],
+              (S{"classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far"}));
     EXPECT_EQ(seen["fov+taa"], (S{"pyramid/whole", "foveate/whole", "taa/whole"}));
     EXPECT_EQ(seen["wrs-paper"], (S{"pyramid/whole", "foveate/whole", "wrs-paper/whole"}));
     ASSERT_EQ(totals.size(), 4u);
     for (const auto& [method, t] : totals)
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(t[k], sums[method][k], 1e-5 * std::max(1.0, t[k])) << method << " " << k;
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(t[k], sums[method][k], 1e-5 * std::max(1.0, t[k])) << method << " " << k;
     std::ifstream md(dir + "/cost_model.md");
     const std::string text((std::istreambuf_iterator<char>(md)), {});
     EXPECT_NE(text.find("wrs / retain: "), std::string::npos);
@@ -319,7 +336,8 @@ TEST(CostModelDevice, ADeviceWithoutStatisticsIsASkipWithItsReason) {
 
 TEST(CostModelDevice, RadvNullDeviceGivesAcoStatistics) {
     std::vector<VariantKey> keys;
-    for (const PipelineVariant& v : pipelineVariants(config(Method::Wrs), kAtrium)) keys.push_back({v.shader, v.constants});
+    for (const PipelineVariant& v : pipelineVariants(config(Method::Wrs), kAtrium))
+        keys.push_back({v.shader, v.constants});
     auto stats = collectStatistics(WRSFOV_BENCH_EXE, *parseStatsTarget("gfx1100"), keys);
     if (!stats && stats.error().code == int(CostError::Unavailable))
         GTEST_SKIP() << "RADV's null device is unavailable here: " << stats.error().message;
