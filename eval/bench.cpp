@@ -92,7 +92,7 @@ public:
             eyes[e].color = scene_->color(e);
             eyes[e].depth = scene_->depth(e);
             eyes[e].motion.reset();
-            eyes[e].fov = scenes::textFov(scene_->options(), e);
+            eyes[e].fov = fov(e);
         }
         return {};
     }
@@ -107,10 +107,25 @@ public:
         return a;
     }
     const scenes::TextLayout& layout() const { return scene_->options().layout; }
+    layers::Fov fov(int eye) const { return scenes::textFov(scene_->options(), eye); }
 
 private:
     std::unique_ptr<scenes::TextScene> scene_;
 };
+
+// What the atrium (and dynamic) submit: sRGB colour, D32F depth, RGBA16F motion.
+HostStereoApp::Options atriumAppOptions(const scenes::AtriumOptions& o) {
+    HostStereoApp::Options a;
+    a.width = o.width;
+    a.height = o.height;
+    a.depth = layers::Format::D32F;
+    a.motion = layers::Format::RGBA16F;
+    a.nearZ = o.nearZ;
+    a.farZ = o.farZ;
+    a.reversedZ = o.reversedZ;
+    a.monoView = o.monitor;
+    return a;
+}
 
 // The atrium is rendered with Vulkan into an application's swapchains, then read back so that
 // every compositor of the cell gets the very same images.
@@ -157,18 +172,7 @@ public:
         for (int i = 0; i < 3; ++i) (void)sc[i]->release();
         return s;
     }
-    HostStereoApp::Options appOptions() const override {
-        HostStereoApp::Options a;
-        a.width = options_.width;
-        a.height = options_.height;
-        a.depth = layers::Format::D32F;
-        a.motion = layers::Format::RGBA16F;
-        a.nearZ = options_.nearZ;
-        a.farZ = options_.farZ;
-        a.reversedZ = options_.reversedZ;
-        a.monoView = options_.monitor;
-        return a;
-    }
+    HostStereoApp::Options appOptions() const override { return atriumAppOptions(options_); }
 
 private:
     AtriumFrames() = default;
@@ -202,19 +206,40 @@ struct SceneSetup {
     std::unique_ptr<gaze::SyntheticSource> gaze;
 };
 
-Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptions& o) {
-    SceneSetup setup;
+// The sweep's synthetic gaze: reading over the text scene's layout, free viewing elsewhere.
+gaze::GeneratorConfig sweepGaze(const BenchOptions& o, const scenes::TextLayout* text) {
     gaze::GeneratorConfig gc;
     gc.seed = o.seed;
     gc.mode = gaze::Mode::Scene;
+    if (text) {
+        gc.mode = gaze::Mode::Reading;
+        gc.reading.char_deg = text->charDeg;
+        gc.reading.line_spacing_deg = text->lineSpacingDeg;
+        gc.reading.line_chars = text->lineChars;
+        gc.reading.lines_per_page = text->lines;
+    }
+    return gc;
+}
+
+// The atrium's options for a cell of the sweep.
+scenes::AtriumOptions atriumOptions(const BenchOptions& o, SceneKind scene) {
+    scenes::AtriumOptions ao;
+    ao.width = o.width;
+    ao.height = o.height;
+    ao.dynamic = scene == SceneKind::Dynamic;
+    ao.path = o.path;
+    ao.monitor = o.monitor;
+    ao.fovDeg = o.hmdFovDeg;
+    ao.materialSamples = o.materialSamples;
+    return ao;
+}
+
+Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptions& o) {
+    SceneSetup setup;
+    gaze::GeneratorConfig gc = sweepGaze(o, nullptr);
     if (scene == SceneKind::Text) {
         auto tf = std::make_unique<TextFrames>(o.width, o.height, o.seed, o.monitor);
-        const scenes::TextLayout& L = tf->layout();
-        gc.mode = gaze::Mode::Reading;
-        gc.reading.char_deg = L.charDeg;
-        gc.reading.line_spacing_deg = L.lineSpacingDeg;
-        gc.reading.line_chars = L.lineChars;
-        gc.reading.lines_per_page = L.lines;
+        gc = sweepGaze(o, &tf->layout());
         setup.frames = std::move(tf);
     } else if (scene == SceneKind::Sequence) {
         if (o.sequenceDir.empty()) return benchError("bench: scene 'sequence' needs a sequence directory");
@@ -230,15 +255,7 @@ Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptio
                               " frames, fewer than the " + std::to_string(o.frames) + " asked for");
         setup.frames = std::make_unique<SequenceFrames>(std::move(*r));
     } else {
-        scenes::AtriumOptions ao;
-        ao.width = o.width;
-        ao.height = o.height;
-        ao.dynamic = scene == SceneKind::Dynamic;
-        ao.path = o.path;
-        ao.monitor = o.monitor;
-        ao.fovDeg = o.hmdFovDeg;
-        ao.materialSamples = o.materialSamples;
-        auto af = AtriumFrames::create(ctx, ao);
+        auto af = AtriumFrames::create(ctx, atriumOptions(o, scene));
         if (!af) return af.error();
         setup.frames = std::move(*af);
     }
@@ -1132,8 +1149,91 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     return {};
 }
 
+namespace {
+
+// A swapchain that only describes its images: what makeFrameParams reads of a view (its format).
+class DescribedSwapchain final : public layers::Swapchain {
+public:
+    explicit DescribedSwapchain(const layers::SwapchainCreateInfo& info) : Swapchain(info) {}
+    Status write(uint32_t, uint32_t, std::span<const std::byte>) override { return Error{1, "no images"}; }
+    VkImage image(uint32_t) const override { return VK_NULL_HANDLE; }
+};
+
+}  // namespace
+
+Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, FoveationMode mode, float fovea,
+                                  uint32_t width, uint32_t height) {
+    if (scene == SceneKind::Sequence)
+        return benchError("bench: the cost model replays the gaze of a built-in scene (text, atrium, dynamic), not of "
+                          "a sequence directory");
+    if (width < 32 || height < 32) return benchError("bench: images must be at least 32x32 per eye");
+    BenchOptions o = options;
+    o.width = width;
+    o.height = height;
+    HostStereoApp::Options app;
+    layers::Fov fov[2];
+    gaze::GeneratorConfig gc;
+    if (scene == SceneKind::Text) {
+        TextFrames text(width, height, o.seed, o.monitor);
+        app = text.appOptions();
+        fov[0] = text.fov(0), fov[1] = text.fov(1);
+        gc = sweepGaze(o, &text.layout());
+    } else {
+        const scenes::AtriumOptions ao = atriumOptions(o, scene);
+        app = atriumAppOptions(ao);
+        fov[0] = scenes::atriumFov(ao, 0), fov[1] = scenes::atriumFov(ao, 1);
+        gc = sweepGaze(o, nullptr);
+    }
+    gc.seconds = o.frames / kFps + 2.0;
+    auto gazeSource = gaze::SyntheticSource::create(gc);
+    if (!gazeSource) return benchError("bench: gaze generator: " + gazeSource.error().message);
+
+    auto texel = [](std::optional<layers::Format> f) { return f ? uint32_t(layers::bytesPerTexel(*f)) : 0u; };
+    CellGeometry g;
+    g.inputs = {width, height, texel(app.color), texel(app.depth), texel(app.motion)};
+    // The frame ends the sweep submits (HostStereoApp::frameEnd), through the compositor's own
+    // parameters (makeFrameParams: gaze fallback, fovea radius) and its classification (wrs_tile_class).
+    layers::SwapchainCreateInfo sci;
+    sci.format = app.color;
+    sci.width = width;
+    sci.height = height;
+    DescribedSwapchain colour(sci);
+    layers::FrameEndInfo frame;
+    frame.layers.resize(1);
+    frame.layers[0].views.resize(2);
+    CompositorConfig cc;
+    cc.foveation = mode;
+    cc.foveaDeg = fovea;
+    const glm::uvec2 size(width, height), tiles((width + gpu::WRS_TILE - 1) / gpu::WRS_TILE,
+                                                (height + gpu::WRS_TILE - 1) / gpu::WRS_TILE);
+    std::array<double, gpu::WRS_TILE_CLASSES> count{};
+    for (int f = o.warmup; f < o.frames; ++f) {
+        const gaze::GazeSample s = (*gazeSource)->sample(f / kFps);
+        for (int e = 0; e < 2; ++e) {
+            const int src = app.monoView ? 0 : e;
+            layers::ProjectionView& v = frame.layers[0].views[e];
+            v.fov = fov[src];
+            v.color = {&colour, {0, 0, width, height}, uint32_t(src)};
+            frame.gaze[e] = {s.eye[src].dir, s.eye[src].valid, s.eye[src].confidence};
+        }
+        bool fallback[2];
+        const gpu::FrameParams p = makeFrameParams(cc, frame, width, height, fallback);
+        for (int e = 0; e < 2; ++e) {
+            const gpu::EyeParams& ep = p.eye[e];
+            for (uint32_t ty = 0; ty < tiles.y; ++ty)
+                for (uint32_t tx = 0; tx < tiles.x; ++tx)
+                    count[gpu::wrs_tile_class(uint32_t(mode), glm::uvec2(tx, ty), size, ep.fov_tan, glm::vec3(ep.gaze),
+                                              ep.gaze.w, p.tuning.x)] += 1;
+        }
+    }
+    double all = 0;
+    for (double c : count) all += c;
+    for (std::size_t k = 0; k < count.size(); ++k) g.tileShare[k] = all > 0 ? count[k] / all : 0.0;
+    return g;
+}
+
 Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOptions& o, const std::string& dir,
-                          const std::string& deviceName) {
+                          const std::string& deviceName, const std::string& costModel) {
     std::ofstream csv(dir + "/scaling.csv");
     std::ofstream md(dir + "/scaling.md");
     if (!csv || !md) return Error{1, "cannot write " + dir + "/scaling.{csv,md}"};
@@ -1174,6 +1274,7 @@ Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOpti
             it->second.line = true;
             it->second.points.push_back({px / 1e6, c.gpu.total});
         }
+    if (!costModel.empty()) md << "\n" << costModel;
     std::vector<Series> all;
     for (auto& [m, s] : series) all.push_back(s);
     cv::imwrite(dir + "/scaling.png", chart("GPU time per frame against pixels (both views)", "megapixels per frame",

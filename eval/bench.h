@@ -123,8 +123,21 @@ struct ScalingStep {
     std::vector<CellResult> cells;
 };
 /// Writes scaling.csv, scaling.md and scaling.png (time and bytes against pixels per method) into `dir`.
+/// `costModel`: a section on the static cost model (cost_model.md in `dir`) appended to scaling.md ("" = none).
 Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOptions& options, const std::string& dir,
-                          const std::string& deviceName);
+                          const std::string& deviceName, const std::string& costModel = "");
+
+/// What the cost model (eval/cost_model.h) needs of a cell without running it: the bytes per texel of
+/// its views and the share of all 8x8 tiles (both eyes, counted frames) in each tile class
+/// (gpu::WRS_TILE_*), from the sweep's own gaze and views for `scene` at width x height per eye,
+/// classified as the compositor's classify pass does (makeFrameParams, wrs_tile_class). Built-in
+/// scenes only; nothing is rendered.
+struct CellGeometry {
+    TrafficInputs inputs;
+    std::array<double, gpu::WRS_TILE_LISTS> tileShare{};  ///< classes only: the skip list's share is 0
+};
+Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, FoveationMode mode, float fovea,
+                                  uint32_t width, uint32_t height);
 
 /// Writes results.csv, table.md, error_vs_time.png and error_vs_fovea.png into `dir`.
 Status writeReport(const std::vector<CellResult>& results, const BenchOptions& options, const std::string& dir,

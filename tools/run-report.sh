@@ -8,7 +8,10 @@
 #                        dynamic (moving boxes, a light change, lateral head motion): fov, fov+taa,
 #                        wrs-paper, wrs, the oracle and the retention oracle (oracle-q)
 #   out/report/speed/    time and bytes at 512^2, 1024^2 and 2048^2 per eye (HMD stereo, atrium with
-#                        depth and motion): fov, fov+taa, wrs-paper, wrs (scaling.md, scaling.png)
+#                        depth and motion): fov, fov+taa, wrs-paper, wrs (scaling.md, scaling.png), and the
+#                        static cost model of the same passes on an RX 7900 XTX (gfx1100) and a Steam Deck
+#                        (vangogh) from RADV's null device (cost_model.md, cost_model.csv; a few seconds,
+#                        skipped with the reason where the null device is missing)
 # Each has table.md (summary first), results.csv, plots and crops; out/report/index.md links them.
 # With arguments, runs one wrsfov-bench with them instead (see wrsfov-bench --help), into out/report.
 set -euo pipefail
@@ -33,7 +36,7 @@ echo "== 2/3: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 3/3: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
-"$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --out out/report/speed \
+"$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --cost-model --out out/report/speed \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
 {
   echo "# wrsfov report"
@@ -43,6 +46,7 @@ echo "== 3/3: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
   echo "- [monitor mode, text (reading), 1024x768](monitor/table.md)"
   echo "- [HMD stereo, dynamic scene, 12.1 px/deg](hmd/table.md)"
   echo "- [speed: time and bytes at 512^2, 1024^2, 2048^2 per eye](speed/scaling.md)"
+  echo "- [cost model: the same passes on gfx1100 and vangogh, static estimate](speed/cost_model.md)"
   echo
   for cell in monitor hmd; do
     echo "## $cell"

@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "eval/bench.h"
+#include "eval/cost_model.h"
 #include "eval/sequence.h"
 #include "tools/cli.h"
 
@@ -30,9 +32,185 @@ int printReport(const Status& written, const std::string& table, const std::stri
     return 0;
 }
 
+// --cost-model: the configured cell's pipelines compiled per target, their statistics, bytes and tile
+// shares as a roofline estimate per GPU of eval::gpuTable() (cost_model.csv, cost_model.md in `out`), at
+// each GPU's HMD size and at `sizes`. `section` gets the totals for another report (scaling.md).
+struct CostModelRun {
+    int exitCode = 0;
+    std::string section;
+};
+// Sparse retention: which far tiles skip retention depends on where the gaze has been, so a method
+// that runs it has its share of retention tiles measured: the cell runs on this machine's device
+// (no metrics) at kShareProxy per eye, same views and gaze, and the share is the mean over the 30
+// frames after 300 frames (3.3 s) of gaze. A tile there spans the angle of four at 2048 px, so the
+// share of retention tiles is if anything overstated for larger images.
+constexpr uint32_t kShareProxy = 512;
+Result<double> measuredRetainShare(vk::Context& ctx, eval::BenchOptions o, Method m) {
+    o.methods = {m};
+    o.scenes.resize(1);
+    o.modes.resize(1);
+    o.foveas.resize(1);
+    o.width = o.height = kShareProxy;
+    o.frames = 330;
+    o.warmup = 300;
+    o.qualityMetrics = false;
+    o.staleStats = false;
+    o.copyEvery = 0;
+    o.cropDir = "";
+    o.progress = nullptr;
+    auto r = eval::runBench(ctx, o);
+    if (!r) return r.error();
+    for (const eval::CellResult& c : *r)
+        if (c.method == m && std::isfinite(c.retainShare)) return c.retainShare;
+    return Error{1, "no retention share measured"};
+}
+
+CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::string>& targetNames,
+                          const std::vector<std::pair<uint32_t, uint32_t>>& sizes, const std::string& out,
+                          vk::Context* ctx) {
+    CostModelRun run;
+    const eval::SceneKind scene = o.scenes.front();
+    const FoveationMode mode = o.modes.front();
+    const float fovea = o.foveas.front();
+    auto configFor = [&](Method m) {
+        CompositorConfig c;
+        c.method = m;
+        c.sparseRetention = o.sparseRetention;
+        c.foveation = mode;
+        c.foveaDeg = fovea;
+        c.change = o.change;
+        c.skipTiles = o.skipTiles;
+        return c;  // no stale tracking: the passes as an application gets them
+    };
+    std::error_code ec;
+    const std::string exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+    std::vector<eval::CostRow> rows;
+    std::vector<std::string> skipped;
+    std::map<std::pair<uint32_t, uint32_t>, eval::CellGeometry> geometry;
+    std::map<Method, double> retainShare;
+    std::string shareNote;
+    for (Method m : o.methods) {
+        if (!runsSparse(configFor(m))) continue;
+        if (!ctx) {
+            shareNote = "; no Vulkan device to measure sparse retention's share on: every far tile counted as retaining";
+            break;
+        }
+        std::printf("wrsfov-bench: cost model: measuring %s's share of retention tiles (%ux%u per eye, 330 frames)\n",
+                    std::string(toString(m)).c_str(), kShareProxy, kShareProxy);
+        auto s = measuredRetainShare(*ctx, o, m);
+        if (!s) {
+            std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", s.error().message.c_str());
+            run.exitCode = 1;
+            return run;
+        }
+        retainShare[m] = *s;
+        shareNote += "; " + std::string(toString(m)) + " ran retention in " + std::to_string(100.0 * *s).substr(0, 4) +
+                     " % of the tiles (measured at " + std::to_string(kShareProxy) + "x" + std::to_string(kShareProxy) +
+                     " per eye, frames 300-329)";
+    }
+    for (const std::string& name : targetNames) {
+        auto target = eval::parseStatsTarget(name);
+        if (!target) {
+            std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", target.error().message.c_str());
+            run.exitCode = 1;
+            continue;
+        }
+        // The GPU's public figures: the family's entry, or the entry a real device's name matches.
+        const eval::GpuFigures* gpu = eval::findGpu(target->family);
+        for (const eval::GpuFigures& g : eval::gpuTable())
+            if (!gpu && target->family.empty() &&
+                (target->deviceName.find(g.match) != std::string::npos || g.match.find(target->deviceName) != std::string::npos))
+                gpu = &g;
+        if (!gpu) {
+            skipped.push_back(name + ": no public figures for it in eval::gpuTable() (eval/cost_model.cpp)");
+            std::printf("wrsfov-bench: cost model: skipping %s\n", skipped.back().c_str());
+            continue;
+        }
+        std::vector<std::pair<uint32_t, uint32_t>> cellSizes{{gpu->eyeWidth, gpu->eyeHeight}};
+        for (auto s : sizes)
+            if (std::find(cellSizes.begin(), cellSizes.end(), s) == cellSizes.end()) cellSizes.push_back(s);
+        // The pipelines depend on the views (depth, motion), not on their size.
+        auto geo = eval::cellGeometry(o, scene, mode, fovea, cellSizes.front().first, cellSizes.front().second);
+        if (!geo) {
+            std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", geo.error().message.c_str());
+            run.exitCode = 1;
+            return run;
+        }
+        std::vector<eval::VariantKey> keys;
+        for (Method m : o.methods)
+            for (const eval::PipelineVariant& v : eval::pipelineVariants(configFor(m), geo->inputs))
+                if (std::find(keys.begin(), keys.end(), eval::VariantKey{v.shader, v.constants}) == keys.end())
+                    keys.push_back({v.shader, v.constants});
+        const auto t0 = std::chrono::steady_clock::now();
+        auto stats = eval::collectStatistics(exe, *target, keys);
+        if (!stats) {
+            if (stats.error().code == int(eval::CostError::Unavailable)) {
+                skipped.push_back(name + ": " + stats.error().message);
+                std::printf("wrsfov-bench: cost model: skipping %s\n", skipped.back().c_str());
+            } else {
+                std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", stats.error().message.c_str());
+                skipped.push_back(name + ": failed: " + stats.error().message);
+                run.exitCode = 1;
+            }
+            continue;
+        }
+        std::printf("wrsfov-bench: cost model: %zu pipelines compiled for %s in %.1f s\n", keys.size(), name.c_str(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        for (auto [w, h] : cellSizes) {
+            auto it = geometry.find({w, h});
+            if (it == geometry.end()) {
+                auto g = eval::cellGeometry(o, scene, mode, fovea, w, h);
+                if (!g) {
+                    std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", g.error().message.c_str());
+                    run.exitCode = 1;
+                    return run;
+                }
+                it = geometry.emplace(std::pair{w, h}, *g).first;
+            }
+            for (Method m : o.methods) {
+                eval::TileShares shares = it->second.tileShare;
+                if (auto rs = retainShare.find(m); rs != retainShare.end()) {
+                    // The skipped tiles are far tiles: they come off the far list.
+                    const double skip = std::clamp(1.0 - rs->second, 0.0, shares[gpu::WRS_TILE_FAR]);
+                    shares[gpu::WRS_TILE_FAR] -= skip;
+                    shares[gpu::WRS_TILE_SKIP] = skip;
+                }
+                // Bytes per pass: the classification reads the motion of the far tiles (far and skip lists).
+                TrafficInputs in = it->second.inputs;
+                in.farShare = shares[gpu::WRS_TILE_FAR] + shares[gpu::WRS_TILE_SKIP];
+                eval::CostCell cell{gpu, w, h, 2, m, eval::pipelineVariants(configFor(m), in), shares};
+                auto r = eval::costRows(cell, *stats);
+                rows.insert(rows.end(), r.begin(), r.end());
+            }
+        }
+    }
+    std::string description = "Scene " + std::string(eval::toString(scene)) + " (" +
+                              (o.monitor ? "monitor mode" : "HMD stereo") + ", camera path " +
+                              std::string(toString(o.path)) + "), fovea " + std::to_string(fovea).substr(0, 4) +
+                              "°, foveation " + std::string(toString(mode)) + (o.skipTiles ? "" : ", no tile classes") +
+                              "; tile-class shares from the sweep's gaze (seed " + std::to_string(o.seed) +
+                              ") over frames " + std::to_string(o.warmup) + "-" + std::to_string(o.frames - 1) +
+                              " at 90 Hz, classified as the compositor does" + shareNote + ".";
+    if (Status s = eval::writeCostModel(rows, skipped, description, out); !s) {
+        std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
+        run.exitCode = 1;
+        return run;
+    }
+    std::string section = "## Cost model (static estimate)\n\nThe same passes on GPUs this machine lacks, from the compiler's "
+                          "statistics on RADV's null device, the bytes and the tile shares: [cost_model.md](cost_model.md) "
+                          "(model, figures, per pass and class), cost_model.csv.\n\n";
+    for (const std::string& s : skipped) section += "- skipped " + s + "\n";
+    if (!skipped.empty()) section += "\n";
+    if (!rows.empty()) section += eval::costTotalsMarkdown(rows);
+    run.section = section;
+    std::printf("%s\nwrsfov-bench: cost model in %s (cost_model.csv, cost_model.md)\n", section.c_str(), out.c_str());
+    return run;
+}
+
 // --scaling: the sweep at each size, stale tracking off, and a scaling table over all of them.
 int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_t>& sizes, const std::string& out,
-               bool framesGiven, bool warmupGiven, bool scenesGiven, bool methodsGiven) {
+               bool framesGiven, bool warmupGiven, bool scenesGiven, bool methodsGiven,
+               const std::vector<std::string>& costTargets) {
     if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
     if (!methodsGiven) o.methods = {Method::Fov, Method::FovTaa, Method::Wrs};
     if (!framesGiven) o.frames = 20;
@@ -61,8 +239,15 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_
         }
         steps.push_back({size, size, *results});
     }
-    return printReport(eval::writeScalingReport(steps, o, out, ctx.deviceName()), out + "/scaling.md",
-                       "scaling report in " + out + " (scaling.md, scaling.csv, scaling.png)");
+    CostModelRun cost;
+    if (!costTargets.empty()) {
+        std::vector<std::pair<uint32_t, uint32_t>> cellSizes;
+        for (uint32_t size : sizes) cellSizes.emplace_back(size, size);
+        cost = runCostModel(o, costTargets, cellSizes, out, &ctx);
+    }
+    const int rc = printReport(eval::writeScalingReport(steps, o, out, ctx.deviceName(), cost.section),
+                               out + "/scaling.md", "scaling report in " + out + " (scaling.md, scaling.csv, scaling.png)");
+    return rc != 0 ? rc : cost.exitCode;
 }
 
 // The names an option takes for `values`: the enums' own names.
@@ -76,12 +261,15 @@ std::vector<std::pair<std::string, T>> named(std::initializer_list<T> values) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc >= 3 && std::string_view(argv[1]) == "--cost-model-child")
+        return eval::statisticsChildMain(argv[2], std::vector<std::string>(argv + 3, argv + argc));
     eval::BenchOptions o;
     std::string out = "out/bench";
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
     cli::Size size{o.width, o.height};
-    bool quick = false, noStale = false, noSkip = false, dense = false;
+    bool quick = false, noStale = false, noSkip = false, dense = false, costModel = false;
+    std::vector<std::string> costTargets{"gfx1100", "vangogh"};
 
     CLI::App app{
         "Run time against error: sweeps scenes x methods x fovea sizes x foveation modes with synthetic gaze, "
@@ -169,6 +357,20 @@ int main(int argc, char** argv) {
                 "atrium, methods fov,fov+taa,wrs, 20 frames with 5 warm-up. Writes scaling.md, scaling.csv, "
                 "scaling.png.")
         ->type_name("S,...");
+    app.add_flag("--cost-model", costModel,
+                 "A static cost estimate instead of a sweep (with --scaling: after it, into the same report): every "
+                 "pipeline of the first scene, mode and fovea compiled for each --cost-targets device, and the "
+                 "compiler's statistics, the passes' bytes and the cell's tile classes as a roofline estimate per "
+                 "pass for the GPUs of docs/speed.md \"Cost model\", at each GPU's HMD size and the --size or "
+                 "--scaling sizes given. Unless given: scene atrium, methods fov,fov+taa,wrs-paper,wrs, mode mip. "
+                 "Writes cost_model.csv and cost_model.md; a target without a device or statistics is skipped "
+                 "with the reason.");
+    cli::listOption(app, "--cost-targets", costTargets, cli::list(cli::text("a target", "T")),
+                "Devices the --cost-model compiles for: a RADV family (gfx1100, vangogh: Mesa's null device, no GPU "
+                "needed) or device:NAME (a Vulkan device whose name contains NAME); each needs an entry with public "
+                "figures in the model's GPU table.")
+        ->type_name("T,...")
+        ->default_str("gfx1100,vangogh");
     cli::option(app, "--sequence", o.sequenceDir, cli::text("a directory name", "DIR"),
                 "Evaluate the frames of a sequence directory (docs/sequence.md) as scene `sequence` (alone unless "
                 "--scenes is given); size, frames and fps come from its sequence.json, gaze from its gaze.csv "
@@ -237,11 +439,26 @@ int main(int argc, char** argv) {
         std::printf("wrsfov-bench: sequence in %s (sequence.json, NNNNNN_{L,R}_*, gaze.csv)\n", writeDir.c_str());
         return 0;
     }
+    if (costModel) {
+        if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
+        if (!methodsGiven) o.methods = {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs};
+        if (!given("--modes")) o.modes = {FoveationMode::Mip};
+    } else {
+        costTargets.clear();
+    }
     std::error_code ec;
     std::filesystem::create_directories(out, ec);
     if (ec) {
         std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
         return 1;
+    }
+    if (costModel && scaling.empty()) {
+        // Nothing runs on this machine's device: the pipelines compile on the targets'.
+        std::vector<std::pair<uint32_t, uint32_t>> sizes;
+        if (sizeGiven) sizes.emplace_back(o.width, o.height);
+        // A device of this machine only to measure sparse retention's share of retention tiles.
+        auto ctx = vk::Context::create();
+        return runCostModel(o, costTargets, sizes, out, ctx ? ctx->get() : nullptr).exitCode;
     }
     auto ctx = vk::Context::create();
     if (!ctx) {
@@ -254,7 +471,8 @@ int main(int argc, char** argv) {
         std::printf("[%6.1f s] %s\n", el, s.c_str());
         std::fflush(stdout);
     };
-    if (!scaling.empty()) return runScaling(**ctx, o, scaling, out, framesGiven, warmupGiven, scenesGiven, methodsGiven);
+    if (!scaling.empty())
+        return runScaling(**ctx, o, scaling, out, framesGiven, warmupGiven, scenesGiven, methodsGiven, costTargets);
     o.cropDir = out;
     std::printf("wrsfov-bench: device %s, %ux%u per eye, %d frames per cell -> %s\n", (*ctx)->deviceName().c_str(),
                 o.width, o.height, o.frames, out.c_str());
