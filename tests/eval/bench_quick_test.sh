@@ -19,9 +19,16 @@ rows=$(wc -l < "$out/results.csv")
 awk -F, 'NR > 1 { for (i = 6; i <= 15; i++) if (!($i + 0 > 0) && i != 7 && !(i == 8 && ($2 == "wrs" || $2 == "oracle" || $2 == "oracle-q"))) { print "bad value in column " i ": " $0; exit 1 } }' \
   "$out/results.csv"
 # η_q (columns 34, 35): 1 for the retention oracle itself and 0 for fov wherever that oracle gains
-head -1 "$out/results.csv" | grep -q ",eta_q,eta_q_near_gaze$" || { echo "no eta_q columns"; exit 1; }
+head -1 "$out/results.csv" | grep -q ",eta_q,eta_q_near_gaze,retain_share$" || { echo "no eta_q or retain_share columns"; exit 1; }
 awk -F, 'NR > 1 && ($2 == "oracle-q" || $2 == "fov") { want = $2 == "fov" ? 0 : 1
   for (i = 34; i <= 35; i++) if ($i != "nan" && ($i - want > 1e-9 || want - $i > 1e-9)) { print "eta_q of " $2 ": " $0; exit 1 } }' \
+  "$out/results.csv"
+# retain_share (column 36): none for methods without the retain pass, every tile for the oracle (no
+# sparse retention: it chooses among equally sharp samples), a share in (0, 1] for wrs and oracle-q
+awk -F, 'NR > 1 { m = $2; v = $36
+  if ((m == "fov" || m == "wrs-paper") && v != "nan") { print "retain_share of " m ": " $0; exit 1 }
+  if (m == "oracle" && v != 1) { print "retain_share of oracle: " $0; exit 1 }
+  if ((m == "wrs" || m == "oracle-q") && !(v > 0 && v <= 1)) { print "retain_share of " m ": " $0; exit 1 } }' \
   "$out/results.csv"
 grep -q "Equal-quality fovea" "$out/table.md"
 grep -q "^## Summary" "$out/table.md"
