@@ -706,7 +706,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
     const bool sparse = runsSparse(config_);
     const uint32_t tilesPerEye = groups(w, gpu::WRS_TILE) * groups(h, gpu::WRS_TILE);
-    const uint32_t tileCount = tilesPerEye * WRS_EYES;
+    const uint32_t tileCount = tilesPerEye * uint32_t(WRS_EYES);
     params_.held.x = heldPrev_ * tileCount;
     params_.held.y = (1 - heldPrev_) * tileCount;
     stats_.sparse = sparse;
@@ -794,133 +794,22 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         }
     };
     transitionInputs(true);
-    if (temporal && !historyValid_) {
-        // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
-        vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-    }
-    if (sparse && (!historyValid_ || held_ == Held::Unknown)) {
-        // The held qualities this frame reads: nothing after a reset (the reservoirs are empty), and
-        // anything where the last frame did not record them (every pixel's reservoir is real there).
-        const uint32_t word = historyValid_ ? 0x3f800000u : 0u;  // 1.0f: the best quality there is
-        vkCmdFillBuffer(cb, tileHeld_.handle(), VkDeviceSize(params_.held.x) * 4, VkDeviceSize(tileCount) * 4, word);
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-    }
-    auto stamp = [&](uint32_t i) {
-        if (timing) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
-    };
+    const FramePlan plan{cb,        w,      h,       eyes,  hasDepth, hasMotion, retain,  wrsPaper, taa, temporal,
+                         pyramid,   tiled,  sparse,  inPlace, mono,   timing,    written, tilesPerEye};
+    // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
+    recordHistoryStart(plan);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
-    const uint32_t gx = groups(w, WRS_GROUP_X), gy = groups(h, WRS_GROUP_Y);
-    stamp(0);
-    if (tiled) {
-        uint32_t args[gpu::WRS_TILE_LISTS][4];
-        for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
-        vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kClassify, {uint32_t(config_.foveation), sparse, hasMotion}));
-        vkCmdDispatch(cb, groups(groups(w, gpu::WRS_TILE), WRS_GROUP_X), groups(groups(h, gpu::WRS_TILE), WRS_GROUP_Y), eyes);
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                          VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
-    }
-    // A foveating pass over every pixel, or one indirect dispatch per tile class (constant 5).
-    // `aliased`: the pass reads a buffer it also writes (the in-place reservoirs). Each invocation
-    // touches only its own pixel and the classes' tiles are disjoint, but a barrier between the class
-    // dispatches keeps the order explicit, as synchronization validation (which tracks whole
-    // descriptor ranges) requires.
-    auto dispatchPixels = [&](int shader, std::array<uint32_t, 7> constants, bool aliased = false) {
-        if (!tiled) {
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
-            vkCmdDispatch(cb, gx, gy, eyes);
-            return;
-        }
-        for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
-            if (aliased && cls > 0) computeBarrier(cb);
-            constants[5] = 1 + cls;
-            vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
-            vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
-        }
-        if (!sparse) return;
-        // Tiles that skip retention: the foveating pass writes their output (and birth colours).
-        if (aliased) computeBarrier(cb);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kFoveate, {uint32_t(config_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
-        vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
-    };
-    if (pyramid) {
-        const bool gauss = config_.foveation == FoveationMode::Gauss;
-        const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
-        // mip: every level in one dispatch of 16x16-pixel tiles; gauss: one dispatch per level.
-        const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
-        const uint32_t tile = 2 * WRS_GROUP_X;
-        for (uint32_t level = 1; level <= dispatches; ++level) {
-            gpu::LevelPush push{level, 0, 0, 0};
-            vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-            glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(w, h), level);
-            if (gauss)
-                vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), eyes);
-            else
-                vkCmdDispatch(cb, groups(w, tile), groups(h, tile), eyes);
-            computeBarrier(cb);
-        }
-    }
-    stamp(1);
-    if (!retain) {
-        dispatchPixels(kFoveate, {uint32_t(config_.foveation), temporal ? 0u : 1u, 0, 0});
-        computeBarrier(cb);
-    }
-    stamp(2);
-    if (retain) {
-        const uint32_t rule = retainRule(config_);
-        dispatchPixels(kRetain, {hasMotion, hasDepth, uint32_t(config_.foveation), rule, inPlace, 0, sparse}, inPlace);
-        computeBarrier(cb);
-    } else if (wrsPaper) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kWrs, {hasMotion, hasDepth, uint32_t(config_.change), config_.bernoulli}));
-        vkCmdDispatch(cb, gx, gy, eyes);
-        computeBarrier(cb);
-    } else if (taa) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {hasMotion, 0, 0, 0}));
-        vkCmdDispatch(cb, gx, gy, eyes);
-        computeBarrier(cb);
-    }
-    if (mono) {
-        // Right eye = left eye: output layer, and the history this frame wrote; the copies read and
-        // write what the passes wrote.
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
-        VkImageCopy ic{};
-        ic.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        ic.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1};
-        ic.extent = {w, h, 1};
-        vkCmdCopyImage(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &ic);
-        const VkDeviceSize eyeBytes = VkDeviceSize(w) * h * 16;
-        const VkBufferCopy bc{0, eyeBytes, eyeBytes};
-        if (temporal) vkCmdCopyBuffer(cb, reservoirs_[written].handle(), reservoirs_[written].handle(), 1, &bc);
-        if (temporal && birthAllocated_) vkCmdCopyBuffer(cb, birth_[written].handle(), birth_[written].handle(), 1, &bc);
-        const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + tilesPerEye) * 4,
-                              VkDeviceSize(tilesPerEye) * 4};
-        if (sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
-    }
-    stamp(3);
+    stamp(plan, 0);
+    recordClassify(plan);
+    recordPyramid(plan);
+    stamp(plan, 1);
+    recordFoveate(plan);
+    stamp(plan, 2);
+    recordTemporal(plan);
+    recordMonoCopies(plan);
+    stamp(plan, 3);
     transitionInputs(false);
-    if (tiled && !record) {
-        // The lists' counts, for FrameStats::tiles.
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                          VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-        const VkBufferCopy tc{0, 0, 16 * gpu::WRS_TILE_LISTS};
-        vkCmdCopyBuffer(cb, tiles_.handle(), tileCounts_.handle(), 1, &tc);
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                          VK_ACCESS_HOST_READ_BIT);
-    }
+    recordTileCounts(plan, record);
     // The output (and the history) is visible to whatever the caller runs next on the queue or
     // after its semaphores: presentation, a copy, its own composition.
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
@@ -962,6 +851,156 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     lastSparse_ = sparse;
     validator_.accept(frame);
     return {};
+}
+
+void Compositor::stamp(const FramePlan& plan, uint32_t i) {
+    if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
+}
+
+void Compositor::recordHistoryStart(const FramePlan& plan) {
+    VkCommandBuffer cb = plan.cb;
+    if (plan.temporal && !historyValid_) {
+        // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
+        vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    }
+    if (plan.sparse && (!historyValid_ || held_ == Held::Unknown)) {
+        // The held qualities this frame reads: nothing after a reset (the reservoirs are empty), and
+        // anything where the last frame did not record them (every pixel's reservoir is real there).
+        const uint32_t word = historyValid_ ? 0x3f800000u : 0u;  // 1.0f: the best quality there is
+        vkCmdFillBuffer(cb, tileHeld_.handle(), VkDeviceSize(params_.held.x) * 4,
+                        VkDeviceSize(plan.tilesPerEye) * WRS_EYES * 4, word);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    }
+}
+
+void Compositor::recordClassify(const FramePlan& plan) {
+    if (!plan.tiled) return;
+    VkCommandBuffer cb = plan.cb;
+    uint32_t args[gpu::WRS_TILE_LISTS][4];
+    for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
+    vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion}));
+    vkCmdDispatch(cb, groups(groups(plan.w, gpu::WRS_TILE), WRS_GROUP_X),
+                  groups(groups(plan.h, gpu::WRS_TILE), WRS_GROUP_Y), plan.eyes);
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+}
+
+void Compositor::recordPyramid(const FramePlan& plan) {
+    if (!plan.pyramid) return;
+    VkCommandBuffer cb = plan.cb;
+    const bool gauss = config_.foveation == FoveationMode::Gauss;
+    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
+    // mip: every level in one dispatch of 16x16-pixel tiles; gauss: one dispatch per level.
+    const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
+    const uint32_t tile = 2 * WRS_GROUP_X;
+    for (uint32_t level = 1; level <= dispatches; ++level) {
+        gpu::LevelPush push{level, 0, 0, 0};
+        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+        glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), level);
+        if (gauss)
+            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
+        else
+            vkCmdDispatch(cb, groups(plan.w, tile), groups(plan.h, tile), plan.eyes);
+        computeBarrier(cb);
+    }
+}
+
+// A foveating pass over every pixel, or one indirect dispatch per tile class (constant 5), then, with
+// sparse retention, the skip list through the foveating pass alone. `aliased`: the pass reads a
+// buffer it also writes (the in-place reservoirs). Each invocation touches only its own pixel and the
+// lists' tiles are disjoint, but a barrier between the dispatches keeps the order explicit, as
+// synchronization validation (which tracks whole descriptor ranges) requires.
+void Compositor::recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased) {
+    VkCommandBuffer cb = plan.cb;
+    if (!plan.tiled) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+        vkCmdDispatch(cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
+        return;
+    }
+    for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
+        if (aliased && cls > 0) computeBarrier(cb);
+        constants[5] = 1 + cls;
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+        vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
+    }
+    if (!plan.sparse || shader != kRetain) return;
+    // Tiles that skip retention: the foveating pass writes their output (and birth colours).
+    if (aliased) computeBarrier(cb);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pipeline(kFoveate, {uint32_t(config_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
+    vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
+}
+
+void Compositor::recordFoveate(const FramePlan& plan) {
+    if (plan.retain) return;  // foveation is fused into the retain pass
+    recordPixelPass(plan, kFoveate, {uint32_t(config_.foveation), plan.temporal ? 0u : 1u, 0, 0});
+    computeBarrier(plan.cb);
+}
+
+void Compositor::recordTemporal(const FramePlan& plan) {
+    VkCommandBuffer cb = plan.cb;
+    const uint32_t gx = groups(plan.w, WRS_GROUP_X), gy = groups(plan.h, WRS_GROUP_Y);
+    if (plan.retain) {
+        recordPixelPass(plan, kRetain,
+                        {plan.hasMotion, plan.hasDepth, uint32_t(config_.foveation), retainRule(config_), plan.inPlace, 0,
+                         plan.sparse},
+                        plan.inPlace);
+    } else if (plan.wrsPaper) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(config_.change), config_.bernoulli}));
+        vkCmdDispatch(cb, gx, gy, plan.eyes);
+    } else if (plan.taa) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, 0, 0, 0}));
+        vkCmdDispatch(cb, gx, gy, plan.eyes);
+    } else {
+        return;
+    }
+    computeBarrier(cb);
+}
+
+void Compositor::recordMonoCopies(const FramePlan& plan) {
+    if (!plan.mono) return;
+    VkCommandBuffer cb = plan.cb;
+    // Right eye = left eye: output layer, and the history this frame wrote; the copies read and
+    // write what the passes wrote.
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+    VkImageCopy ic{};
+    ic.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    ic.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1};
+    ic.extent = {plan.w, plan.h, 1};
+    vkCmdCopyImage(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &ic);
+    const VkDeviceSize eyeBytes = VkDeviceSize(plan.w) * plan.h * 16;
+    const VkBufferCopy bc{0, eyeBytes, eyeBytes};
+    if (plan.temporal) vkCmdCopyBuffer(cb, reservoirs_[plan.written].handle(), reservoirs_[plan.written].handle(), 1, &bc);
+    if (plan.temporal && birthAllocated_)
+        vkCmdCopyBuffer(cb, birth_[plan.written].handle(), birth_[plan.written].handle(), 1, &bc);
+    const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + plan.tilesPerEye) * 4,
+                          VkDeviceSize(plan.tilesPerEye) * 4};
+    if (plan.sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+}
+
+void Compositor::recordTileCounts(const FramePlan& plan, bool record) {
+    if (!plan.tiled || record) return;  // Record mode: the caller's submission, no statistics
+    // The lists' counts, for FrameStats::tiles.
+    vk::memoryBarrier(plan.cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    const VkBufferCopy tc{0, 0, 16 * gpu::WRS_TILE_LISTS};
+    vkCmdCopyBuffer(plan.cb, tiles_.handle(), tileCounts_.handle(), 1, &tc);
+    vk::memoryBarrier(plan.cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                      VK_ACCESS_HOST_READ_BIT);
 }
 
 void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes) {

@@ -345,6 +345,34 @@ private:
     vk::Fence frameFence_;  // signalled by each frame's submission, reset after the wait
     bool inFlight_ = false;  // a Mode::Submit frame not waited for yet
     std::chrono::steady_clock::time_point submittedAt_;
+    /// What a frame runs, decided once in endFrame; each pass records itself from it (recordX, in the
+    /// order endFrame calls them).
+    struct FramePlan {
+        VkCommandBuffer cb;
+        uint32_t w, h, eyes;  ///< size per eye; eyes the passes run for (1 with mono views)
+        bool hasDepth, hasMotion;
+        bool retain, wrsPaper, taa, temporal, pyramid;  ///< which passes (temporal: a pass with history)
+        bool tiled, sparse, inPlace, mono, timing;
+        uint32_t written;      ///< the reservoir buffer the frame writes
+        uint32_t tilesPerEye;  ///< 8x8 tiles of one eye
+    };
+    void stamp(const FramePlan& plan, uint32_t i);
+    /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
+    void recordHistoryStart(const FramePlan& plan);
+    /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention).
+    void recordClassify(const FramePlan& plan);
+    /// Pass 1: pyramid levels 1..4.
+    void recordPyramid(const FramePlan& plan);
+    /// A per-pixel pass over every pixel or per tile list.
+    void recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased = false);
+    /// Pass 2 (methods without the retain pass): foveation.
+    void recordFoveate(const FramePlan& plan);
+    /// Pass 3 (or 2+3): retain, wrs-paper or taa.
+    void recordTemporal(const FramePlan& plan);
+    /// Mono views: the right eye's output, reservoirs, births and held qualities from the left's.
+    void recordMonoCopies(const FramePlan& plan);
+    /// The tile lists' counts into host memory (FrameStats::tiles).
+    void recordTileCounts(const FramePlan& plan, bool record);
     /// Reads the frame's timestamps into stats_.gpu (and the copy kernels when measured).
     void collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes);
     TrafficInputs inFlightTraffic_;
