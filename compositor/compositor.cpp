@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "compositor/swapchain_vk.h"
 #include "classify_spv.h"
 #include "copy_spv.h"
 #include "foveate_spv.h"
+#include "half_probe_spv.h"
 #include "pyramid_spv.h"
 #include "retain_spv.h"
 #include "taa_spv.h"
@@ -71,7 +73,7 @@ std::string_view toString(ChangeMetric m) {
 
 namespace {
 
-enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kClassify, kShaderCount };
+enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kClassify, kHalfProbe, kShaderCount };
 enum Binding : uint32_t {
     kFrame = 0,
     kColor = 1,
@@ -150,7 +152,8 @@ uint32_t retainRule(const CompositorConfig& c) {
 }
 
 float floorQuality(const CompositorConfig& c) {
-    return usesRetainPass(c.method) ? gpu::wrs_rule_floor(retainRule(c), uint32_t(c.foveation)) : 0.0f;
+    if (!usesRetainPass(c.method) || c.floorMerge) return 0.0f;
+    return gpu::wrs_rule_floor(retainRule(c), uint32_t(c.foveation));
 }
 
 double FrameStats::retainShare() const {
@@ -361,7 +364,7 @@ Status Compositor::init() {
     const Code code[kShaderCount] = {{pyramid_spv, sizeof(pyramid_spv)}, {foveate_spv, sizeof(foveate_spv)},
                                      {wrs_spv, sizeof(wrs_spv)},         {taa_spv, sizeof(taa_spv)},
                                      {copy_spv, sizeof(copy_spv)},       {retain_spv, sizeof(retain_spv)},
-                                     {classify_spv, sizeof(classify_spv)}};
+                                     {classify_spv, sizeof(classify_spv)}, {half_probe_spv, sizeof(half_probe_spv)}};
     for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
@@ -403,7 +406,64 @@ Status Compositor::init() {
     VkFence fence;
     VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
     frameFence_ = vk::Fence(dev, fence);
+    if (!ctx_.halfProbe()) ctx_.setHalfProbe(probeHardwareHalf());
+    hardwareHalf_ = config_.hardwareHalf && *ctx_.halfProbe();
     return {};
+}
+
+static std::vector<float> halfProbeValues() {
+    // Every finite fp16 value of either sign, the midpoint to the next one (a tie: rounds to the even
+    // one) and the floats either side of it, from the subnormals up to the overflow to infinity; the
+    // infinities, and values that round to zero. Not NaN: no pass stores one.
+    std::vector<float> v;
+    for (uint32_t h = 0; h <= 0x7bffu; ++h) {
+        const float f = gpu::wrs_f16_to_f32(h);
+        const float next = h == 0x7bffu ? 65536.0f : gpu::wrs_f16_to_f32(h + 1);
+        const float mid = 0.5f * (f + next);  // exact: an fp16 value has 11 significant bits
+        for (float x : {f, mid, std::nextafter(mid, 0.0f), std::nextafter(mid, 1e30f)}) {
+            v.push_back(x);
+            v.push_back(-x);
+        }
+    }
+    for (float x : {std::numeric_limits<float>::infinity(), 1e30f, 65519.99f, 2.9802322e-8f, 2.98e-8f, 1e-10f,
+                    std::numeric_limits<float>::denorm_min()}) {
+        v.push_back(x);
+        v.push_back(-x);
+    }
+    return v;
+}
+
+bool Compositor::probeHardwareHalf() {
+    // Where the probe cannot run (no memory, a lost device) the passes convert by hand: the same bits.
+    const std::vector<float> values = halfProbeValues();
+    const uint32_t count = uint32_t(values.size());
+    const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    auto src = ctx_.createBuffer(uint64_t(count) * 4, use, true);
+    auto dst = ctx_.createBuffer(uint64_t(count) * 4, use, true);
+    if (!src || !dst) return false;
+    std::memcpy(src->mapped(), values.data(), values.size() * 4);
+    VkDescriptorBufferInfo bi[2] = {{src->handle(), 0, VK_WHOLE_SIZE}, {dst->handle(), 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet w[2] = {vk::bufferWrite(copySet_, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[0]),
+                                 vk::bufferWrite(copySet_, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi[1])};
+    vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
+    const uint32_t groupsTotal = (count + 63) / 64, gx = std::min<uint32_t>(groupsTotal, 65535),
+                   gy = (groupsTotal + gx - 1) / gx;
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kHalfProbe, {}));
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
+                                nullptr);
+        vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
+        vkCmdDispatch(cb, gx, gy, 1);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    });
+    // The copy kernel's set is written again when its buffers are made (measureCopy).
+    copySrc_ = vk::Buffer();
+    if (!s) return false;
+    const uint32_t* got = static_cast<const uint32_t*>(dst->mapped());
+    for (uint32_t i = 0; i < count; ++i)
+        if (got[i] != gpu::wrs_f32_to_f16(values[i])) return false;
+    return true;
 }
 
 double Compositor::timeCopy(uint64_t bytes) {
@@ -430,21 +490,25 @@ double Compositor::timeCopy(uint64_t bytes) {
     return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
 }
 
-VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> constants) {
-    std::array<uint32_t, 8> key{uint32_t(shader)};
+VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstants) {
+    // Constants 0..6 are the pass's; 7 (HARDWARE_HALF, bindings.glsl) is every pass's.
+    std::array<uint32_t, 8> constants{};
+    std::copy(passConstants.begin(), passConstants.end(), constants.begin());
+    constants[7] = hardwareHalf_;
+    std::array<uint32_t, 9> key{uint32_t(shader)};
     std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.get();
-    VkSpecializationMapEntry entries[7];
-    for (uint32_t i = 0; i < 7; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-    VkSpecializationInfo spec{7, entries, sizeof(constants), constants.data()};
+    VkSpecializationMapEntry entries[8];
+    for (uint32_t i = 0; i < 8; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{8, entries, sizeof(constants), constants.data()};
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     ci.stage.module = modules_[shader].get();
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = &spec;
-    ci.layout = shader == kCopy ? copyPipelineLayout_.get() : pipelineLayout_.get();
+    ci.layout = shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get();
     VkPipeline p;
     VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
     return pipelines_.emplace(key, vk::Pipeline(ctx_.device(), p)).first->second.get();

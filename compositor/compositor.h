@@ -97,6 +97,15 @@ struct CompositorConfig {
     /// the area the gaze has visited. The output is the same bit for bit either way; the reservoirs
     /// differ only in skipped tiles, which store nothing (readReservoirs shows them empty).
     bool sparseRetention = true;
+    /// `wrs`: merge equal-quality samples at the floor quality too (the far periphery), as before sparse
+    /// retention: a running mean of the level-4 candidates that smooths their flicker under motion,
+    /// at the price of retention in every far tile (no sparse retention). Off (the default): the floor
+    /// rule takes the candidate there (docs/retention.md "Sparse retention").
+    bool floorMerge = false;
+    /// Convert to fp16 for storage (pyramid, reservoirs) with the device's own instruction where the
+    /// first compositor on the context found it giving the hand conversion's bits (round to nearest
+    /// even) on every probe value: the same bits, a fraction of the arithmetic. Off: always by hand.
+    bool hardwareHalf = true;
 };
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
@@ -256,6 +265,9 @@ public:
     const FrameStats& stats() const { return stats_; }
     const gpu::FrameParams& lastParams() const { return params_; }
     const CompositorConfig& config() const { return config_; }
+    /// Whether the passes store fp16 with the device's conversion (CompositorConfig::hardwareHalf and
+    /// the probe). Fixed at creation.
+    bool usesHardwareHalf() const { return hardwareHalf_; }
     /// Takes effect at the next frame; a change of method or foveation resets history. A config
     /// with an out-of-range value is refused here (ConfigError::InvalidValue) and changes nothing.
     Status setConfig(const CompositorConfig& config);
@@ -290,7 +302,10 @@ private:
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
     /// `count` 32-bit words of a buffer from word `first`.
     Result<std::vector<uint32_t>> readWords(const vk::Buffer& buffer, uint64_t first, uint64_t count);
-    VkPipeline pipeline(int shader, std::array<uint32_t, 7> constants);
+    VkPipeline pipeline(int shader, std::array<uint32_t, 7> passConstants);
+    /// Runs the device's fp16 conversion over halfProbeValues() and compares it with wrs_f32_to_f16.
+    bool probeHardwareHalf();
+    bool hardwareHalf_ = false;  // CompositorConfig::hardwareHalf and the probe: pipelines' constant 7
     /// GPU milliseconds of the copy kernel moving `bytes` (half read, half written), alone in a submission.
     double timeCopy(uint64_t bytes);
     Result<HostImage> readImageLayer(uint32_t layer);
@@ -315,7 +330,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 8>, vk::Pipeline> pipelines_;
+    std::map<std::array<uint32_t, 9>, vk::Pipeline> pipelines_;
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <initializer_list>
 #include <memory>
 #include <mutex>
@@ -222,6 +223,10 @@ public:
     uint32_t validationWarnings() const { return validationWarnings_.load(); }
     std::vector<std::string> validationMessages() const;
     bool validationEnabled() const { return validation_; }
+    /// Whether the device's own fp16 conversion gave wrs_f32_to_f16's bits on every probe value
+    /// (Compositor::hardwareHalf); unset until the first compositor on this context probed it.
+    std::optional<bool> halfProbe() const { return halfProbe_; }
+    void setHalfProbe(bool exact) { halfProbe_ = exact; }
 
     Result<Buffer> createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible);
     /// viewFormat: format of the per-layer views (VK_FORMAT_UNDEFINED: the image's own format).
@@ -284,6 +289,7 @@ private:
     uint32_t queueFamily_ = 0;
     uint32_t timestampValidBits_ = 0;
     VkPhysicalDeviceProperties props_{};
+    std::optional<bool> halfProbe_;
     VkPhysicalDeviceMemoryProperties memProps_{};
     VkCommandPool pool_ = VK_NULL_HANDLE;
     VkFence fence_ = VK_NULL_HANDLE;

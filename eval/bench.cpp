@@ -467,6 +467,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.measureCopy = i >= 0;
                     cc.skipTiles = o.skipTiles;
                     cc.sparseRetention = o.sparseRetention;
+                    cc.floorMerge = o.floorMerge;
                     cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();

@@ -44,6 +44,9 @@ struct BenchOptions {
     /// CompositorConfig::sparseRetention (--dense-retention turns it off: the same output, retention in
     /// every tile).
     bool sparseRetention = true;
+    /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in
+    /// every tile).
+    bool floorMerge = false;
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;

@@ -498,13 +498,28 @@ WRS_FN float wrs_f16_to_f32(uint h) {
     return uintBitsToFloat(sign | ((e + 112u) << 23u) | (m << 13u));
 }
 WRS_FN float wrs_round_f16(float f) { return wrs_f16_to_f32(wrs_f32_to_f16(f)); }
+// fp16 for storage: wrs_f32_to_f16, or on a device whose own conversion gives the same bits on every
+// value the probe tries (Compositor::hardwareHalf), that conversion: a shader that includes this header
+// defines WRS_HARDWARE_HALF as its specialisation constant. Both round to nearest even; the hand one
+// costs ~20 instructions a value, which made the pyramid pass arithmetic-bound on a GPU.
+#ifdef WRS_HARDWARE_HALF
+WRS_FN uint wrs_store_f16(float f) {
+    return WRS_HARDWARE_HALF ? (packHalf2x16(vec2(f, 0.0f)) & 0xffffu) : wrs_f32_to_f16(f);
+}
+WRS_FN uint wrs_store_f16x2(float a, float b) {
+    return WRS_HARDWARE_HALF ? packHalf2x16(vec2(a, b)) : wrs_f32_to_f16(a) | (wrs_f32_to_f16(b) << 16u);
+}
+#else
+WRS_FN uint wrs_store_f16(float f) { return wrs_f32_to_f16(f); }
+WRS_FN uint wrs_store_f16x2(float a, float b) { return wrs_f32_to_f16(a) | (wrs_f32_to_f16(b) << 16u); }
+#endif
 
 WRS_FN uvec4 wrs_pack(Reservoir r) {
     uvec4 p;
-    p.x = wrs_f32_to_f16(r.color.x) | (wrs_f32_to_f16(r.color.y) << 16u);
-    p.y = wrs_f32_to_f16(r.color.z) | (wrs_f32_to_f16(r.w) << 16u);
+    p.x = wrs_store_f16x2(r.color.x, r.color.y);
+    p.y = wrs_store_f16x2(r.color.z, r.w);
     p.z = floatBitsToUint(r.w_sum);
-    p.w = wrs_f32_to_f16(r.z) | (min(r.M, WRS_M_MAX) << 16u);
+    p.w = wrs_store_f16(r.z) | (min(r.M, WRS_M_MAX) << 16u);
     return p;
 }
 WRS_FN Reservoir wrs_unpack(uvec4 p) {
@@ -656,10 +671,10 @@ WRS_FN float wrs_offset_value(uint code) {
 // The offset is quantised with a dither `u` in [0, 1) (floor(d * 254 + u)): wrs_offset_dither.
 WRS_FN uvec4 wrs_pack_tracked(Tracked r, vec2 u) {
     uvec4 p;
-    p.x = wrs_f32_to_f16(r.color.x) | (wrs_f32_to_f16(r.color.y) << 16u);
-    p.y = wrs_f32_to_f16(r.color.z) | (wrs_f32_to_f16(r.q) << 16u);
-    p.z = wrs_f32_to_f16(r.w_sum) | (wrs_fp_code(r.fp) << 16u) | ((r.flags & 0xffu) << 24u);
-    p.w = wrs_f32_to_f16(r.z) | (wrs_offset_code(r.d.x, u.x) << 16u) | (wrs_offset_code(r.d.y, u.y) << 24u);
+    p.x = wrs_store_f16x2(r.color.x, r.color.y);
+    p.y = wrs_store_f16x2(r.color.z, r.q);
+    p.z = wrs_store_f16(r.w_sum) | (wrs_fp_code(r.fp) << 16u) | ((r.flags & 0xffu) << 24u);
+    p.w = wrs_store_f16(r.z) | (wrs_offset_code(r.d.x, u.x) << 16u) | (wrs_offset_code(r.d.y, u.y) << 24u);
     return p;
 }
 // Single fields of a packed reservoir, for the lookups that unpack only what they test.
@@ -1036,7 +1051,7 @@ WRS_FN float wrs_rule_floor(uint rule, uint mode) { return rule == WRS_RULE_ORAC
 // and a floor-quality history is never kept, merged or shown, so its colour, fingerprint and depth
 // never matter.
 WRS_FN uvec4 wrs_floor_sample(float q_floor) {
-    uint h = wrs_f32_to_f16(q_floor);
+    uint h = wrs_store_f16(q_floor);
     return uvec4(0u, h << 16u, h, 0u);
 }
 

@@ -76,6 +76,7 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         CompositorConfig c;
         c.method = m;
         c.sparseRetention = o.sparseRetention;
+        c.floorMerge = o.floorMerge;
         c.foveation = mode;
         c.foveaDeg = fovea;
         c.change = o.change;
@@ -268,7 +269,7 @@ int main(int argc, char** argv) {
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
     cli::Size size{o.width, o.height};
-    bool quick = false, noStale = false, noSkip = false, dense = false, costModel = false;
+    bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
 
     CLI::App app{
@@ -348,6 +349,10 @@ int main(int argc, char** argv) {
                  "Retention in every tile (no sparse retention, docs/retention.md \"Sparse retention\"): the "
                  "same output bit for bit; the time and bytes show what skipping the far tiles that hold "
                  "nothing sharper saves.");
+    app.add_flag("--floor-merge", floorMerge,
+                 "wrs merges equal-quality samples at the floor quality too (the far periphery's running mean, "
+                 "which smooths its flicker under motion), with retention in every tile: the rule before sparse "
+                 "retention (docs/retention.md \"Sparse retention\").");
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");
@@ -389,6 +394,7 @@ int main(int argc, char** argv) {
     o.staleStats = !noStale;
     o.skipTiles = !noSkip;
     o.sparseRetention = !dense;
+    o.floorMerge = floorMerge;
     if (quick) {
         if (!scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
         if (!sizeGiven) o.width = 160, o.height = 144;

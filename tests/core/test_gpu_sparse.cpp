@@ -211,5 +211,59 @@ TEST_F(Sparse, RetentionFollowsTheVisitedArea) {
     std::printf("after the light change: %.3f\n", after);
 }
 
+TEST_F(Sparse, FloorMergeKeepsTheRuleBeforeIt) {
+    // CompositorConfig::floorMerge: equal-quality samples merge at the floor quality too, retention runs
+    // in every tile, and the GPU still agrees with the CPU reference; the default's floor rule takes
+    // the candidate there instead, which changes the far periphery's output under motion.
+    CompositorConfig cfg;
+    cfg.method = Method::Wrs;
+    CompositorConfig merge = cfg;
+    merge.floorMerge = true;
+    auto a = Compositor::create(context(), cfg);
+    auto b = Compositor::create(context(), merge);
+    ASSERT_TRUE(a.ok() && b.ok());
+    StereoApp appA(**a, W, H, layers::Format::RGBA16F, std::nullopt, layers::Format::RG16F);
+    StereoApp appB(**b, W, H, layers::Format::RGBA16F, std::nullopt, layers::Format::RG16F);
+    Reference ref(merge);
+    uint64_t merged = 0, floorRule = 0, differ = 0;
+    int maxDiff = 0;
+    for (uint64_t f = 1; f <= 12; ++f) {
+        std::array<EyeFrame, 2> eyes;
+        const glm::vec2 s = glm::vec2(0.37f, 0.21f) * float(f);
+        for (int e = 0; e < 2; ++e) {
+            eyes[e].fov = wideFov();
+            eyes[e].color = texture(s.x, s.y, 1.0f);
+            eyes[e].motion = motionImage(-0.37f, -0.21f);
+            eyes[e].gaze = {gazeAtPixel(60, 50), true, 1.0f};
+        }
+        if (f > 1)
+            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *(*b)->readReservoirs(e));
+        ASSERT_TRUE(appA.submit(f, eyes).ok());
+        ASSERT_TRUE(appB.submit(f, eyes).ok());
+        ref.step((*b)->lastParams(), referenceInputs(eyes));
+        EXPECT_FALSE((*b)->stats().sparse);
+        EXPECT_EQ((*b)->stats().retainShare(), 1.0);
+        EXPECT_EQ((*b)->lastParams().tuning.w, 0.0f) << "no floor rule";
+        for (uint32_t e = 0; e < 2; ++e) {
+            for (const Reference::Trace& t : ref.trace(e)) {
+                merged += t.outcome == gpu::WRS_OUT_MERGED;
+                floorRule += t.outcome == gpu::WRS_OUT_FLOOR;
+            }
+            auto og = (*b)->readOutput(e), od = (*a)->readOutput(e);
+            ASSERT_TRUE(og.ok() && od.ok());
+            for (std::size_t i = 0; i < og->data.size(); ++i) {
+                maxDiff = std::max(maxDiff, std::abs(int(uint8_t(og->data[i])) - int(uint8_t(ref.output(e).data[i]))));
+                differ += og->data[i] != od->data[i];
+            }
+        }
+    }
+    std::printf("floor merge: merged %llu, floor rule %llu, output bytes differing from the default %llu\n",
+                (unsigned long long)merged, (unsigned long long)floorRule, (unsigned long long)differ);
+    EXPECT_LE(maxDiff, 1) << "GPU against the CPU reference";
+    EXPECT_EQ(floorRule, 0u);
+    EXPECT_GT(merged, uint64_t(W) * H) << "the far periphery merges";
+    EXPECT_GT(differ, 1000u) << "and that changes its output under motion";
+}
+
 }  // namespace
 }  // namespace wrsfov::test
