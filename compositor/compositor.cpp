@@ -202,7 +202,12 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     const double birth = c.trackBirth && (c.method == Method::WrsPaper || retain) ? 16 : 0;
     const double levelsRead = pyramid ? levels * kTexel : 0;  // every stored level is sampled somewhere
 
+    // Sparse retention: the retain pass in the tiles that ran it; the others run the foveating pass
+    // (with the birth colour when tracked), and the classification reads the far tiles' motion.
+    const bool sparse = retain && runsSparse(c);
+    const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
     Traffic t;
+    if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.farShare, 0.0, 1.0), 0.0});
     if (pyramid) {
         // mip: one dispatch, colour in, the stored levels out. gauss: level 1 from the colour, level k from k - 1.
         const bool gauss = c.foveation == FoveationMode::Gauss;
@@ -216,11 +221,6 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
         t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
                             history + output + birth});
     if (c.method == Method::FovTaa) t.passes.push_back({"taa", 16 + history + motion, history + output});
-    // Sparse retention: the retain pass in the tiles that ran it; the others run the foveating pass
-    // (with the birth colour when tracked), and the classification reads the far tiles' motion.
-    const bool sparse = retain && runsSparse(c);
-    const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
-    if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.farShare, 0.0, 1.0), 0.0});
     if (retain)  // the fingerprint level is among the stored ones in every mode
         t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth),
                             share * (history + output + birth)});

@@ -113,11 +113,11 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     auto bytes = [&](std::string_view pass) { return bytesOf(t, pass); };
     const uint64_t whole = groupsOf(in.width, WRS_GROUP_X) * groupsOf(in.height, WRS_GROUP_Y) * eyes;
     std::vector<PipelineVariant> v;
-    auto add = [&](const char* pass, ShaderId s, std::array<uint32_t, 7> k, uint64_t groups, double bpp) {
+    auto add = [&](const char* pass, ShaderId s, std::array<uint32_t, 8> k, uint64_t groups, double bpp) {
         v.push_back({pass, s, k, kWholeImage, groups, WRS_GROUP_X * WRS_GROUP_Y, bpp});
     };
     // A per-pixel pass: one dispatch, or one indirect dispatch per tile class (class in constant 5).
-    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 7> k) {
+    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 8> k) {
         if (!tiled) return add(pass, s, k, whole, bytes(pass));
         for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
             k[5] = 1 + cls;
@@ -146,15 +146,20 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
             bytes("pyramid"));
     }
     if (!retain) addPixels("foveate", ShaderId::Foveate, {fov, temporal ? 0u : 1u});
-    if (retain) addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace, 0, sparse});
-    if (sparse)  // the far tiles that skip retention: the foveating pass alone
-        v.push_back({"skip", ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}, int(gpu::WRS_TILE_SKIP), 0,
-                     WRS_GROUP_X * WRS_GROUP_Y, bytesOf(skipped, "skip")});
+    if (retain)
+        addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace, 0, sparse});
     else if (c.method == Method::WrsPaper)
         add("wrs-paper", ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli}, whole,
             bytes("wrs-paper"));
     else if (c.method == Method::FovTaa)
         add("taa", ShaderId::Taa, {hasMotion}, whole, bytes("taa"));
+    if (sparse)  // the far tiles that skip retention: the foveating pass alone
+        v.push_back({"skip", ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}, int(gpu::WRS_TILE_SKIP), 0,
+                     WRS_GROUP_X * WRS_GROUP_Y, bytesOf(skipped, "skip")});
+    // Constant 7 (HARDWARE_HALF) of every pass: the device's fp16 conversion, which the compositor uses
+    // where its probe finds round to nearest even, as AMD's v_cvt_f16_f32 does in the default mode (the
+    // null device runs nothing, so the probe cannot run there).
+    for (PipelineVariant& x : v) x.constants[7] = 1;
     return v;
 }
 
@@ -564,10 +569,10 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         d.device = VK_NULL_HANDLE;
         return skip("vkCreateDevice failed (" + std::string(vk::resultString(r)) + ")");
     }
-    // The compositor's descriptor set layout (Compositor::init): bindings 0-13 but 5, the three image
+    // The compositor's descriptor set layout (Compositor::init): bindings 0-14 but 5, the three image
     // bindings per eye, 16 bytes of push constants (gpu::LevelPush).
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t b = 0; b <= 13; ++b) {
+    for (uint32_t b = 0; b <= 14; ++b) {
         if (b == 5) continue;
         VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         if (b == 0) type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
@@ -602,9 +607,10 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         VkShaderModule module;
         if (vkCreateShaderModule(d.device, &smci, nullptr, &module) != VK_SUCCESS)
             return fail("shader module " + toString(k));
-        VkSpecializationMapEntry entries[6];
-        for (uint32_t i = 0; i < 6; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-        const VkSpecializationInfo spec{6, entries, sizeof(k.constants), k.constants.data()};
+        constexpr uint32_t n = uint32_t(std::tuple_size_v<decltype(k.constants)>);
+        VkSpecializationMapEntry entries[n];
+        for (uint32_t i = 0; i < n; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+        const VkSpecializationInfo spec{n, entries, sizeof(k.constants), k.constants.data()};
         VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
         ci.flags = VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
         ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;

@@ -31,12 +31,41 @@ TEST(Traffic, WithinTheBudgetsAt1024x768) {
         // Floors: colour 4 + output 4, plus reservoir 2 x 16 + depth 4 + motion 8 with history.
         EXPECT_DOUBLE_EQ(tw.floor, 52.0);
         EXPECT_DOUBLE_EQ(tf.floor, 8.0);
-        ASSERT_EQ(tw.passes.size(), 2u);
-        EXPECT_EQ(tw.passes[0].pass, "pyramid");
-        EXPECT_EQ(tw.passes[1].pass, "retain");
+        // Sparse retention with every tile retaining (the default shares): its classification's motion
+        // read and the skipped tiles' pass move nothing.
+        ASSERT_EQ(tw.passes.size(), 4u);
+        EXPECT_EQ(tw.passes[0].pass, "classify");
+        EXPECT_EQ(tw.passes[1].pass, "pyramid");
+        EXPECT_EQ(tw.passes[2].pass, "retain");
+        EXPECT_EQ(tw.passes[3].pass, "skip");
+        EXPECT_EQ(passBytes(tw, "classify") + passBytes(tw, "skip"), 0.0);
+        CompositorConfig dense = wrs;
+        dense.sparseRetention = false;
+        const Traffic td = traffic(dense, inputs(1024, 768, true, true));
+        ASSERT_EQ(td.passes.size(), 2u);
+        EXPECT_EQ(td.perPixel(), tw.perPixel());
         ASSERT_EQ(tf.passes.size(), 2u);
         EXPECT_EQ(tf.passes[1].pass, "foveate");
     }
+}
+
+TEST(Traffic, SparseRetentionWeighsTheTilesByTheirShare) {
+    CompositorConfig wrs;
+    TrafficInputs in = inputs(1024, 768, true, true);
+    const Traffic all = traffic(wrs, in);
+    in.retainShare = 0.1;
+    in.farShare = 0.9;
+    const Traffic t = traffic(wrs, in);
+    // Retention's bytes in a tenth of the tiles, the foveating pass's (colour, levels, output) in the
+    // rest, and the far tiles' motion read by the classification.
+    EXPECT_DOUBLE_EQ(passBytes(t, "retain"), 0.1 * passBytes(all, "retain"));
+    EXPECT_DOUBLE_EQ(passBytes(t, "classify"), 0.9 * in.motionBytes);
+    CompositorConfig fov;
+    fov.method = Method::Fov;
+    EXPECT_NEAR(passBytes(t, "skip"), 0.9 * passBytes(traffic(fov, in), "foveate"), 1e-9);
+    // The floor: colour and output everywhere, history, depth and motion where retention ran.
+    EXPECT_DOUBLE_EQ(t.floor, 8.0 + 0.1 * (32.0 + in.depthBytes + in.motionBytes));
+    EXPECT_LT(t.perPixel(), 0.5 * all.perPixel());
 }
 
 TEST(Traffic, EveryMethodMovesAtLeastItsFloorAndTheFrameBytesFollow) {

@@ -156,14 +156,14 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     // Constants as endFrame binds them: retain {motion, depth, mode, rule, in place, 1 + class, sparse},
     // classify {mode, sparse, motion}, the skip list's foveate {mode, output, -, -, -, 1 + skip}.
     const auto wrs = pipelineVariants(config(Method::Wrs), kAtrium);
-    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 7>{1, 1, 1, 0, 0, 0, 0}));
-    EXPECT_EQ(wrs[2].constants, (std::array<uint32_t, 7>{1, 1, 1, 0, 0, 1, 1}));
-    EXPECT_EQ(wrs[5].constants, (std::array<uint32_t, 7>{1, 1, 1, 0, 0, 4, 1}));
-    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 7>{1, 1, 0, 0, 0, 5, 0}));
+    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 0, 0, 1}));
+    EXPECT_EQ(wrs[2].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 1, 1, 1}));
+    EXPECT_EQ(wrs[5].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 4, 1, 1}));
+    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 8>{1, 1, 0, 0, 0, 5, 0, 1}));
     const auto still = pipelineVariants(config(Method::Wrs), {512, 512, 4, 4, 0});
-    EXPECT_EQ(still[2].constants, (std::array<uint32_t, 7>{0, 1, 1, 0, 1, 1, 1})) << "no motion: in place";
+    EXPECT_EQ(still[2].constants, (std::array<uint32_t, 8>{0, 1, 1, 0, 1, 1, 1, 1})) << "no motion: in place";
     EXPECT_EQ(pipelineVariants(config(Method::Fov), kAtrium)[2].constants,
-              (std::array<uint32_t, 7>{1, 1, 0, 0, 0, 1, 0}));
+              (std::array<uint32_t, 8>{1, 1, 0, 0, 0, 1, 0, 1}));
     CompositorConfig noSkip = config(Method::Wrs);
     noSkip.skipTiles = false;
     EXPECT_EQ(names(pipelineVariants(noSkip, kAtrium)), (V{"pyramid/whole", "retain/whole"}));
@@ -209,7 +209,7 @@ TEST(CostModel, VariantKeysRoundTrip) {
         }
     EXPECT_FALSE(parseVariantKey("retain:1,2"));
     EXPECT_FALSE(parseVariantKey("copy:0,0,0,0,0,0"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,7"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,7"));
     EXPECT_FALSE(parseStatsTarget("device:"));
     EXPECT_FALSE(parseStatsTarget("GFX 1100"));
     EXPECT_EQ(parseStatsTarget("vangogh")->family, "vangogh");
