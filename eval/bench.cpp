@@ -1240,7 +1240,7 @@ Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOpti
     if (!csv || !md) return Error{1, "cannot write " + dir + "/scaling.{csv,md}"};
     csv.precision(7);
     csv << "width,height,scene,method,mode,megapixels_per_frame,total_ms,copy_ms,copy_floor_ms,bytes_per_px,"
-           "floor_bytes_per_px,ratio_to_fov,ratio_to_copy,ratio_to_copy_floor,ns_per_px\n";
+           "floor_bytes_per_px,ratio_to_fov,ratio_to_copy,ratio_to_copy_floor,ns_per_px,retain_share\n";
     const bool cpuDevice = isCpuRenderer(deviceName);
     md << "# wrsfov scaling\n\nTime and bytes per frame at " << steps.size() << " sizes, "
        << (o.monitor ? "monitor mode" : "HMD stereo (both eyes)") << ", fovea " << fmt(o.foveas.front(), 1)
@@ -1252,9 +1252,10 @@ Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOpti
                      : "")
        << ".\n\n*ns/px*: time per pixel of both views: flat when the cost grows linearly with pixels. *×copy*: "
           "against a copy kernel moving the method's bytes, *×copy floor*: the floor's; each size's table.md "
-          "(in its WxH directory) has the bytes per pass under Traffic.\n\n"
+          "(in its WxH directory) has the bytes per pass under Traffic. *retain*: the share of 8×8 tiles that "
+          "ran retention over the timed frames (sparse retention: where the gaze has been).\n\n"
           "| size per eye | method | GPU ms | ns/px | ×fov | B/px | floor B/px | copy ms | ×copy | copy floor ms | "
-          "×copy floor |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "×copy floor | retain |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::map<Method, Series> series;
     for (const ScalingStep& st : steps)
         for (const CellResult& c : st.cells) {
@@ -1263,12 +1264,14 @@ Status writeScalingReport(const std::vector<ScalingStep>& steps, const BenchOpti
             csv << st.width << ',' << st.height << ',' << toString(c.scene) << ',' << toString(c.method) << ','
                 << toString(c.mode) << ',' << px / 1e6 << ',' << c.gpu.total << ',' << c.copyMs << ',' << c.copyFloorMs
                 << ',' << c.traffic.perPixel() << ',' << c.traffic.floor << ',' << c.gpu.total / c.fovTotalMs << ','
-                << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << nsPx << '\n';
+                << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << nsPx << ',' << c.retainShare
+                << '\n';
             md << "| " << st.width << "×" << st.height << " | " << toString(c.method) << " | " << fmt(c.gpu.total, 2)
                << " | " << fmt(nsPx, 1) << " | " << fmt(c.gpu.total / c.fovTotalMs) << " | "
                << fmt(c.traffic.perPixel(), 1) << " | " << fmt(c.traffic.floor, 1) << " | " << fmt(c.copyMs, 2)
                << " | " << fmt(c.gpu.total / c.copyMs) << " | " << fmt(c.copyFloorMs, 2) << " | "
-               << fmt(c.gpu.total / c.copyFloorMs) << " |\n";
+               << fmt(c.gpu.total / c.copyFloorMs) << " | "
+               << (std::isnan(c.retainShare) ? std::string("n/a") : fmt(100 * c.retainShare, 1) + " %") << " |\n";
             auto it = series.find(c.method);
             if (it == series.end())
                 it = series.emplace(c.method, Series{std::string(toString(c.method)), methodColour(c.method)}).first;

@@ -11,7 +11,11 @@
 #                        depth and motion): fov, fov+taa, wrs-paper, wrs (scaling.md, scaling.png), and the
 #                        static cost model of the same passes on an RX 7900 XTX (gfx1100) and a Steam Deck
 #                        (vangogh) from RADV's null device (cost_model.md, cost_model.csv; a few seconds,
-#                        skipped with the reason where the null device is missing)
+#                        skipped with the reason where the null device is missing; sparse retention's
+#                        share of retention tiles measured over frames 300-329 at 512^2 per eye)
+#   out/report/steady/   fov and wrs at 512^2 per eye at steady state: timed over frames 300-329, after
+#                        3.3 s of gaze, so the area the gaze visited (where wrs runs retention) is a
+#                        user's (the sweep above times frames 5-19)
 # Each has table.md (summary first), results.csv, plots and crops; out/report/index.md links them.
 # With arguments, runs one wrsfov-bench with them instead (see wrsfov-bench --help), into out/report.
 set -euo pipefail
@@ -35,8 +39,11 @@ echo "== 1/3: monitor mode, text, 1024x768"
 echo "== 2/3: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 3/3: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
+echo "== 3/4: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
 "$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --cost-model --out out/report/speed \
+  | grep --line-buffered -E '^\[|^wrsfov-bench'
+echo "== 4/4: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
+"$bench" --scaling 512 --frames 330 --warmup 300 --methods fov,wrs --out out/report/steady \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
 {
   echo "# wrsfov report"
@@ -47,6 +54,7 @@ echo "== 3/3: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
   echo "- [HMD stereo, dynamic scene, 12.1 px/deg](hmd/table.md)"
   echo "- [speed: time and bytes at 512^2, 1024^2, 2048^2 per eye](speed/scaling.md)"
   echo "- [cost model: the same passes on gfx1100 and vangogh, static estimate](speed/cost_model.md)"
+  echo "- [speed at steady state: fov and wrs at 512^2 per eye after 3.3 s of gaze](steady/scaling.md)"
   echo
   for cell in monitor hmd; do
     echo "## $cell"
@@ -56,6 +64,10 @@ echo "== 3/3: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
   echo "## speed"
   echo
   sed -n '/^| size per eye/,$p' out/report/speed/scaling.md
+  echo
+  echo "## speed at steady state (frames 300-329)"
+  echo
+  sed -n '/^| size per eye/,/^$/p' out/report/steady/scaling.md
 } > out/report/index.md
 cat out/report/index.md
-echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/, speed/)"
+echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/, speed/, steady/)"
