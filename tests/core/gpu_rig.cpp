@@ -70,6 +70,31 @@ std::array<Reference::EyeInput, 2> referenceInputs(const std::array<EyeFrame, 2>
     return in;
 }
 
+glm::vec3 gazeAtPixel(double x, double y, uint32_t w, uint32_t h, const layers::Fov& fov) {
+    const double l = std::tan(double(fov.angleLeft)), r = std::tan(double(fov.angleRight));
+    const double u = std::tan(double(fov.angleUp)), d = std::tan(double(fov.angleDown));
+    const double tx = l + (x + 0.5) / w * (r - l), ty = u - (y + 0.5) / h * (u - d);
+    return glm::vec3(glm::normalize(glm::dvec3(tx, ty, -1.0)));
+}
+
+HostImage fineTexture(uint32_t w, uint32_t h, float sx, float sy, float brightness) {
+    HostImage img = HostImage::make(layers::Format::RGBA16F, w, h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float u = float(x) + 0.5f - sx, v = float(y) + 0.5f - sy;
+            const float c = 0.5f + 0.35f * std::sin(u * 2.1f) * std::sin(v * 1.7f) + 0.1f * std::sin(u * 0.05f);
+            img.store(x, y, glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f));
+        }
+    return img;
+}
+
+HostImage uniformMotion(uint32_t w, uint32_t h, float mx, float my) {
+    HostImage img = HostImage::make(layers::Format::RG16F, w, h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) img.store(x, y, glm::vec4(mx, my, 0, 0));
+    return img;
+}
+
 glm::vec3 gazeDir(float azimuthDeg, float elevationDeg) {
     const float d = 3.14159265f / 180.0f;
     float az = azimuthDeg * d, el = elevationDeg * d;

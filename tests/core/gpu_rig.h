@@ -67,6 +67,14 @@ using wrsfov::hmdFov;
 /// A gaze direction at (azimuth, elevation) degrees, -Z forward.
 glm::vec3 gazeDir(float azimuthDeg, float elevationDeg);
 
+/// A gaze direction through the centre of pixel (x, y) of a w x h view with field of view `fov`.
+glm::vec3 gazeAtPixel(double x, double y, uint32_t w, uint32_t h, const layers::Fov& fov);
+/// Fine deterministic texture (a 1-2 px pattern with a smooth ramp), RGBA16F, shifted by (sx, sy)
+/// pixels (the continuous pattern sampled at the shifted centres) and scaled in brightness.
+HostImage fineTexture(uint32_t w, uint32_t h, float sx, float sy, float brightness);
+/// The same motion (pixels) at every pixel, RG16F.
+HostImage uniformMotion(uint32_t w, uint32_t h, float mx, float my);
+
 /// Random test content.
 struct RandomScene {
     explicit RandomScene(uint32_t seed) : rng(seed) {}

@@ -17,23 +17,8 @@ namespace {
 constexpr uint32_t W = 160, H = 120;
 
 layers::Fov fov() { return layers::Fov{std::atan(-0.8f), std::atan(0.8f), std::atan(0.6f), std::atan(-0.6f)}; }
-glm::vec3 gazeAtPixel(double x, double y) {
-    double tx = -0.8 + (x + 0.5) / W * 1.6, ty = 0.6 - (y + 0.5) / H * 1.2;
-    return glm::vec3(glm::normalize(glm::dvec3(tx, ty, -1.0)));
-}
-
-// Fine deterministic texture (a 1-2 px checker with a smooth ramp), shifted by (sx, sy) pixels with
-// bilinear sampling of the continuous pattern, and scaled in brightness.
-HostImage texture(float sx, float sy, float brightness) {
-    HostImage img = HostImage::make(layers::Format::RGBA16F, W, H);
-    for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t x = 0; x < W; ++x) {
-            const float u = float(x) + 0.5f - sx, v = float(y) + 0.5f - sy;
-            const float c = 0.5f + 0.35f * std::sin(u * 2.1f) * std::sin(v * 1.7f) + 0.1f * std::sin(u * 0.05f);
-            img.store(x, y, glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f));
-        }
-    return img;
-}
+glm::vec3 gazeAtPixel(double x, double y) { return test::gazeAtPixel(x, y, W, H, fov()); }
+HostImage texture(float sx, float sy, float brightness) { return fineTexture(W, H, sx, sy, brightness); }
 
 // A W x H app with RGBA16F colour and the given depth and motion formats.
 HostStereoApp::Options appOptions(layers::Format depth, std::optional<layers::Format> motion) {
@@ -46,12 +31,7 @@ HostStereoApp::Options appOptions(layers::Format depth, std::optional<layers::Fo
     return o;
 }
 
-HostImage motionImage(float mx, float my) {
-    HostImage img = HostImage::make(layers::Format::RG16F, W, H);
-    for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t x = 0; x < W; ++x) img.store(x, y, glm::vec4(mx, my, 0, 0));
-    return img;
-}
+HostImage motionImage(float mx, float my) { return uniformMotion(W, H, mx, my); }
 
 // sRGB MSE of an output against the reference over a disc (radius r pixels) around (cx, cy).
 double discMse(const HostImage& a, const HostImage& b, float cx, float cy, float r) {

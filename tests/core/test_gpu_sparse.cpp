@@ -18,27 +18,9 @@ class Sparse : public GpuTest {};
 constexpr uint32_t W = 160, H = 120;  // 20 x 15 tiles
 
 layers::Fov wideFov() { return layers::Fov{std::atan(-0.8f), std::atan(0.8f), std::atan(0.6f), std::atan(-0.6f)}; }
-glm::vec3 gazeAtPixel(double x, double y) {
-    double tx = -0.8 + (x + 0.5) / W * 1.6, ty = 0.6 - (y + 0.5) / H * 1.2;
-    return glm::vec3(glm::normalize(glm::dvec3(tx, ty, -1.0)));
-}
-// Fine texture shifted by (sx, sy) pixels, scaled in brightness.
-HostImage texture(float sx, float sy, float brightness) {
-    HostImage img = HostImage::make(layers::Format::RGBA16F, W, H);
-    for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t x = 0; x < W; ++x) {
-            const float u = float(x) + 0.5f - sx, v = float(y) + 0.5f - sy;
-            const float c = 0.5f + 0.35f * std::sin(u * 2.1f) * std::sin(v * 1.7f) + 0.1f * std::sin(u * 0.05f);
-            img.store(x, y, glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f));
-        }
-    return img;
-}
-HostImage motionImage(float mx, float my) {
-    HostImage img = HostImage::make(layers::Format::RG16F, W, H);
-    for (uint32_t y = 0; y < H; ++y)
-        for (uint32_t x = 0; x < W; ++x) img.store(x, y, glm::vec4(mx, my, 0, 0));
-    return img;
-}
+glm::vec3 gazeAtPixel(double x, double y) { return test::gazeAtPixel(x, y, W, H, wideFov()); }
+HostImage texture(float sx, float sy, float brightness) { return fineTexture(W, H, sx, sy, brightness); }
+HostImage motionImage(float mx, float my) { return uniformMotion(W, H, mx, my); }
 
 enum class Motion { None, Drift, Random };
 
