@@ -206,8 +206,9 @@ private:
                 continue;
             }
             const auto frame = to_number(f[idx[1]]);
-            if (!frame || *frame < 0 || *frame != std::floor(*frame)) {
-                issue("frame '" + f[idx[1]] + "' is not a non-negative integer");
+            // Below 2^53: every integer there is exact in a double and fits the frame index.
+            if (!frame || *frame < 0 || *frame != std::floor(*frame) || *frame >= 9007199254740992.0) {
+                issue("frame '" + f[idx[1]] + "' is not a non-negative integer below 2^53");
                 continue;
             }
             const std::string_view v = trim(f[idx[2]]);
