@@ -33,10 +33,10 @@ rm -rf out/report
 mkdir -p out/report
 start=$(date +%s)
 common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
-echo "== 1/3: monitor mode, text, 1024x768"
+echo "== 1/4: monitor mode, text, 1024x768"
 "$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
   --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 2/3: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
+echo "== 2/4: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 3/4: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
