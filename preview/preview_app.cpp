@@ -431,6 +431,8 @@ std::vector<std::string> Session::statsItems() const {
     } else {
         items.push_back("GPU time: no timestamps on this queue");
     }
+    // Sparse retention: where the gaze has been, the share of tiles that ran retention.
+    if (st.sparse) items.push_back("retention in " + fmt("%.1f", 100.0 * st.retainShare()) + " % of tiles");
     items.push_back("frame " + fmt("%.1f", frameMs_) + " ms");
     items.push_back("#" + std::to_string(frameIndex_) + (paused_ ? "  PAUSED" : ""));
     items.push_back("H: keys");
@@ -471,6 +473,7 @@ std::string Session::summary() const {
         s += "; GPU ms (both eyes) pyramid " + fmt("%.3f", st.gpu.pyramid) +
              " foveate " + fmt("%.3f", st.gpu.foveate) + " temporal " + fmt("%.3f", st.gpu.temporal) + " total " +
              fmt("%.3f", st.gpu.total);
+    if (st.sparse) s += "; retention in " + fmt("%.1f", 100.0 * st.retainShare()) + " % of tiles";
     s += "; swapchain " + std::to_string(presenter_->extent().width) + "x" +
          std::to_string(presenter_->extent().height) + ", recreated " +
          std::to_string(presenter_->swapchainRecreations()) + " times";
