@@ -1,0 +1,29 @@
+// The checks shared by the OpenXR calls of xr_api_*.cpp (internal to runtime/): handle lookups,
+// the one system, well-formed paths and names. Each returns what the specification asks of a call
+// that fails it; the calls do their work only after them.
+#pragma once
+
+#include <cstddef>
+
+#include "runtime/xr_objects.h"
+
+namespace wrsfov::xr {
+
+constexpr XrSystemId kSystemId = 1;
+
+Instance* getInstance(XrInstance h);
+Session* getSession(XrSession h);
+ActionSet* getActionSet(XrActionSet h);
+Action* getAction(XrAction h);
+
+/// HANDLE_INVALID without an instance, SYSTEM_INVALID for another system than kSystemId.
+XrResult checkSystem(Instance* inst, XrSystemId id);
+
+/// OpenXR path syntax: absolute, components of [a-z0-9-_.] that are not "." or "..", no empty one.
+bool wellFormedPath(const char* s);
+
+/// Action and action-set names: NAME_INVALID when empty, PATH_FORMAT_INVALID when not one well-formed
+/// path component (lower case, digits, '-', '_', '.'; terminated within the array).
+XrResult checkName(const char* s, std::size_t max);
+
+}  // namespace wrsfov::xr
