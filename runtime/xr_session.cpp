@@ -19,16 +19,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include "runtime/xr_frame.h"
 #include "runtime/xr_objects.h"
+#include "runtime/xr_verify.h"
 
 namespace wrsfov::xr {
 
 namespace {
-
-Instance* getInstance(XrInstance h) { return lookup<Instance>(h, ObjectType::Instance); }
-Session* getSession(XrSession h) { return lookup<Session>(h, ObjectType::Session); }
-Space* getSpace(XrSpace h) { return lookup<Space>(h, ObjectType::Space); }
-Swapchain* getSwapchain(XrSwapchain h) { return lookup<Swapchain>(h, ObjectType::Swapchain); }
-Action* getAction(XrAction h) { return lookup<Action>(h, ObjectType::Action); }
 
 constexpr float kStandingHeight = 1.6f;  // LOCAL's origin above STAGE's (scenes::HeadPose)
 constexpr uint32_t kMaxLayers = 16;

@@ -11,6 +11,8 @@ Instance* getInstance(XrInstance h) { return lookup<Instance>(h, ObjectType::Ins
 Session* getSession(XrSession h) { return lookup<Session>(h, ObjectType::Session); }
 ActionSet* getActionSet(XrActionSet h) { return lookup<ActionSet>(h, ObjectType::ActionSet); }
 Action* getAction(XrAction h) { return lookup<Action>(h, ObjectType::Action); }
+Space* getSpace(XrSpace h) { return lookup<Space>(h, ObjectType::Space); }
+Swapchain* getSwapchain(XrSwapchain h) { return lookup<Swapchain>(h, ObjectType::Swapchain); }
 
 XrResult checkSystem(Instance* inst, XrSystemId id) {
     if (!inst) return XR_ERROR_HANDLE_INVALID;

@@ -15,6 +15,8 @@ Instance* getInstance(XrInstance h);
 Session* getSession(XrSession h);
 ActionSet* getActionSet(XrActionSet h);
 Action* getAction(XrAction h);
+Space* getSpace(XrSpace h);
+Swapchain* getSwapchain(XrSwapchain h);
 
 /// HANDLE_INVALID without an instance, SYSTEM_INVALID for another system than kSystemId.
 XrResult checkSystem(Instance* inst, XrSystemId id);
