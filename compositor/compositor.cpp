@@ -133,6 +133,8 @@ Status checkConfig(const CompositorConfig& c) {
     if (bad(c.midPeripheryDeg, 0.0f, 180.0f)) return refuse("mid-periphery size must be in (0°, 180°]");
     if (bad(c.fallbackFoveaDeg, 0.0f, 180.0f)) return refuse("fallback fovea size must be in (0°, 180°]");
     if (bad(c.depthTau, 0.0f, 1e6f)) return refuse("depth tolerance must be positive and finite");
+    if (!std::isfinite(c.motionReachDeg) || c.motionReachDeg < 0.0f || c.motionReachDeg > 180.0f)
+        return refuse("motion reach must be in [0°, 180°] (0: no limit)");
     // Enums may come from casts of file or command-line values: out-of-range ones are refused, not guessed.
     if (uint8_t(c.method) > uint8_t(Method::OracleQ))
         return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle or oracle-q");
@@ -168,6 +170,12 @@ double FrameStats::farShare() const {
     uint64_t all = 0;
     for (uint32_t n : tiles) all += n;
     return all ? double(tiles[gpu::WRS_TILE_FAR] + tiles[gpu::WRS_TILE_SKIP]) / double(all) : 0.0;
+}
+
+double FrameStats::motionShare() const {
+    uint64_t all = 0;
+    for (uint32_t n : tiles) all += n;
+    return all ? double(motionTiles) / double(all) : 0.0;
 }
 
 bool runsSparse(const CompositorConfig& c) {
@@ -207,7 +215,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     const bool sparse = retain && runsSparse(c);
     const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
     Traffic t;
-    if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.farShare, 0.0, 1.0), 0.0});
+    if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.motionShare, 0.0, 1.0), 0.0});
     if (pyramid) {
         // mip: one dispatch, colour in, the stored levels out. gauss: level 1 from the colour, level k from k - 1.
         const bool gauss = c.foveation == FoveationMode::Gauss;
@@ -262,11 +270,17 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                       v.depth->subImage.arrayIndex);
             e.depth_range = glm::vec4(v.depth->nearZ, v.depth->farZ, 0.0f, 0.0f);
         }
-        e.motion_scale = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+        // Motion reach in pixels: the degrees at the view's centre, where a pixel spans the most angle
+        // (tangent space: d tan / d angle = 1 there, more off-axis), on the axis with more pixels per radian.
+        const float pxPerRad = std::max(float(width) / (e.fov_tan.y - e.fov_tan.x), float(height) / (e.fov_tan.z - e.fov_tan.w));
+        const float reach = config.motionReachDeg > 0.0f && std::isfinite(pxPerRad)
+                                ? glm::radians(config.motionReachDeg) * std::abs(pxPerRad)
+                                : std::numeric_limits<float>::infinity();
+        e.motion_scale = glm::vec4(1.0f, 1.0f, 1.0f, reach);
         if (v.motion) {
             e.motion_rect =
                 glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
-            e.motion_scale = glm::vec4(v.motion->scale, 0.0f);
+            e.motion_scale = glm::vec4(v.motion->scale, reach);
         }
     }
     p.size = glm::uvec4(width, height, uint32_t(frame.frameIndex), config.seed);
@@ -548,7 +562,11 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
                                    false);
         if (!r) return named("tile lists", r.error());
         tiles = std::move(*r);
-        auto h = ctx_.createBuffer(2 * tileCount * 4, usage, false);
+        // Two frames' held qualities per tile, then one per superblock (wrs_reach_blocks).
+        const uint64_t tilesX = groups(width, gpu::WRS_TILE), tilesY = groups(height, gpu::WRS_TILE);
+        const uint64_t blockCount =
+            uint64_t(groups(uint32_t(tilesX), gpu::WRS_SUPERBLOCK)) * groups(uint32_t(tilesY), gpu::WRS_SUPERBLOCK) * WRS_EYES;
+        auto h = ctx_.createBuffer((2 * tileCount + blockCount) * 4, usage, false);
         if (!h) return named("held qualities", h.error());
         held = std::move(*h);
         auto c = ctx_.createBuffer(16 * gpu::WRS_TILE_LISTS, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
@@ -773,6 +791,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     const uint32_t tileCount = tilesPerEye * uint32_t(WRS_EYES);
     params_.held.x = heldPrev_ * tileCount;
     params_.held.y = (1 - heldPrev_) * tileCount;
+    params_.held.w = 2 * tileCount;  // the superblocks
     stats_.sparse = sparse;
     stats_.retained = usesRetainPass(config_.method);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
@@ -948,10 +967,18 @@ void Compositor::recordClassify(const FramePlan& plan) {
     vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    const uint32_t tilesX = groups(plan.w, gpu::WRS_TILE), tilesY = groups(plan.h, gpu::WRS_TILE);
+    if (plan.sparse && plan.hasMotion) {
+        // Phase 1: the previous frame's held qualities per superblock, for phase 0's reach test.
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion, 1u}));
+        vkCmdDispatch(cb, groups(groups(tilesX, gpu::WRS_SUPERBLOCK), WRS_GROUP_X),
+                      groups(groups(tilesY, gpu::WRS_SUPERBLOCK), WRS_GROUP_Y), plan.eyes);
+        computeBarrier(cb);
+    }
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion}));
-    vkCmdDispatch(cb, groups(groups(plan.w, gpu::WRS_TILE), WRS_GROUP_X),
-                  groups(groups(plan.h, gpu::WRS_TILE), WRS_GROUP_Y), plan.eyes);
+                      pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion, 0u}));
+    vkCmdDispatch(cb, groups(tilesX, WRS_GROUP_X), groups(tilesY, WRS_GROUP_Y), plan.eyes);
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
@@ -1071,11 +1098,13 @@ void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uin
     if (lastTiled_) {
         for (uint32_t k = 0; k < gpu::WRS_TILE_LISTS; ++k)
             std::memcpy(&stats_.tiles[k], static_cast<const uint8_t*>(tileCounts_.mapped()) + 16 * k, 4);
+        // The skip list's fourth word counts the tiles whose motion the classification read.
+        std::memcpy(&stats_.motionTiles, static_cast<const uint8_t*>(tileCounts_.mapped()) + 16 * gpu::WRS_TILE_SKIP + 12, 4);
     }
     TrafficInputs in = trafficIn;
     if (stats_.sparse && lastTiled_) {
         in.retainShare = stats_.retainShare();
-        in.farShare = stats_.farShare();
+        in.motionShare = stats_.motionShare();
     }
     if (ctx_.timestampPeriodNs() <= 0) return;
     uint64_t ts[kFrameStamps];

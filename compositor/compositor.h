@@ -78,6 +78,11 @@ struct CompositorConfig {
     bool bernoulli = true;           ///< wrs-paper: eq. 6 survival bias of the history
     EqualQuality equalQuality = EqualQuality::Merge;  ///< wrs: equal-quality candidates
     float depthTau = 0.05f;          ///< relative depth difference that flushes history
+    /// Motion reach (docs/retention.md "Motion reach"): `wrs` and the oracles track a kept sample only
+    /// where the motion moved the pixel at most this many degrees (at the view's centre) per frame
+    /// on either axis; faster pixels take their candidate. It bounds where a kept sample can arrive,
+    /// so the classification reads the motion only of tiles that have one within reach. 0: no limit.
+    float motionReachDeg = 8.0f;
     uint32_t seed = 1;
     /// After every frame, time two copy kernels, each alone in a submission: one moving the frame's
     /// traffic (trafficBytes), one the method's floor (floorBytes): the yardsticks benchmarks report against.
@@ -134,9 +139,10 @@ struct PassTimes {
 struct TrafficInputs {
     uint32_t width = 0, height = 0;
     uint32_t colorBytes = 4, depthBytes = 0, motionBytes = 0;
-    /// Sparse retention (runsSparse): the share of tiles that ran retention, and the share of far
-    /// tiles, whose motion the classification reads (FrameStats::tiles; mean over frames in a bench).
-    double retainShare = 1.0, farShare = 0.0;
+    /// Sparse retention (runsSparse): the share of tiles that ran retention, and the share of tiles
+    /// whose motion the classification read (FrameStats::retainShare, motionShare; mean over frames
+    /// in a bench).
+    double retainShare = 1.0, motionShare = 0.0;
 };
 /// Bytes one pass reads and writes per pixel of one view, from its bindings and formats
 /// (shaders/bindings.glsl), each texel of each binding counted once: the memory traffic of the pass
@@ -186,6 +192,11 @@ struct FrameStats {
     double retainShare() const;
     /// Share of the tiles on the far and skip lists (0 without counts).
     double farShare() const;
+    /// Sparse retention with motion: far tiles of both eyes whose motion the classification read
+    /// (the others had no sample sharper than the floor within the motion reach; read back with tiles).
+    uint32_t motionTiles = 0;
+    /// motionTiles as a share of all tiles (0 without counts).
+    double motionShare() const;
 };
 
 /// How a swapchain's images are made when an application renders into them with Vulkan (an OpenXR

@@ -30,6 +30,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const bool wrs = config_.method == Method::WrsPaper;
     const bool retain = usesRetainPass(config_.method);
     const bool taa = config_.method == Method::FovTaa;
+    motionTiles_ = 0;
 
     for (uint eye = 0; eye < 2; ++eye) {
         const EyeParams& ep = params.eye[eye];
@@ -160,32 +161,49 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             if (history_ && held_[eye].size() == heldPrev.size()) heldPrev = held_[eye];
             std::vector<bool> skip(heldPrev.size(), false);
             std::vector<float> heldCur(heldPrev.size(), 0.0f);
+            const float reach = ep.motion_scale.w;
+            // Superblocks (classify.comp phase 1): the largest held quality of their tiles.
+            const uvec2 blocks = (tiles + uvec2(WRS_SUPERBLOCK - 1u)) / WRS_SUPERBLOCK;
+            std::vector<float> blockHeld(std::size_t(blocks.x) * blocks.y, 0.0f);
+            for (uint ty = 0; ty < tiles.y; ++ty)
+                for (uint tx = 0; tx < tiles.x; ++tx) {
+                    float& b = blockHeld[(ty / WRS_SUPERBLOCK) * blocks.x + tx / WRS_SUPERBLOCK];
+                    b = std::max(b, heldPrev[ty * tiles.x + tx]);
+                }
+            // classify.comp's source_held: within the reach from the superblocks, else from the motion.
+            auto sourceHeld = [&](uvec2 t) {
+                if (!hasMotion) return heldPrev[t.y * tiles.x + t.x];
+                uvec2 b0, b1;
+                if (!wrs_reach_blocks(t, size0, reach, b0, b1)) return 0.0f;
+                if ((b1.x - b0.x + 1u) * (b1.y - b0.y + 1u) <= WRS_REACH_BLOCKS_MAX) {
+                    float near = 0.0f;
+                    for (uint by = b0.y; by <= b1.y; ++by)
+                        for (uint bx = b0.x; bx <= b1.x; ++bx) near = std::max(near, blockHeld[by * blocks.x + bx]);
+                    if (near <= params.tuning.w) return near;
+                }
+                ++motionTiles_;
+                vec2 lo(0.0f), hi(0.0f);
+                for (uint y = t.y * WRS_TILE; y < std::min((t.y + 1u) * WRS_TILE, H); ++y)
+                    for (uint x = t.x * WRS_TILE; x < std::min((t.x + 1u) * WRS_TILE, W); ++x) {
+                        vec2 mv = vec2(in.motion->fetch(x, y)) * vec2(ep.motion_scale);
+                        if (!wrs_finite(mv.x) || !wrs_finite(mv.y) || !wrs_within_reach(mv, reach)) continue;
+                        lo = min(lo, mv);
+                        hi = max(hi, mv);
+                    }
+                uvec2 s0, s1;
+                if (!wrs_tile_sources(t, size0, lo, hi, s0, s1)) return 0.0f;
+                if ((s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) > WRS_SOURCE_TILES_MAX) return 1.0f;
+                float held = 0.0f;
+                for (uint sy = s0.y; sy <= s1.y; ++sy)
+                    for (uint sx = s0.x; sx <= s1.x; ++sx) held = std::max(held, heldPrev[sy * tiles.x + sx]);
+                return held;
+            };
             for (uint ty = 0; sparse && ty < tiles.y; ++ty)
                 for (uint tx = 0; tx < tiles.x; ++tx) {
                     const uvec2 t(tx, ty);
                     const uint cls = wrs_tile_class(mode, t, size0, ep.fov_tan, vec3(ep.gaze), ep.gaze.w, params.tuning.x);
                     if (cls != WRS_TILE_FAR) continue;
-                    float held = heldPrev[ty * tiles.x + tx];
-                    if (hasMotion) {
-                        vec2 lo(0.0f), hi(0.0f);
-                        for (uint y = ty * WRS_TILE; y < std::min((ty + 1u) * WRS_TILE, H); ++y)
-                            for (uint x = tx * WRS_TILE; x < std::min((tx + 1u) * WRS_TILE, W); ++x) {
-                                vec2 mv = vec2(in.motion->fetch(x, y)) * vec2(ep.motion_scale);
-                                if (!wrs_finite(mv.x) || !wrs_finite(mv.y)) continue;
-                                lo = min(lo, mv);
-                                hi = max(hi, mv);
-                            }
-                        uvec2 s0, s1;
-                        held = 0.0f;
-                        if (!wrs_tile_sources(t, size0, lo, hi, s0, s1)) {
-                        } else if ((s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) > WRS_SOURCE_TILES_MAX) {
-                            held = 1.0f;
-                        } else {
-                            for (uint sy = s0.y; sy <= s1.y; ++sy)
-                                for (uint sx = s0.x; sx <= s1.x; ++sx) held = std::max(held, heldPrev[sy * tiles.x + sx]);
-                        }
-                    }
-                    skip[ty * tiles.x + tx] = wrs_tile_skips(cls, held, params.tuning.w);
+                    skip[ty * tiles.x + tx] = wrs_tile_skips(cls, sourceHeld(t), params.tuning.w);
                 }
             auto tileOf = [&](uvec2 q) { return std::size_t(q.y / WRS_TILE) * tiles.x + q.x / WRS_TILE; };
             auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
@@ -230,7 +248,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
                     vec2 pos;
                     ivec2 base;
-                    const bool on_screen = wrs_track_start(p, size0, mv, pos, base);
+                    const bool on_screen = wrs_track_start(p, size0, mv, reach, pos, base);
                     const uint taps = c.moved ? 4u : 1u;  // as retain.comp: without motion, the pixel's own
                     TrackState ts = wrs_track_begin(p);
                     uvec4 tap[4] = {uvec4(0u), uvec4(0u), uvec4(0u), uvec4(0u)};  // all-zero: not read

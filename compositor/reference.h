@@ -52,6 +52,9 @@ public:
     /// Sparse retention: the held quality of each tile after the last step (row-major; 0: stored
     /// nothing); empty when the step did not run sparse retention.
     const std::vector<float>& tileHeld(uint32_t eye) const { return held_[eye]; }
+    /// Sparse retention with motion: the far tiles of both eyes whose motion the last step's
+    /// classification read (FrameStats::motionTiles).
+    uint32_t motionTiles() const { return motionTiles_; }
     /// Foveated colour (linear RGB) and weight p̂ per pixel.
     const std::vector<glm::vec4>& candidates(uint32_t eye) const { return cand_[eye]; }
 
@@ -60,6 +63,7 @@ private:
     bool history_ = false;
     std::array<std::vector<glm::uvec4>, 2> prev_, res_;
     std::array<std::vector<float>, 2> held_;
+    uint32_t motionTiles_ = 0;
     std::array<std::vector<glm::vec4>, 2> cand_;
     std::array<std::vector<Trace>, 2> trace_;
     std::array<HostImage, 2> out_;

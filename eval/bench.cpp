@@ -292,7 +292,7 @@ struct Accum {
     int n = 0, heavy = 0;
     std::vector<double> pyramid, foveate, temporal, total, copy, copyFloor;
     bool mono = false;  ///< the passes ran once for both views (FrameStats::monoViews)
-    double retainShare = 0, farShare = 0;  ///< sums over counted frames (FrameStats::retainShare, farShare)
+    double retainShare = 0, motionShare = 0;  ///< sums over counted frames (FrameStats::retainShare, motionShare)
     int shareFrames = 0;
     TemporalInstability instab[2];
     std::array<double, kEccBands.size() - 1> bandSe{}, bandPx{};  ///< squared error and pixels per band
@@ -468,6 +468,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.skipTiles = o.skipTiles;
                     cc.sparseRetention = o.sparseRetention;
                     cc.floorMerge = o.floorMerge;
+                    cc.motionReachDeg = o.motionReachDeg;
                     cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();
@@ -543,7 +544,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         run.acc.mono = st.monoViews;
                         if (st.retained) {
                             run.acc.retainShare += st.retainShare();
-                            run.acc.farShare += st.farShare();
+                            run.acc.motionShare += st.motionShare();
                             run.acc.shareFrames++;
                         }
                         if (st.gpu.valid) {
@@ -604,7 +605,8 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     if (a.shareFrames > 0) {
                         c.retainShare = a.retainShare / a.shareFrames;
                         cellIn.retainShare = c.retainShare;
-                        cellIn.farShare = a.farShare / a.shareFrames;
+                        c.motionShare = a.motionShare / a.shareFrames;
+                        cellIn.motionShare = c.motionShare;
                     }
                     c.traffic = traffic(run.comp->config(), cellIn);
                     // Identical views run the passes once (monitor mode, FrameStats::monoViews); so does the copy.

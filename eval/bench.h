@@ -47,6 +47,8 @@ struct BenchOptions {
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in
     /// every tile).
     bool floorMerge = false;
+    /// CompositorConfig::motionReachDeg (--motion-reach; 0: no limit).
+    float motionReachDeg = CompositorConfig{}.motionReachDeg;
     uint32_t seed = 1;
     ChangeMetric change = ChangeMetric::LStar;  ///< the change term of the WRS history bias
     scenes::CameraPath path = scenes::CameraPath::Lateral;
@@ -103,6 +105,9 @@ struct CellResult {
     /// Methods with the retain pass: mean share of tiles that ran retention (FrameStats::retainShare);
     /// NaN for the others.
     double retainShare = std::numeric_limits<double>::quiet_NaN();
+    /// Sparse retention: mean share of tiles whose motion the classification read
+    /// (FrameStats::motionShare); NaN for methods without it.
+    double motionShare = std::numeric_limits<double>::quiet_NaN();
     /// MSE (sRGB, 0..1) per eccentricity band (kEccBands), and the share of pixels in each band.
     std::array<double, kEccBands.size() - 1> bandMse{}, bandShare{};
 };

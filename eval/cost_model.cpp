@@ -128,7 +128,12 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     // Every pipeline of a frame, one line each (a new variant is a line here).
     if (tiled) {  // one invocation per tile; each writes its 4-byte list entry (and reads far tiles' motion)
         const uint64_t tx = groupsOf(in.width, gpu::WRS_TILE), ty = groupsOf(in.height, gpu::WRS_TILE);
-        add("classify", ShaderId::Classify, {fov, sparse, sparse && hasMotion},
+        if (sparse && hasMotion) {  // phase 1: a superblock's largest held quality from its tiles' (4 bytes each)
+            const uint64_t bx = groupsOf(tx, gpu::WRS_SUPERBLOCK), by = groupsOf(ty, gpu::WRS_SUPERBLOCK);
+            add("reach", ShaderId::Classify, {fov, 1u, 1u, 1u}, groupsOf(bx, WRS_GROUP_X) * groupsOf(by, WRS_GROUP_Y) * eyes,
+                4.0 / (gpu::WRS_TILE * gpu::WRS_TILE));
+        }
+        add("classify", ShaderId::Classify, {fov, sparse, sparse && hasMotion, 0u},
             groupsOf(tx, WRS_GROUP_X) * groupsOf(ty, WRS_GROUP_Y) * eyes,
             4.0 / (gpu::WRS_TILE * gpu::WRS_TILE) + bytes("classify"));
     }

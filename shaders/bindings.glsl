@@ -33,7 +33,8 @@ layout(std430, set = 0, binding = 12) readonly buffer SrgbTable { float srgb_tab
 // classes' tile lists, class k at k * tile_capacity(): eye << 30 | ty << 15 | tx.
 layout(std430, set = 0, binding = 13) buffer Tiles { uvec4 tile_args[WRS_TILE_LISTS]; uint tile_list[]; };
 // Sparse retention: per tile and eye the best quality the tile stored (float bits; 0: nothing), the
-// previous frame's at frame.held.x, this frame's at frame.held.y.
+// previous frame's at frame.held.x, this frame's at frame.held.y; from frame.held.w, per superblock
+// (WRS_SUPERBLOCK^2 tiles) and eye the largest of the previous frame's (classify.comp, phase 1).
 layout(std430, set = 0, binding = 14) buffer TileHeld { uint tile_held[]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
@@ -45,6 +46,9 @@ uint tile_capacity() { uvec2 t = tile_count(); return t.x * t.y * 2u; }
 uint tile_index(uint eye, uvec2 t) { uvec2 n = tile_count(); return (eye * n.y + t.y) * n.x + t.x; }
 // The held quality of tile t in the previous frame.
 float held_prev(uint eye, uvec2 t) { return uintBitsToFloat(tile_held[frame.held.x + tile_index(eye, t)]); }
+uvec2 superblock_count() { return (tile_count() + uvec2(WRS_SUPERBLOCK - 1u)) / WRS_SUPERBLOCK; }
+// Word of superblock b of an eye in TileHeld.
+uint superblock_word(uint eye, uvec2 b) { uvec2 n = superblock_count(); return frame.held.w + (eye * n.y + b.y) * n.x + b.x; }
 // The pixel and eye of this invocation: over the whole image (tile == 0: groups of
 // WRS_GROUP_X x WRS_GROUP_Y pixels, z = eye), or in the gl_WorkGroupID.x-th tile of class tile - 1
 // (an indirect dispatch of one group per tile; the eye is the same for the whole group).

@@ -3,6 +3,9 @@
 // With sparse retention (docs/retention.md "Sparse retention") a far tile that none of its source
 // tiles can bring a sample sharper than the floor goes on the skip list instead, and its held
 // quality for this frame is 0 (it stores nothing); the retain pass writes every other tile's.
+// Phase 1 (sparse retention with motion, dispatched first): one invocation per superblock and eye
+// writes the largest held quality of its tiles, so that phase 0 reads a tile's motion only where a
+// sample sharper than the floor is within the motion reach (docs/retention.md "Motion reach").
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "bindings.glsl"
@@ -10,20 +13,33 @@
 layout(constant_id = 0) const uint FOV_MODE = 1u;
 layout(constant_id = 1) const bool SPARSE = false;
 layout(constant_id = 2) const bool HAS_MOTION = false;
+layout(constant_id = 3) const uint PHASE = 0u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 // The largest held quality among the tiles tile t's tracked lookups can read (wrs_tile_sources),
-// or 1 (anything) where the motion spreads over more than WRS_SOURCE_TILES_MAX tiles.
+// or 1 (anything) where the motion spreads over more than WRS_SOURCE_TILES_MAX tiles. Where every
+// superblock within the reach holds at most the floor, their largest: the motion is not read.
 float source_held(uint eye, uvec2 t) {
     if (!HAS_MOTION) return held_prev(eye, t);  // every pixel reads only itself
     EyeParams ep = frame.eye[eye];
     uvec2 size = frame.size.xy;
+    float reach = ep.motion_scale.w;
+    uvec2 b0, b1;
+    if (!wrs_reach_blocks(t, size, reach, b0, b1)) return 0.0;
+    if ((b1.x - b0.x + 1u) * (b1.y - b0.y + 1u) <= WRS_REACH_BLOCKS_MAX) {
+        float near = 0.0;
+        for (uint y = b0.y; y <= b1.y; ++y)
+            for (uint x = b0.x; x <= b1.x; ++x) near = max(near, uintBitsToFloat(tile_held[superblock_word(eye, uvec2(x, y))]));
+        if (near <= frame.tuning.w) return near;
+    }
+    atomicAdd(tile_args[WRS_TILE_SKIP].w, 1u);  // tiles whose motion was read (FrameStats::motionTiles)
     vec2 lo = vec2(0.0), hi = vec2(0.0);
     uvec2 first = t * WRS_TILE, end = min(first + uvec2(WRS_TILE), size);
     for (uint y = first.y; y < end.y; ++y)
         for (uint x = first.x; x < end.x; ++x) {
             vec2 mv = texelFetch(motionIn[eye], ivec2(uvec2(x, y) + ep.motion_rect.xy), 0).xy * ep.motion_scale.xy;
-            if (!wrs_finite(mv.x) || !wrs_finite(mv.y)) continue;  // no history for that pixel
+            // Non-finite motion is zero motion (in the range already); beyond the reach, no history.
+            if (!wrs_finite(mv.x) || !wrs_finite(mv.y) || !wrs_within_reach(mv, reach)) continue;
             lo = min(lo, mv);
             hi = max(hi, mv);
         }
@@ -38,6 +54,16 @@ float source_held(uint eye, uvec2 t) {
 
 void main() {
     uint eye = gl_WorkGroupID.z;
+    if (PHASE == 1u) {
+        uvec2 b = gl_GlobalInvocationID.xy;
+        if (any(greaterThanEqual(b, superblock_count()))) return;
+        uvec2 t0 = b * WRS_SUPERBLOCK, t1 = min(t0 + uvec2(WRS_SUPERBLOCK), tile_count());
+        float held = 0.0;
+        for (uint y = t0.y; y < t1.y; ++y)
+            for (uint x = t0.x; x < t1.x; ++x) held = max(held, held_prev(eye, uvec2(x, y)));
+        tile_held[superblock_word(eye, b)] = floatBitsToUint(held);
+        return;
+    }
     uvec2 t = gl_GlobalInvocationID.xy;
     if (any(greaterThanEqual(t, tile_count()))) return;
     EyeParams ep = frame.eye[eye];

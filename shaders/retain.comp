@@ -84,7 +84,7 @@ float retain_pixel(uint eye, uvec2 p) {
     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0 || mv.y != 0.0);
     vec2 pos;
     ivec2 base;
-    bool on_screen = wrs_track_start(p, size, mv, pos, base);
+    bool on_screen = wrs_track_start(p, size, mv, ep.motion_scale.w, pos, base);
     // Without motion only the pixel's own sample can be inside its footprint (footprints are disjoint
     // and every stored offset lies inside its own): one read instead of four, the same result.
     uint taps = c.moved ? 4u : 1u;

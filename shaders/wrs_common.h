@@ -711,17 +711,27 @@ WRS_FN vec2 wrs_offset_dither(uint frame, uint seed) {
     return vec2((float(h & 255u) + 0.5f) / 256.0f, (float((h >> 8u) & 255u) + 0.5f) / 256.0f);
 }
 
+// Motion reach (docs/retention.md "Motion reach"): a pixel whose motion moves it more than `reach`
+// pixels on either axis in one frame (the compositor's limit, CompositorConfig::motionReachDeg at
+// the view's centre) has no tracked history; it takes its candidate. Nothing is seen sharply that
+// fast, and the limit lets the classification know without reading a tile's motion that no sample
+// farther away than the reach can arrive there (wrs_reach_blocks). A departure from DESIGN.md's
+// tracked reprojection, which tracks at any speed (a reach of +inf does so).
+WRS_FN bool wrs_within_reach(vec2 m, float reach) { return abs(m.x) <= reach && abs(m.y) <= reach; }
+
 // Tracked reprojection. Each reservoir's sample sits at its pixel's centre + d, |d| < 0.5. Pixel p
 // looks for the sample now inside its footprint: its centre's previous position pos = centre + mv
 // (a non-finite motion is zero motion), and a sample stored at pixel q, now at q + 0.5 + d_q in the
 // previous frame, is inside iff q + 0.5 + d_q − pos is in [−0.5, 0.5)² (half-open, so a sample is
 // inside exactly one footprint). Only the 2x2 pixels from base = floor(pos − 0.5) can hold one.
-// Returns false when pos is off-screen: that pixel has no history.
-WRS_FN bool wrs_track_start(uvec2 p, uvec2 size, vec3 mv, WRS_OUT(vec2) pos, WRS_OUT(ivec2) base) {
+// Returns false when pos is off-screen, or when the motion is beyond the view's reach
+// (wrs_within_reach): that pixel has no history.
+WRS_FN bool wrs_track_start(uvec2 p, uvec2 size, vec3 mv, float reach, WRS_OUT(vec2) pos, WRS_OUT(ivec2) base) {
     bool finite_xy = wrs_finite(mv.x) && wrs_finite(mv.y);
     vec2 m = finite_xy ? vec2(mv.x, mv.y) : vec2(0.0f, 0.0f);
     pos = vec2(p) + vec2(0.5f, 0.5f) + m;
     base = ivec2(p);
+    if (!wrs_within_reach(m, reach)) return false;
     if (!(pos.x >= 0.0f && pos.y >= 0.0f && pos.x < float(size.x) && pos.y < float(size.y))) return false;
     base = ivec2(floor(pos - vec2(0.5f, 0.5f)));
     return true;
@@ -1058,9 +1068,10 @@ WRS_FN uvec4 wrs_floor_sample(float q_floor) {
 // The tiles a tile's tracked lookups can read. A pixel that did not move reads only itself; the 2x2
 // block of one that moved sits at floor(p + mv) (wrs_track_start), so along each axis the tile's
 // pixels read within [floor(first + mv_lo) - 1, floor(last + mv_hi) + 2], first and last being the
-// tile's outer pixels and [mv_lo, mv_hi] the range of its pixels' finite motion, 0 included; the
-// extra pixel each side absorbs the rounding of p + 0.5 + mv - 0.5. Returns false when that range is
-// wholly off-screen; else s0 and s1 are the first and last source tile (inclusive).
+// tile's outer pixels and [mv_lo, mv_hi] the range of its pixels' finite motion within reach (the
+// others read nothing), 0 included; the extra pixel each side absorbs the rounding of
+// p + 0.5 + mv - 0.5. Returns false when that range is wholly off-screen; else s0 and s1 are the
+// first and last source tile (inclusive).
 WRS_FN bool wrs_tile_sources(uvec2 t, uvec2 size, vec2 mv_lo, vec2 mv_hi, WRS_OUT(uvec2) s0, WRS_OUT(uvec2) s1) {
     s0 = t;
     s1 = t;
@@ -1077,6 +1088,21 @@ WRS_FN bool wrs_tile_sources(uvec2 t, uvec2 size, vec2 mv_lo, vec2 mv_hi, WRS_OU
 // The most source tiles a classification reads: a tile whose motion spreads wider runs retention,
 // which is always correct.
 const uint WRS_SOURCE_TILES_MAX = 16u;
+// Superblocks: WRS_SUPERBLOCK x WRS_SUPERBLOCK tiles (64 x 64 pixels), each holding the largest held
+// quality of its tiles, so that the classification can look over a tile's whole reach in a few reads.
+const uint WRS_SUPERBLOCK = 8u;
+// The most superblocks a classification reads before it reads the tile's motion instead.
+const uint WRS_REACH_BLOCKS_MAX = 64u;
+// The superblocks [b0, b1] that hold every source tile tile t can have under any motion within
+// `reach` (wrs_within_reach): the tile's sources (wrs_tile_sources) for motion anywhere in
+// [-reach, reach]^2. False when all of them are off-screen.
+WRS_FN bool wrs_reach_blocks(uvec2 t, uvec2 size, float reach, WRS_OUT(uvec2) b0, WRS_OUT(uvec2) b1) {
+    uvec2 s0, s1;
+    bool any = wrs_tile_sources(t, size, vec2(-reach, -reach), vec2(reach, reach), s0, s1);
+    b0 = s0 / WRS_SUPERBLOCK;
+    b1 = s1 / WRS_SUPERBLOCK;
+    return any;
+}
 // Whether a tile of class `cls`, whose source tiles held at most `held`, skips retention: a far tile
 // (every candidate at the floor) that nothing sharper than the floor can reach.
 WRS_FN bool wrs_tile_skips(uint cls, float held, float q_floor) {

@@ -15,7 +15,8 @@ struct EyeParams {
     uvec4 depth_rect;   // x, y offset in the depth image; z: 1 if reversed-Z; w: pad
     uvec4 motion_rect;  // x, y offset in the motion image; zw: pad
     vec4 depth_range;   // near, far (may be +inf), zw: pad
-    vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion); w: pad
+    vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion);
+                        // w: the motion reach in pixels (wrs_within_reach; +inf: no limit)
 };
 
 struct FrameParams {
@@ -27,7 +28,8 @@ struct FrameParams {
     // starts at 0); w: texels of an eye's stored pyramid.
     uvec4 levels[WRS_LEVELS];
     // Sparse retention (wrs_common.h): x, y: first word of the previous and of this frame's held
-    // qualities in TileHeld (one word per tile, eye-major); z: 1 when far tiles may skip retention; w: pad.
+    // qualities in TileHeld (one word per tile, eye-major); z: 1 when far tiles may skip retention;
+    // w: first word of the superblocks' held qualities (wrs_reach_blocks; one word per superblock, eye-major).
     uvec4 held;
 };
 

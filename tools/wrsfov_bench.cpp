@@ -45,7 +45,11 @@ struct CostModelRun {
 // frames after 300 frames (3.3 s) of gaze. A tile there spans the angle of four at 2048 px, so the
 // share of retention tiles is if anything overstated for larger images.
 constexpr uint32_t kShareProxy = 512;
-Result<double> measuredRetainShare(vk::Context& ctx, eval::BenchOptions o, Method m) {
+struct SparseShares {
+    double retain = 1.0;  ///< tiles that ran retention
+    double motion = 0.0;  ///< tiles whose motion the classification read
+};
+Result<SparseShares> measuredSparseShares(vk::Context& ctx, eval::BenchOptions o, Method m) {
     o.methods = {m};
     o.scenes.resize(1);
     o.modes.resize(1);
@@ -61,7 +65,8 @@ Result<double> measuredRetainShare(vk::Context& ctx, eval::BenchOptions o, Metho
     auto r = eval::runBench(ctx, o);
     if (!r) return r.error();
     for (const eval::CellResult& c : *r)
-        if (c.method == m && std::isfinite(c.retainShare)) return c.retainShare;
+        if (c.method == m && std::isfinite(c.retainShare) && std::isfinite(c.motionShare))
+            return SparseShares{c.retainShare, c.motionShare};
     return Error{1, "no retention share measured"};
 }
 
@@ -77,6 +82,7 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         c.method = m;
         c.sparseRetention = o.sparseRetention;
         c.floorMerge = o.floorMerge;
+        c.motionReachDeg = o.motionReachDeg;
         c.foveation = mode;
         c.foveaDeg = fovea;
         c.change = o.change;
@@ -88,7 +94,7 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
     std::vector<eval::CostRow> rows;
     std::vector<std::string> skipped;
     std::map<std::pair<uint32_t, uint32_t>, eval::CellGeometry> geometry;
-    std::map<Method, double> retainShare;
+    std::map<Method, SparseShares> sparseShares;
     std::string shareNote;
     for (Method m : o.methods) {
         if (!runsSparse(configFor(m))) continue;
@@ -98,16 +104,17 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         }
         std::printf("wrsfov-bench: cost model: measuring %s's share of retention tiles (%ux%u per eye, 330 frames)\n",
                     std::string(toString(m)).c_str(), kShareProxy, kShareProxy);
-        auto s = measuredRetainShare(*ctx, o, m);
+        auto s = measuredSparseShares(*ctx, o, m);
         if (!s) {
             std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", s.error().message.c_str());
             run.exitCode = 1;
             return run;
         }
-        retainShare[m] = *s;
-        shareNote += "; " + std::string(toString(m)) + " ran retention in " + std::to_string(100.0 * *s).substr(0, 4) +
-                     " % of the tiles (measured at " + std::to_string(kShareProxy) + "x" + std::to_string(kShareProxy) +
-                     " per eye, frames 300-329)";
+        sparseShares[m] = *s;
+        shareNote += "; " + std::string(toString(m)) + " ran retention in " +
+                     std::to_string(100.0 * s->retain).substr(0, 4) + " % of the tiles and its classification read the motion of " +
+                     std::to_string(100.0 * s->motion).substr(0, 4) + " % (measured at " + std::to_string(kShareProxy) + "x" +
+                     std::to_string(kShareProxy) + " per eye, frames 300-329)";
     }
     for (const std::string& name : targetNames) {
         auto target = eval::parseStatsTarget(name);
@@ -170,15 +177,16 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
             }
             for (Method m : o.methods) {
                 eval::TileShares shares = it->second.tileShare;
-                if (auto rs = retainShare.find(m); rs != retainShare.end()) {
+                // Bytes per pass: without a measurement the classification reads every far tile's motion.
+                TrafficInputs in = it->second.inputs;
+                in.motionShare = shares[gpu::WRS_TILE_FAR];
+                if (auto rs = sparseShares.find(m); rs != sparseShares.end()) {
                     // The skipped tiles are far tiles: they come off the far list.
-                    const double skip = std::clamp(1.0 - rs->second, 0.0, shares[gpu::WRS_TILE_FAR]);
+                    const double skip = std::clamp(1.0 - rs->second.retain, 0.0, shares[gpu::WRS_TILE_FAR]);
                     shares[gpu::WRS_TILE_FAR] -= skip;
                     shares[gpu::WRS_TILE_SKIP] = skip;
+                    in.motionShare = std::min(rs->second.motion, shares[gpu::WRS_TILE_FAR] + skip);
                 }
-                // Bytes per pass: the classification reads the motion of the far tiles (far and skip lists).
-                TrafficInputs in = it->second.inputs;
-                in.farShare = shares[gpu::WRS_TILE_FAR] + shares[gpu::WRS_TILE_SKIP];
                 eval::CostCell cell{gpu, w, h, 2, m, eval::pipelineVariants(configFor(m), in), shares};
                 auto r = eval::costRows(cell, *stats);
                 rows.insert(rows.end(), r.begin(), r.end());
@@ -353,6 +361,11 @@ int main(int argc, char** argv) {
                  "wrs merges equal-quality samples at the floor quality too (the far periphery's running mean, "
                  "which smooths its flicker under motion), with retention in every tile: the rule before sparse "
                  "retention (docs/retention.md \"Sparse retention\").");
+    cli::option(app, "--motion-reach", o.motionReachDeg, cli::number<float>(0, 180),
+                "Degrees per frame (at the view's centre) beyond which a pixel's motion tracks no kept sample "
+                "(docs/retention.md \"Motion reach\"); 0: no limit, the classification reads every far tile's "
+                "motion.")
+        ->type_name("DEG");
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");

@@ -247,5 +247,82 @@ TEST_F(Sparse, FloorMergeKeepsTheRuleBeforeIt) {
     EXPECT_GT(differ, 1000u) << "and that changes its output under motion";
 }
 
+TEST_F(Sparse, MotionReachBoundsWhereTheMotionIsRead) {
+    // docs/retention.md "Motion reach". A still fixation at A under a slow drift: the classification
+    // reads the motion only of far tiles with a sample sharper than the floor within the reach (A's
+    // superblocks and their neighbours), as the CPU reference counts them, and with no limit it reads
+    // every far tile's. A drift beyond the reach tracks no history at all (every pixel takes its
+    // candidate), one just within it does; the GPU agrees with the reference throughout.
+    constexpr uint32_t BW = 256, BH = 192;  // 32 x 24 tiles, 4 x 3 superblocks
+    const layers::Fov fov{std::atan(-0.8f), std::atan(0.8f), std::atan(0.6f), std::atan(-0.6f)};
+    // The reach in pixels: 8 degrees at the centre, 256 px over 1.6 in tangent: 35.7 px.
+    const float reachPx = glm::radians(8.0f) * float(BW) / 1.6f;
+    struct Case {
+        float reachDeg;
+        glm::vec2 drift;  // pixels per frame
+        const char* what;
+    };
+    for (const Case& c : {Case{8.0f, {0.37f, 0.21f}, "slow drift"}, Case{0.0f, {0.37f, 0.21f}, "no limit"},
+                          Case{8.0f, {reachPx + 1.0f, 0.0f}, "beyond the reach"},
+                          Case{8.0f, {reachPx - 1.0f, 0.0f}, "within the reach"}}) {
+        SCOPED_TRACE(c.what);
+        CompositorConfig cfg;
+        cfg.method = Method::Wrs;
+        cfg.motionReachDeg = c.reachDeg;
+        auto comp = Compositor::create(context(), cfg);
+        ASSERT_TRUE(comp.ok());
+        StereoApp app(**comp, BW, BH, layers::Format::RGBA16F, std::nullopt, layers::Format::RG16F);
+        Reference ref(cfg);
+        uint64_t read = 0, far = 0, withHistory = 0, pixels = 0;
+        int maxDiff = 0;
+        for (uint64_t f = 1; f <= 10; ++f) {
+            std::array<EyeFrame, 2> eyes;
+            const glm::vec2 s = c.drift * float(f);
+            for (int e = 0; e < 2; ++e) {
+                eyes[e].fov = fov;
+                eyes[e].color = fineTexture(BW, BH, s.x, s.y, 1.0f);
+                eyes[e].motion = uniformMotion(BW, BH, -c.drift.x, -c.drift.y);
+                eyes[e].gaze = {test::gazeAtPixel(50, 50, BW, BH, fov) + glm::vec3(0.0f, 0.002f * float(e), 0.0f), true, 1.0f};
+            }
+            if (f > 1)
+                for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *(*comp)->readReservoirs(e), *(*comp)->readTileHeld(e));
+            ASSERT_TRUE(app.submit(f, eyes).ok());
+            ref.step((*comp)->lastParams(), referenceInputs(eyes));
+            const FrameStats& st = (*comp)->stats();
+            ASSERT_TRUE(st.sparse);
+            EXPECT_FLOAT_EQ((*comp)->lastParams().eye[0].motion_scale.w,
+                            c.reachDeg > 0.0f ? reachPx : std::numeric_limits<float>::infinity());
+            EXPECT_EQ(st.motionTiles, ref.motionTiles()) << "frame " << f;
+            if (f > 1) {
+                read += st.motionTiles;
+                far += st.tiles[gpu::WRS_TILE_FAR] + st.tiles[gpu::WRS_TILE_SKIP];
+                for (uint32_t e = 0; e < 2; ++e)
+                    for (const Reference::Trace& t : ref.trace(e)) withHistory += t.hadHistory, ++pixels;
+            }
+            for (uint32_t e = 0; e < 2; ++e) {
+                auto out = (*comp)->readOutput(e);
+                ASSERT_TRUE(out.ok());
+                for (std::size_t i = 0; i < out->data.size(); ++i)
+                    maxDiff = std::max(maxDiff, std::abs(int(uint8_t(out->data[i])) - int(uint8_t(ref.output(e).data[i]))));
+            }
+        }
+        std::printf("%s: motion read in %llu of %llu far tiles; %llu of %llu pixels ran retention with history\n",
+                    c.what, (unsigned long long)read, (unsigned long long)far, (unsigned long long)withHistory,
+                    (unsigned long long)pixels);
+        EXPECT_LE(maxDiff, 1) << "GPU against the CPU reference";
+        const std::string what = c.what;
+        if (what == "slow drift") {
+            EXPECT_GT(read, 0u);
+            EXPECT_LT(read, far / 2) << "the motion of far tiles beyond the reach of A is not read";
+        } else if (what == "no limit") {
+            EXPECT_EQ(read, far) << "every far tile's motion is read";
+        } else if (what == "beyond the reach") {
+            EXPECT_EQ(withHistory, 0u) << "no pixel tracks a kept sample";
+        } else {
+            EXPECT_GT(withHistory, 2000u) << "pixels track kept samples";
+        }
+    }
+}
+
 }  // namespace
 }  // namespace wrsfov::test

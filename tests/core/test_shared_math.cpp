@@ -1024,17 +1024,20 @@ TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
 }
 
 TEST(SparseRetention, TileSourcesHoldEveryTapALookupReads) {
-    // For random tiles, sizes and per-pixel motion (zero, sub-pixel, large, off-screen, non-finite),
-    // every pixel a tracked lookup of the tile reads (wrs_track_start / wrs_track_tap) lies in a source
-    // tile, computed from the motion range as classify.comp and the reference do. 20 000 tiles.
+    // For random tiles, sizes, motion reaches and per-pixel motion (zero, sub-pixel, large, beyond the
+    // reach, off-screen, non-finite), every pixel a tracked lookup of the tile reads (wrs_track_start /
+    // wrs_track_tap) lies in a source tile, computed from the motion range as classify.comp and the
+    // reference do, and in a superblock of the tile's reach (wrs_reach_blocks), which the
+    // classification reads instead of the motion. 20 000 tiles.
     std::mt19937 rng(2024);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    uint64_t taps = 0, wide = 0, offScreen = 0;
+    uint64_t taps = 0, wide = 0, offScreen = 0, beyond = 0;
     for (int n = 0; n < 20000; ++n) {
         const uvec2 size(1u + uint(u(rng) * 90.0f), 1u + uint(u(rng) * 70.0f));
         const uvec2 tiles((size + uvec2(WRS_TILE - 1u)) / WRS_TILE);
         const uvec2 t(uint(u(rng) * float(tiles.x)) % tiles.x, uint(u(rng) * float(tiles.y)) % tiles.y);
         const float scale = n % 4 == 0 ? 0.0f : (n % 4 == 1 ? 1.5f : (n % 4 == 2 ? 12.0f : 200.0f));
+        const float reach = n % 3 == 0 ? kInf : (n % 3 == 1 ? 0.5f + u(rng) * 8.0f : 1.0f + u(rng) * 60.0f);
         const vec2 shift((u(rng) - 0.5f) * scale, (u(rng) - 0.5f) * scale);
         std::vector<std::pair<uvec2, vec3>> px;
         vec2 lo(0.0f), hi(0.0f);
@@ -1042,41 +1045,49 @@ TEST(SparseRetention, TileSourcesHoldEveryTapALookupReads) {
             for (uint x = t.x * WRS_TILE; x < std::min((t.x + 1u) * WRS_TILE, size.x); ++x) {
                 vec3 mv(shift + vec2(u(rng) - 0.5f, u(rng) - 0.5f) * (scale > 0.0f ? 2.0f : 0.0f), 0.0f);
                 if (u(rng) < 0.1f) mv = vec3(0.0f);
+                if (u(rng) < 0.05f) mv.x = u(rng) < 0.5f ? reach : -reach;  // exactly at the reach
                 if (u(rng) < 0.02f) mv.x = kNaN;
                 if (u(rng) < 0.01f) mv.y = kInf;
                 px.push_back({uvec2(x, y), mv});
-                if (!wrs_finite(mv.x) || !wrs_finite(mv.y)) continue;
+                if (!wrs_finite(mv.x) || !wrs_finite(mv.y) || !wrs_within_reach(vec2(mv), reach)) continue;
                 lo = min(lo, vec2(mv));
                 hi = max(hi, vec2(mv));
             }
-        uvec2 s0, s1;
+        uvec2 s0, s1, b0, b1;
         const bool any = wrs_tile_sources(t, size, lo, hi, s0, s1);
-        if ((s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) > WRS_SOURCE_TILES_MAX) {
-            ++wide;  // classified as holding anything: nothing to check
-            continue;
-        }
+        const bool anyInReach = wrs_reach_blocks(t, size, reach, b0, b1);
+        const bool narrow = (s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) <= WRS_SOURCE_TILES_MAX;
+        if (!narrow) ++wide;  // classified as holding anything: only the reach to check
         for (auto [p, mv] : px) {
             const bool moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
             vec2 pos;
             ivec2 base;
-            if (!wrs_track_start(p, size, mv, pos, base)) {
-                ++offScreen;
+            if (!wrs_track_start(p, size, mv, reach, pos, base)) {
+                const bool far = wrs_finite(mv.x) && wrs_finite(mv.y) && !wrs_within_reach(vec2(mv), reach);
+                ++(far ? beyond : offScreen);
                 continue;
             }
             for (uint k = 0; k < (moved ? 4u : 1u); ++k) {
                 uvec2 q;
                 if (!wrs_track_tap(base, k, size, q)) continue;
                 ++taps;
+                const uvec2 qt = q / WRS_TILE, qb = qt / WRS_SUPERBLOCK;
+                ASSERT_TRUE(anyInReach) << "tile " << t.x << "," << t.y << ": a tap on screen, the reach said none";
+                ASSERT_TRUE(qb.x >= b0.x && qb.x <= b1.x && qb.y >= b0.y && qb.y <= b1.y)
+                    << "tile " << t.x << "," << t.y << " pixel " << p.x << "," << p.y << " reads " << q.x << "," << q.y
+                    << " outside the superblocks of its reach " << reach;
+                if (!narrow) continue;
                 ASSERT_TRUE(any) << "tile " << t.x << "," << t.y << ": a tap on screen, sources said none";
-                const uvec2 qt = q / WRS_TILE;
                 ASSERT_TRUE(qt.x >= s0.x && qt.x <= s1.x && qt.y >= s0.y && qt.y <= s1.y)
                     << "tile " << t.x << "," << t.y << " pixel " << p.x << "," << p.y << " reads " << q.x << "," << q.y
                     << " outside source tiles " << s0.x << "," << s0.y << " .. " << s1.x << "," << s1.y;
             }
         }
     }
-    std::printf("taps checked %llu, tiles too wide %llu, off-screen lookups %llu\n", (unsigned long long)taps,
-                (unsigned long long)wide, (unsigned long long)offScreen);
+    std::printf("taps checked %llu, tiles too wide %llu, off-screen lookups %llu, beyond the reach %llu\n",
+                (unsigned long long)taps, (unsigned long long)wide, (unsigned long long)offScreen,
+                (unsigned long long)beyond);
+    EXPECT_GT(beyond, 10000u);
     EXPECT_GT(taps, 1000000u);
     EXPECT_GT(wide, 1000u);
     EXPECT_GT(offScreen, 1000u);

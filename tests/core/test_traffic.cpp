@@ -54,12 +54,12 @@ TEST(Traffic, SparseRetentionWeighsTheTilesByTheirShare) {
     TrafficInputs in = inputs(1024, 768, true, true);
     const Traffic all = traffic(wrs, in);
     in.retainShare = 0.1;
-    in.farShare = 0.9;
+    in.motionShare = 0.3;
     const Traffic t = traffic(wrs, in);
     // Retention's bytes in a tenth of the tiles, the foveating pass's (colour, levels, output) in the
-    // rest, and the far tiles' motion read by the classification.
+    // rest, and the motion of the tiles whose motion the classification read.
     EXPECT_DOUBLE_EQ(passBytes(t, "retain"), 0.1 * passBytes(all, "retain"));
-    EXPECT_DOUBLE_EQ(passBytes(t, "classify"), 0.9 * in.motionBytes);
+    EXPECT_DOUBLE_EQ(passBytes(t, "classify"), 0.3 * in.motionBytes);
     CompositorConfig fov;
     fov.method = Method::Fov;
     EXPECT_NEAR(passBytes(t, "skip"), 0.9 * passBytes(traffic(fov, in), "foveate"), 1e-9);

@@ -143,8 +143,8 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     EXPECT_EQ(names(pipelineVariants(config(Method::Fov), kAtrium)),
               (V{"classify/whole", "pyramid/whole", "foveate/any", "foveate/fovea", "foveate/mid", "foveate/far"}));
     EXPECT_EQ(names(pipelineVariants(config(Method::Wrs), kAtrium)),
-              (V{"classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far",
-                 "skip/skip"}));
+              (V{"reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid",
+                 "retain/far", "skip/skip"}));
     CompositorConfig dense = config(Method::Wrs);
     dense.sparseRetention = false;
     EXPECT_EQ(names(pipelineVariants(dense, kAtrium)),
@@ -154,12 +154,16 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     EXPECT_EQ(names(pipelineVariants(config(Method::WrsPaper), kAtrium)),
               (V{"pyramid/whole", "foveate/whole", "wrs-paper/whole"}));
     // Constants as endFrame binds them: retain {motion, depth, mode, rule, in place, 1 + class, sparse},
-    // classify {mode, sparse, motion}, the skip list's foveate {mode, output, -, -, -, 1 + skip}.
+    // classify {mode, sparse, motion, phase} (phase 1: the superblocks of the motion reach), the skip
+    // list's foveate {mode, output, -, -, -, 1 + skip}.
     const auto wrs = pipelineVariants(config(Method::Wrs), kAtrium);
-    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 0, 0, 1}));
-    EXPECT_EQ(wrs[2].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 1, 1, 1}));
-    EXPECT_EQ(wrs[5].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 4, 1, 1}));
-    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 8>{1, 1, 0, 0, 0, 5, 0, 1}));
+    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 8>{1, 1, 1, 1, 0, 0, 0, 1}));
+    EXPECT_EQ(wrs[1].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 0, 0, 1}));
+    EXPECT_EQ(wrs[3].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 1, 1, 1}));
+    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 4, 1, 1}));
+    EXPECT_EQ(wrs[7].constants, (std::array<uint32_t, 8>{1, 1, 0, 0, 0, 5, 0, 1}));
+    // 64 x 64 tiles per eye at 512 px: 8 x 8 superblocks, one 8 x 8 group per eye.
+    EXPECT_EQ(wrs[0].groups, 2u);
     const auto still = pipelineVariants(config(Method::Wrs), {512, 512, 4, 4, 0});
     EXPECT_EQ(still[2].constants, (std::array<uint32_t, 8>{0, 1, 1, 0, 1, 1, 1, 1})) << "no motion: in place";
     EXPECT_EQ(pipelineVariants(config(Method::Fov), kAtrium)[2].constants,
@@ -170,7 +174,7 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     // Whole-image dispatch shapes: 8x8 groups per pixel pass, 16x16-pixel groups for the mip pyramid.
     EXPECT_EQ(pipelineVariants(noSkip, kAtrium)[1].groups, 64u * 64u * 2u);
     EXPECT_EQ(pipelineVariants(noSkip, kAtrium)[0].groups, 32u * 32u * 2u);
-    // Every pass of traffic() has its variants and their bytes, and nothing else but classify.
+    // Every pass of traffic() has its variants and their bytes, and nothing else but the classification's.
     // A tile list's variant moves its own pixels' bytes: retention's as if every tile retained, the
     // skipped tiles' as if none did (traffic() weighs the two by the measured share).
     for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle}) {
@@ -193,7 +197,7 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
             EXPECT_GT(found, 0) << toString(m) << ": no variant for pass " << p.pass;
         }
         for (const PipelineVariant& v : vs)
-            EXPECT_TRUE(v.pass == "classify" || std::any_of(t.passes.begin(), t.passes.end(),
+            EXPECT_TRUE(v.pass == "classify" || v.pass == "reach" || std::any_of(t.passes.begin(), t.passes.end(),
                                                             [&](const PassTraffic& p) { return p.pass == v.pass; }))
                 << v.pass;
     }
@@ -299,7 +303,7 @@ TEST(CostModel, CsvHasTheColumnsARowPerPassClassAndMethodAndTotalsThatSum) {
     using S = std::set<std::string>;
     EXPECT_EQ(seen["fov"],
               (S{"classify/whole", "pyramid/whole", "foveate/any", "foveate/fovea", "foveate/mid", "foveate/far"}));
-    EXPECT_EQ(seen["wrs"], (S{"classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far",
+    EXPECT_EQ(seen["wrs"], (S{"reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far",
                               "skip/skip"}));
     EXPECT_EQ(seen["fov+taa"], (S{"pyramid/whole", "foveate/whole", "taa/whole"}));
     EXPECT_EQ(seen["wrs-paper"], (S{"pyramid/whole", "foveate/whole", "wrs-paper/whole"}));

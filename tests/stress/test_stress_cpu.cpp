@@ -231,7 +231,8 @@ TEST(StressCpu, StressStepIsTheReferenceStep) {
     for (int e = 0; e < 2; ++e) {
         params.eye[e].fov_tan = gpu::vec4(-0.5f, 0.5f, 0.4f, -0.4f);
         params.eye[e].depth_range = gpu::vec4(kNearZ, kFarZ, 0.0f, 0.0f);
-        params.eye[e].motion_scale = gpu::vec4(1.0f, 1.0f, 1.0f, 0.0f);  // motion in pixels
+        // Motion in pixels, no reach limit.
+        params.eye[e].motion_scale = gpu::vec4(1.0f, 1.0f, 1.0f, std::numeric_limits<float>::infinity());
     }
     params.tuning = gpu::vec4(7.5f, kDepthTau, 0.0f, 0.0f);
     uint64_t compared = 0, kept = 0;
