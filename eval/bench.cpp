@@ -30,12 +30,13 @@ std::string_view toString(SceneKind s) {
     case SceneKind::Atrium: return "atrium";
     case SceneKind::Dynamic: return "dynamic";
     case SceneKind::Sequence: return "sequence";
+    case SceneKind::Photo: return "photo";
     }
     return "?";
 }
 
 std::optional<SceneKind> parseScene(std::string_view name) {
-    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Sequence})
+    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Sequence, SceneKind::Photo})
         if (toString(s) == name) return s;
     return std::nullopt;
 }
@@ -182,6 +183,61 @@ private:
     std::unique_ptr<scenes::AtriumRenderer> renderer_;
 };
 
+// Natural texture on a plane (scenes/photo.h): sRGB colour, D32F depth, RGBA16F motion, rendered on
+// the CPU; in monitor mode one view, copied to both eyes.
+class PhotoFrames final : public SceneFrames {
+public:
+    explicit PhotoFrames(std::unique_ptr<scenes::PhotoScene> scene) : scene_(std::move(scene)) {}
+    Status frame(int index, double, double, std::array<EyeSubmission, 2>& eyes) override {
+        const scenes::PhotoOptions& o = scene_->options();
+        for (int e = 0; e < 2; ++e) {
+            eyes[e].fov = scenes::photoFov(o, e);
+            if (o.monitor && e == 1) {
+                eyes[1].color = eyes[0].color;
+                eyes[1].depth = eyes[0].depth;
+                eyes[1].motion = eyes[0].motion;
+                break;
+            }
+            HostImage c, d, m;
+            if (Status s = scene_->render(uint32_t(index), e, c, d, m); !s) return s;
+            eyes[e].color = std::move(c);
+            eyes[e].depth = std::move(d);
+            eyes[e].motion = std::move(m);
+        }
+        return {};
+    }
+    HostStereoApp::Options appOptions() const override {
+        const scenes::PhotoOptions& o = scene_->options();
+        HostStereoApp::Options a;
+        a.width = o.width;
+        a.height = o.height;
+        a.depth = layers::Format::D32F;
+        a.motion = layers::Format::RGBA16F;
+        a.nearZ = o.nearZ;
+        a.farZ = o.farZ;
+        a.monoView = o.monitor;
+        return a;
+    }
+
+private:
+    std::unique_ptr<scenes::PhotoScene> scene_;
+};
+
+// The photo scene's options for a cell of the sweep.
+scenes::PhotoOptions photoOptions(const BenchOptions& o) {
+    scenes::PhotoOptions po;
+    po.width = o.width;
+    po.height = o.height;
+    po.monitor = o.monitor;
+    po.fovDeg = o.hmdFovDeg;
+    po.image = o.photoImage;
+    po.motion = o.photoMotion;
+    po.speed = o.photoSpeed;
+    po.frames = uint32_t(o.frames);
+    po.seed = o.seed;
+    return po;
+}
+
 // External frames from a sequence directory, read from disk frame by frame.
 class SequenceFrames final : public SceneFrames {
 public:
@@ -254,6 +310,10 @@ Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptio
             return benchError("bench: sequence " + o.sequenceDir + " has " + std::to_string(si.frameCount) +
                               " frames, fewer than the " + std::to_string(o.frames) + " asked for");
         setup.frames = std::make_unique<SequenceFrames>(std::move(*r));
+    } else if (scene == SceneKind::Photo) {
+        auto ps = scenes::PhotoScene::create(photoOptions(o));
+        if (!ps) return benchError("bench: " + ps.error().message);
+        setup.frames = std::make_unique<PhotoFrames>(std::move(*ps));
     } else {
         auto af = AtriumFrames::create(ctx, atriumOptions(o, scene));
         if (!af) return af.error();
@@ -694,6 +754,28 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
     return results;
 }
 
+Status forEachSceneFrame(vk::Context& ctx, SceneKind scene, const BenchOptions& o,
+                         const std::function<Status(const HostStereoApp::Options&, int, double,
+                                                    std::array<EyeSubmission, 2>&)>& visit) {
+    auto setup = openScene(ctx, scene, o);
+    if (!setup) return setup.error();
+    SceneFrames& frames = *setup->frames;
+    const HostStereoApp::Options app = frames.appOptions();
+    double prevT = 0;
+    for (int f = 0; f < o.frames; ++f) {
+        const double t = f / frames.fps();
+        std::array<EyeSubmission, 2> eyes;
+        if (Status s = frames.frame(f, t, f == 0 ? t : prevT, eyes); !s) return s;
+        prevT = t;
+        if (!frames.providesGaze()) {
+            gaze::GazeSample g = setup->gaze->sample(t);
+            for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
+        }
+        if (Status s = visit(app, f, t, eyes); !s) return s;
+    }
+    return {};
+}
+
 Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions& o, const std::string& dir) {
     if (o.frames < 1) return benchError("write sequence: frames must be at least 1");
     auto setup = openScene(ctx, scene, o);
@@ -1007,6 +1089,12 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     if (std::find(o.scenes.begin(), o.scenes.end(), SceneKind::Sequence) != o.scenes.end())
         md << "\nScene `sequence`: the frames of " << o.sequenceDir
            << " at the fps of its sequence.json, gaze from its gaze.csv (synthetic free viewing without one).\n";
+    if (std::find(o.scenes.begin(), o.scenes.end(), SceneKind::Photo) != o.scenes.end())
+        md << "\nScene `photo`: " << o.photoImage << " on a plane 1 m away, one texel per pixel at the view's centre, "
+           << "head " << scenes::toString(o.photoMotion)
+           << (o.photoMotion == scenes::PhotoMotion::Static ? std::string()
+                                                            : " at " + fmt(o.photoSpeed, 2) + " px/frame at the view's centre")
+           << ", free-viewing gaze.\n";
 
     // Summary first: per scene and mode, each method against fov at the smallest fovea.
     md << "\n## Summary\n\n";
@@ -1181,6 +1269,14 @@ Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, 
         app = text.appOptions();
         fov[0] = text.fov(0), fov[1] = text.fov(1);
         gc = sweepGaze(o, &text.layout());
+    } else if (scene == SceneKind::Photo) {
+        const scenes::PhotoOptions po = photoOptions(o);
+        app.width = width, app.height = height;
+        app.depth = layers::Format::D32F;
+        app.motion = layers::Format::RGBA16F;
+        app.monoView = po.monitor;
+        fov[0] = scenes::photoFov(po, 0), fov[1] = scenes::photoFov(po, 1);
+        gc = sweepGaze(o, nullptr);
     } else {
         const scenes::AtriumOptions ao = atriumOptions(o, scene);
         app = atriumAppOptions(ao);

@@ -11,14 +11,16 @@
 #include <vector>
 
 #include "compositor/compositor.h"
+#include "compositor/host_app.h"
 #include "compositor/vk_context.h"
 #include "layers/status.h"
 #include "scenes/atrium.h"
+#include "scenes/photo.h"
 
 namespace wrsfov::eval {
 
 /// Built-in scenes, and `Sequence`: the frames of BenchOptions::sequenceDir.
-enum class SceneKind : uint8_t { Text, Atrium, Dynamic, Sequence };
+enum class SceneKind : uint8_t { Text, Atrium, Dynamic, Sequence, Photo };
 std::string_view toString(SceneKind s);
 std::optional<SceneKind> parseScene(std::string_view name);
 
@@ -47,6 +49,11 @@ struct BenchOptions {
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in
     /// every tile).
     bool floorMerge = false;
+    /// Scene `photo` (scenes/photo.h): the image (a file, or grass / wood generated), the head's motion
+    /// and its speed in pixels per frame at the view's centre (--photo, --photo-motion, --photo-speed).
+    std::string photoImage = "grass";
+    scenes::PhotoMotion photoMotion = scenes::PhotoMotion::Pan;
+    float photoSpeed = 0.37f;
     /// CompositorConfig::motionReachDeg (--motion-reach; 0: no limit).
     float motionReachDeg = CompositorConfig{}.motionReachDeg;
     uint32_t seed = 1;
@@ -114,6 +121,13 @@ struct CellResult {
 
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);
+
+/// Frames of `scene` as the sweep submits them (size, camera path, seed, gaze of the sweep), one at a
+/// time: `visit(app, index, time, eyes)` gets the application's swapchain options and each frame's
+/// images and gaze; a failing visit stops the walk with its error.
+Status forEachSceneFrame(vk::Context& ctx, SceneKind scene, const BenchOptions& options,
+                         const std::function<Status(const HostStereoApp::Options&, int, double,
+                                                    std::array<EyeSubmission, 2>&)>& visit);
 
 /// Writes `options.frames` frames of `scene` (at options.width x options.height, camera path and
 /// seed as in the sweep) with the sweep's gaze for that scene as a sequence directory `dir`:

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "eval/bench.h"
+#include "eval/flicker.h"
 #include "eval/cost_model.h"
 #include "eval/sequence.h"
 #include "tools/cli.h"
@@ -277,6 +278,7 @@ int main(int argc, char** argv) {
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
     cli::Size size{o.width, o.height};
+    bool flicker = false;
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
 
@@ -293,9 +295,19 @@ int main(int argc, char** argv) {
                 "--scaling, scaling.md, scaling.csv, scaling.png and each size's report in DIR/SxS.");
     cli::listOption(app, "--scenes", o.scenes,
                 cli::list(cli::oneOf(named({eval::SceneKind::Text, eval::SceneKind::Atrium, eval::SceneKind::Dynamic,
-                                            eval::SceneKind::Sequence}))),
+                                            eval::SceneKind::Sequence, eval::SceneKind::Photo}))),
                 "Scenes: text (a page of text, reading gaze), atrium and dynamic (3D rooms with depth and motion, "
-                "free-viewing gaze), sequence (the frames of --sequence).");
+                "free-viewing gaze), sequence (the frames of --sequence), photo (natural texture on a plane: "
+                "--photo, --photo-motion, --photo-speed; free-viewing gaze).");
+    cli::option(app, "--photo", o.photoImage, cli::text("an image file, grass or wood", "IMAGE"),
+                "Scene photo's image: a PNG or JPEG file (one texel per pixel at the view's centre, repeated "
+                "mirrored), or a generated texture: grass (1/f noise with strands, the default) or wood.");
+    cli::option(app, "--photo-motion", o.photoMotion,
+                cli::oneOf(named({scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan, scenes::PhotoMotion::Turn})),
+                "Scene photo's head: static, pan (sideways, parallel to the plane; the default) or turn (yaw).");
+    cli::option(app, "--photo-speed", o.photoSpeed, cli::number<float>(-64, 64),
+                "Scene photo's pan or turn speed in pixels per frame at the view's centre (default 0.37).")
+        ->type_name("PX");
     cli::listOption(app, "--methods", o.methods,
                 cli::list(cli::oneOf(named({Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs,
                                             Method::Oracle, Method::OracleQ}))),
@@ -393,6 +405,10 @@ int main(int argc, char** argv) {
                 "Evaluate the frames of a sequence directory (docs/sequence.md) as scene `sequence` (alone unless "
                 "--scenes is given); size, frames and fps come from its sequence.json, gaze from its gaze.csv "
                 "(synthetic free viewing without one).");
+    app.add_flag("--flicker", flicker,
+                 "Where wrs's output changes more than fov's from frame to frame (the temporal instability's "
+                 "pixels, split by what wrs showed: its candidate or a kept sample by quality, and state changes), "
+                 "for the first scene, mode and fovea: flicker.md, flicker.csv and flicker.png in --out.");
     cli::option(app, "--write-sequence", writeDir, cli::text("a directory name", "DIR"),
                 "Write one scene (frames, depth, motion, the sweep's gaze) as a sequence directory and exit; "
                 "give the scene with --scenes NAME.");
@@ -456,6 +472,25 @@ int main(int argc, char** argv) {
             return 1;
         }
         std::printf("wrsfov-bench: sequence in %s (sequence.json, NNNNNN_{L,R}_*, gaze.csv)\n", writeDir.c_str());
+        return 0;
+    }
+    if (flicker) {
+        auto ctx = vk::Context::create();
+        if (!ctx) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", ctx.error().message.c_str());
+            return 1;
+        }
+        o.progress = [](const std::string& s) {
+            std::printf("%s\n", s.c_str());
+            std::fflush(stdout);
+        };
+        auto r = eval::analyseFlicker(**ctx, o, out);
+        if (!r) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
+            return 1;
+        }
+        std::printf("wrsfov-bench: temporal instability wrs %.6f, fov %.6f over %llu stable pixel pairs; %s/flicker.md\n",
+                    r->wrsInstability, r->fovInstability, (unsigned long long)r->stablePairs, out.c_str());
         return 0;
     }
     if (costModel) {

@@ -1,0 +1,51 @@
+// Where kept samples flicker: per pixel and frame pair, the frame-to-frame change of `wrs`'s output
+// against `fov`'s over the pixels where the reference does not change (the temporal instability's
+// pixels, eval/metrics.h), split by what `wrs` showed at the pixel in the two frames: its candidate
+// (the same output as `fov`) or something kept, by the kept sample's quality, and whether the pixel
+// changed state. Written as flicker.md, flicker.csv and a map of where the excess is (flicker.png).
+// `wrsfov-bench --flicker` runs it for the first scene, mode and fovea of the options.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "compositor/vk_context.h"
+#include "eval/bench.h"
+#include "layers/status.h"
+
+namespace wrsfov::eval {
+
+/// One class of stable pixel pairs.
+struct FlickerClass {
+    std::string name;
+    uint64_t pairs = 0;            ///< stable pixel pairs (left eye) in the class
+    double wrsChange = 0;          ///< sum over them of the mean over channels of |Δ wrs|, sRGB 0..1
+    double fovChange = 0;          ///< the same for `fov`
+    double refChange = 0;          ///< the same for the reference (at most one 8-bit step per channel)
+    /// Sums of the error's change, the mean over channels of |Δ (output - reference)|: what a viewer
+    /// sees flicker against the scene's own motion.
+    double wrsErrorChange = 0, fovErrorChange = 0;
+    /// Sums of the error itself now, the mean over channels of |output - reference|.
+    double wrsError = 0, fovError = 0;
+};
+
+struct FlickerReport {
+    std::vector<FlickerClass> classes;
+    uint64_t stablePairs = 0;  ///< all stable pixel pairs counted
+    /// Temporal instability of each method over the same pairs (eval/metrics.h's definition).
+    double wrsInstability = 0, fovInstability = 0, refInstability = 0;
+    /// Mean over the same pairs of the error's change (FlickerClass::wrsErrorChange).
+    double wrsErrorInstability = 0, fovErrorInstability = 0;
+    /// Pixels (all, not only stable ones) that showed a sharper kept sample in one frame and their
+    /// candidate in the next, by the retention outcome of the CPU reference run on the GPU's history
+    /// (WRS_OUT_*; "no history" where the tracked lookup found no sample).
+    std::vector<std::pair<std::string, uint64_t>> drops;
+};
+
+/// Runs the reference, `fov` and `wrs` (CompositorConfig defaults with the options' mode, fovea, seed
+/// and sparse-retention switches) on options.scenes.front() and classifies every stable pixel pair of
+/// the left eye after the warm-up frames. Writes flicker.md, flicker.csv and flicker.png into `dir`
+/// when it is not empty.
+Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& options, const std::string& dir);
+
+}  // namespace wrsfov::eval
