@@ -263,10 +263,10 @@ float csfLookup(const std::vector<float>& table, float rho, float luminance, flo
     return std::exp2(v);
 }
 
-float maskedDifference(float t, float r, float q, const Parameters& p) {
-    const float mask_gain = float(std::pow(10.0, p.mask_c));
+float maskedDifference(float t, float r, float p, float q, float mask_gain) {
+    if (t == r) return 0.0f;
     const float m = mask_gain * std::min(std::abs(t), std::abs(r));
-    const float d = std::pow(std::abs(t - r), float(p.mask_p)) / (1.0f + std::pow(m, q));
+    const float d = std::pow(std::abs(t - r), p) / (1.0f + std::pow(m, q));
     return std::min(d, 1e4f);
 }
 
@@ -285,51 +285,90 @@ namespace {
 constexpr float kA = 0.4f;
 constexpr float kKernel[5] = {0.25f - kA / 2, 0.25f, kA, 0.25f, 0.25f - kA / 2};
 
-// One reduction along a line of n samples with stride `step`, into m = ceil(n / 2) outputs.
-// Borders mirror the samples (x[-1] = x[0], x[-2] = x[1], x[n] = x[n-1], x[n+1] = x[n-2]).
-inline void reduceLine(const float* x, int n, ptrdiff_t step, float* y, ptrdiff_t ystep) {
-    const int m = (n + 1) / 2;
-    for (int i = 0; i < m; ++i) {
-        float s = 0.0f;
+// A 1-D resampling as taps: output i = sum of weight · input[index] over taps[i].
+struct Taps {
+    std::vector<int> first;  ///< taps of output i: [first[i], first[i + 1])
+    std::vector<int> index;
+    std::vector<float> weight;
+    void add(int i, float w) {
+        for (size_t t = size_t(first.back()); t < index.size(); ++t)
+            if (index[t] == i) {
+                weight[t] += w;
+                return;
+            }
+        index.push_back(i);
+        weight.push_back(w);
+    }
+    void close() { first.push_back(int(index.size())); }
+};
+
+// Reduction of n samples into ceil(n / 2): the kernel at every second sample, the borders mirrored
+// (x[-1] = x[0], x[-2] = x[1], x[n] = x[n-1], x[n+1] = x[n-2]).
+Taps reduceTaps(int n) {
+    Taps t;
+    t.first.push_back(0);
+    for (int i = 0; i < (n + 1) / 2; ++i) {
         for (int k = 0; k < 5; ++k) {
             int j = 2 * i + k - 2;
             if (j < 0) j = -j - 1;
             if (j >= n) j = 2 * n - 1 - j;
-            s += kKernel[k] * x[j * step];
+            t.add(std::clamp(j, 0, n - 1), kKernel[k]);
         }
-        y[i * ystep] = s;
+        t.close();
     }
+    return t;
 }
 
-// One expansion along a line: m samples at even positions of n outputs, zeros between, the
-// samples mirrored at the ends (u[-2] = x[0]; u[n] or u[n+1] = the last sample), kernel · 2.
-inline void expandLine(const float* x, int m, ptrdiff_t step, float* y, int n, ptrdiff_t ystep) {
-    auto u = [&](int j) -> float {
-        if (j == -2) return x[0];
-        if (j < 0) return 0.0f;
-        if (j >= n) return (j == n + (n & 1)) ? x[(m - 1) * step] : 0.0f;
-        return (j & 1) ? 0.0f : x[(j / 2) * step];
-    };
+// Expansion of m samples to n: the samples at even positions, zeros between, the kernel times 2;
+// beyond the ends u[-2] = x[0] and u[n] (n even) or u[n + 1] (n odd) = the last sample.
+Taps expandTaps(int m, int n) {
+    Taps t;
+    t.first.push_back(0);
     for (int i = 0; i < n; ++i) {
-        float s = 0.0f;
-        for (int k = 0; k < 5; ++k) s += 2.0f * kKernel[k] * u(i + k - 2);
-        y[i * ystep] = s;
+        for (int k = 0; k < 5; ++k) {
+            const int j = i + k - 2;
+            int src = -1;
+            if (j == -2) src = 0;
+            else if (j >= n) src = (j == n + (n & 1)) ? m - 1 : -1;
+            else if (j >= 0 && !(j & 1)) src = j / 2;
+            if (src >= 0) t.add(src, 2.0f * kKernel[k]);
+        }
+        t.close();
+    }
+    return t;
+}
+
+// Applies `rows` taps between rows (whole rows at once) and `cols` taps within each row.
+void resample(const float* src, int sw, float* dst, int w, int h, const Taps& rows, const Taps& cols) {
+    std::vector<float> tmp(size_t(sw) * size_t(h), 0.0f);
+    for (int y = 0; y < h; ++y) {
+        float* o = tmp.data() + size_t(y) * sw;
+        for (int t = rows.first[size_t(y)]; t < rows.first[size_t(y) + 1]; ++t) {
+            const float wt = rows.weight[size_t(t)];
+            const float* in = src + size_t(rows.index[size_t(t)]) * sw;
+            for (int x = 0; x < sw; ++x) o[x] += wt * in[x];
+        }
+    }
+    for (int y = 0; y < h; ++y) {
+        const float* in = tmp.data() + size_t(y) * sw;
+        float* o = dst + size_t(y) * w;
+        for (int x = 0; x < w; ++x) {
+            float v = 0.0f;
+            for (int t = cols.first[size_t(x)]; t < cols.first[size_t(x) + 1]; ++t)
+                v += cols.weight[size_t(t)] * in[cols.index[size_t(t)]];
+            o[x] = v;
+        }
     }
 }
 
 }  // namespace
 
 void pyramidReduce(const float* src, int w, int h, float* dst) {
-    const int h2 = (h + 1) / 2, w2 = (w + 1) / 2;
-    std::vector<float> tmp(size_t(w) * size_t(h2));
-    for (int x = 0; x < w; ++x) reduceLine(src + x, h, w, tmp.data() + x, w);
-    for (int y = 0; y < h2; ++y) reduceLine(tmp.data() + size_t(y) * w, w, 1, dst + size_t(y) * w2, 1);
+    resample(src, w, dst, (w + 1) / 2, (h + 1) / 2, reduceTaps(h), reduceTaps(w));
 }
 
 void pyramidExpand(const float* src, int sw, int sh, float* dst, int w, int h) {
-    std::vector<float> tmp(size_t(sw) * size_t(h));
-    for (int x = 0; x < sw; ++x) expandLine(src + x, sh, sw, tmp.data() + x, h, sw);
-    for (int y = 0; y < h; ++y) expandLine(tmp.data() + size_t(y) * sw, sw, 1, dst + size_t(y) * w, w, 1);
+    resample(src, sw, dst, w, h, expandTaps(sh, h), expandTaps(sw, w));
 }
 
 }  // namespace detail
@@ -550,14 +589,15 @@ void Metric::processFrame(glm::vec2 gaze_px) {
         const float gain = float(std::pow(10.0, p.sensitivity_correction / 20.0));
         for (int cc = 0; cc < 2; ++cc) {
             const float q = float(cc == 0 ? p.mask_q_sust : p.mask_q_trans);
+            const float mask_p = float(p.mask_p), mask_gain = float(std::pow(10.0, p.mask_c)), beta = float(p.beta);
             const float* tb = band[size_t(2 * cc)].data();
             const float* rb = band[size_t(2 * cc + 1)].data();
             double sum = 0.0;
             for (size_t i = 0; i < n; ++i) {
                 const float s = gain * detail::csfLookup(csf_table_[cc], fov ? rho[i] : float(band_freq_[size_t(b)]),
                                                          l_bkg[i], fov ? ecc[i] : 0.0f);
-                const float d = detail::maskedDifference(tb[i] * s, rb[i] * s, q);
-                sum += std::pow(double(d), p.beta);
+                const float d = detail::maskedDifference(tb[i] * s, rb[i] * s, mask_p, q, mask_gain);
+                if (d > 0.0f) sum += double(std::pow(d, beta));
             }
             last_.band[size_t(b)][size_t(cc)] = std::pow(sum / double(n), 1.0 / p.beta);
         }

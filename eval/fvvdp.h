@@ -249,9 +249,9 @@ std::vector<float> csfTable(double omega_hz, const Parameters& p = kParameters);
 float csfLookup(const std::vector<float>& table, float rho_cpd, float luminance, float ecc_deg);
 
 /// Masked, perceptually normalised difference of one pixel of one band: test and reference band
-/// contrasts already multiplied by the sensitivity; q the channel's masking exponent.
-/// D = |t − r|^p / (1 + (10^c · min(|t|, |r|))^q), capped at 1e4.
-float maskedDifference(float t, float r, float q, const Parameters& p = kParameters);
+/// contrasts already multiplied by the sensitivity; p = mask_p, q the channel's masking exponent,
+/// mask_gain = 10^mask_c. D = |t − r|^p / (1 + (mask_gain · min(|t|, |r|))^q), capped at 1e4.
+float maskedDifference(float t, float r, float p, float q, float mask_gain);
 
 /// Local resolution of a flat screen at angle `angle_deg` from its axis relative to its centre's,
 /// with ppd_centre its central pixels per degree: (tan(a + δ) − tan a) / tan δ, δ = half a pixel.
