@@ -270,6 +270,17 @@ float maskedDifference(float t, float r, float p, float q, float mask_gain) {
     return std::min(d, 1e4f);
 }
 
+double eccentricityDeg(ViewGeometry::Model model, double tx, double ty, double gtx, double gty) {
+    if (model == ViewGeometry::Model::View) {
+        // The angle between (tx, ty, -1) and (gtx, gty, -1): atan2 of |cross| and dot, accurate
+        // near 0 where acos is not.
+        const double cx = ty - gty, cy = gtx - tx, cz = tx * gty - ty * gtx;
+        return std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), tx * gtx + ty * gty + 1.0) * kDeg;
+    }
+    const double dx = (std::atan(tx) - std::atan(gtx)) * kDeg, dy = (std::atan(ty) - std::atan(gty)) * kDeg;
+    return std::sqrt(dx * dx + dy * dy);
+}
+
 double resolutionMagnification(double angle_deg, double ppd_centre) {
     const double a = std::min(angle_deg, 89.9) / kDeg;
     const double delta = 0.5 / ppd_centre / kDeg;
@@ -434,14 +445,7 @@ Result<Metric> Metric::create(const Options& o) {
             bg.res_mag.resize(size_t(bw) * size_t(bh));
             for (int y = 0; y < bh; ++y)
                 for (int x = 0; x < bw; ++x) {
-                    const double tx = bg.tx[size_t(x)], ty = bg.ty[size_t(y)];
-                    double angle;
-                    if (g.model == ViewGeometry::Model::View) {
-                        angle = std::atan(std::sqrt(tx * tx + ty * ty)) * kDeg;
-                    } else {
-                        const double ax = std::atan(tx) * kDeg, ay = std::atan(ty) * kDeg;
-                        angle = std::sqrt(ax * ax + ay * ay);
-                    }
+                    const double angle = detail::eccentricityDeg(g.model, bg.tx[size_t(x)], bg.ty[size_t(y)], 0.0, 0.0);
                     bg.res_mag[size_t(y) * bw + x] = float(detail::resolutionMagnification(angle, ppd));
                 }
         }
@@ -461,6 +465,7 @@ void Metric::reset() {
     sum_video_ = 0.0;
     q_image_ = 0.0;
     last_ = {};
+    distortion_.release();
 }
 
 Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px) {
@@ -528,14 +533,13 @@ void Metric::processFrame(glm::vec2 gaze_px) {
     const glm::vec4 t = g.fov_tan;
     const double gtx = t.x + (double(gaze_px.x) + 0.5) / w * (t.y - t.x);
     const double gty = t.z - (double(gaze_px.y) + 0.5) / h * (t.z - t.w);
-    const double g_len = std::sqrt(gtx * gtx + gty * gty + 1.0);
-    const double gax = std::atan(gtx) * kDeg, gay = std::atan(gty) * kDeg;
 
     last_.band.assign(size_t(nb), {0.0, 0.0});
     // Gaussian level l of each channel; level l + 1 is made from it as the bands go down.
     std::array<std::vector<float>, 4> cur = std::move(chan), next;
     std::vector<float> expanded(npix), ecc(npix), rho(npix);
     std::array<std::vector<float>, 4> band;
+    std::vector<std::vector<float>> dmap_bands(options_.distortion_map ? size_t(nb) : 0);
     for (int b = 0; b < nb; ++b) {
         const BandGeometry& bg = bands_[size_t(b)];
         const int bw = bg.w, bh = bg.h, nw = (bw + 1) / 2, nh = (bh + 1) / 2;
@@ -568,20 +572,7 @@ void Metric::processFrame(glm::vec2 gaze_px) {
             for (int y = 0; y < bh; ++y) {
                 const double ty = bg.ty[size_t(y)];
                 for (int x = 0; x < bw; ++x) {
-                    const double tx = bg.tx[size_t(x)];
-                    double e;
-                    if (g.model == ViewGeometry::Model::View) {
-                        const double dot = (tx * gtx + ty * gty + 1.0) / (std::sqrt(tx * tx + ty * ty + 1.0) * g_len);
-                        const double cx = ty - gty, cy = gtx - tx, cz = tx * gty - ty * gtx;  // cross product
-                        e = std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz) /
-                                           (std::sqrt(tx * tx + ty * ty + 1.0) * g_len),
-                                       dot) *
-                            kDeg;
-                    } else {
-                        const double dx = std::atan(tx) * kDeg - gax, dy = std::atan(ty) * kDeg - gay;
-                        e = std::sqrt(dx * dx + dy * dy);
-                    }
-                    ecc[size_t(y) * bw + x] = float(e);
+                    ecc[size_t(y) * bw + x] = float(detail::eccentricityDeg(g.model, bg.tx[size_t(x)], ty, gtx, gty));
                     rho[size_t(y) * bw + x] = float(band_freq_[size_t(b)]) * bg.res_mag[size_t(y) * bw + x];
                 }
             }
@@ -593,15 +584,50 @@ void Metric::processFrame(glm::vec2 gaze_px) {
             const float* tb = band[size_t(2 * cc)].data();
             const float* rb = band[size_t(2 * cc + 1)].data();
             double sum = 0.0;
+            float* dmap = nullptr;
+            if (options_.distortion_map) {
+                // The map's band: the sustained D plus the weighted transient D, without the
+                // pyramid's gain (the reference's raw heat map).
+                auto& db = dmap_bands[size_t(b)];
+                if (cc == 0) db.assign(n, 0.0f);
+                dmap = db.data();
+            }
+            const float dmap_w = (cc == 0 ? 1.0f : float(p.w_transient)) / band_mul;
             for (size_t i = 0; i < n; ++i) {
                 const float s = gain * detail::csfLookup(csf_table_[cc], fov ? rho[i] : float(band_freq_[size_t(b)]),
                                                          l_bkg[i], fov ? ecc[i] : 0.0f);
                 const float d = detail::maskedDifference(tb[i] * s, rb[i] * s, mask_p, q, mask_gain);
                 if (d > 0.0f) sum += double(std::pow(d, beta));
+                if (dmap) dmap[i] += dmap_w * d;
             }
             last_.band[size_t(b)][size_t(cc)] = std::pow(sum / double(n), 1.0 / p.beta);
         }
         std::swap(cur, next);
+    }
+
+    if (options_.distortion_map) {
+        // Collapse the map's pyramid (a zero base band), then to JOD units: |jod_a| · D^(10^log_jod_exp).
+        std::vector<float> img, up;
+        int iw = 0, ih = 0;
+        if (nb > 0) {
+            iw = (bands_.back().w + 1) / 2;
+            ih = (bands_.back().h + 1) / 2;
+            img.assign(size_t(iw) * size_t(ih), 0.0f);
+        }
+        for (int b = nb - 1; b >= 0; --b) {
+            const BandGeometry& bg = bands_[size_t(b)];
+            up.resize(size_t(bg.w) * size_t(bg.h));
+            detail::pyramidExpand(img.data(), iw, ih, up.data(), bg.w, bg.h);
+            for (size_t i = 0; i < up.size(); ++i) up[i] += dmap_bands[size_t(b)][i];
+            std::swap(img, up);
+            iw = bg.w;
+            ih = bg.h;
+        }
+        distortion_.create(h, w, CV_32F);
+        const float a = float(std::abs(p.jod_a)), e = float(std::pow(10.0, p.log_jod_exp));
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                distortion_.at<float>(y, x) = nb > 0 ? a * std::pow(img[size_t(y) * w + x], e) : 0.0f;
     }
 
     // Pooling: bands (beta_sch) with the channels' weights, channels (beta_tch), frames (beta_t).

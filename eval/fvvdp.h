@@ -105,6 +105,8 @@ struct Options {
     ViewGeometry geometry;
     double fps = 90.0;    ///< frame rate of the video; sets the temporal filters' sampling
     bool foveated = true;  ///< false: foveal sensitivity everywhere (gaze ignored)
+    /// Keep each frame's per-pixel distortion (Metric::distortionMap): one more pyramid per frame.
+    bool distortion_map = false;
 };
 
 /// The calibrated parameters (the reference's fvvdp_parameters.json, version 1.2.3, calibration
@@ -159,6 +161,11 @@ public:
     /// into the temporal filters' past. Fails before the first frame.
     Result<double> jod() const;
 
+    /// Per-pixel visible distortion of the last frame in JOD units (the reference's "raw" heat map:
+    /// the masked differences of all bands collapsed like a Laplacian pyramid, sustained plus 0.25 ·
+    /// transient, then |jod_a| · D^(10^log_jod_exp)); CV_32F of the image's size, 0 where nothing
+    /// is visible. Empty unless Options::distortion_map is set.
+    const cv::Mat& distortionMap() const { return distortion_; }
     /// Quality of the last frame pushed (empty before the first).
     const FrameQuality& lastFrame() const { return last_; }
     std::size_t frames() const { return frames_; }
@@ -199,6 +206,7 @@ private:
     double sum_video_ = 0.0;  ///< sum over frames of (pooled quality)^beta_t
     double q_image_ = 0.0;    ///< first frame's sustained-only quality (the image score)
     FrameQuality last_;
+    cv::Mat distortion_;
 };
 
 /// JOD of a whole video pair (frames in order, one gaze per frame or none for the image centre).
@@ -252,6 +260,12 @@ float csfLookup(const std::vector<float>& table, float rho_cpd, float luminance,
 /// contrasts already multiplied by the sensitivity; p = mask_p, q the channel's masking exponent,
 /// mask_gain = 10^mask_c. D = |t − r|^p / (1 + (mask_gain · min(|t|, |r|))^q), capped at 1e4.
 float maskedDifference(float t, float r, float p, float q, float mask_gain);
+
+/// Eccentricity in degrees of the pixel at tangents (tx, ty) for the gaze at (gtx, gty): the angle
+/// between their rays (Model::View) or the norm of the horizontal and vertical angle differences
+/// (Model::FlatScreen, the reference's). With gaze (0, 0): the angle from the optical axis that
+/// sets the local resolution.
+double eccentricityDeg(ViewGeometry::Model model, double tx, double ty, double gtx, double gty);
 
 /// Local resolution of a flat screen at angle `angle_deg` from its axis relative to its centre's,
 /// with ppd_centre its central pixels per degree: (tan(a + δ) − tan a) / tan δ, δ = half a pixel.

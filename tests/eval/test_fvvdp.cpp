@@ -13,6 +13,7 @@ namespace wrsfov::eval::fvvdp {
 namespace {
 
 constexpr int kSize = 128;
+constexpr double kPi = 3.14159265358979323846;
 
 // A textured frame: sine gratings of a few frequencies and smooth noise around mid grey, in [0.1, 0.9].
 cv::Mat texture(int w = kSize, int h = kSize, uint64_t seed = 7) {
@@ -213,6 +214,47 @@ TEST(Fvvdp, StreamingKeepsOnlyTheFilterWindow) {
     s->reset();
     for (int f = 0; f < 4; ++f) ASSERT_TRUE(s->push(t[size_t(f)], r[size_t(f)], {kSize / 2, kSize / 2}).ok());
     EXPECT_DOUBLE_EQ(s->jod().value(), whole);
+}
+
+TEST(Fvvdp, DistortionMapShowsWhereTheErrorIs) {
+    const int w = 256, h = 128;
+    const cv::Mat ref = texture(w, h), test = disc(ref, blurred(ref, 3.0), {200.0f, 64.0f}, 16.0f);
+    Options o = options(true, w, h, 16.0);
+    auto plain = Metric::create(o);
+    ASSERT_TRUE(plain->push(test, ref).ok());
+    EXPECT_TRUE(plain->distortionMap().empty());
+    o.distortion_map = true;
+    auto m = Metric::create(o);
+    ASSERT_TRUE(m->push(ref, ref, {200.0f, 64.0f}).ok());
+    ASSERT_EQ(m->distortionMap().size(), cv::Size(w, h));
+    EXPECT_EQ(cv::countNonZero(m->distortionMap()), 0);
+    ASSERT_TRUE(m->push(test, ref, {200.0f, 64.0f}).ok());
+    const cv::Mat& d = m->distortionMap();
+    EXPECT_TRUE(cv::checkRange(d, true, nullptr, 0.0, 100.0));
+    const double inside = cv::mean(d(cv::Rect(190, 54, 20, 20)))[0], outside = cv::mean(d(cv::Rect(20, 20, 60, 80)))[0];
+    EXPECT_GT(inside, 0.05);
+    EXPECT_GT(inside, 20.0 * outside) << "inside " << inside << ", outside " << outside;
+}
+
+TEST(Fvvdp, ViewAndFlatScreenGeometry) {
+    using Model = ViewGeometry::Model;
+    // On an axis both models give the true angle; off the axes the flat-screen norm of per-axis
+    // angles is larger (45°, 45° from the axis: 63.6° against 54.7°).
+    EXPECT_NEAR(detail::eccentricityDeg(Model::View, std::tan(0.5), 0.0, 0.0, 0.0), 0.5 * 180.0 / kPi, 1e-9);
+    EXPECT_NEAR(detail::eccentricityDeg(Model::FlatScreen, 0.0, std::tan(0.5), 0.0, 0.0), 0.5 * 180.0 / kPi, 1e-9);
+    EXPECT_NEAR(detail::eccentricityDeg(Model::View, 1.0, 1.0, 0.0, 0.0), 54.7356, 1e-3);
+    EXPECT_NEAR(detail::eccentricityDeg(Model::FlatScreen, 1.0, 1.0, 0.0, 0.0), 63.6396, 1e-3);
+    EXPECT_NEAR(detail::eccentricityDeg(Model::View, 0.3, -0.2, 0.3, -0.2), 0.0, 1e-9);
+    // Symmetric in pixel and gaze.
+    EXPECT_NEAR(detail::eccentricityDeg(Model::View, 0.7, 0.1, -0.2, 0.4),
+                detail::eccentricityDeg(Model::View, -0.2, 0.4, 0.7, 0.1), 1e-9);
+    // Pixels per degree: the central pixel's subtense, and the flat screen made from it.
+    const ViewGeometry g = ViewGeometry::flatScreenPpd(512, 256, 30.0);
+    EXPECT_NEAR(g.ppdCentre(), 30.0, 1e-4);
+    EXPECT_NEAR(ViewGeometry::symmetric(1000, 500, 90.0).ppdCentre(), 1.0 / (2.0 * std::atan(0.001) * 180.0 / kPi), 1e-3);
+    // More pixels per degree off-axis on a flat screen; 1 at the axis.
+    EXPECT_NEAR(detail::resolutionMagnification(0.0, 30.0), 1.0, 1e-3);
+    EXPECT_NEAR(detail::resolutionMagnification(40.0, 30.0), 1.0 / std::pow(std::cos(40.0 * kPi / 180.0), 2.0), 0.01);
 }
 
 TEST(Fvvdp, ContrastSensitivityFunction) {
