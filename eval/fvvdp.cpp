@@ -155,9 +155,12 @@ namespace {
 // (1, 3 or 5 coefficients).
 double lumDep(const double* c, int n, double lum) {
     switch (n) {
-        case 1: return c[0];
-        case 3: return c[0] * std::pow(1.0 + c[1] / lum, -c[2]);
-        default: return c[0] * std::pow(1.0 + c[1] / lum, -c[2]) * (1.0 - std::pow(1.0 + c[3] / lum, -c[4]));
+        case 1:
+            return c[0];
+        case 3:
+            return c[0] * std::pow(1.0 + c[1] / lum, -c[2]);
+        default:
+            return c[0] * std::pow(1.0 + c[1] / lum, -c[2]) * (1.0 - std::pow(1.0 + c[3] / lum, -c[4]));
     }
 }
 
@@ -183,7 +186,8 @@ double mechanismSensitivity(int m, double freq, double area, double lum) {
     const Mechanism& c = kMechanisms[m];
     const double s_max = lumDep(c.s_max, c.n_s_max, lum);
     const double f_max = lumDep(c.f_max, c.n_f_max, lum);
-    double s_peak = s_max / std::pow(10.0, std::pow(std::log10(freq) - std::log10(f_max), 2.0) / (0.5 * std::pow(2.0, c.bw)));
+    double s_peak =
+        s_max / std::pow(10.0, std::pow(std::log10(freq) - std::log10(f_max), 2.0) / (0.5 * std::pow(2.0, c.bw)));
     if (m > 0 && freq < f_max) s_peak = s_max;  // chromatic mechanisms are low-pass
     constexpr double f0 = 0.65;
     const double k = c.ac_prime + area * f0;
@@ -207,9 +211,8 @@ double csfAchromatic(double rho, double area, double luminance) {
         cc[i] = lms_delta[i] / lms_mean[i];
         cc_norm2 += cc[i] * cc[i];
     }
-    const double mech[3][3] = {{1.0, kColmat[1], kColmat[4]},
-                               {1.0, -kColmat[2], kColmat[5]},
-                               {-kColmat[0], -kColmat[3], 1.0}};
+    const double mech[3][3] = {
+        {1.0, kColmat[1], kColmat[4]}, {1.0, -kColmat[2], kColmat[5]}, {-kColmat[0], -kColmat[3], 1.0}};
     const double lum = lms_mean[0] + lms_mean[1];
     double c2 = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -339,9 +342,12 @@ Taps expandTaps(int m, int n) {
         for (int k = 0; k < 5; ++k) {
             const int j = i + k - 2;
             int src = -1;
-            if (j == -2) src = 0;
-            else if (j >= n) src = (j == n + (n & 1)) ? m - 1 : -1;
-            else if (j >= 0 && !(j & 1)) src = j / 2;
+            if (j == -2)
+                src = 0;
+            else if (j >= n)
+                src = (j == n + (n & 1)) ? m - 1 : -1;
+            else if (j >= 0 && !(j & 1))
+                src = j / 2;
             if (src >= 0) t.add(src, 2.0f * kKernel[k]);
         }
         t.close();
@@ -405,8 +411,8 @@ Result<Metric> Metric::create(const Options& o) {
     if (!std::isfinite(d.peak) || !std::isfinite(d.contrast) || !std::isfinite(d.ambient_lux) ||
         !std::isfinite(d.reflectivity) || !(d.contrast > 1.0) || d.ambient_lux < 0 || d.reflectivity < 0 ||
         !(d.peak > d.black()))
-        return error(FvvdpError::InvalidOptions, "display photometry (peak " + std::to_string(d.peak) + " cd/m², contrast " +
-                                                     std::to_string(d.contrast) + ", ambient " +
+        return error(FvvdpError::InvalidOptions, "display photometry (peak " + std::to_string(d.peak) +
+                                                     " cd/m², contrast " + std::to_string(d.contrast) + ", ambient " +
                                                      std::to_string(d.ambient_lux) + " lux, reflectivity " +
                                                      std::to_string(d.reflectivity) + ") is not a display");
 
@@ -473,8 +479,8 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
     if (Status s = checkImage(test, "test", g); !s) return s;
     if (Status s = checkImage(reference, "reference", g); !s) return s;
     if (!std::isfinite(gaze_px.x) || !std::isfinite(gaze_px.y))
-        return error(FvvdpError::InvalidInput, "gaze (" + std::to_string(gaze_px.x) + ", " +
-                                                   std::to_string(gaze_px.y) + ") is not finite");
+        return error(FvvdpError::InvalidInput,
+                     "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");
 
     const int w = int(g.width), h = int(g.height);
     const float peak = float(options_.photometry.peak), black = float(options_.photometry.black());
@@ -485,7 +491,8 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
         for (int y = 0; y < h; ++y) {
             const float* p = img.ptr<float>(y);
             float* o = out.v.data() + size_t(y) * w;
-            for (int x = 0; x < w; ++x) o[x] = detail::displayLuminance(p[3 * x], p[3 * x + 1], p[3 * x + 2], peak, black);
+            for (int x = 0; x < w; ++x)
+                o[x] = detail::displayLuminance(p[3 * x], p[3 * x + 1], p[3 * x + 2], peak, black);
         }
     };
     if (window_test_.empty()) {
@@ -564,7 +571,8 @@ void Metric::processFrame(glm::vec2 gaze_px) {
         const float band_mul = b == 0 ? 1.0f : 2.0f;
         for (size_t i = 0; i < n; ++i) l_bkg[i] = std::max(l_bkg[i], 0.1f);
         for (int c = 0; c < 4; ++c)
-            for (size_t i = 0; i < n; ++i) band[size_t(c)][i] = std::min(band[size_t(c)][i] / l_bkg[i], 1000.0f) * band_mul;
+            for (size_t i = 0; i < n; ++i)
+                band[size_t(c)][i] = std::min(band[size_t(c)][i] / l_bkg[i], 1000.0f) * band_mul;
 
         // Eccentricity and local frequency of each pixel.
         const bool fov = options_.foveated;
@@ -638,8 +646,7 @@ void Metric::processFrame(glm::vec2 gaze_px) {
             q_ch[cc] += std::pow(wch * last_.band[size_t(b)][size_t(cc)], p.beta_sch);
         }
     for (double& v : q_ch) v = std::pow(v, 1.0 / p.beta_sch);
-    const double q_frame =
-        std::pow(std::pow(q_ch[0], p.beta_tch) + std::pow(q_ch[1], p.beta_tch), 1.0 / p.beta_tch);
+    const double q_frame = std::pow(std::pow(q_ch[0], p.beta_tch) + std::pow(q_ch[1], p.beta_tch), 1.0 / p.beta_tch);
     if (frames_ == 0) q_image_ = q_ch[0];
     sum_video_ += std::pow(q_frame, p.beta_t);
     ++frames_;

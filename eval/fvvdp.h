@@ -88,8 +88,7 @@ struct ViewGeometry {
     static ViewGeometry symmetric(uint32_t width, uint32_t height, double fov_h_deg, Model model = Model::View);
     /// The reference's flat screen: a display width_m × height_m seen from distance_m, the image
     /// filling it (Model::FlatScreen).
-    static ViewGeometry flatScreen(uint32_t width, uint32_t height, double width_m, double height_m,
-                                   double distance_m);
+    static ViewGeometry flatScreen(uint32_t width, uint32_t height, double width_m, double height_m, double distance_m);
     /// The reference's flat screen with the given pixels per degree at its centre
     /// (Model::FlatScreen): the display width whose central pixel subtends 1 / ppd degrees.
     static ViewGeometry flatScreenPpd(uint32_t width, uint32_t height, double ppd);
@@ -103,7 +102,7 @@ struct ViewGeometry {
 struct Options {
     DisplayPhotometry photometry = DisplayPhotometry::monitor();
     ViewGeometry geometry;
-    double fps = 90.0;    ///< frame rate of the video; sets the temporal filters' sampling
+    double fps = 90.0;     ///< frame rate of the video; sets the temporal filters' sampling
     bool foveated = true;  ///< false: foveal sensitivity everywhere (gaze ignored)
     /// Keep each frame's per-pixel distortion (Metric::distortionMap): one more pyramid per frame.
     bool distortion_map = false;
@@ -115,19 +114,19 @@ struct Parameters {
     double mask_p = 2.4;
     double mask_c = -0.973838;
     double w_transient = 0.25;
-    double beta = 1.52134;      ///< spatial pooling (p-norm over the pixels of a band)
-    double beta_t = 1.0;        ///< pooling over frames
-    double beta_tch = 0.666092; ///< pooling over the two temporal channels
-    double beta_sch = 1.0;      ///< pooling over the bands
+    double beta = 1.52134;       ///< spatial pooling (p-norm over the pixels of a band)
+    double beta_t = 1.0;         ///< pooling over frames
+    double beta_tch = 0.666092;  ///< pooling over the two temporal channels
+    double beta_sch = 1.0;       ///< pooling over the bands
     double sustained_sigma = 0.5;
     double sustained_beta = 0.06;
-    double csf_sigma = -1.5;    ///< stimulus size in wavelengths (negative: fixed number of cycles)
+    double csf_sigma = -1.5;                  ///< stimulus size in wavelengths (negative: fixed number of cycles)
     double sensitivity_correction = 16.2596;  ///< dB
     double jod_a = -0.0161713;
     double log_jod_exp = -0.2280;
     double mask_q_sust = 2.43685;
     double mask_q_trans = 4.946;
-    double k_cm = 0.604562;     ///< exponent of the cortical magnification
+    double k_cm = 0.604562;  ///< exponent of the cortical magnification
 };
 inline constexpr Parameters kParameters{};
 inline constexpr const char* kVersion = "1.2.3";
@@ -186,8 +185,8 @@ private:
     };
     struct BandGeometry {
         int w = 0, h = 0;
-        std::vector<float> tx, ty;  ///< tangent of each column and row
-        std::vector<float> res_mag; ///< local resolution / resolution at the optical axis
+        std::vector<float> tx, ty;   ///< tangent of each column and row
+        std::vector<float> res_mag;  ///< local resolution / resolution at the optical axis
     };
 
     Metric() = default;

@@ -5,6 +5,7 @@
 //
 // TEST and REFERENCE are a PNG file (an image) or a directory whose *.png files, in name order,
 // are the frames. Prints the JOD. Exit status 0 on success, 1 on bad input, 2 on a usage error.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -103,21 +104,36 @@ int main(int argc, char** argv) {
             return 0;
         } else if (a == "--display") {
             std::string d = value();
-            if (d == "monitor") opt.photometry = fvvdp::DisplayPhotometry::monitor();
-            else if (d == "hmd") opt.photometry = fvvdp::DisplayPhotometry::hmd();
-            else usage("--display: '" + d + "' is neither monitor nor hmd");
-        } else if (a == "--fov-deg") fov_deg = numbers(value(), 1, "--fov-deg")[0];
-        else if (a == "--fov-tan") fov_tan = numbers(value(), 4, "--fov-tan");
-        else if (a == "--ppd") ppd = numbers(value(), 1, "--ppd")[0];
-        else if (a == "--flat") flat = true;
-        else if (a == "--fps") opt.fps = numbers(value(), 1, "--fps")[0];
-        else if (a == "--gaze") gaze = numbers(value(), 2, "--gaze");
-        else if (a == "--gaze-csv") gaze_csv = value();
-        else if (a == "--no-foveated") opt.foveated = false;
-        else if (a == "--frames") max_frames = long(numbers(value(), 1, "--frames")[0]);
-        else if (a == "--per-band") per_band = true;
-        else if (!a.empty() && a[0] == '-') usage("unknown option " + a);
-        else pos.push_back(a);
+            if (d == "monitor")
+                opt.photometry = fvvdp::DisplayPhotometry::monitor();
+            else if (d == "hmd")
+                opt.photometry = fvvdp::DisplayPhotometry::hmd();
+            else
+                usage("--display: '" + d + "' is neither monitor nor hmd");
+        } else if (a == "--fov-deg")
+            fov_deg = numbers(value(), 1, "--fov-deg")[0];
+        else if (a == "--fov-tan")
+            fov_tan = numbers(value(), 4, "--fov-tan");
+        else if (a == "--ppd")
+            ppd = numbers(value(), 1, "--ppd")[0];
+        else if (a == "--flat")
+            flat = true;
+        else if (a == "--fps")
+            opt.fps = numbers(value(), 1, "--fps")[0];
+        else if (a == "--gaze")
+            gaze = numbers(value(), 2, "--gaze");
+        else if (a == "--gaze-csv")
+            gaze_csv = value();
+        else if (a == "--no-foveated")
+            opt.foveated = false;
+        else if (a == "--frames")
+            max_frames = long(numbers(value(), 1, "--frames")[0]);
+        else if (a == "--per-band")
+            per_band = true;
+        else if (!a.empty() && a[0] == '-')
+            usage("unknown option " + a);
+        else
+            pos.push_back(a);
     }
     if (pos.size() != 2) usage("TEST and REFERENCE are needed");
 
@@ -159,7 +175,8 @@ int main(int argc, char** argv) {
         return 1;
     }
     const uint32_t w = uint32_t(t.cols), h = uint32_t(t.rows);
-    if (ppd > 0) opt.geometry = fvvdp::ViewGeometry::flatScreenPpd(w, h, ppd);
+    if (ppd > 0)
+        opt.geometry = fvvdp::ViewGeometry::flatScreenPpd(w, h, ppd);
     else if (!fov_tan.empty())
         opt.geometry = fvvdp::ViewGeometry::view(
             w, h, glm::vec4(float(fov_tan[0]), float(fov_tan[1]), float(fov_tan[2]), float(fov_tan[3])));

@@ -151,7 +151,8 @@ TEST(Fvvdp, NonFiniteInputIsAnErrorNotAScore) {
         Status s = m->push(test, ref, {64.0f, 64.0f});
         ASSERT_FALSE(s.ok());
         EXPECT_EQ(s.error().code, int(FvvdpError::NonFinite));
-        EXPECT_NE(s.message().find("test image has a non-finite value at pixel (9, 5)"), std::string::npos) << s.message();
+        EXPECT_NE(s.message().find("test image has a non-finite value at pixel (9, 5)"), std::string::npos)
+            << s.message();
         s = m->push(ref, test, {64.0f, 64.0f});
         ASSERT_FALSE(s.ok());
         EXPECT_NE(s.message().find("reference"), std::string::npos) << s.message();
@@ -251,7 +252,8 @@ TEST(Fvvdp, ViewAndFlatScreenGeometry) {
     // Pixels per degree: the central pixel's subtense, and the flat screen made from it.
     const ViewGeometry g = ViewGeometry::flatScreenPpd(512, 256, 30.0);
     EXPECT_NEAR(g.ppdCentre(), 30.0, 1e-4);
-    EXPECT_NEAR(ViewGeometry::symmetric(1000, 500, 90.0).ppdCentre(), 1.0 / (2.0 * std::atan(0.001) * 180.0 / kPi), 1e-3);
+    EXPECT_NEAR(ViewGeometry::symmetric(1000, 500, 90.0).ppdCentre(), 1.0 / (2.0 * std::atan(0.001) * 180.0 / kPi),
+                1e-3);
     // More pixels per degree off-axis on a flat screen; 1 at the axis.
     EXPECT_NEAR(detail::resolutionMagnification(0.0, 30.0), 1.0, 1e-3);
     EXPECT_NEAR(detail::resolutionMagnification(40.0, 30.0), 1.0 / std::pow(std::cos(40.0 * kPi / 180.0), 2.0), 0.01);
