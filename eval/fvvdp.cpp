@@ -290,6 +290,16 @@ double resolutionMagnification(double angle_deg, double ppd_centre) {
     return (std::tan(a + delta) - std::tan(a)) / std::tan(delta);
 }
 
+std::array<double, 2> poolFrame(const FrameQuality& f, const Parameters& p) {
+    // Bands (beta_sch) with the channels' weights, then the two channels (beta_tch).
+    double q_ch[2] = {0.0, 0.0};
+    for (const auto& b : f.band)
+        for (int cc = 0; cc < 2; ++cc)
+            q_ch[cc] += std::pow((cc == 0 ? 1.0 : p.w_transient) * b[size_t(cc)], p.beta_sch);
+    for (double& v : q_ch) v = std::pow(v, 1.0 / p.beta_sch);
+    return {q_ch[0], std::pow(std::pow(q_ch[0], p.beta_tch) + std::pow(q_ch[1], p.beta_tch), 1.0 / p.beta_tch)};
+}
+
 double jodFromQuality(double q, const Parameters& p) {
     return 10.0 - std::abs(p.jod_a) * std::pow(q, std::pow(10.0, p.log_jod_exp));
 }
@@ -512,6 +522,9 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
     return Status::success();
 }
 
+// One frame, in the order a compute version would run its passes: temporal filters (per pixel),
+// pyramid reduction per level, then per band expansion, contrast, sensitivity, masking and a
+// partial sum (per pixel, then reduced), the distortion map's collapse, and pooling (per frame).
 void Metric::processFrame(glm::vec2 gaze_px) {
     const Parameters& p = kParameters;
     const ViewGeometry& g = options_.geometry;
@@ -638,16 +651,9 @@ void Metric::processFrame(glm::vec2 gaze_px) {
                 distortion_.at<float>(y, x) = nb > 0 ? a * std::pow(img[size_t(y) * w + x], e) : 0.0f;
     }
 
-    // Pooling: bands (beta_sch) with the channels' weights, channels (beta_tch), frames (beta_t).
-    double q_ch[2] = {0.0, 0.0};
-    for (int b = 0; b < nb; ++b)
-        for (int cc = 0; cc < 2; ++cc) {
-            const double wch = cc == 0 ? 1.0 : p.w_transient;
-            q_ch[cc] += std::pow(wch * last_.band[size_t(b)][size_t(cc)], p.beta_sch);
-        }
-    for (double& v : q_ch) v = std::pow(v, 1.0 / p.beta_sch);
-    const double q_frame = std::pow(std::pow(q_ch[0], p.beta_tch) + std::pow(q_ch[1], p.beta_tch), 1.0 / p.beta_tch);
-    if (frames_ == 0) q_image_ = q_ch[0];
+    const std::array<double, 2> q = detail::poolFrame(last_);
+    if (frames_ == 0) q_image_ = q[0];
+    const double q_frame = q[1];
     sum_video_ += std::pow(q_frame, p.beta_t);
     ++frames_;
 }

@@ -270,6 +270,10 @@ double eccentricityDeg(ViewGeometry::Model model, double tx, double ty, double g
 /// with ppd_centre its central pixels per degree: (tan(a + δ) − tan a) / tan δ, δ = half a pixel.
 double resolutionMagnification(double angle_deg, double ppd_centre);
 
+/// Pools one frame's band qualities: {the sustained channel alone (an image's quality), both
+/// channels (a video frame's quality)}; frames are then pooled by the beta_t-mean.
+std::array<double, 2> poolFrame(const FrameQuality& frame, const Parameters& p = kParameters);
+
 /// JOD of a pooled quality Q: 10 − |jod_a| · Q^(10^log_jod_exp).
 double jodFromQuality(double q, const Parameters& p = kParameters);
 
