@@ -484,6 +484,10 @@ void Metric::reset() {
     distortion_.release();
 }
 
+Status Metric::push(const cv::Mat& test, const cv::Mat& reference) {
+    return push(test, reference, glm::vec2(float(options_.geometry.width / 2), float(options_.geometry.height / 2)));
+}
+
 Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px) {
     const ViewGeometry& g = options_.geometry;
     if (Status s = checkImage(test, "test", g); !s) return s;
@@ -675,10 +679,10 @@ Result<double> score(const std::vector<cv::Mat>& test, const std::vector<cv::Mat
                      std::to_string(gaze_px.size()) + " gaze points for " + std::to_string(test.size()) + " frames");
     auto metric = Metric::create(options);
     if (!metric) return metric.error();
-    // The image centre as the reference takes it: pixel (W / 2, H / 2), integer division.
-    const glm::vec2 centre{float(options.geometry.width / 2), float(options.geometry.height / 2)};
     for (size_t f = 0; f < test.size(); ++f)
-        if (Status s = metric->push(test[f], reference[f], gaze_px.empty() ? centre : gaze_px[f]); !s)
+        if (Status s =
+                gaze_px.empty() ? metric->push(test[f], reference[f]) : metric->push(test[f], reference[f], gaze_px[f]);
+            !s)
             return Error{s.error().code, s.error().message + " (frame " + std::to_string(f) + ")"};
     return metric->jod();
 }

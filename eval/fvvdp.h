@@ -153,7 +153,9 @@ public:
     /// pixel looked at (its centre (x + 0.5, y + 0.5); fractional and off-image values allowed),
     /// used in foveated mode. Fails (the state left as it was) for an empty image, a wrong type or
     /// size, a NaN or infinite value (naming the first pixel) or a non-finite gaze.
-    Status push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px = {0.0f, 0.0f});
+    Status push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px);
+    /// The same with the gaze at the image's central pixel (W / 2, H / 2), the reference's default.
+    Status push(const cv::Mat& test, const cv::Mat& reference);
 
     /// JOD of the frames pushed so far. One frame is scored as an image (the sustained channel
     /// alone, as the reference scores images); more as a video whose first frame is replicated
