@@ -172,6 +172,19 @@ Result<std::unique_ptr<PhotoScene>> PhotoScene::create(const PhotoOptions& o) {
     const layers::Fov f0 = photoFov(o, 0);
     s->ppt_ = o.width / (std::tan(f0.angleRight) - std::tan(f0.angleLeft));
     const double ppt = s->ppt_;
+    if (o.motion == PhotoMotion::Turn) {
+        // Every ray of every frame must meet the plane in front: the largest yaw plus the view's widest
+        // half-angle stays below 85°.
+        const double yawMax = std::abs(double(o.speed)) * o.frames / ppt;
+        double half = 0;
+        for (int eye = 0; eye < (o.monitor ? 1 : 2); ++eye) {
+            const layers::Fov f = photoFov(o, eye);
+            half = std::max({half, std::abs(double(f.angleLeft)), std::abs(double(f.angleRight))});
+        }
+        if (yawMax + half >= 85.0 * kPi / 180.0)
+            return Error{1, "photo: a turn of " + std::to_string(yawMax * 180.0 / kPi).substr(0, 5) + "° over " +
+                                std::to_string(o.frames) + " frames looks away from the plane"};
+    }
     if (o.image == "grass" || o.image == "wood") {
         // The region of the plane any view sees over the frames (corners and edge midpoints of both
         // eyes at the first, middle and last frame), in tangent units, plus the kernel's margin.
