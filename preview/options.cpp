@@ -115,7 +115,9 @@ std::vector<std::pair<std::string, T>> named(const T (&values)[N]) {
 }
 
 constexpr View kViews[] = {View::Stereo, View::Left, View::Right, View::Compare, View::Error};
-constexpr SceneKind kScenes[] = {SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Text};
+constexpr SceneKind kScenes[] = {SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Text, SceneKind::Photo};
+constexpr scenes::PhotoMotion kPhotoMotions[] = {scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan,
+                                                 scenes::PhotoMotion::Turn};
 
 // The command line over `o`: each option writes into it; `resize` and `cursor` are read after parsing.
 struct CommandLine {
@@ -131,7 +133,15 @@ struct CommandLine {
         cli::setup(app);
         cli::option(app, "--size", size, cli::size(32, 4096), "Image size per eye, W and H in 32..4096.");
         cli::option(app, "--scene", o.scene, cli::oneOf(named(kScenes)),
-                    "Scene: atrium, dynamic or text (text needs about 1400 pixels per eye to be legible).");
+                    "Scene: atrium, dynamic, text (needs about 1400 pixels per eye to be legible) or photo (natural "
+                    "texture on a plane: --photo, --photo-motion, --photo-speed).");
+        cli::option(app, "--photo", o.photoImage, cli::text("an image file, grass or wood", "IMAGE"),
+                    "Scene photo's image: a PNG or JPEG file, or a generated texture: grass (the default) or wood.");
+        cli::option(app, "--photo-motion", o.photoMotion, cli::oneOf(named(kPhotoMotions)),
+                    "Scene photo's head: static, pan (the default) or turn.");
+        cli::option(app, "--photo-speed", o.photoSpeed, cli::number<float>(-64, 64),
+                    "Scene photo's speed in pixels per frame at 90 Hz at the view's centre (default 0.37).")
+            ->type_name("PX");
         cli::option(app, "--path", o.path, cli::oneOf(named(kPaths)),
                     "Camera path of atrium and dynamic: static, lateral or turn.");
         cli::option(app, "--method", o.method,
@@ -238,7 +248,7 @@ std::string keyHelp() {
     return "keys:\n"
            "  1 2 3 4 5 method: reference, FOV, FOV+TAA, WRS-paper, WRS   M  next method\n"
            "  F         fovea size 5 -> 7.5 -> 10 degrees         G  foveation mip <-> gauss\n"
-           "  N         scene text -> atrium -> dynamic           P  camera path static -> lateral -> turn\n"
+           "  N         scene text -> atrium -> dynamic -> photo  P  camera path static -> lateral -> turn\n"
            "  V         view stereo -> left -> right -> compare -> error\n"
            "  I         gaze source (mouse, generator, and the one given with --gaze)\n"
            "  O         gaze marker and circles on/off\n"

@@ -38,6 +38,9 @@ struct PreviewOptions {
     uint32_t width = 320, height = 288;   ///< per eye
     SceneKind scene = SceneKind::Atrium;  ///< text needs about 1400 px per eye to be legible
     scenes::CameraPath path = scenes::CameraPath::Lateral;
+    std::string photoImage = "grass";  ///< scene photo (--photo, --photo-motion, --photo-speed)
+    scenes::PhotoMotion photoMotion = scenes::PhotoMotion::Pan;
+    float photoSpeed = 0.37f;
     PreviewMethod method = PreviewMethod::Wrs;
     float foveaDeg = 5.0f;
     FoveationMode mode = FoveationMode::Mip;

@@ -88,6 +88,9 @@ public:
           mode_(o.mode),
           scene_(o.scene),
           path_(o.path),
+          photoImage_(o.photoImage),
+          photoMotion_(o.photoMotion),
+          photoSpeed_(o.photoSpeed),
           view_(o.view),
           overlay_(o.overlay),
           gazeSpec_(o.gaze) {}
@@ -123,6 +126,9 @@ private:
     FoveationMode mode_;
     SceneKind scene_;
     scenes::CameraPath path_;
+    std::string photoImage_;
+    scenes::PhotoMotion photoMotion_;
+    float photoSpeed_;
     View view_;
     bool overlay_;
     GazeSpec gazeSpec_;
@@ -215,6 +221,9 @@ Status Session::makeScene() {
     SceneFeedOptions fo;
     fo.scene = scene_;
     fo.path = path_;
+    fo.photoImage = photoImage_;
+    fo.photoMotion = photoMotion_;
+    fo.photoSpeed = photoSpeed_;
     fo.width = o_.width;
     fo.height = o_.height;
     fo.seed = o_.seed;
@@ -337,10 +346,11 @@ void Session::handleKey(int key) {
         case GLFW_KEY_P: {
             const scenes::CameraPath before = path_;
             path_ = nextPath(path_);
-            if (scene_ != SceneKind::Text) s = makeScene();
+            if (scene_ != SceneKind::Text && scene_ != SceneKind::Photo) s = makeScene();
             if (!s) path_ = before;
             dirty_ = true;
-            what = "camera path " + std::string(toString(path_)) + (scene_ == SceneKind::Text ? " (text: none)" : "");
+            what = "camera path " + std::string(toString(path_)) +
+                   (scene_ == SceneKind::Text ? " (text: none)" : scene_ == SceneKind::Photo ? " (photo: --photo-motion)" : "");
             break;
         }
         case GLFW_KEY_V:
@@ -405,7 +415,8 @@ std::vector<std::string> Session::statsItems() const {
     items.push_back("fovea " + fmt("%.1f", fovea_) + " deg");
     items.push_back(std::string(toString(mode_)));
     std::string scene(toString(scene_));
-    if (scene_ != SceneKind::Text) scene += " / " + std::string(toString(path_));
+    if (scene_ == SceneKind::Photo) scene += " / " + std::string(scenes::toString(photoMotion_));
+    else if (scene_ != SceneKind::Text) scene += " / " + std::string(toString(path_));
     items.push_back(scene);
     std::string view = "view " + std::string(toString(view_));
     if (view_ == View::Compare) view += " (top: output, bottom: reference)";

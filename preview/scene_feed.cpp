@@ -3,7 +3,8 @@
 namespace wrsfov::preview {
 
 namespace {
-constexpr SceneKind kScenes[] = {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic};
+constexpr SceneKind kScenes[] = {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Photo};
+constexpr double kPhotoFps = 90.0;  // the rate the photo scene's speed is given at
 }  // namespace
 
 std::string_view toString(SceneKind s) {
@@ -14,6 +15,8 @@ std::string_view toString(SceneKind s) {
             return "atrium";
         case SceneKind::Dynamic:
             return "dynamic";
+        case SceneKind::Photo:
+            return "photo";
     }
     return "?";
 }
@@ -25,7 +28,13 @@ std::optional<SceneKind> parseScene(std::string_view name) {
 }
 
 SceneKind nextScene(SceneKind s) {
-    return s == SceneKind::Text ? SceneKind::Atrium : s == SceneKind::Atrium ? SceneKind::Dynamic : SceneKind::Text;
+    switch (s) {
+        case SceneKind::Text: return SceneKind::Atrium;
+        case SceneKind::Atrium: return SceneKind::Dynamic;
+        case SceneKind::Dynamic: return SceneKind::Photo;
+        case SceneKind::Photo: return SceneKind::Text;
+    }
+    return SceneKind::Text;
 }
 
 Result<std::unique_ptr<SceneFeed>> SceneFeed::create(vk::Context& ctx, const SceneFeedOptions& o) {
@@ -37,6 +46,20 @@ Result<std::unique_ptr<SceneFeed>> SceneFeed::create(vk::Context& ctx, const Sce
         to.height = o.height;
         to.seed = o.seed;
         f->text_ = std::make_unique<scenes::TextScene>(to);
+    } else if (o.scene == SceneKind::Photo) {
+        scenes::PhotoOptions po;
+        po.width = o.width;
+        po.height = o.height;
+        po.monitor = false;  // the preview's views are an HMD's, as the atrium's
+        po.image = o.photoImage;
+        po.motion = o.photoMotion;
+        po.speed = o.photoSpeed;
+        po.frames = 3600;  // 40 s of generated texture before it repeats mirrored
+        if (o.photoMotion == scenes::PhotoMotion::Turn) po.frames = 900;
+        po.seed = o.seed;
+        auto p = scenes::PhotoScene::create(po);
+        if (!p) return p.error();
+        f->photo_ = std::move(*p);
     } else {
         scenes::AtriumOptions ao;
         ao.width = o.width;
@@ -51,6 +74,7 @@ Result<std::unique_ptr<SceneFeed>> SceneFeed::create(vk::Context& ctx, const Sce
 }
 
 layers::Fov SceneFeed::fov(int eye) const {
+    if (photo_) return scenes::photoFov(photo_->options(), eye);
     return text_ ? scenes::textFov(text_->options(), eye) : scenes::atriumFov(eye);
 }
 
@@ -66,6 +90,11 @@ Result<HostStereoApp*> SceneFeed::app(Compositor& target) {
         a.depth = layers::Format::R32F;
         a.nearZ = text_->options().nearZ;
         a.farZ = text_->options().farZ;
+    } else if (photo_) {
+        a.depth = layers::Format::D32F;
+        a.motion = layers::Format::RGBA16F;
+        a.nearZ = photo_->options().nearZ;
+        a.farZ = photo_->options().farZ;
     } else {
         const scenes::AtriumOptions& ao = atrium_->options();
         a.depth = layers::Format::D32F;
@@ -91,12 +120,19 @@ Status SceneFeed::submit(std::span<Compositor* const> targets, uint64_t frameInd
             eyes[e].color = text_->color(e);
             eyes[e].depth = text_->depth(e);
         }
+        if (photo_) {
+            HostImage c, d, m;
+            if (Status s = photo_->renderAt(t * kPhotoFps, prevT * kPhotoFps, e, c, d, m); !s) return s;
+            eyes[e].color = std::move(c);
+            eyes[e].depth = std::move(d);
+            eyes[e].motion = std::move(m);
+        }
     }
     for (Compositor* target : targets) {
         auto a = app(*target);
         if (!a) return a.error();
         HostStereoApp& app = **a;
-        if (text_) {
+        if (text_ || photo_) {
             if (Status s = app.submit(frameIndex, t, eyes); !s) return s;
             continue;
         }

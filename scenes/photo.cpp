@@ -237,13 +237,18 @@ Result<std::unique_ptr<PhotoScene>> PhotoScene::create(const PhotoOptions& o) {
 }
 
 Status PhotoScene::render(uint32_t index, int eye, HostImage& color, HostImage& depth, HostImage& motion) const {
+    return renderAt(index, index > 0 ? index - 1.0 : 0.0, eye, color, depth, motion);
+}
+
+Status PhotoScene::renderAt(double frame, double prevFrame, int eye, HostImage& color, HostImage& depth,
+                            HostImage& motion) const {
     const PhotoOptions& o = options_;
     const uint32_t W = o.width, H = o.height;
     const layers::Fov f = photoFov(o, eye);
     const double tl = std::tan(f.angleLeft), tr = std::tan(f.angleRight), tu = std::tan(f.angleUp),
                  td = std::tan(f.angleDown);
     const double eyeX = o.monitor ? 0.0 : (eye == 0 ? -0.5 : 0.5) * o.ipd, D = o.distance;
-    const Pose cur = pose(index), prev = pose(index > 0 ? index - 1.0 : 0.0);
+    const Pose cur = pose(frame), prev = pose(prevFrame);
     cv::Mat mapX(int(H), int(W), CV_32F), mapY(int(H), int(W), CV_32F);
     color = HostImage::make(layers::Format::RGBA8_SRGB, W, H);
     depth = HostImage::make(layers::Format::D32F, W, H);

@@ -67,6 +67,9 @@ public:
     /// depth, near/far of the options), motion RGBA16F (x, y in pixels to the previous position, z
     /// the view depth there minus here).
     Status render(uint32_t index, int eye, HostImage& color, HostImage& depth, HostImage& motion) const;
+    /// The same at a fractional frame (frames at the speed's rate), motion from `prevFrame`: for a
+    /// viewer whose frames do not come at a fixed rate.
+    Status renderAt(double frame, double prevFrame, int eye, HostImage& color, HostImage& depth, HostImage& motion) const;
     const PhotoOptions& options() const { return options_; }
     /// Pixels per tangent unit at the view's centre (the texture's density on the plane).
     double pixelsPerTangent() const { return ppt_; }

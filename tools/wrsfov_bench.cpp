@@ -297,8 +297,7 @@ int main(int argc, char** argv) {
                 cli::list(cli::oneOf(named({eval::SceneKind::Text, eval::SceneKind::Atrium, eval::SceneKind::Dynamic,
                                             eval::SceneKind::Sequence, eval::SceneKind::Photo}))),
                 "Scenes: text (a page of text, reading gaze), atrium and dynamic (3D rooms with depth and motion, "
-                "free-viewing gaze), sequence (the frames of --sequence), photo (natural texture on a plane: "
-                "--photo, --photo-motion, --photo-speed; free-viewing gaze).");
+                "free-viewing gaze), sequence (the frames of --sequence), photo (see --photo).");
     cli::option(app, "--photo", o.photoImage, cli::text("an image file, grass or wood", "IMAGE"),
                 "Scene photo's image: a PNG or JPEG file (one texel per pixel at the view's centre, repeated "
                 "mirrored), or a generated texture: grass (1/f noise with strands, the default) or wood.");

@@ -186,7 +186,8 @@ TEST(PreviewOptions, KeyCyclesAndConfigs) {
     EXPECT_FLOAT_EQ(nextFovea(10.0f), 5.0f);
     EXPECT_FLOAT_EQ(nextFovea(6.0f), 7.5f);
     EXPECT_EQ(nextMethod(PreviewMethod::Wrs), PreviewMethod::Reference);
-    EXPECT_EQ(nextScene(SceneKind::Dynamic), SceneKind::Text);
+    EXPECT_EQ(nextScene(SceneKind::Dynamic), SceneKind::Photo);
+    EXPECT_EQ(nextScene(SceneKind::Photo), SceneKind::Text);
     EXPECT_EQ(nextView(View::Error), View::Stereo);
 
     CompositorConfig ref = compositorConfig(PreviewMethod::Reference, FoveationMode::Gauss, 7.5f, 3);
