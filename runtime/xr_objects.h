@@ -161,6 +161,7 @@ struct Session final : Object {
     mutable std::mutex frameMutex;
     std::condition_variable frameCv;  // a frame completed, a frame was handed over or begun, shutdown
     XrTime nextDisplayTime = 0;
+    XrTime lastDisplayTime = 0;  // of the last frame waited (realtime pacing)
     uint32_t waited = 0;  // xrWaitFrame returns not yet matched by xrBeginFrame
     bool begun = false;
     std::deque<XrTime> waitedDisplayTimes;  // of the frames waited and not yet begun, oldest first
@@ -171,6 +172,7 @@ struct Session final : Object {
     uint64_t framesHandedOver = 0, framesCompleted = 0;
     XrTime handedOverAt = 0;      // when the frame in flight was handed over
     XrDuration compositeNs = 0;   // how long the last frames took from hand-over to completion (smoothed)
+    XrDuration compositeTotalNs = 0;  // summed over the session's frames
     bool holdFrames = false;      // test hook (WRSFOV_XR_TEST_HOLD_FRAMES): completion waits for a waiter
     bool holdOpen = false;        // a call is waiting for the frame in flight
     bool shutdown = false;        // the compositor thread stops

@@ -220,6 +220,7 @@ void compositorThread(Session* s) {
         s->holdOpen = false;
         const XrDuration took = nowXrTime() - s->handedOverAt;
         s->compositeNs = s->compositeNs == 0 ? took : (7 * s->compositeNs + took) / 8;
+        s->compositeTotalNs += took;
         s->framesCompleted = frame;
         s->frameCv.notify_all();
     }
@@ -270,7 +271,10 @@ XrResult destroySession(Session* s) {
             std::to_string(s->framesComposited) + " composited, " + std::to_string(s->framesPassed) +
             " shown as submitted, " + std::to_string(s->framesRefused) +
             " not composited, " + std::to_string(s->framesDiscarded) + " discarded, vergence from depth in " +
-            std::to_string(s->vergenceFromDepth) + "; Vulkan validation: " +
+            std::to_string(s->vergenceFromDepth) + "; compositor " +
+            (s->framesCompleted ? std::to_string(double(s->compositeTotalNs) * 1e-6 / double(s->framesCompleted))
+                                : std::string("-")) +
+            " ms per frame from xrEndFrame to completion; Vulkan validation: " +
             std::to_string(inst->vkErrors.load()) + " errors, " + std::to_string(inst->vkWarnings.load()) +
             " warnings" + (inst->messenger ? "" : " (not counted: validation off or the application's instance)"));
     frameLock.unlock();
@@ -420,6 +424,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession h, const XrSessionBeginI
     if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
     s->running = true;
     s->nextDisplayTime = 0;
+    s->lastDisplayTime = 0;
     s->waited = 0;
     s->waitedDisplayTimes.clear();
     s->begun = false;
@@ -791,26 +796,27 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* i
     // a pipelined application waits at most one frame ahead).
     s->frameCv.wait(lock, [s] { return s->waited == 0 || !s->running; });
     if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    // Throttle on the compositor: the frames already handed over must be complete (at most one in
-    // flight; a compositor slower than the display slows the loop rather than queueing frames).
-    // This waits for no xrEndFrame call, only for frames already ended.
-    waitForFrame(s, lock, s->framesHandedOver, XR_INFINITE_DURATION);
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;  // ended meanwhile from another thread
     const Instance& inst = *s->instance;
     const XrDuration p = period(inst);
     XrTime now = nowXrTime();
     if (s->nextDisplayTime == 0) s->nextDisplayTime = now + p;
     XrTime display;
     if (inst.config.pace) {
-        // The frame is shown at the first display slot that leaves the application half a period and
-        // the compositor its time (measured, smoothed); a late application or a slow compositor
-        // skips slots rather than queueing up latency. Display times stay on the slot grid and
+        // Paced by the display and by the compositor: consecutive frames are at least the
+        // compositor's time apart (hand-over to completion, measured and smoothed; rounded up to
+        // whole periods), so a compositor slower than the display slows the loop instead of queueing
+        // frames, and xrEndFrame rarely finds the frame before still in flight (which it then waits
+        // for: one frame in flight at most). The frame is shown at the first such slot at least half a
+        // period away; a late application skips slots. Display times stay on the slot grid and
         // increase; the application is woken one period before its slot.
-        const XrDuration composite = std::min<XrDuration>(s->compositeNs, 4 * p);
-        const XrTime earliest = now + p / 2 + composite;
+        const XrDuration composite = std::min<XrDuration>(s->compositeNs, 1000000000);  // a second at most
+        const XrDuration interval = std::max<XrDuration>(1, (composite + p - 1) / p) * p;
+        if (s->lastDisplayTime != 0) s->nextDisplayTime = std::max(s->nextDisplayTime, s->lastDisplayTime + interval);
+        const XrTime earliest = now + p / 2;
         if (s->nextDisplayTime < earliest) s->nextDisplayTime += ((earliest - s->nextDisplayTime) / p + 1) * p;
         display = s->nextDisplayTime;
         s->nextDisplayTime += p;
+        s->lastDisplayTime = display;
         const XrTime wake = display - p;
         if (wake > now) {
             // Sleeps with the frame lock released: xrBeginFrame / xrEndFrame of the frame before go on.
