@@ -1278,7 +1278,7 @@ TEST(XrClient, FrameEndReturnsBeforeTheFrameIsComplete) {
     ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 1, kColorUsage, color), XR_SUCCESS);
     const auto texels = checker(c->viewWidth, c->viewHeight, 4, 30, 220);
     c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });  // image 0
-    runToFocused(*c, color);  // three frames reading image 0, each completed at the next xrWaitFrame
+    runToFocused(*c, color);  // three frames reading image 0, each completed at the next xrEndFrame
 
     XrFrameState fs{XR_TYPE_FRAME_STATE};
     ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
@@ -1296,7 +1296,7 @@ TEST(XrClient, FrameEndReturnsBeforeTheFrameIsComplete) {
     EXPECT_EQ(xrWaitSwapchainImage(color.handle, &wi), XR_SUCCESS);
     EXPECT_EQ(xrReleaseSwapchainImage(color.handle, nullptr), XR_SUCCESS);
 
-    // The loop goes on: xrWaitFrame throttles on the frame in flight (and so completes it).
+    // The loop goes on: each xrEndFrame waits for the frame before (and so completes it).
     for (int i = 0; i < 3; ++i) {
         ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
         ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
