@@ -15,8 +15,9 @@
 //   the registry's lock (xr_runtime.cpp).
 // No lock is held while the passes run: xrEndFrame submits them and returns, the session's
 // compositor thread waits for them (holding nothing) and then marks the frame complete under
-// frameMutex; the calls that wait for a frame (xrWaitFrame, xrWaitSwapchainImage, xrEndFrame for the
-// frame before, xrDestroySwapchain, xrDestroySession) wait on frameCv, which releases frameMutex.
+// frameMutex; the calls that wait for a frame (xrWaitSwapchainImage, xrEndFrame for the frame before,
+// xrDestroySwapchain, xrDestroySession), and xrWaitFrame for its display slot and for the frame before
+// to be begun, wait on frameCv, which releases frameMutex.
 // A handle being destroyed may not be in use on another thread (the specification's external
 // synchronisation of xrDestroy*), so a pointer found in the registry stays valid for the call.
 #pragma once
