@@ -138,7 +138,7 @@ bool bindingFits(const Profile& profile, const std::string& binding) {
 }  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSet(XrInstance h, const XrActionSetCreateInfo* info, XrActionSet* out) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_ACTION_SET_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
@@ -162,7 +162,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSet(XrInstance h, const XrActionSet
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrDestroyActionSet(XrActionSet h) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     ActionSet* set = getActionSet(h);
     if (!set) return XR_ERROR_HANDLE_INVALID;
     // An attached set lives on in its sessions (the handle is gone; the spec lets the runtime keep it).
@@ -183,7 +183,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroyActionSet(XrActionSet h) {
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateAction(XrActionSet h, const XrActionCreateInfo* info, XrAction* out) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     ActionSet* set = getActionSet(h);
     if (!set) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_ACTION_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
@@ -229,7 +229,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateAction(XrActionSet h, const XrActionCreat
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrDestroyAction(XrAction h) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Action* a = getAction(h);
     if (!a) return XR_ERROR_HANDLE_INVALID;
     unregisterObject(a);  // the object stays with its set (bindings and spaces may refer to it)
@@ -239,7 +239,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroyAction(XrAction h) {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrSuggestInteractionProfileBindings(
     XrInstance h, const XrInteractionProfileSuggestedBinding* suggested) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!suggested || suggested->type != XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING ||
@@ -267,7 +267,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrSuggestInteractionProfileBindings(
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrAttachSessionActionSets(XrSession h, const XrSessionActionSetsAttachInfo* info) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO || info->countActionSets == 0 ||
@@ -299,7 +299,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrAttachSessionActionSets(XrSession h, const XrSe
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetCurrentInteractionProfile(XrSession h, XrPath topLevelUserPath,
                                                               XrInteractionProfileState* state) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!state || state->type != XR_TYPE_INTERACTION_PROFILE_STATE) return XR_ERROR_VALIDATION_FAILURE;
@@ -313,7 +313,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetCurrentInteractionProfile(XrSession h, XrPat
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrSyncActions(XrSession h, const XrActionsSyncInfo* info) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_ACTIONS_SYNC_INFO) return XR_ERROR_VALIDATION_FAILURE;
@@ -366,7 +366,7 @@ XrResult actionStateCheck(XrSession h, const XrActionStateGetInfo* info, XrActio
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateBoolean(XrSession h, const XrActionStateGetInfo* info,
                                                        XrActionStateBoolean* state) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s;
     Action* a;
     if (XrResult r = actionStateCheck(h, info, XR_ACTION_TYPE_BOOLEAN_INPUT, state, XR_TYPE_ACTION_STATE_BOOLEAN, s, a);
@@ -381,7 +381,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateBoolean(XrSession h, const XrActi
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateFloat(XrSession h, const XrActionStateGetInfo* info,
                                                      XrActionStateFloat* state) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s;
     Action* a;
     if (XrResult r = actionStateCheck(h, info, XR_ACTION_TYPE_FLOAT_INPUT, state, XR_TYPE_ACTION_STATE_FLOAT, s, a);
@@ -396,7 +396,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateFloat(XrSession h, const XrAction
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateVector2f(XrSession h, const XrActionStateGetInfo* info,
                                                         XrActionStateVector2f* state) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s;
     Action* a;
     if (XrResult r =
@@ -412,7 +412,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStateVector2f(XrSession h, const XrAct
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetActionStatePose(XrSession h, const XrActionStateGetInfo* info,
                                                     XrActionStatePose* state) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s;
     Action* a;
     if (XrResult r = actionStateCheck(h, info, XR_ACTION_TYPE_POSE_INPUT, state, XR_TYPE_ACTION_STATE_POSE, s, a);
@@ -427,7 +427,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateBoundSourcesForAction(XrSession h,
                                                                 const XrBoundSourcesForActionEnumerateInfo* info,
                                                                 uint32_t capacity, uint32_t* countOutput,
                                                                 XrPath* sources) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_BOUND_SOURCES_FOR_ACTION_ENUMERATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
@@ -441,7 +441,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateBoundSourcesForAction(XrSession h,
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetInputSourceLocalizedName(XrSession h, const XrInputSourceLocalizedNameGetInfo* info,
                                                              uint32_t capacity, uint32_t* countOutput, char* buffer) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_INPUT_SOURCE_LOCALIZED_NAME_GET_INFO || info->whichComponents == 0)
@@ -477,13 +477,13 @@ XrResult hapticCheck(XrSession h, const XrHapticActionInfo* info) {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrApplyHapticFeedback(XrSession h, const XrHapticActionInfo* info,
                                                      const XrHapticBaseHeader* feedback) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (!feedback || feedback->type != XR_TYPE_HAPTIC_VIBRATION) return XR_ERROR_VALIDATION_FAILURE;
     return hapticCheck(h, info);  // no actuator: accepted and dropped
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrStopHapticFeedback(XrSession h, const XrHapticActionInfo* info) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     return hapticCheck(h, info);
 }
 

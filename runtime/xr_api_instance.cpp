@@ -15,6 +15,7 @@ namespace wrsfov::xr {
 
 void Instance::pushEvent(const XrEventDataBuffer& e) {
     constexpr std::size_t kMaxEvents = 256;
+    std::lock_guard lock(eventMutex);
     if (events.size() >= kMaxEvents) {
         events.pop_front();
         eventsLost = true;
@@ -47,7 +48,6 @@ constexpr ExtensionInfo kExtensions[] = {
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateInstanceExtensionProperties(const char* layerName, uint32_t capacity,
                                                                       uint32_t* countOutput,
                                                                       XrExtensionProperties* properties) {
-    std::lock_guard lock(apiMutex());
     if (layerName && *layerName) return XR_ERROR_API_LAYER_NOT_PRESENT;
     if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
     const uint32_t n = uint32_t(std::size(kExtensions));
@@ -72,7 +72,6 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateApiLayerProperties(uint32_t capacity, 
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info, XrInstance* out) {
-    std::lock_guard lock(apiMutex());
     if (!info || !out || info->type != XR_TYPE_INSTANCE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
     if (info->createFlags != 0) return XR_ERROR_VALIDATION_FAILURE;
     const XrVersion v = info->applicationInfo.apiVersion;
@@ -122,22 +121,24 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrDestroyInstance(XrInstance h) {
-    std::lock_guard lock(apiMutex());
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
-    while (!inst->sessions.empty()) destroySession(inst->sessions.back().get());
-    for (auto& set : inst->actionSets) {
-        for (auto& a : set->actions) unregisterObject(a.get());
-        unregisterObject(set.get());
+    {
+        std::lock_guard lock(inst->mutex);
+        while (!inst->sessions.empty()) destroySession(inst->sessions.back().get());
+        for (auto& set : inst->actionSets) {
+            for (auto& a : set->actions) unregisterObject(a.get());
+            unregisterObject(set.get());
+        }
+        destroyMessenger(inst);
+        unregisterObject(inst);
     }
-    destroyMessenger(inst);
-    unregisterObject(inst);
-    delete inst;
+    delete inst;  // no other thread may use the instance or its children now (external synchronisation)
     return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetInstanceProperties(XrInstance h, XrInstanceProperties* props) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (!getInstance(h)) return XR_ERROR_HANDLE_INVALID;
     if (!props || props->type != XR_TYPE_INSTANCE_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
     props->runtimeVersion = XR_MAKE_VERSION(0, 1, 0);
@@ -146,9 +147,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetInstanceProperties(XrInstance h, XrInstanceP
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrPollEvent(XrInstance h, XrEventDataBuffer* event) {
-    std::lock_guard lock(apiMutex());
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
+    std::lock_guard lock(inst->eventMutex);
     if (!event || event->type != XR_TYPE_EVENT_DATA_BUFFER) return XR_ERROR_VALIDATION_FAILURE;
     if (inst->eventsLost) {
         inst->eventsLost = false;
@@ -173,7 +174,7 @@ namespace {
 template <typename Enum>
 XrResult enumString(XrInstance h, Enum value, char* buffer, std::size_t size, const char* (*name)(Enum),
                     const char* unknown) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (!getInstance(h)) return XR_ERROR_HANDLE_INVALID;
     if (!buffer) return XR_ERROR_VALIDATION_FAILURE;
     if (const char* n = name(value)) std::snprintf(buffer, size, "%s", n);
@@ -209,7 +210,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrStructureTypeToString(XrInstance h, XrStructure
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetSystem(XrInstance h, const XrSystemGetInfo* info, XrSystemId* id) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (!getInstance(h)) return XR_ERROR_HANDLE_INVALID;
     if (!info || !id || info->type != XR_TYPE_SYSTEM_GET_INFO) return XR_ERROR_VALIDATION_FAILURE;
     if (info->formFactor == XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY) {
@@ -222,7 +223,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetSystem(XrInstance h, const XrSystemGetInfo* 
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetSystemProperties(XrInstance h, XrSystemId id, XrSystemProperties* props) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (!props || props->type != XR_TYPE_SYSTEM_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
@@ -251,7 +252,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetSystemProperties(XrInstance h, XrSystemId id
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateEnvironmentBlendModes(XrInstance h, XrSystemId id,
                                                                 XrViewConfigurationType type, uint32_t capacity,
                                                                 uint32_t* countOutput, XrEnvironmentBlendMode* modes) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
     if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
     return fillArray<XrEnvironmentBlendMode>(capacity, countOutput, modes, {XR_ENVIRONMENT_BLEND_MODE_OPAQUE});
@@ -259,7 +260,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateEnvironmentBlendModes(XrInstance h, Xr
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurations(XrInstance h, XrSystemId id, uint32_t capacity,
                                                              uint32_t* countOutput, XrViewConfigurationType* types) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
     return fillArray<XrViewConfigurationType>(capacity, countOutput, types,
                                               {XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO});
@@ -268,7 +269,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurations(XrInstance h, XrSys
 XRAPI_ATTR XrResult XRAPI_CALL xrGetViewConfigurationProperties(XrInstance h, XrSystemId id,
                                                                 XrViewConfigurationType type,
                                                                 XrViewConfigurationProperties* props) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
     if (!props || props->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
     if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
@@ -281,7 +282,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurationViews(XrInstance h, X
                                                                  XrViewConfigurationType type, uint32_t capacity,
                                                                  uint32_t* countOutput,
                                                                  XrViewConfigurationView* views) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;

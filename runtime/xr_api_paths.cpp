@@ -19,7 +19,7 @@ std::string Instance::pathString(XrPath p) const {
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrStringToPath(XrInstance h, const char* pathString, XrPath* path) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!pathString || !path) return XR_ERROR_VALIDATION_FAILURE;
@@ -30,7 +30,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrStringToPath(XrInstance h, const char* pathStri
 
 XRAPI_ATTR XrResult XRAPI_CALL xrPathToString(XrInstance h, XrPath path, uint32_t capacity, uint32_t* countOutput,
                                               char* buffer) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     const std::string s = inst->pathString(path);

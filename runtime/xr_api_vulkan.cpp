@@ -22,7 +22,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL vulkanMessage(VkDebugUtilsMessageSeverityFlagBits
 }
 
 XrResult graphicsRequirements(XrInstance h, XrSystemId id, XrGraphicsRequirementsVulkanKHR* req) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE_EXTENSION_NAME) && !inst->enabled(XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME))
@@ -82,7 +82,7 @@ XrResult chooseDevice(Instance* inst, VkInstance vkInstance, PFN_vkGetInstancePr
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanGraphicsDeviceKHR(XrInstance h, XrSystemId id, VkInstance vkInstance,
                                                             VkPhysicalDevice* device) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE_EXTENSION_NAME)) return XR_ERROR_FUNCTION_UNSUPPORTED;
@@ -91,7 +91,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanGraphicsDeviceKHR(XrInstance h, XrSyst
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanGraphicsDevice2KHR(XrInstance h, const XrVulkanGraphicsDeviceGetInfoKHR* info,
                                                              VkPhysicalDevice* device) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) return XR_ERROR_FUNCTION_UNSUPPORTED;
@@ -108,7 +108,7 @@ namespace {
 /// none; a window needs the surface extensions and VK_KHR_swapchain.
 XrResult extensionList(XrInstance h, XrSystemId id, uint32_t capacity, uint32_t* countOutput, char* buffer,
                        bool device) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE_EXTENSION_NAME)) return XR_ERROR_FUNCTION_UNSUPPORTED;
@@ -134,7 +134,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetVulkanDeviceExtensionsKHR(XrInstance h, XrSy
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateVulkanInstanceKHR(XrInstance h, const XrVulkanInstanceCreateInfoKHR* info,
                                                          VkInstance* vkInstance, VkResult* vkResult) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) return XR_ERROR_FUNCTION_UNSUPPORTED;
@@ -196,7 +196,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateVulkanInstanceKHR(XrInstance h, const XrV
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateVulkanDeviceKHR(XrInstance h, const XrVulkanDeviceCreateInfoKHR* info,
                                                        VkDevice* device, VkResult* vkResult) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!inst->enabled(XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME)) return XR_ERROR_FUNCTION_UNSUPPORTED;

@@ -1,7 +1,25 @@
 // Objects behind the runtime's OpenXR handles (internal to runtime/). Every handle is the address
 // of one of these objects, checked against the live-object registry before use, so a stale,
-// foreign or made-up handle is XR_ERROR_HANDLE_INVALID rather than a crash. One lock serialises
-// every call (xrWaitFrame sleeps outside it).
+// foreign or made-up handle is XR_ERROR_HANDLE_INVALID rather than a crash.
+//
+// Locking is per object. The locks, in the order in which they may nest (outer first):
+//   Instance::mutex      the instance's state: paths, action sets, actions and bindings, its sessions'
+//                        spaces, action-set attachments and interaction profiles;
+//   Session::gpuMutex    Vulkan work on the session's device and queue (compositor, quad pass,
+//                        window, swapchain images made, prepared or read back) and its swapchain list;
+//   Swapchain::mutex     the images' acquire / wait / release state and which frame reads them;
+//   Session::frameMutex  the session state and the frame loop (waited and begun frames, display
+//                        times, frames handed to the compositor and completed), with frameCv;
+//   Session::gazeMutex   the gaze source;
+//   Instance::eventMutex the event queue;
+//   the registry's lock (xr_runtime.cpp).
+// No lock is held while the passes run: xrEndFrame submits them and returns, the session's
+// compositor thread waits for them (holding nothing) and then marks the frame complete under
+// frameMutex; the calls that wait for a frame (xrWaitSwapchainImage, xrEndFrame for the frame before,
+// xrDestroySwapchain, xrDestroySession), and xrWaitFrame for its display slot and for the frame before
+// to be begun, wait on frameCv, which releases frameMutex.
+// A handle being destroyed may not be in use on another thread (the specification's external
+// synchronisation of xrDestroy*), so a pointer found in the registry stays valid for the call.
 #pragma once
 
 #define XR_USE_GRAPHICS_API_VULKAN
@@ -11,6 +29,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -18,6 +37,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <thread>
 #include <unordered_map>
 #include <vector>
 
@@ -93,6 +113,9 @@ struct Swapchain final : Object {
     layers::Format format = layers::Format::RGBA8;
     std::unique_ptr<layers::Swapchain> images;
     uint32_t acquiredEver = 0;  // a static swapchain may be acquired once
+    std::mutex mutex;
+    std::deque<uint32_t> acquiredOrder;  // acquired and not yet waited, oldest first
+    std::vector<uint64_t> readByFrame;   // per image: the last frame (serial) whose composition reads it
 };
 
 /// The eye-gaze pose of one instant in head space (the cyclopean eye at the origin).
@@ -105,33 +128,56 @@ struct GazeState {
 struct Session final : Object {
     Session() : Object(ObjectType::Session) {}
     Instance* instance = nullptr;
+    // Session state, under frameMutex.
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
     bool running = false;
     bool stopRequested = false;  // by the application or after `frames`
+
+    // Under gpuMutex.
+    std::mutex gpuMutex;
     std::unique_ptr<vk::Context> context;
     std::unique_ptr<Compositor> compositor;
     std::unique_ptr<QuadPass> quads;
     std::unique_ptr<XrWindow> window;
-    std::array<layers::EyeGaze, 2> lastGaze{};  // the last frame's, for the mouse
-    uint64_t vergenceFromDepth = 0;             // frames whose fixated point came from the depth
-    std::vector<std::unique_ptr<Space>> spaces;
     std::vector<std::unique_ptr<Swapchain>> swapchains;
+    VkFence frameFence = VK_NULL_HANDLE;  // signalled when all of a frame's GPU work is done
+    std::unique_ptr<eval::SequenceWriter> recorder;
+    bool recordingStopped = false;
+    uint64_t vergenceFromDepth = 0;  // frames whose fixated point came from the depth
+    std::set<int> refusalsLogged;
+
+    // Under gazeMutex.
+    std::mutex gazeMutex;
+    std::unique_ptr<gaze::GazeSource> gazeSource;
+    std::array<layers::EyeGaze, 2> lastGaze{};  // the last frame's, for the mouse
+
+    // Under the instance's mutex.
+    std::vector<std::unique_ptr<Space>> spaces;
     std::vector<ActionSet*> attachedSets;
     bool eyeGazeBound = false;    // an attached pose action is bound to the eye-gaze pose
     bool eyeGazeCurrent = false;  // ... and the eye-gaze profile became current (at an xrSyncActions)
     bool synced = false;        // xrSyncActions ran while focused
 
-    // Frame loop.
+    // Frame loop, under frameMutex.
+    mutable std::mutex frameMutex;
+    std::condition_variable frameCv;  // a frame completed, a frame was handed over or begun, shutdown
     XrTime nextDisplayTime = 0;
+    XrTime lastDisplayTime = 0;  // of the last frame waited (realtime pacing)
     uint32_t waited = 0;  // xrWaitFrame returns not yet matched by xrBeginFrame
     bool begun = false;
-    XrTime frameDisplayTime = 0;  // predicted display time of the waited / begun frame
+    std::deque<XrTime> waitedDisplayTimes;  // of the frames waited and not yet begun, oldest first
+    XrTime frameDisplayTime = 0;            // predicted display time of the begun frame
     uint64_t framesEnded = 0, framesComposited = 0, framesPassed = 0, framesRefused = 0, framesDiscarded = 0;
-    std::set<int> refusalsLogged;
-
-    std::unique_ptr<gaze::GazeSource> gazeSource;
-    std::unique_ptr<eval::SequenceWriter> recorder;
-    bool recordingStopped = false;
+    // The compositor thread: frames are numbered from 1 as they are handed over; at most one is in
+    // flight (handed over and not completed).
+    uint64_t framesHandedOver = 0, framesCompleted = 0;
+    XrTime handedOverAt = 0;      // when the frame in flight was handed over
+    XrDuration compositeNs = 0;   // how long the last frames took from hand-over to completion (smoothed)
+    XrDuration compositeTotalNs = 0;  // summed over the session's frames
+    bool holdFrames = false;      // test hook (WRSFOV_XR_TEST_HOLD_FRAMES): completion waits for a waiter
+    bool holdOpen = false;        // a call is waiting for the frame in flight
+    bool shutdown = false;        // the compositor thread stops
+    std::thread compositorThread;
 };
 
 struct Instance final : Object {
@@ -141,8 +187,12 @@ struct Instance final : Object {
     std::string applicationName;
     XrTime epoch = 0;  // the runtime clock's zero (instance creation)
 
+    std::recursive_mutex mutex;  // the instance's state (see the top of this file)
+
     std::vector<std::string> paths;  // XrPath i + 1
     std::unordered_map<std::string, XrPath> pathIds;
+
+    std::mutex eventMutex;  // the event queue
     std::deque<XrEventDataBuffer> events;
     bool eventsLost = false;
     uint32_t lostCount = 0;
@@ -168,7 +218,6 @@ struct Instance final : Object {
 };
 
 // ---- Registry and logging ----
-std::recursive_mutex& apiMutex();
 void registerObject(Object* o);
 void unregisterObject(Object* o);
 /// The live object of type T behind a handle, or nullptr.

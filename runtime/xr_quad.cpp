@@ -52,12 +52,32 @@ Result<std::unique_ptr<QuadPass>> QuadPass::create(vk::Context& ctx) {
     if (VkResult r = vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &cpi, nullptr, &p); r != VK_SUCCESS)
         return Error{int(r), std::string("quad layers: vkCreateComputePipelines: ") + vk::resultString(r)};
     q->pipeline_ = vk::Pipeline(ctx.device(), p);
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence f;
+    if (VkResult r = vkCreateFence(ctx.device(), &fci, nullptr, &f); r != VK_SUCCESS)
+        return Error{int(r), std::string("quad layers: vkCreateFence: ") + vk::resultString(r)};
+    q->fence_ = vk::Fence(ctx.device(), f);
+    q->cb_ = ctx.allocateCommandBuffer();
     return q;
+}
+
+QuadPass::~QuadPass() {
+    waitIdle();
+    if (cb_) ctx_.freeCommandBuffer(cb_);
+}
+
+void QuadPass::waitIdle() {
+    if (!pending_) return;
+    pending_ = false;
+    VkFence f = fence_.get();
+    (void)ctx_.waitSubmission(f);  // a lost device returns at once; nothing more to do with it
+    vkResetFences(ctx_.device(), 1, &f);
 }
 
 Status QuadPass::draw(Compositor& compositor, const std::vector<QuadDraw>& quads) {
     if (quads.empty()) return {};
     if (quads.size() > kMaxQuadDraws) return Error{1, "more quad draws than layers allow"};
+    waitIdle();  // the last frame's draw: its descriptor sets and command buffer are reused
     vkResetDescriptorPool(ctx_.device(), pool_.get(), 0);
     std::vector<VkDescriptorSet> sets(quads.size());
     std::vector<VkDescriptorSetLayout> layouts(quads.size(), setLayout_.get());
@@ -78,31 +98,45 @@ Status QuadPass::draw(Compositor& compositor, const std::vector<QuadDraw>& quads
                                      vk::imageWrite(sets[i], 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &si)};
         vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
     }
-    return ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
-        for (std::size_t i = 0; i < quads.size(); ++i) {
-            const QuadDraw& d = quads[i];
-            VkImage src = d.swapchain->image(uint32_t(d.swapchain->lastReleased()));
-            const uint32_t layers = d.swapchain->info().arraySize;
-            // The application's image is in its attachment layout between frames; read in GENERAL.
-            vk::layoutTransition(cb, src, d.swapchain->aspect(), layers, d.swapchain->restingLayout(),
-                                 VK_IMAGE_LAYOUT_GENERAL);
-            QuadPush push{d.quadFromEye, d.fovTan, d.uvRect,
-                          glm::vec4(d.size, d.swapchain->info().format == layers::Format::RGBA8_SRGB ? 1.0f : 0.0f,
-                                    float((d.blendAlpha ? 1 : 0) | (d.unpremultiplied ? 2 : 0))),
-                          glm::uvec4(d.eye, compositor.width(), compositor.height(), 0)};
-            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &sets[i], 0,
-                                    nullptr);
-            vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-            vkCmdDispatch(cb, (compositor.width() + 7) / 8, (compositor.height() + 7) / 8, 1);
-            // Quads overlap: each sees the one before it.
-            vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                              VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-            vk::layoutTransition(cb, src, d.swapchain->aspect(), layers, VK_IMAGE_LAYOUT_GENERAL,
-                                 d.swapchain->restingLayout());
-        }
-    });
+    VkCommandBuffer cb = cb_;
+    VK_CHECK(vkResetCommandBuffer(cb, 0));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
+    for (std::size_t i = 0; i < quads.size(); ++i) {
+        const QuadDraw& d = quads[i];
+        VkImage src = d.swapchain->image(uint32_t(d.swapchain->lastReleased()));
+        const uint32_t layers = d.swapchain->info().arraySize;
+        // The application's image is in its attachment layout between frames; read in GENERAL.
+        vk::layoutTransition(cb, src, d.swapchain->aspect(), layers, d.swapchain->restingLayout(),
+                             VK_IMAGE_LAYOUT_GENERAL);
+        QuadPush push{d.quadFromEye, d.fovTan, d.uvRect,
+                      glm::vec4(d.size, d.swapchain->info().format == layers::Format::RGBA8_SRGB ? 1.0f : 0.0f,
+                                float((d.blendAlpha ? 1 : 0) | (d.unpremultiplied ? 2 : 0))),
+                      glm::uvec4(d.eye, compositor.width(), compositor.height(), 0)};
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &sets[i], 0,
+                                nullptr);
+        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+        vkCmdDispatch(cb, (compositor.width() + 7) / 8, (compositor.height() + 7) / 8, 1);
+        // Quads overlap: each sees the one before it.
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        vk::layoutTransition(cb, src, d.swapchain->aspect(), layers, VK_IMAGE_LAYOUT_GENERAL,
+                             d.swapchain->restingLayout());
+    }
+    // The output is read after this by the window's copy or a read-back, later on the queue.
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+    VK_CHECK(vkEndCommandBuffer(cb));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    if (VkResult r = ctx_.submitNoWait(si, fence_.get()); r != VK_SUCCESS)
+        return Error{int(r), std::string("quad layers: vkQueueSubmit: ") + vk::resultString(r)};
+    pending_ = true;
+    return {};
 }
 
 }  // namespace wrsfov::xr

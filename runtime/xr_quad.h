@@ -25,12 +25,20 @@ struct QuadDraw {
 class QuadPass {
 public:
     static Result<std::unique_ptr<QuadPass>> create(vk::Context& ctx);
-    /// Draws `quads` in order over `compositor`'s output image, in one submission.
+    ~QuadPass();
+    /// Draws `quads` in order over `compositor`'s output image, in one submission after the
+    /// compositor's on the same queue; returns without waiting for it (the next draw, or the
+    /// destructor, does). Its writes are visible to all later work on the queue.
     Status draw(Compositor& compositor, const std::vector<QuadDraw>& quads);
 
 private:
     explicit QuadPass(vk::Context& ctx) : ctx_(ctx) {}
+    /// The last draw's submission is complete (its command buffer and descriptor sets are free).
+    void waitIdle();
     vk::Context& ctx_;
+    VkCommandBuffer cb_ = VK_NULL_HANDLE;
+    vk::Fence fence_;
+    bool pending_ = false;
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;
     vk::DescriptorPool pool_;

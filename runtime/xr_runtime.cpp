@@ -20,21 +20,27 @@ namespace wrsfov::xr {
 // ---------------------------------------------------------------------------------------------
 // Registry, logging, pose math
 
-std::recursive_mutex& apiMutex() {
-    static std::recursive_mutex m;
+namespace {
+std::mutex& registryMutex() {
+    static std::mutex m;
     return m;
 }
-
-namespace {
 std::unordered_map<const void*, ObjectType>& registry() {
     static std::unordered_map<const void*, ObjectType> r;
     return r;
 }
 }  // namespace
 
-void registerObject(Object* o) { registry()[o] = o->type; }
-void unregisterObject(Object* o) { registry().erase(o); }
+void registerObject(Object* o) {
+    std::lock_guard lock(registryMutex());
+    registry()[o] = o->type;
+}
+void unregisterObject(Object* o) {
+    std::lock_guard lock(registryMutex());
+    registry().erase(o);
+}
 Object* findObject(const void* handle, ObjectType type) {
+    std::lock_guard lock(registryMutex());
     auto it = registry().find(handle);
     if (it == registry().end() || it->second != type) return nullptr;
     return static_cast<Object*>(const_cast<void*>(handle));
@@ -167,7 +173,7 @@ const Entry kEntries[] = {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetInstanceProcAddr(XrInstance instance, const char* name,
                                                      PFN_xrVoidFunction* function) {
-    std::lock_guard lock(apiMutex());
+    // No lock: the table is constant and an instance's extensions do not change after creation.
     if (!name || !function) return XR_ERROR_VALIDATION_FAILURE;
     *function = nullptr;
     if (instance == XR_NULL_HANDLE) {

@@ -29,6 +29,7 @@ constexpr float kStandingHeight = 1.6f;  // LOCAL's origin above STAGE's (scenes
 constexpr uint32_t kMaxLayers = 16;
 constexpr uint32_t kMaxSize = 8192;
 
+/// With the session's frameMutex held.
 void setState(Session* s, XrSessionState state) {
     s->state = state;
     XrEventDataBuffer e{XR_TYPE_EVENT_DATA_BUFFER};
@@ -42,7 +43,8 @@ void setState(Session* s, XrSessionState state) {
     if (s->instance->config.verbose) logLine("session state " + std::to_string(int(state)));
 }
 
-/// Walks the states down to STOPPING (FOCUSED -> VISIBLE -> SYNCHRONIZED -> STOPPING).
+/// Walks the states down to STOPPING (FOCUSED -> VISIBLE -> SYNCHRONIZED -> STOPPING); with the
+/// session's frameMutex held.
 void beginStopping(Session* s) {
     if (s->stopRequested) return;
     s->stopRequested = true;
@@ -105,7 +107,11 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::Pro
         const layers::Fov fov[2] = {c.fov[0], c.fov[1]};
         return preview::gazeFromCursor(fov, c.width, c.height, s.window->cursor());
     }
-    std::array<layers::EyeGaze, 2> g = gaze::frame_gaze(s.gazeSource.get(), s.instance->seconds(t));
+    std::array<layers::EyeGaze, 2> g;
+    {
+        std::lock_guard lock(s.gazeMutex);
+        g = gaze::frame_gaze(s.gazeSource.get(), s.instance->seconds(t));
+    }
     if (c.gaze != GazeKind::Generator || !g[0].valid) return g;
     glm::vec3 fixated = glm::normalize(g[0].dir) * c.vergenceDistance_m;
     if (auto p = depthAlong(s, left, fixated)) {
@@ -139,6 +145,7 @@ GazeState gazeAt(Session& s, XrTime time) {
     const double t = s.instance->seconds(time);
     gaze::GazeSample sample;
     sample.t_s = t;
+    std::unique_lock lock(s.gazeMutex);
     if (s.instance->config.gaze == GazeKind::Mouse) {  // the cursor of the last frame shown
         for (int e = 0; e < 2; ++e) sample.eye[e] = {s.lastGaze[e].dir, s.lastGaze[e].valid, s.lastGaze[e].confidence};
     } else if (s.gazeSource) {
@@ -146,6 +153,7 @@ GazeState gazeAt(Session& s, XrTime time) {
     } else {
         return out;
     }
+    lock.unlock();
     glm::vec3 sum(0.0f);
     for (const auto& e : sample.eye)
         if (e.valid && std::isfinite(e.dir.x) && std::isfinite(e.dir.y) && std::isfinite(e.dir.z) &&
@@ -158,7 +166,10 @@ GazeState gazeAt(Session& s, XrTime time) {
     return out;
 }
 
-bool sessionFocused(const Session& s) { return s.running && s.state == XR_SESSION_STATE_FOCUSED; }
+bool sessionFocused(const Session& s) {
+    std::lock_guard lock(s.frameMutex);
+    return s.running && s.state == XR_SESSION_STATE_FOCUSED;
+}
 
 bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gazeOut) {
     Session& s = *space.session;
@@ -184,22 +195,89 @@ bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gazeOut) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// The compositor thread
+
+namespace {
+
+/// The session's compositor thread: waits for each frame's GPU work (the passes, the quads, the
+/// window's copy) and marks the frame complete, which frees the swapchain images it read and lets
+/// xrWaitFrame hand out the next frame. It makes no other Vulkan call and never touches the queue.
+void compositorThread(Session* s) {
+    const VkDevice device = s->context->device();
+    std::unique_lock lock(s->frameMutex);
+    for (;;) {
+        s->frameCv.wait(lock, [s] { return s->shutdown || s->framesHandedOver > s->framesCompleted; });
+        if (s->framesHandedOver == s->framesCompleted) return;  // shut down, nothing in flight
+        const uint64_t frame = s->framesHandedOver;
+        const VkFence fence = s->frameFence;
+        lock.unlock();
+        const VkResult r = vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX);
+        lock.lock();
+        if (r != VK_SUCCESS)  // a lost device: the frame still completes
+            logLine(std::string("compositor thread: waiting for frame ") + std::to_string(frame) + ": " +
+                    vk::resultString(r));
+        if (s->holdFrames) s->frameCv.wait(lock, [s] { return s->holdOpen || s->shutdown; });
+        s->holdOpen = false;
+        const XrDuration took = nowXrTime() - s->handedOverAt;
+        s->compositeNs = s->compositeNs == 0 ? took : (7 * s->compositeNs + took) / 8;
+        s->compositeTotalNs += took;
+        s->framesCompleted = frame;
+        s->frameCv.notify_all();
+    }
+}
+
+/// With the session's frameMutex held (by `lock`): waits until frame `serial` is complete, at most
+/// `timeout` (XR_INFINITE_DURATION: no limit). False when the time ran out. A wait of no time only
+/// looks (and so never opens a held frame, see Session::holdFrames).
+bool waitForFrame(Session* s, std::unique_lock<std::mutex>& lock, uint64_t serial, XrDuration timeout) {
+    auto done = [s, serial] { return s->framesCompleted >= serial; };
+    if (done()) return true;
+    if (timeout <= 0) return false;
+    s->holdOpen = true;
+    s->frameCv.notify_all();
+    if (timeout == XR_INFINITE_DURATION) {
+        s->frameCv.wait(lock, done);
+        return true;
+    }
+    return s->frameCv.wait_for(lock, std::chrono::nanoseconds(timeout), done);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
 // Session
 
 XrResult destroySession(Session* s) {
     Instance* inst = s->instance;
+    // The frame in flight first: its GPU work must be done before anything it reads goes.
+    if (s->compositorThread.joinable()) {
+        {
+            std::unique_lock lock(s->frameMutex);
+            waitForFrame(s, lock, s->framesHandedOver, XR_INFINITE_DURATION);
+            s->shutdown = true;
+            s->frameCv.notify_all();
+        }
+        s->compositorThread.join();
+    }
+    std::unique_lock gpu(s->gpuMutex);
+    if (s->compositor) (void)s->compositor->waitFrame();
     if (s->recorder) {
         if (Status st = s->recorder->close(); !st) logLine("recording: " + st.message());
         else logLine("recorded " + std::to_string(s->recorder->written()) + " frames to " + inst->config.record);
         s->recorder.reset();
     }
+    std::unique_lock frameLock(s->frameMutex);
     logLine("session ended: " + std::to_string(s->framesEnded) + " frames ended, " +
             std::to_string(s->framesComposited) + " composited, " + std::to_string(s->framesPassed) +
             " shown as submitted, " + std::to_string(s->framesRefused) +
             " not composited, " + std::to_string(s->framesDiscarded) + " discarded, vergence from depth in " +
-            std::to_string(s->vergenceFromDepth) + "; Vulkan validation: " +
+            std::to_string(s->vergenceFromDepth) + "; compositor " +
+            (s->framesCompleted ? std::to_string(double(s->compositeTotalNs) * 1e-6 / double(s->framesCompleted))
+                                : std::string("-")) +
+            " ms per frame from xrEndFrame to completion; Vulkan validation: " +
             std::to_string(inst->vkErrors.load()) + " errors, " + std::to_string(inst->vkWarnings.load()) +
             " warnings" + (inst->messenger ? "" : " (not counted: validation off or the application's instance)"));
+    frameLock.unlock();
     for (auto& sc : s->swapchains) unregisterObject(sc.get());
     for (auto& sp : s->spaces) unregisterObject(sp.get());
     s->swapchains.clear();
@@ -213,11 +291,15 @@ XrResult destroySession(Session* s) {
     s->window.reset();
     s->quads.reset();
     s->compositor.reset();
+    if (s->frameFence) vkDestroyFence(s->context->device(), s->frameFence, nullptr);
+    s->frameFence = VK_NULL_HANDLE;
     s->context.reset();
+    gpu.unlock();
     unregisterObject(s);
     // Events of the session still queued go with it: an application must never receive a handle it
     // has destroyed (a later session may even reuse the address).
     const XrSession handle = reinterpret_cast<XrSession>(s);
+    std::unique_lock events(inst->eventMutex);
     std::erase_if(inst->events, [handle](const XrEventDataBuffer& e) {
         switch (e.type) {
             case XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED:
@@ -230,6 +312,7 @@ XrResult destroySession(Session* s) {
                 return false;
         }
     });
+    events.unlock();
     // The messenger goes with the session: the application may destroy its VkInstance right after.
     if (inst->messenger) {
         auto fn = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -246,7 +329,7 @@ XrResult destroySession(Session* s) {
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCreateInfo* info, XrSession* out) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_SESSION_CREATE_INFO || info->createFlags != 0)
@@ -283,6 +366,14 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCrea
         return XR_ERROR_RUNTIME_FAILURE;
     }
     s->quads = std::move(*quads);
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    if (VkResult r = vkCreateFence(s->context->device(), &fci, nullptr, &s->frameFence); r != VK_SUCCESS) {
+        logLine(std::string("session: vkCreateFence: ") + vk::resultString(r));
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
+    // Test hook: each frame's completion waits until a call waits for it (see Session::holdFrames).
+    if (const char* hold = std::getenv("WRSFOV_XR_TEST_HOLD_FRAMES"); hold && std::strcmp(hold, "1") == 0)
+        s->holdFrames = true;
 
     const RuntimeConfig& c = inst->config;
     if (inst->window) {
@@ -307,42 +398,49 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSession(XrInstance h, const XrSessionCrea
     registerObject(s.get());
     *out = reinterpret_cast<XrSession>(s.get());
     Session* raw = s.get();
+    raw->compositorThread = std::thread(compositorThread, raw);
     inst->sessions.push_back(std::move(s));
+    std::lock_guard frame(raw->frameMutex);
     setState(raw, XR_SESSION_STATE_IDLE);
     setState(raw, XR_SESSION_STATE_READY);
     return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrDestroySession(XrSession h) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     return destroySession(s);
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession h, const XrSessionBeginInfo* info) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    std::lock_guard frame(s->frameMutex);
     if (s->running) return XR_ERROR_SESSION_RUNNING;
     if (XrResult r = checkViewConfiguration(info->primaryViewConfigurationType); r != XR_SUCCESS) return r;
     if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
     s->running = true;
     s->nextDisplayTime = 0;
+    s->lastDisplayTime = 0;
     s->waited = 0;
+    s->waitedDisplayTimes.clear();
     s->begun = false;
     return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEndSession(XrSession h) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
+    std::lock_guard frame(s->frameMutex);
     if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
     if (s->state != XR_SESSION_STATE_STOPPING) return XR_ERROR_SESSION_NOT_STOPPING;
     s->running = false;
     s->synced = false;
+    s->frameCv.notify_all();  // an xrWaitFrame on another thread returns SESSION_NOT_RUNNING
     setState(s, XR_SESSION_STATE_IDLE);
     // Stopping is only ever asked for to end the session (xrRequestExitSession, `frames`).
     setState(s, XR_SESSION_STATE_EXITING);
@@ -350,9 +448,10 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEndSession(XrSession h) {
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrRequestExitSession(XrSession h) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
+    std::lock_guard frame(s->frameMutex);
     if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
     beginStopping(s);
     return XR_SUCCESS;
@@ -363,7 +462,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrRequestExitSession(XrSession h) {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateReferenceSpaces(XrSession h, uint32_t capacity, uint32_t* countOutput,
                                                           XrReferenceSpaceType* spaces) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
     return fillArray<XrReferenceSpaceType>(
         capacity, countOutput, spaces,
@@ -386,7 +485,7 @@ XrSpace addSpace(Session* s, std::unique_ptr<Space> sp) {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrReferenceSpaceCreateInfo* info,
                                                       XrSpace* out) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
@@ -406,7 +505,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrRefer
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetReferenceSpaceBoundsRect(XrSession h, XrReferenceSpaceType type,
                                                              XrExtent2Df* bounds) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
     if (!bounds) return XR_ERROR_VALIDATION_FAILURE;
     if (XrResult r = checkReferenceType(type); r != XR_SUCCESS) return r;
@@ -419,7 +518,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetReferenceSpaceBoundsRect(XrSession h, XrRefe
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession h, const XrActionSpaceCreateInfo* info, XrSpace* out) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || !out || info->type != XR_TYPE_ACTION_SPACE_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
@@ -439,7 +538,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateActionSpace(XrSession h, const XrActionSp
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrLocateSpace(XrSpace spaceH, XrSpace baseH, XrTime time, XrSpaceLocation* location) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(spaceH));
     Space* space = getSpace(spaceH);
     Space* base = getSpace(baseH);
     if (!space || !base || space->session != base->session) return XR_ERROR_HANDLE_INVALID;
@@ -470,7 +569,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateSpace(XrSpace spaceH, XrSpace baseH, XrTi
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrDestroySpace(XrSpace h) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Space* sp = getSpace(h);
     if (!sp) return XR_ERROR_HANDLE_INVALID;
     unregisterObject(sp);
@@ -507,7 +606,6 @@ constexpr FormatEntry kFormats[] = {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainFormats(XrSession h, uint32_t capacity, uint32_t* countOutput,
                                                            int64_t* formats) {
-    std::lock_guard lock(apiMutex());
     if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
     std::vector<int64_t> v;
     for (const auto& f : kFormats) v.push_back(int64_t(f.vk));
@@ -515,9 +613,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainFormats(XrSession h, uint32_t
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainCreateInfo* info, XrSwapchain* out) {
-    std::lock_guard lock(apiMutex());
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
+    std::lock_guard gpu(s->gpuMutex);
     if (!info || !out || info->type != XR_TYPE_SWAPCHAIN_CREATE_INFO) return XR_ERROR_VALIDATION_FAILURE;
     const XrSwapchainCreateFlags knownFlags =
         XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT | XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT;
@@ -576,6 +674,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
     sc->info.next = nullptr;
     sc->format = fmt->format;
     sc->images = std::move(*images);
+    sc->readByFrame.assign(ci.imageCount, 0);
     registerObject(sc.get());
     *out = reinterpret_cast<XrSwapchain>(sc.get());
     s->swapchains.push_back(std::move(sc));
@@ -583,11 +682,22 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrDestroySwapchain(XrSwapchain h) {
-    std::lock_guard lock(apiMutex());
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
+    Session* s = sc->session;
+    // A frame handed to the compositor may still read the images: they go once it is complete.
+    uint64_t lastReader = 0;
+    {
+        std::lock_guard lock(sc->mutex);
+        for (uint64_t f : sc->readByFrame) lastReader = std::max(lastReader, f);
+    }
+    {
+        std::unique_lock frame(s->frameMutex);
+        waitForFrame(s, frame, lastReader, XR_INFINITE_DURATION);
+    }
+    std::lock_guard gpu(s->gpuMutex);
     unregisterObject(sc);
-    auto& v = sc->session->swapchains;
+    auto& v = s->swapchains;
     for (auto it = v.begin(); it != v.end(); ++it)
         if (it->get() == sc) {
             v.erase(it);
@@ -598,9 +708,9 @@ XRAPI_ATTR XrResult XRAPI_CALL xrDestroySwapchain(XrSwapchain h) {
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainImages(XrSwapchain h, uint32_t capacity, uint32_t* countOutput,
                                                           XrSwapchainImageBaseHeader* images) {
-    std::lock_guard lock(apiMutex());
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
+    std::lock_guard lock(sc->mutex);
     if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
     const uint32_t n = sc->images->info().imageCount;
     *countOutput = n;
@@ -616,10 +726,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainImages(XrSwapchain h, uint32_
 
 XRAPI_ATTR XrResult XRAPI_CALL xrAcquireSwapchainImage(XrSwapchain h, const XrSwapchainImageAcquireInfo* info,
                                                        uint32_t* index) {
-    std::lock_guard lock(apiMutex());
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
     if (!index || (info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO)) return XR_ERROR_VALIDATION_FAILURE;
+    std::lock_guard gpu(sc->session->gpuMutex);  // prepare() may use the queue (allowed in this call)
+    std::lock_guard lock(sc->mutex);
     if ((sc->info.createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) && sc->acquiredEver > 0)
         return XR_ERROR_CALL_ORDER_INVALID;
     // First use: clear the images and put them in the layout the application expects (the queue may
@@ -631,27 +742,42 @@ XRAPI_ATTR XrResult XRAPI_CALL xrAcquireSwapchainImage(XrSwapchain h, const XrSw
     auto r = sc->images->acquire();
     if (!r) return XR_ERROR_CALL_ORDER_INVALID;  // every image acquired and not released
     ++sc->acquiredEver;
+    sc->acquiredOrder.push_back(*r);
     *index = *r;
     return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrWaitSwapchainImage(XrSwapchain h, const XrSwapchainImageWaitInfo* info) {
-    std::lock_guard lock(apiMutex());
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    // One image at a time is waited for: a second wait before its release is out of order, and
-    // changes nothing (the images stay acquired for later legitimate waits).
-    for (uint32_t i = 0; i < sc->images->info().imageCount; ++i)
-        if (sc->images->isWaited(i)) return XR_ERROR_CALL_ORDER_INVALID;
-    // Frame end is synchronous: an acquired image is free as soon as it is acquired.
-    return sc->images->wait() ? XR_SUCCESS : XR_ERROR_CALL_ORDER_INVALID;
+    uint64_t reader = 0;
+    {
+        std::lock_guard lock(sc->mutex);
+        // One image at a time is waited for: a second wait before its release is out of order, and
+        // changes nothing (the images stay acquired for later legitimate waits).
+        for (uint32_t i = 0; i < sc->images->info().imageCount; ++i)
+            if (sc->images->isWaited(i)) return XR_ERROR_CALL_ORDER_INVALID;
+        if (sc->acquiredOrder.empty()) return XR_ERROR_CALL_ORDER_INVALID;  // nothing acquired
+        reader = sc->readByFrame[sc->acquiredOrder.front()];
+    }
+    // The image is the application's again once the last frame that reads it is complete (its GPU
+    // work done: the compositor thread saw its fence). Usually long ago: three images rotate.
+    {
+        Session* s = sc->session;
+        std::unique_lock frame(s->frameMutex);
+        if (!waitForFrame(s, frame, reader, info->timeout)) return XR_TIMEOUT_EXPIRED;
+    }
+    std::lock_guard lock(sc->mutex);
+    if (!sc->images->wait()) return XR_ERROR_CALL_ORDER_INVALID;
+    sc->acquiredOrder.pop_front();
+    return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrReleaseSwapchainImage(XrSwapchain h, const XrSwapchainImageReleaseInfo* info) {
-    std::lock_guard lock(apiMutex());
     Swapchain* sc = getSwapchain(h);
     if (!sc) return XR_ERROR_HANDLE_INVALID;
+    std::lock_guard lock(sc->mutex);
     if (info && info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO) return XR_ERROR_VALIDATION_FAILURE;
     return sc->images->release() ? XR_SUCCESS : XR_ERROR_CALL_ORDER_INVALID;  // released twice, or not waited
 }
@@ -660,11 +786,15 @@ XRAPI_ATTR XrResult XRAPI_CALL xrReleaseSwapchainImage(XrSwapchain h, const XrSw
 // Frames
 
 XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* info, XrFrameState* state) {
-    std::unique_lock lock(apiMutex());
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if ((info && info->type != XR_TYPE_FRAME_WAIT_INFO) || !state || state->type != XR_TYPE_FRAME_STATE)
         return XR_ERROR_VALIDATION_FAILURE;
+    std::unique_lock lock(s->frameMutex);
+    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    // A second xrWaitFrame waits until the frame before has been begun (the specification's order;
+    // a pipelined application waits at most one frame ahead).
+    s->frameCv.wait(lock, [s] { return s->waited == 0 || !s->running; });
     if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
     const Instance& inst = *s->instance;
     const XrDuration p = period(inst);
@@ -672,24 +802,34 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* i
     if (s->nextDisplayTime == 0) s->nextDisplayTime = now + p;
     XrTime display;
     if (inst.config.pace) {
-        // A late application skips display slots rather than queueing up latency.
-        if (s->nextDisplayTime < now + p / 2) s->nextDisplayTime += ((now + p / 2 - s->nextDisplayTime) / p + 1) * p;
+        // Paced by the display and by the compositor: consecutive frames are at least the
+        // compositor's time apart (hand-over to completion, measured and smoothed; rounded up to
+        // whole periods), so a compositor slower than the display slows the loop instead of queueing
+        // frames, and xrEndFrame rarely finds the frame before still in flight (which it then waits
+        // for: one frame in flight at most). The frame is shown at the first such slot at least half a
+        // period away; a late application skips slots. Display times stay on the slot grid and
+        // increase; the application is woken one period before its slot.
+        const XrDuration composite = std::min<XrDuration>(s->compositeNs, 1000000000);  // a second at most
+        const XrDuration interval = std::max<XrDuration>(1, (composite + p - 1) / p) * p;
+        if (s->lastDisplayTime != 0) s->nextDisplayTime = std::max(s->nextDisplayTime, s->lastDisplayTime + interval);
+        const XrTime earliest = now + p / 2;
+        if (s->nextDisplayTime < earliest) s->nextDisplayTime += ((earliest - s->nextDisplayTime) / p + 1) * p;
         display = s->nextDisplayTime;
         s->nextDisplayTime += p;
+        s->lastDisplayTime = display;
         const XrTime wake = display - p;
         if (wake > now) {
-            lock.unlock();
-            std::this_thread::sleep_for(std::chrono::nanoseconds(wake - now));
-            lock.lock();
-            s = getSession(h);  // destroyed from another thread while we slept?
-            if (!s) return XR_ERROR_HANDLE_INVALID;
+            // Sleeps with the frame lock released: xrBeginFrame / xrEndFrame of the frame before go on.
+            s->frameCv.wait_for(lock, std::chrono::nanoseconds(wake - now),
+                                [s] { return !s->running || s->shutdown; });
+            if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
         }
     } else {
         display = s->nextDisplayTime;
         s->nextDisplayTime += p;
     }
     ++s->waited;
-    s->frameDisplayTime = display;
+    s->waitedDisplayTimes.push_back(display);
     if (s->state == XR_SESSION_STATE_READY && !s->stopRequested) {
         setState(s, XR_SESSION_STATE_SYNCHRONIZED);
         setState(s, XR_SESSION_STATE_VISIBLE);
@@ -703,13 +843,16 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* i
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrBeginFrame(XrSession h, const XrFrameBeginInfo* info) {
-    std::lock_guard lock(apiMutex());
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (info && info->type != XR_TYPE_FRAME_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    std::lock_guard lock(s->frameMutex);
     if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
     if (s->waited == 0) return XR_ERROR_CALL_ORDER_INVALID;
     --s->waited;
+    s->frameDisplayTime = s->waitedDisplayTimes.front();  // pipelined: the oldest waited frame is begun
+    s->waitedDisplayTimes.pop_front();
+    s->frameCv.notify_all();  // a pipelined xrWaitFrame may go on
     if (s->begun) {
         ++s->framesDiscarded;  // the previous frame was begun and never ended
         return XR_FRAME_DISCARDED;
@@ -724,7 +867,10 @@ namespace {
 XrResult checkSubImage(Session* s, const XrSwapchainSubImage& sub, Swapchain** out) {
     Swapchain* sc = getSwapchain(sub.swapchain);
     if (!sc || sc->session != s) return XR_ERROR_HANDLE_INVALID;
-    if (sc->images->lastReleased() < 0) return XR_ERROR_LAYER_INVALID;  // nothing released yet
+    {
+        std::lock_guard lock(sc->mutex);
+        if (sc->images->lastReleased() < 0) return XR_ERROR_LAYER_INVALID;  // nothing released yet
+    }
     if (sub.imageArrayIndex >= sc->info.arraySize) return XR_ERROR_VALIDATION_FAILURE;
     const XrRect2Di& r = sub.imageRect;
     if (r.offset.x < 0 || r.offset.y < 0 || r.extent.width <= 0 || r.extent.height <= 0 ||
@@ -892,18 +1038,39 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f, bool withOutput) {
     }
 }
 
+/// What xrEndFrame hands to the compositor besides the application's structures: the frame's
+/// display time and the poses of the quad layers' spaces (read under the instance's lock first).
+struct FramePlan {
+    XrTime displayTime = 0;
+    std::vector<std::optional<Pose>> layerSpaces;  // per layer: its space's pose at displayTime (quads only)
+};
+
+/// The poses of the quad layers' spaces (an action space's pose depends on the action state).
+FramePlan planFrame(Session* s, const XrFrameEndInfo* info, XrTime displayTime) {
+    FramePlan plan;
+    plan.displayTime = displayTime;
+    plan.layerSpaces.resize(info->layerCount);
+    std::lock_guard lock(s->instance->mutex);
+    for (uint32_t i = 0; i < info->layerCount; ++i) {
+        if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
+        Pose space;
+        if (spacePose(*getSpace(info->layers[i]->space), displayTime, space)) plan.layerSpaces[i] = space;
+    }
+    return plan;
+}
+
 /// Quad layers after the projection layer, in order, over the composited output (those before it
 /// are hidden by the opaque projection).
-void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const layers::FrameEndInfo& f) {
+void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const layers::FrameEndInfo& f,
+               const FramePlan& plan) {
     std::vector<QuadDraw> draws;
-    const XrTime t = s->frameDisplayTime;
+    const XrTime t = plan.displayTime;
     for (uint32_t i = projIndex + 1; i < info->layerCount; ++i) {
         if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
         auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(info->layers[i]);
         if (q->size.width == 0.0f || q->size.height == 0.0f) continue;  // covers nothing
-        Pose space;
-        if (!spacePose(*getSpace(q->space), t, space)) continue;  // an untracked space: not shown
-        const Pose quadInStage = space * fromXr(q->pose);
+        if (!plan.layerSpaces[i]) continue;  // an untracked space: not shown
+        const Pose quadInStage = *plan.layerSpaces[i] * fromXr(q->pose);
         Swapchain* sc = getSwapchain(q->subImage.swapchain);
         const XrRect2Di& r = q->subImage.imageRect;
         for (uint32_t e = 0; e < 2; ++e) {
@@ -932,8 +1099,10 @@ void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const
         logLine("quad layers not drawn: " + st.message());
 }
 
-/// Runs the first stereo projection layer through the compositor.
-void compose(Session* s, const XrFrameEndInfo* info) {
+/// Runs the first stereo projection layer through the compositor: submits its passes, the quads and
+/// the window's copy to the session's queue without waiting for them (with `record`, the read-backs
+/// wait). Returns whether the window asked the application to stop. With gpuMutex held.
+bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint64_t frameIndex) {
     const XrCompositionLayerProjection* proj = nullptr;
     uint32_t projIndex = 0;
     for (uint32_t i = 0; i < info->layerCount; ++i)
@@ -946,14 +1115,14 @@ void compose(Session* s, const XrFrameEndInfo* info) {
         for (uint32_t i = 0; i < info->layerCount; ++i) quads |= info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_QUAD;
         if (quads && s->refusalsLogged.insert(-1).second)
             logLine("quad layers without a projection layer are not shown (the display is the projection's output)");
-        return;
+        return false;
     }
     const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
     const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
     bool locomotion = false;
     layers::FrameEndInfo f;
-    f.frameIndex = s->framesEnded + 1;
-    f.time_s = s->instance->seconds(s->frameDisplayTime);
+    f.frameIndex = frameIndex;
+    f.time_s = s->instance->seconds(plan.displayTime);
     layers::ProjectionLayer layer;
     for (uint32_t v = 0; v < 2; ++v) {
         const XrCompositionLayerProjectionView& xv = proj->views[v];
@@ -994,26 +1163,31 @@ void compose(Session* s, const XrFrameEndInfo* info) {
         layer.views.push_back(pv);
     }
     f.layers.push_back(std::move(layer));
-    const auto gaze = frameGaze(*s, s->frameDisplayTime, f.layers[0].views[0]);
+    const auto gaze = frameGaze(*s, plan.displayTime, f.layers[0].views[0]);
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
-    s->lastGaze = gaze;
+    {
+        std::lock_guard lock(s->gazeMutex);
+        s->lastGaze = gaze;
+    }
     if (!s->instance->config.compose) {  // method = off: shown and recorded as submitted
         ++s->framesPassed;
         recordFrame(s, f, false);
-        return;
+        return false;
     }
     if (locomotion) s->compositor->resetHistory();
-    Status st = s->compositor->endFrame(f);
+    FrameSubmission submission;
+    submission.mode = FrameSubmission::Mode::Submit;  // the compositor thread waits (frameFence)
+    Status st = s->compositor->endFrame(f, submission);
     if (!st) {
         ++s->framesRefused;
         if (s->refusalsLogged.insert(st.error().code).second)
             logLine("frame " + std::to_string(f.frameIndex) + " not composited: " + st.message() +
                     " (logged once per reason)");
-        return;
+        return false;
     }
     ++s->framesComposited;
-    drawQuads(s, info, projIndex, f);
+    drawQuads(s, info, projIndex, f, plan);
     recordFrame(s, f, true);
     if (s->window) {
         const FrameStats& st = s->compositor->stats();
@@ -1031,7 +1205,37 @@ void compose(Session* s, const XrFrameEndInfo* info) {
             s->window.reset();
         } else if (s->window->closeRequested()) {
             logLine("window closed: asking the application to stop");
-            beginStopping(s);
+            return true;
+        }
+    }
+    return false;
+}
+
+/// Every swapchain image the frame reads, so that it stays the compositor's until the frame is
+/// complete (xrWaitSwapchainImage, xrDestroySwapchain wait for that).
+void markReadBy(Session* s, const XrFrameEndInfo* info, uint64_t frame) {
+    auto mark = [&](const XrSwapchainSubImage& sub) {
+        Swapchain* sc = getSwapchain(sub.swapchain);
+        std::lock_guard lock(sc->mutex);
+        sc->readByFrame[uint32_t(sc->images->lastReleased())] = frame;
+    };
+    const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
+    for (uint32_t i = 0; i < info->layerCount; ++i) {
+        const XrCompositionLayerBaseHeader* l = info->layers[i];
+        if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
+            mark(reinterpret_cast<const XrCompositionLayerQuad*>(l)->subImage);
+            continue;
+        }
+        auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(l);
+        for (uint32_t v = 0; v < p->viewCount; ++v) {
+            mark(p->views[v].subImage);
+            if (auto* n = findNext(p->views[v].next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); n && depthExt)
+                mark(reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(n)->subImage);
+            if (auto* n = findNext(p->views[v].next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); n && warpExt) {
+                mark(reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(n)->motionVectorSubImage);
+                mark(reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(n)->depthSubImage);
+            }
         }
     }
 }
@@ -1039,14 +1243,41 @@ void compose(Session* s, const XrFrameEndInfo* info) {
 }  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* info) {
-    std::lock_guard lock(apiMutex());
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_FRAME_END_INFO) return XR_ERROR_VALIDATION_FAILURE;
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    if (!s->begun) return XR_ERROR_CALL_ORDER_INVALID;
+    XrTime displayTime;
+    {
+        std::lock_guard frame(s->frameMutex);
+        if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
+        if (!s->begun) return XR_ERROR_CALL_ORDER_INVALID;
+        displayTime = s->frameDisplayTime;
+    }
     if (XrResult r = validateFrameEnd(s, info); r != XR_SUCCESS) return r;
-    compose(s, info);
+    const FramePlan plan = planFrame(s, info, displayTime);
+
+    std::lock_guard gpu(s->gpuMutex);
+    uint64_t serial;
+    {
+        // The frame before must be complete: the compositor's buffers and frameFence are reused (one
+        // frame in flight). xrWaitFrame's throttling has usually seen to that already.
+        std::unique_lock frame(s->frameMutex);
+        waitForFrame(s, frame, s->framesHandedOver, XR_INFINITE_DURATION);
+        serial = s->framesHandedOver + 1;
+    }
+    VK_CHECK(vkResetFences(s->context->device(), 1, &s->frameFence));
+    const bool closed = compose(s, info, plan, s->framesEnded + 1);
+    markReadBy(s, info, serial);
+    // After everything the frame submitted (queue order): the compositor thread waits for this fence.
+    const VkResult submitted = s->context->deviceLost()
+                                   ? VK_ERROR_DEVICE_LOST
+                                   : vkQueueSubmit(s->context->queue(), 0, nullptr, s->frameFence);
+
+    std::lock_guard frame(s->frameMutex);
+    s->framesHandedOver = serial;
+    s->handedOverAt = nowXrTime();
+    if (submitted != VK_SUCCESS) s->framesCompleted = serial;  // nothing to wait for on a lost device
+    s->frameCv.notify_all();
     s->begun = false;
     ++s->framesEnded;
     const uint64_t limit = s->instance->config.frames;
@@ -1054,12 +1285,13 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* inf
         logLine("frame limit reached (" + std::to_string(limit) + "): asking the application to stop");
         beginStopping(s);
     }
+    if (closed) beginStopping(s);
     return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession h, const XrViewLocateInfo* info, XrViewState* viewState,
                                              uint32_t capacity, uint32_t* countOutput, XrView* views) {
-    std::lock_guard lock(apiMutex());
+    std::lock_guard lock(stateMutex(h));
     Session* s = getSession(h);
     if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!info || info->type != XR_TYPE_VIEW_LOCATE_INFO || !viewState || viewState->type != XR_TYPE_VIEW_STATE ||

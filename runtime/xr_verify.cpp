@@ -14,6 +14,32 @@ Action* getAction(XrAction h) { return lookup<Action>(h, ObjectType::Action); }
 Space* getSpace(XrSpace h) { return lookup<Space>(h, ObjectType::Space); }
 Swapchain* getSwapchain(XrSwapchain h) { return lookup<Swapchain>(h, ObjectType::Swapchain); }
 
+namespace {
+std::recursive_mutex& noObjectMutex() {
+    static std::recursive_mutex m;
+    return m;
+}
+std::recursive_mutex& of(Instance* inst) { return inst ? inst->mutex : noObjectMutex(); }
+}  // namespace
+
+std::recursive_mutex& stateMutex(XrInstance h) { return of(getInstance(h)); }
+std::recursive_mutex& stateMutex(XrSession h) {
+    Session* s = getSession(h);
+    return of(s ? s->instance : nullptr);
+}
+std::recursive_mutex& stateMutex(XrActionSet h) {
+    ActionSet* set = getActionSet(h);
+    return of(set ? set->instance : nullptr);
+}
+std::recursive_mutex& stateMutex(XrAction h) {
+    Action* a = getAction(h);
+    return of(a ? a->set->instance : nullptr);
+}
+std::recursive_mutex& stateMutex(XrSpace h) {
+    Space* sp = getSpace(h);
+    return of(sp ? sp->session->instance : nullptr);
+}
+
 XrResult checkSystem(Instance* inst, XrSystemId id) {
     if (!inst) return XR_ERROR_HANDLE_INVALID;
     return id == kSystemId ? XR_SUCCESS : XR_ERROR_SYSTEM_INVALID;

@@ -18,6 +18,14 @@ Action* getAction(XrAction h);
 Space* getSpace(XrSpace h);
 Swapchain* getSwapchain(XrSwapchain h);
 
+/// The state lock (Instance::mutex) of the instance a handle belongs to, taken before the call's own
+/// lookup; for a handle that is not live, a lock of no object (the lookup then fails the call).
+std::recursive_mutex& stateMutex(XrInstance h);
+std::recursive_mutex& stateMutex(XrSession h);
+std::recursive_mutex& stateMutex(XrActionSet h);
+std::recursive_mutex& stateMutex(XrAction h);
+std::recursive_mutex& stateMutex(XrSpace h);
+
 /// HANDLE_INVALID without an instance, SYSTEM_INVALID for another system than kSystemId.
 XrResult checkSystem(Instance* inst, XrSystemId id);
 

@@ -4,7 +4,12 @@
 // Environment (tests/xr/CMakeLists.txt): XR_RUNTIME_JSON, WRSFOV_XR_PACE=free, a small view size.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
@@ -1232,6 +1237,172 @@ TEST(XrClient, EyeGazeNotEnabledIsNotVisible) {
               XR_ERROR_PATH_UNSUPPORTED);
     ASSERT_EQ(xrGetCurrentInteractionProfile(c->session, path(c->instance, "/user/hand/left"), &ips), XR_SUCCESS);
     EXPECT_EQ(ips.interactionProfile, XrPath(XR_NULL_PATH));
+}
+
+// ---- Composition off the API's critical path ----------------------------------------------------
+
+/// A hand-made frame end of one stereo layer reading `color` (both eyes from layer 0).
+XrResult endWith(Client& c, const XrFrameState& fs, const Swapchain& color) {
+    StereoLayer sl;
+    sl.build(c, fs.predictedDisplayTime, color);
+    std::vector<const XrCompositionLayerBaseHeader*> ls{sl.header()};
+    XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+    return xrEndFrame(c.session, &fe);
+}
+
+/// Acquires the next image of `sc` and waits for it with `timeout`; releases it when the wait
+/// succeeded. Returns the wait's result and the image's index.
+std::pair<XrResult, uint32_t> cycleImage(const Swapchain& sc, XrDuration timeout) {
+    uint32_t index = 0;
+    EXPECT_EQ(xrAcquireSwapchainImage(sc.handle, nullptr, &index), XR_SUCCESS);
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = timeout;
+    const XrResult r = xrWaitSwapchainImage(sc.handle, &wi);
+    if (r == XR_SUCCESS) {
+        EXPECT_EQ(xrReleaseSwapchainImage(sc.handle, nullptr), XR_SUCCESS);
+    }
+    return {r, index};
+}
+
+// xrEndFrame hands the frame to the compositor thread and returns; the frame's images stay the
+// compositor's until it is complete. Deterministic: with WRSFOV_XR_TEST_HOLD_FRAMES=1 the runtime
+// completes a frame only once a call waits for it (a wait with no timeout only looks), so an
+// xrEndFrame that waited for its frame would never return, and the image it read is refused to a
+// zero-timeout wait until a blocking wait lets the frame complete.
+TEST(XrClient, FrameEndReturnsBeforeTheFrameIsComplete) {
+    setenv("WRSFOV_XR_TEST_HOLD_FRAMES", "1", 1);
+    auto c = Client::create(kExtensions);
+    unsetenv("WRSFOV_XR_TEST_HOLD_FRAMES");
+    ASSERT_TRUE(c);
+    Swapchain color;
+    ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 1, kColorUsage, color), XR_SUCCESS);
+    const auto texels = checker(c->viewWidth, c->viewHeight, 4, 30, 220);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });  // image 0
+    runToFocused(*c, color);  // three frames reading image 0, each completed at the next xrEndFrame
+
+    XrFrameState fs{XR_TYPE_FRAME_STATE};
+    ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+    ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });  // image 1
+    ASSERT_EQ(endWith(*c, fs, color), XR_SUCCESS);  // returns with the frame held in flight
+
+    // Images 2 and 0 are not read by the frame in flight; image 1 is.
+    EXPECT_EQ(cycleImage(color, 0), std::make_pair(XR_SUCCESS, 2u));
+    EXPECT_EQ(cycleImage(color, 0), std::make_pair(XR_SUCCESS, 0u));
+    EXPECT_EQ(cycleImage(color, 0), std::make_pair(XR_TIMEOUT_EXPIRED, 1u));
+    // Still acquired: a blocking wait lets the frame complete and hands the image over.
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    EXPECT_EQ(xrWaitSwapchainImage(color.handle, &wi), XR_SUCCESS);
+    EXPECT_EQ(xrReleaseSwapchainImage(color.handle, nullptr), XR_SUCCESS);
+
+    // The loop goes on: each xrEndFrame waits for the frame before (and so completes it).
+    for (int i = 0; i < 3; ++i) {
+        ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+        ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+        ASSERT_EQ(endWith(*c, fs, color), XR_SUCCESS);
+    }
+}
+
+// Destroying a swapchain or the session while a frame that reads it is in flight waits for the
+// frame (no image goes while the GPU reads it: the validation layer would say so) and leaves the
+// runtime ready for a new session.
+TEST(XrClient, SessionDestroyedWithAFrameInFlight) {
+    for (int round = 0; round < 2; ++round) {
+        setenv("WRSFOV_XR_TEST_HOLD_FRAMES", "1", 1);
+        auto c = Client::create(kExtensions);
+        unsetenv("WRSFOV_XR_TEST_HOLD_FRAMES");
+        ASSERT_TRUE(c);
+        Swapchain color, other;
+        ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 1, kColorUsage, color), XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 1, kColorUsage, other), XR_SUCCESS);
+        const auto texels = checker(c->viewWidth, c->viewHeight, 4, 30, 220);
+        c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });
+        c->writeSwapchain(other, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });
+        ASSERT_EQ(c->begin(), XR_SUCCESS);
+        XrFrameState fs{XR_TYPE_FRAME_STATE};
+        ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+        ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+        ASSERT_EQ(endWith(*c, fs, color), XR_SUCCESS);  // in flight, held
+        if (round == 0) {
+            ASSERT_EQ(xrDestroySwapchain(color.handle), XR_SUCCESS);  // waits for the frame
+            ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+            ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+            ASSERT_EQ(endWith(*c, fs, other), XR_SUCCESS);  // in flight, held
+        }
+        ASSERT_EQ(xrDestroySession(c->session), XR_SUCCESS);  // with the frame in flight
+        c->session = XR_NULL_HANDLE;
+    }
+    // A new session runs frames.
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    Swapchain color;
+    ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 1, kColorUsage, color), XR_SUCCESS);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                      [&](uint32_t) { return checker(c->viewWidth, c->viewHeight, 4, 30, 220); });
+    runToFocused(*c, color);
+}
+
+// The CTS's pipelined loop: xrWaitFrame on one thread, xrBeginFrame / xrEndFrame (with the
+// swapchain work, views and events) on another. Display times increase by whole periods, a second
+// xrWaitFrame waits for the frame before to be begun, and every frame ends.
+TEST(XrClient, PipelinedFrameSubmissionFromTwoThreads) {
+    auto c = Client::create(kExtensions);
+    ASSERT_TRUE(c);
+    Swapchain color;
+    ASSERT_EQ(c->createSwapchain(kSrgb, c->viewWidth, c->viewHeight, 1, kColorUsage, color), XR_SUCCESS);
+    const auto texels = checker(c->viewWidth, c->viewHeight, 4, 30, 220);
+    c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });
+    ASSERT_EQ(c->begin(), XR_SUCCESS);
+
+    constexpr int kFrames = 40;
+    std::mutex m;
+    std::condition_variable cv;
+    std::deque<XrFrameState> queued;
+    std::atomic<int> waitedAhead{0}, maxAhead{0};
+    XrResult waitResult = XR_SUCCESS;
+    std::thread waiter([&] {
+        for (int i = 0; i < kFrames; ++i) {
+            XrFrameState fs{XR_TYPE_FRAME_STATE};
+            const XrResult r = xrWaitFrame(c->session, nullptr, &fs);
+            std::lock_guard lock(m);
+            if (r != XR_SUCCESS) {
+                waitResult = r;
+                cv.notify_one();
+                return;
+            }
+            maxAhead = std::max(maxAhead.load(), ++waitedAhead);
+            queued.push_back(fs);
+            cv.notify_one();
+        }
+    });
+    XrTime last = 0;
+    int ended = 0;
+    for (int i = 0; i < kFrames; ++i) {
+        XrFrameState fs;
+        {
+            std::unique_lock lock(m);
+            cv.wait(lock, [&] { return !queued.empty() || waitResult != XR_SUCCESS; });
+            if (queued.empty()) break;
+            fs = queued.front();
+            queued.pop_front();
+        }
+        --waitedAhead;  // before the begin: the waiter's next xrWaitFrame returns only after it
+        ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS) << "frame " << i;
+        if (last) {
+            EXPECT_GT(fs.predictedDisplayTime, last);
+            EXPECT_EQ((fs.predictedDisplayTime - last) % fs.predictedDisplayPeriod, 0) << "frame " << i;
+        }
+        last = fs.predictedDisplayTime;
+        c->writeSwapchain(color, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });
+        c->poll();
+        ASSERT_EQ(endWith(*c, fs, color), XR_SUCCESS) << "frame " << i;
+        ++ended;
+    }
+    waiter.join();
+    EXPECT_EQ(waitResult, XR_SUCCESS);
+    EXPECT_EQ(ended, kFrames);
+    EXPECT_LE(maxAhead.load(), 1) << "xrWaitFrame returned twice before an xrBeginFrame";
 }
 
 }  // namespace
