@@ -1,5 +1,6 @@
 #include "eval/fvvdp_gpu.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -59,6 +60,7 @@ struct GpuMetric::Impl {
     Options options;
     Metric layout;  // the C++ metric, never pushed: the checked options, bands and filters
     uint32_t levels = 0;  // Gaussian levels stored: bands + 1
+    uint32_t quads = 0;   // groups of 4 pixels of the display and temporal passes
     std::vector<uint32_t> bandPixels, bandGroupsX, bandGroupsY;
     gpu::FvvdpParams params{};
 
@@ -69,6 +71,8 @@ struct GpuMetric::Impl {
     VkDescriptorSet set = VK_NULL_HANDLE;
     vk::ShaderModule modules[kPasses];
     vk::Pipeline pipelines[kPasses];
+    vk::QueryPool queries;  // kPasses + 1 timestamps around the passes; none without timestamps
+    std::array<double, 4> passMs{};
 
     std::size_t frames = 0;
     double sumVideo = 0.0, qImage = 0.0;
@@ -93,7 +97,8 @@ Status GpuMetric::Impl::init() {
 
     // The parameter block: everything but the gaze is fixed for the metric's life.
     const int n = layout.filterLength();
-    params.image = glm::uvec4(w, h, uint32_t(n), levels);
+    quads = uint32_t((npix + 3) / 4);
+    params.image = glm::uvec4(w, h, uint32_t(n), quads);
     const double black = options.photometry.black();
     params.display = glm::vec4(float(options.photometry.peak), float(black),
                                float(std::pow(10.0, p.sensitivity_correction / 20.0)), 0.0f);
@@ -128,10 +133,11 @@ Status GpuMetric::Impl::init() {
         const char* what;
     };
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    const uint64_t tableFloats = 2ull * FVVDP_CSF_N * FVVDP_CSF_N * FVVDP_CSF_N + 2ull * uint64_t(n);
+    constexpr size_t kCsfNodes = size_t(FVVDP_CSF_N) * FVVDP_CSF_N * FVVDP_CSF_N;
+    const uint64_t tableFloats = 2ull * kCsfNodes + 2ull * uint64_t(n);
     for (const Alloc& a : {Alloc{&ubo, sizeof(gpu::FvvdpParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "parameters"},
-                           Alloc{&input, 2 * 3 * npix * 4, storage, true, "input images"},
-                           Alloc{&window, 2 * uint64_t(n) * npix * 4, storage, false, "temporal window"},
+                           Alloc{&input, 2 * uint64_t(quads) * 48, storage, true, "input images"},
+                           Alloc{&window, 2 * uint64_t(n) * quads * 16, storage, false, "temporal window"},
                            Alloc{&pyramid, uint64_t(texel) * 16, storage, false, "pyramid"},
                            Alloc{&tables, tableFloats * 4, storage, true, "CSF tables"},
                            Alloc{&partial, uint64_t(std::max(partialAt, 1u)) * 4, storage, true, "band sums"}}) {
@@ -140,13 +146,16 @@ Status GpuMetric::Impl::init() {
         *a.buffer = std::move(*r);
     }
     std::memcpy(ubo.mapped(), &params, sizeof(params));
+    // The padding pixels of the last quad stay 0 (they are never stored in the pyramid).
+    std::memset(input.mapped(), 0, input.size());
+    // The tables: per node the sustained then the transient log2 S, then the two filters.
     float* t = static_cast<float*>(tables.mapped());
     for (int c = 0; c < 2; ++c) {
         const std::vector<float> table = detail::csfTable(detail::kChannelOmega[size_t(c)]);
-        std::memcpy(t + size_t(c) * table.size(), table.data(), table.size() * 4);
+        for (size_t i = 0; i < kCsfNodes; ++i) t[2 * i + size_t(c)] = table[i];
     }
     const auto filters = detail::temporalFilters(options.fps);
-    const size_t filterAt = 2ull * FVVDP_CSF_N * FVVDP_CSF_N * FVVDP_CSF_N;
+    const size_t filterAt = 2 * kCsfNodes;
     std::memcpy(t + filterAt, filters[0].data(), size_t(n) * 4);
     std::memcpy(t + filterAt + size_t(n), filters[1].data(), size_t(n) * 4);
 
@@ -213,6 +222,14 @@ Status GpuMetric::Impl::init() {
         VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &ci, nullptr, &pl));
         pipelines[s] = vk::Pipeline(dev, pl);
     }
+    if (ctx.timestampPeriodNs() > 0.0) {
+        VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qci.queryCount = kPasses + 1;
+        VkQueryPool qp;
+        VK_CHECK(vkCreateQueryPool(dev, &qci, nullptr, &qp));
+        queries = vk::QueryPool(dev, qp);
+    }
     return Status::success();
 }
 
@@ -227,26 +244,38 @@ void GpuMetric::Impl::record(VkCommandBuffer cb, uint32_t slot, uint32_t frameCo
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     };
+    uint32_t stamps = 0;
+    auto stamp = [&] {
+        if (queries) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, queries.get(), stamps++);
+    };
+    if (queries) vkCmdResetQueryPool(cb, queries.get(), 0, kPasses + 1);
+    stamp();
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, nullptr);
-    const uint32_t w = params.image.x, h = params.image.y;
+    // The per-quad passes: 64-wide groups in x, then rows of them in y (fvvdp_quad).
+    const uint32_t quadGroups = (quads + 63) / 64, qx = std::min(quadGroups, 32768u), qy = (quadGroups + qx - 1) / qx;
     bind(kDisplay);
     pushAt(0);
-    vkCmdDispatch(cb, groups(w), groups(h), 2);
+    vkCmdDispatch(cb, qx, qy, 2);
     computeBarrier();
+    stamp();
     bind(kTemporal);
-    vkCmdDispatch(cb, groups(w), groups(h), 1);
+    vkCmdDispatch(cb, qx, qy, 1);
     computeBarrier();
+    stamp();
     bind(kReduce);
     for (uint32_t l = 0; l + 1 < levels; ++l) {
         pushAt(l);
         vkCmdDispatch(cb, groups(params.level[l + 1].x), groups(params.level[l + 1].y), 1);
         computeBarrier();
     }
+    stamp();
     bind(kBand);
     for (uint32_t b = 0; b + 1 < levels; ++b) {
         pushAt(b);
         vkCmdDispatch(cb, bandGroupsX[b], bandGroupsY[b], 1);
     }
+    computeBarrier();
+    stamp();
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                       VK_ACCESS_HOST_READ_BIT);
 }
@@ -282,11 +311,11 @@ Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 
                      "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");
 
     const int w = int(g.width), h = int(g.height);
-    const size_t row = size_t(w) * 3, npix = size_t(w) * size_t(h);
+    const size_t row = size_t(w) * 3;
     float* in = static_cast<float*>(m.input.mapped());
     for (int y = 0; y < h; ++y) {
         std::memcpy(in + size_t(y) * row, test.ptr<float>(y), row * 4);
-        std::memcpy(in + 3 * npix + size_t(y) * row, reference.ptr<float>(y), row * 4);
+        std::memcpy(in + 12 * size_t(m.quads) + size_t(y) * row, reference.ptr<float>(y), row * 4);
     }
     // Gaze as tangents (the ray through the centre of the pixel looked at), as Metric does.
     const glm::vec4 t = g.fov_tan;
@@ -297,6 +326,13 @@ Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 
     const uint32_t slot = uint32_t(m.frames % size_t(m.layout.filterLength()));
     if (Status s = m.ctx.submitAndWait([&](VkCommandBuffer cb) { m.record(cb, slot, uint32_t(m.frames + 1)); }); !s)
         return Error{s.error().code, "fvvdp: GPU frame: " + s.error().message};
+
+    if (m.queries) {
+        uint64_t ts[kPasses + 1];
+        if (vkGetQueryPoolResults(m.ctx.device(), m.queries.get(), 0, kPasses + 1, sizeof(ts), ts, sizeof(uint64_t),
+                                  VK_QUERY_RESULT_64_BIT) == VK_SUCCESS)
+            for (int i = 0; i < kPasses; ++i) m.passMs[size_t(i)] = double(ts[i + 1] - ts[i]) * m.ctx.timestampPeriodNs() * 1e-6;
+    }
 
     // Pool: per band and channel the beta-mean of the group sums (in double), then as Metric.
     const Parameters& p = kParameters;
@@ -330,6 +366,7 @@ std::size_t GpuMetric::frames() const { return impl_->frames; }
 const std::vector<double>& GpuMetric::bandFrequencies() const { return impl_->layout.bandFrequencies(); }
 int GpuMetric::filterLength() const { return impl_->layout.filterLength(); }
 const Options& GpuMetric::options() const { return impl_->options; }
+std::array<double, 4> GpuMetric::passMilliseconds() const { return impl_->passMs; }
 
 void GpuMetric::reset() {
     impl_->frames = 0;

@@ -10,6 +10,7 @@
 // docs/metrics.md, "GPU implementation".
 #pragma once
 
+#include <array>
 #include <memory>
 
 #include "compositor/vk_context.h"
@@ -49,6 +50,9 @@ public:
     const std::vector<double>& bandFrequencies() const;
     int filterLength() const;
     const Options& options() const;
+    /// Device time of the last frame's passes in milliseconds (display, temporal, pyramid, bands),
+    /// from timestamps; zeros where the queue has none.
+    std::array<double, 4> passMilliseconds() const;
     /// Forgets all frames (a new video); options, pipelines and buffers are kept.
     void reset();
 

@@ -20,18 +20,13 @@ void main() {
     uvec2 size = params.level[b].xy, nsize = params.level[b + 1u].xy;
     vec2 sum = vec2(0.0);
     if (all(lessThan(p, size))) {
-        // Expanded next level (detail::pyramidExpand at this pixel).
-        int xs[5];
-        for (int k = 0; k < 5; ++k) xs[k] = fvvdp_expand_tap(int(p.x), k, int(size.x), int(nsize.x));
+        // Expanded next level (detail::pyramidExpand at this pixel: 3 x 3 taps).
+        ivec3 xs, ys;
+        vec3 wx = fvvdp_expand_taps(int(p.x), int(nsize.x), xs), wy = fvvdp_expand_taps(int(p.y), int(nsize.y), ys);
         vec4 e = vec4(0.0);
-        for (int ky = 0; ky < 5; ++ky) {
-            int sy = fvvdp_expand_tap(int(p.y), ky, int(size.y), int(nsize.y));
-            if (sy < 0) continue;
-            uint row = params.level[b + 1u].z + uint(sy) * nsize.x;
-            vec4 r = vec4(0.0);
-            for (int kx = 0; kx < 5; ++kx)
-                if (xs[kx] >= 0) r += (2.0 * FVVDP_KERNEL[kx]) * pyr[row + uint(xs[kx])];
-            e += (2.0 * FVVDP_KERNEL[ky]) * r;
+        for (int ky = 0; ky < 3; ++ky) {
+            uint row = params.level[b + 1u].z + uint(ys[ky]) * nsize.x;
+            e += wy[ky] * (wx.x * pyr[row + uint(xs.x)] + wx.y * pyr[row + uint(xs.y)] + wx.z * pyr[row + uint(xs.z)]);
         }
         vec4 band = pyr[fvvdp_texel(b, p)] - e;
         // Contrast against the reference's sustained background, capped; bands below the finest doubled.
@@ -47,24 +42,25 @@ void main() {
             float angle = fvvdp_eccentricity(FLAT_SCREEN, tx, ty, 0.0, 0.0);
             rho *= fvvdp_resolution_magnification(angle, params.gaze.z);
         }
+        vec2 sens = params.display.z * fvvdp_csf(rho, l_bkg, ecc);
         for (uint cc = 0u; cc < 2u; ++cc) {
-            float s = params.display.z * fvvdp_csf(cc, rho, l_bkg, ecc);
+            float s = sens[cc];
             float q = cc == 0u ? params.mask.z : params.mask.w;
             float d = fvvdp_masked_difference(c[2u * cc] * s, c[2u * cc + 1u] * s, params.mask.x, q, params.mask.y);
             if (d > 0.0) sum[cc] = pow(d, params.pool.x);
         }
     }
+    // One barrier, then the first lane adds the group's 64 sums (a tree would take 6 barriers, each
+    // of which a CPU device pays for by splitting the group's loop).
     uint lane = gl_LocalInvocationIndex;
     s_sum[lane] = sum;
     barrier();
-    for (uint stride = LANES / 2u; stride > 0u; stride /= 2u) {
-        if (lane < stride) s_sum[lane] += s_sum[lane + stride];
-        barrier();
-    }
     if (lane == 0u) {
+        vec2 total = vec2(0.0);
+        for (uint i = 0u; i < LANES; ++i) total += s_sum[i];
         uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
         uint at = params.level[b].w + 2u * group;
-        partial[at] = s_sum[0].x;
-        partial[at + 1u] = s_sum[0].y;
+        partial[at] = total.x;
+        partial[at + 1u] = total.y;
     }
 }

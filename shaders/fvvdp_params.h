@@ -18,7 +18,7 @@
 WRS_BEGIN
 
 struct FvvdpParams {
-    uvec4 image;     // x: width, y: height, z: filter length N (frames), w: Gaussian levels stored (bands + 1)
+    uvec4 image;     // x: width, y: height, z: filter length N (frames), w: quads (groups of 4 pixels, row-major)
     vec4 display;    // x: peak, y: black (cd/m²), z: sensitivity correction as a gain, w: pad
     vec4 fov_tan;    // tangents left, right, up, down (ViewGeometry::fov_tan)
     vec4 gaze;       // xy: gaze tangents of this frame, z: ppd at the optical axis, w: pad

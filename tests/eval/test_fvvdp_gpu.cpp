@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -217,6 +218,49 @@ TEST_F(FvvdpGpu, OptionsAndResetAsTheCppMetric) {
     EXPECT_EQ(m->frames(), 0u);
     ASSERT_TRUE(m->push(test, ref).ok());
     EXPECT_DOUBLE_EQ(m->jod().value(), first);
+}
+
+// The speed of both at 1024x768 (docs/metrics.md, "GPU implementation"); not part of the suite:
+// run with --gtest_also_run_disabled_tests --gtest_filter='*Speed*' (without validation).
+TEST_F(FvvdpGpu, DISABLED_SpeedAt1024x768) {
+    const int w = 1024, h = 768, frames = 6;
+    for (bool foveated : {true, false}) {
+        const Options o = caseOptions({w, h, false, foveated, false, 0});
+        auto t0 = std::chrono::steady_clock::now();
+        auto cpu = Metric::create(o);
+        auto t1 = std::chrono::steady_clock::now();
+        auto gpu = GpuMetric::create(test::context(), o);
+        auto t2 = std::chrono::steady_clock::now();
+        ASSERT_TRUE(cpu.ok() && gpu.ok());
+        auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+        std::printf("%s: create C++ %.0f ms, GPU %.0f ms\n", foveated ? "foveated" : "non-foveated", ms(t0, t1),
+                    ms(t1, t2));
+        std::vector<cv::Mat> refs, tests;
+        for (int f = 0; f < frames; ++f) {
+            refs.push_back(reference(w, h, f, 4));
+            tests.push_back(degraded(refs.back(), f, 4));
+        }
+        double cpuMs = 0.0, gpuMs = 0.0;
+        for (int f = 0; f < frames; ++f) {
+            const glm::vec2 gaze(300.0f + 20.0f * float(f), 400.0f);
+            auto a = std::chrono::steady_clock::now();
+            ASSERT_TRUE(cpu->push(tests[size_t(f)], refs[size_t(f)], gaze).ok());
+            auto b = std::chrono::steady_clock::now();
+            ASSERT_TRUE(gpu->push(tests[size_t(f)], refs[size_t(f)], gaze).ok());
+            auto c = std::chrono::steady_clock::now();
+            const auto pass = gpu->passMilliseconds();
+            std::printf("  frame %d: C++ %.1f ms, GPU %.1f ms (device: display %.1f, temporal %.1f, pyramid %.1f, "
+                        "bands %.1f)\n",
+                        f, ms(a, b), ms(b, c), pass[0], pass[1], pass[2], pass[3]);
+            if (f > 0) {  // the first frame fills the window: not the steady state
+                cpuMs += ms(a, b);
+                gpuMs += ms(b, c);
+            }
+        }
+        std::printf("  per frame (frames 1-%d): C++ %.1f ms, GPU %.1f ms (%.1fx); JOD C++ %.4f, GPU %.4f\n",
+                    frames - 1, cpuMs / (frames - 1), gpuMs / (frames - 1), cpuMs / gpuMs, cpu->jod().value(),
+                    gpu->jod().value());
+    }
 }
 
 }  // namespace
