@@ -58,7 +58,7 @@ enum Pass : int { kDisplay, kTemporal, kReduce, kBand, kPasses };
 struct GpuMetric::Impl {
     vk::Context& ctx;
     Options options;
-    Metric layout;  // the C++ metric, never pushed: the checked options, bands and filters
+    Metric layout;        // the C++ metric, never pushed: the checked options, bands and filters
     uint32_t levels = 0;  // Gaussian levels stored: bands + 1
     uint32_t quads = 0;   // groups of 4 pixels of the display and temporal passes
     std::vector<uint32_t> bandPixels, bandGroupsX, bandGroupsY;
@@ -104,7 +104,8 @@ Status GpuMetric::Impl::init() {
                                float(std::pow(10.0, p.sensitivity_correction / 20.0)), 0.0f);
     params.fov_tan = g.fov_tan;
     params.gaze = glm::vec4(0.0f, 0.0f, float(g.ppdCentre()), 0.0f);
-    params.mask = glm::vec4(float(p.mask_p), float(std::pow(10.0, p.mask_c)), float(p.mask_q_sust), float(p.mask_q_trans));
+    params.mask =
+        glm::vec4(float(p.mask_p), float(std::pow(10.0, p.mask_c)), float(p.mask_q_sust), float(p.mask_q_trans));
     params.pool = glm::vec4(float(p.beta), 0.0f, 0.0f, 0.0f);
     params.csf_axes = glm::vec4(float(std::log2(detail::kCsfYMin)), float(std::log2(detail::kCsfYMax)),
                                 float(std::log2(detail::kCsfRhoMin)), float(std::log2(detail::kCsfRhoMax)));
@@ -135,12 +136,13 @@ Status GpuMetric::Impl::init() {
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     constexpr size_t kCsfNodes = size_t(FVVDP_CSF_N) * FVVDP_CSF_N * FVVDP_CSF_N;
     const uint64_t tableFloats = 2ull * kCsfNodes + 2ull * uint64_t(n);
-    for (const Alloc& a : {Alloc{&ubo, sizeof(gpu::FvvdpParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "parameters"},
-                           Alloc{&input, 2 * uint64_t(quads) * 48, storage, true, "input images"},
-                           Alloc{&window, 2 * uint64_t(n) * quads * 16, storage, false, "temporal window"},
-                           Alloc{&pyramid, uint64_t(texel) * 16, storage, false, "pyramid"},
-                           Alloc{&tables, tableFloats * 4, storage, true, "CSF tables"},
-                           Alloc{&partial, uint64_t(std::max(partialAt, 1u)) * 4, storage, true, "band sums"}}) {
+    for (const Alloc& a :
+         {Alloc{&ubo, sizeof(gpu::FvvdpParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, "parameters"},
+          Alloc{&input, 2 * uint64_t(quads) * 48, storage, true, "input images"},
+          Alloc{&window, 2 * uint64_t(n) * quads * 16, storage, false, "temporal window"},
+          Alloc{&pyramid, uint64_t(texel) * 16, storage, false, "pyramid"},
+          Alloc{&tables, tableFloats * 4, storage, true, "CSF tables"},
+          Alloc{&partial, uint64_t(std::max(partialAt, 1u)) * 4, storage, true, "band sums"}}) {
         auto r = ctx.createBuffer(a.bytes, a.usage, a.host);
         if (!r) return Error{r.error().code, "fvvdp: " + std::string(a.what) + ": " + r.error().message};
         *a.buffer = std::move(*r);
@@ -164,12 +166,10 @@ Status GpuMetric::Impl::init() {
     auto binding = [](uint32_t b, VkDescriptorType type) {
         return VkDescriptorSetLayoutBinding{b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     };
-    setLayout = ctx.createSetLayout({binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER),
-                                     binding(kInput, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                                     binding(kWindow, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                                     binding(kPyramid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                                     binding(kTables, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
-                                     binding(kPartial, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)});
+    setLayout = ctx.createSetLayout(
+        {binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kInput, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+         binding(kWindow, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), binding(kPyramid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+         binding(kTables, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), binding(kPartial, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)});
     pipelineLayout = ctx.createPipelineLayout(setLayout.get(), sizeof(gpu::FvvdpPush), VK_SHADER_STAGE_COMPUTE_BIT);
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings - 1}};
@@ -191,9 +191,8 @@ Status GpuMetric::Impl::init() {
     VkWriteDescriptorSet writes[kBindings];
     for (uint32_t b = 0; b < kBindings; ++b) {
         infos[b] = {bound[b]->handle(), 0, VK_WHOLE_SIZE};
-        writes[b] = vk::bufferWrite(set, b,
-                                    b == kParams ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                    &infos[b]);
+        writes[b] = vk::bufferWrite(
+            set, b, b == kParams ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &infos[b]);
     }
     vkUpdateDescriptorSets(dev, kBindings, writes, 0, nullptr);
 
@@ -331,7 +330,8 @@ Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 
         uint64_t ts[kPasses + 1];
         if (vkGetQueryPoolResults(m.ctx.device(), m.queries.get(), 0, kPasses + 1, sizeof(ts), ts, sizeof(uint64_t),
                                   VK_QUERY_RESULT_64_BIT) == VK_SUCCESS)
-            for (int i = 0; i < kPasses; ++i) m.passMs[size_t(i)] = double(ts[i + 1] - ts[i]) * m.ctx.timestampPeriodNs() * 1e-6;
+            for (int i = 0; i < kPasses; ++i)
+                m.passMs[size_t(i)] = double(ts[i + 1] - ts[i]) * m.ctx.timestampPeriodNs() * 1e-6;
     }
 
     // Pool: per band and channel the beta-mean of the group sums (in double), then as Metric.

@@ -18,14 +18,14 @@
 WRS_BEGIN
 
 struct FvvdpParams {
-    uvec4 image;     // x: width, y: height, z: filter length N (frames), w: quads (groups of 4 pixels, row-major)
-    vec4 display;    // x: peak, y: black (cd/m²), z: sensitivity correction as a gain, w: pad
-    vec4 fov_tan;    // tangents left, right, up, down (ViewGeometry::fov_tan)
-    vec4 gaze;       // xy: gaze tangents of this frame, z: ppd at the optical axis, w: pad
-    vec4 mask;       // x: mask_p, y: 10^mask_c, z: mask_q_sust, w: mask_q_trans
-    vec4 pool;       // x: beta (spatial pooling), yzw: pad
-    vec4 csf_axes;   // log2 of the CSF table's luminance range (x, y) and frequency range (z, w)
-    vec4 csf_ecc;    // x: sqrt of the table's largest eccentricity, yzw: pad
+    uvec4 image;    // x: width, y: height, z: filter length N (frames), w: quads (groups of 4 pixels, row-major)
+    vec4 display;   // x: peak, y: black (cd/m²), z: sensitivity correction as a gain, w: pad
+    vec4 fov_tan;   // tangents left, right, up, down (ViewGeometry::fov_tan)
+    vec4 gaze;      // xy: gaze tangents of this frame, z: ppd at the optical axis, w: pad
+    vec4 mask;      // x: mask_p, y: 10^mask_c, z: mask_q_sust, w: mask_q_trans
+    vec4 pool;      // x: beta (spatial pooling), yzw: pad
+    vec4 csf_axes;  // log2 of the CSF table's luminance range (x, y) and frequency range (z, w)
+    vec4 csf_ecc;   // x: sqrt of the table's largest eccentricity, yzw: pad
     // Per Gaussian level l: x, y: size; z: first texel (vec4: test and reference, sustained and
     // transient) in the pyramid buffer; w: first float of band l's partial sums (2 per group).
     uvec4 level[FVVDP_MAX_LEVELS];
