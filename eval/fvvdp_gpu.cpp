@@ -250,8 +250,9 @@ void GpuMetric::Impl::record(VkCommandBuffer cb, uint32_t slot, uint32_t frameCo
     if (queries) vkCmdResetQueryPool(cb, queries.get(), 0, kPasses + 1);
     stamp();
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pl, 0, 1, &set, 0, nullptr);
-    // The per-quad passes: 64-wide groups in x, then rows of them in y (fvvdp_quad).
-    const uint32_t quadGroups = (quads + 63) / 64, qx = std::min(quadGroups, 32768u), qy = (quadGroups + qx - 1) / qx;
+    // The per-quad passes: groups in x, then rows of them in y (fvvdp_quad).
+    const uint32_t quadGroups = (quads + FVVDP_QUAD_GROUP - 1) / FVVDP_QUAD_GROUP;
+    const uint32_t qx = std::min(quadGroups, uint32_t(FVVDP_QUAD_GROUPS_X)), qy = (quadGroups + qx - 1) / qx;
     bind(kDisplay);
     pushAt(0);
     vkCmdDispatch(cb, qx, qy, 2);

@@ -35,8 +35,8 @@ const float FVVDP_KERNEL[5] = float[5](0.25 - FVVDP_A / 2.0, 0.25, FVVDP_A, 0.25
 
 uint fvvdp_texel(uint level, uvec2 p) { return params.level[level].z + p.y * params.level[level].x + p.x; }
 
-// The quad of a 1-D dispatch of 64-wide groups, laid out in x then y (x is limited to 65535 groups).
-uint fvvdp_quad() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x; }
+// The quad of an invocation of the per-quad passes (FVVDP_QUAD_GROUP-wide groups in x, then y).
+uint fvvdp_quad() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * FVVDP_QUAD_GROUP + gl_GlobalInvocationID.x; }
 
 // detail::srgbToLinear and detail::displayLuminance.
 float fvvdp_srgb_to_linear(float v) { return v > 0.04045 ? pow((v + 0.055) / 1.055, 2.4) : v / 12.92; }

@@ -14,6 +14,10 @@
 // 8x8 invocations per group: one band pixel each; a group's 64 partial sums are reduced in shared
 // memory to one value per temporal channel, which keeps the read-back to 1/32 of a float per pixel.
 #define FVVDP_GROUP 8
+// The per-quad passes (display, temporal; four pixels per invocation): 1-D groups of 64, the same
+// lanes as an 8x8 group; laid out in x then y, x at most 32768 groups (the limit is 65535).
+#define FVVDP_QUAD_GROUP 64
+#define FVVDP_QUAD_GROUPS_X 32768
 
 WRS_BEGIN
 

@@ -6,7 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "fvvdp_common.glsl"
 
-layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
+layout(local_size_x = FVVDP_QUAD_GROUP, local_size_y = 1, local_size_z = 1) in;
 
 void main() {
     uint q = fvvdp_quad(), quads = params.image.w, n = params.image.z;
