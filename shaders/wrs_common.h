@@ -745,12 +745,15 @@ WRS_FN bool wrs_track_tap(ivec2 base, uint k, uvec2 size, WRS_OUT(uvec2) q) {
 // Where the sample kept at pixel q (offset dq) sits now relative to p's centre.
 WRS_FN vec2 wrs_track_offset(uvec2 q, vec2 dq, vec2 pos) { return vec2(q) + vec2(0.5f, 0.5f) + dq - pos; }
 WRS_FN bool wrs_track_inside(vec2 d) { return d.x >= -0.5f && d.x < 0.5f && d.y >= -0.5f && d.y < 0.5f; }
-// Fallback when no sample is inside p's footprint: a sample within a quarter pixel of it (|d| < 0.75
-// per axis), moved onto the footprint's edge. Motion vectors are fp16 in most applications, and their
-// per-pixel rounding (up to 1/256 px at 4..8 px of motion) makes neighbouring samples drift apart:
-// without the fallback the gaps open holes that show the blurred candidate (and flicker), with it a
-// sample is shown at most a quarter pixel from where it belongs (nearest-pixel reprojection: half).
-WRS_FN bool wrs_track_near(vec2 d) { return abs(d.x) < 0.75f && abs(d.y) < 0.75f; }
+// Fallback when no sample is inside p's footprint: the nearest sample within a pixel of its centre
+// (|d| < 1 per axis), moved onto the footprint's edge. Neighbouring samples drift apart: motion
+// vectors are fp16 in most applications (up to 1/256 px of rounding per pixel at 4..8 px of motion),
+// and under a slow pan samples kept in different frames sit at different sub-pixel phases, up to two
+// pixels apart (docs/retention.md "Natural texture in motion"). Without the fallback such gaps are
+// holes that show the blurred candidate for a frame (speckle); with it the gap shows the nearer
+// sample, at most half a pixel from where it belongs once moved onto the edge, and the display's tent
+// mean (wrs_shown_color) blends it with the sample on the gap's other side.
+WRS_FN bool wrs_track_near(vec2 d) { return abs(d.x) < 1.0f && abs(d.y) < 1.0f; }
 WRS_FN vec2 wrs_track_snap(vec2 d) {
     const float hi = 126.0f / WRS_OFFSET_SCALE;  // the largest stored offset below 0.5
     return clamp(d, vec2(-0.5f, -0.5f), vec2(hi, hi));

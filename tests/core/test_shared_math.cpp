@@ -995,6 +995,46 @@ TEST(SparseRetention, FloorRuleTakesTheCandidateOnlyAtTheFloor) {
     EXPECT_EQ(outcome, WRS_OUT_BETTER);
 }
 
+TEST(TrackedLookup, AGapBetweenUnevenlyDriftedSamplesIsFilledByTheNearest) {
+    // Under a slow pan, kept samples taken in different frames drift at different sub-pixel phases, so
+    // neighbouring samples can sit up to two pixels apart. A pixel whose centre fell in such a gap
+    // found no sample in its 2x2 lookup and showed its blurred candidate for a frame: isolated-pixel
+    // speckle inside kept regions (docs/retention.md "Natural texture in motion"). The offsets below
+    // are those wrsfov-bench --flicker found at such a pixel of the photo scene (baboon, 0.37 px/frame):
+    // the centre lies 0.87 px from one sample and 0.76 px from the next, both beyond the old quarter
+    // pixel of slack (0.75). The nearest sample within a pixel per axis now fills the gap.
+    const uvec2 p(246u, 178u), size(512u, 384u);
+    const vec3 mv(0.3701172f, 0.0f, 0.0f);
+    vec2 pos;
+    ivec2 base;
+    ASSERT_TRUE(wrs_track_start(p, size, mv, kInf, pos, base));
+    const vec2 offsets[4] = {vec2(-0.5f, 0.0f), vec2(0.1299f, 0.0f), vec2(0.0157f, 0.0f), vec2(0.4961f, 0.0f)};
+    TrackState ts = wrs_track_begin(p);
+    for (uint k = 0; k < 4u; ++k) {
+        uvec2 q;
+        ASSERT_TRUE(wrs_track_tap(base, k, size, q));
+        Tracked t = tracked(vec3(0.1f * float(k + 1)), 1.0f, 40.0f);
+        t.d = offsets[k];
+        wrs_track_consider(ts, wrs_pack_tracked(t, vec2(0.5f)), q, pos);
+    }
+    EXPECT_FALSE(ts.has_inside);
+    Tracked h;
+    vec2 d;
+    uvec2 q;
+    ASSERT_TRUE(wrs_track_end(ts, h, d, q)) << "the gap pixel finds a sample";
+    EXPECT_EQ(q, uvec2(247u, 178u)) << "the nearest: 0.76 px to the right";
+    EXPECT_NEAR(h.color.x, 0.2f, 1e-3f);
+    EXPECT_TRUE(wrs_track_inside(d)) << "moved onto the footprint's edge";
+    // Still nothing from farther than a pixel on either axis.
+    TrackState far = wrs_track_begin(p);
+    Tracked t = tracked(vec3(0.5f), 1.0f, 40.0f);
+    t.d = vec2(0.49f, 0.49f);
+    uvec2 q3;
+    ASSERT_TRUE(wrs_track_tap(base, 3u, size, q3));
+    wrs_track_consider(far, wrs_pack_tracked(t, vec2(0.5f)), q3, pos);  // 1.12 px right, 1.49 px down
+    EXPECT_FALSE(far.has_inside || far.has_near);
+}
+
 TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
     // What a lookup reads from a tile that stored nothing: valid, of the floor quality, at offset 0,
     // exactly as a fresh floor-quality candidate is stored (the lookup's preference uses only these).
