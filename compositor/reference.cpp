@@ -262,7 +262,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     Tracked h;
                     vec2 d;
                     uvec2 q;
-                    bool has_history = wrs_track_end(ts, h, d, q);
+                    const bool found = wrs_track_end(ts, h, d, q);
+                    bool has_history = found;
                     float dz = wrs_finite(mv.z) ? mv.z : 0.0f;
                     if (hasDepth && has_history && !wrs_rule_is_oracle(rule) &&
                         wrs_depth_flush(h.z, c.z, dz, params.tuning.y))
@@ -287,7 +288,27 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     t.keep = t.outcome == WRS_OUT_KEPT || t.outcome == WRS_OUT_MERGED;
                     t.rnd = rnd;
                     t.source = q.y * W + q.x;
-                    glm::u8vec4 o = encodeOutput(t.outcome == WRS_OUT_KEPT ? h_shown : r.color);
+                    vec3 shown = t.outcome == WRS_OUT_KEPT ? h_shown : r.color;
+                    // As retain.comp: a gap between unevenly drifted kept samples shows the kept
+                    // neighbourhood where the rule would keep the nearest sample (wrs_track_gap).
+                    Tracked hg;
+                    vec2 dg;
+                    uvec2 qg;
+                    bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(rule) &&
+                               wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, dg, qg) &&
+                               !(hasDepth && wrs_depth_flush(hg.z, c.z, dz, params.tuning.y));
+                    if (gap) {
+                        uint og;
+                        float mg;
+                        wrs_retain(rule, true, hg, dg, c, vec3(ref), rnd, og, mg);
+                        gap = og == WRS_OUT_KEPT;
+                    }
+                    if (gap)
+                        shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, c.z,
+                                                               dz, params.tuning.y),
+                                               c.lo, c.hi, mode != WRS_FOV_NONE && uint(lv.x) == 0u);
+                    t.gapShown = gap;
+                    glm::u8vec4 o = encodeOutput(shown);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                 }
             held_[eye] = sparse ? std::move(heldCur) : std::vector<float>{};

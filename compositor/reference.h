@@ -33,6 +33,9 @@ public:
         /// was to the threshold, relative (wrs_retain).
         uint32_t outcome = 0;
         float margin = 1.0f;
+        /// wrs: the lookup found no sample, but a kept sample within a pixel (a gap between unevenly
+        /// drifted samples, wrs_track_gap) is shown; the candidate is stored.
+        bool gapShown = false;
     };
 
     explicit Reference(const CompositorConfig& config) : config_(config) {}

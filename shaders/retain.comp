@@ -100,7 +100,8 @@ float retain_pixel(uint eye, uvec2 p) {
     Tracked h;
     vec2 d;
     uvec2 q;
-    bool has_history = wrs_track_end(ts, h, d, q);
+    bool found = wrs_track_end(ts, h, d, q);
+    bool has_history = found;
     float dz = wrs_finite(mv.z) ? mv.z : 0.0;
     if (HAS_DEPTH && has_history && !wrs_rule_is_oracle(RULE) && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
         has_history = false;
@@ -127,11 +128,29 @@ float retain_pixel(uint eye, uvec2 p) {
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
     vec3 shown = outcome == WRS_OUT_KEPT ? h_shown : r.color;
+    // A gap between unevenly drifted kept samples (wrs_track_gap): shows the kept neighbourhood where
+    // the rule would keep the nearest sample; stores the candidate.
+    Tracked hg;
+    vec2 dg;
+    uvec2 qg;
+    bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(RULE) &&
+               wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size, pos, hg, dg, qg) &&
+               !(HAS_DEPTH && wrs_depth_flush(hg.z, c.z, dz, frame.tuning.y));
+    if (gap) {
+        uint og;
+        float mg;
+        wrs_retain(RULE, true, hg, dg, c, ref.rgb, rnd, og, mg);
+        gap = og == WRS_OUT_KEPT;
+    }
+    if (gap)
+        shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, hg, c.z, dz, frame.tuning.y),
+                               c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
     store_output(eye, p, shown);
     if (frame.tuning.z != 0.0) {
         vec4 b = vec4(ref.rgb, 0.0);
         vec4 hb = birth_prev[pixel_index(eye, q)];
         if (outcome == WRS_OUT_KEPT) b = hb;
+        if (gap) b = birth_prev[pixel_index(eye, qg)];  // what is shown
         // A clipped merge (WRS_OUT_OUTSIDE) counts as taken now: its colour lies within the box of the
         // candidate's own taps, the bound a fresh candidate has.
         if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * wrs_merge_weight(h.w_sum, c.q);

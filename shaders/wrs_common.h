@@ -745,15 +745,12 @@ WRS_FN bool wrs_track_tap(ivec2 base, uint k, uvec2 size, WRS_OUT(uvec2) q) {
 // Where the sample kept at pixel q (offset dq) sits now relative to p's centre.
 WRS_FN vec2 wrs_track_offset(uvec2 q, vec2 dq, vec2 pos) { return vec2(q) + vec2(0.5f, 0.5f) + dq - pos; }
 WRS_FN bool wrs_track_inside(vec2 d) { return d.x >= -0.5f && d.x < 0.5f && d.y >= -0.5f && d.y < 0.5f; }
-// Fallback when no sample is inside p's footprint: the nearest sample within a pixel of its centre
-// (|d| < 1 per axis), moved onto the footprint's edge. Neighbouring samples drift apart: motion
-// vectors are fp16 in most applications (up to 1/256 px of rounding per pixel at 4..8 px of motion),
-// and under a slow pan samples kept in different frames sit at different sub-pixel phases, up to two
-// pixels apart (docs/retention.md "Natural texture in motion"). Without the fallback such gaps are
-// holes that show the blurred candidate for a frame (speckle); with it the gap shows the nearer
-// sample, at most half a pixel from where it belongs once moved onto the edge, and the display's tent
-// mean (wrs_shown_color) blends it with the sample on the gap's other side.
-WRS_FN bool wrs_track_near(vec2 d) { return abs(d.x) < 1.0f && abs(d.y) < 1.0f; }
+// Fallback when no sample is inside p's footprint: a sample within a quarter pixel of it (|d| < 0.75
+// per axis), moved onto the footprint's edge. Motion vectors are fp16 in most applications, and their
+// per-pixel rounding (up to 1/256 px at 4..8 px of motion) makes neighbouring samples drift apart:
+// without the fallback the gaps open holes that show the blurred candidate (and flicker), with it a
+// sample is shown at most a quarter pixel from where it belongs (nearest-pixel reprojection: half).
+WRS_FN bool wrs_track_near(vec2 d) { return abs(d.x) < 0.75f && abs(d.y) < 0.75f; }
 WRS_FN vec2 wrs_track_snap(vec2 d) {
     const float hi = 126.0f / WRS_OFFSET_SCALE;  // the largest stored offset below 0.5
     return clamp(d, vec2(-0.5f, -0.5f), vec2(hi, hi));
@@ -831,6 +828,46 @@ WRS_FN bool wrs_track_end(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS
     d = use_near ? wrs_track_snap(s.dn) : s.d;
     q = use_near ? s.qn : s.q;
     return s.has_inside || s.has_near;
+}
+
+// A gap between unevenly drifted samples (docs/retention.md "Natural texture in motion"): under a slow
+// pan, samples kept in different frames sit at different sub-pixel phases and neighbours end up to
+// two pixels apart, so a pixel's lookup can find nothing within the fallback's reach although kept
+// samples lie within a pixel on either side. For such a pixel (wrs_track_end false), the nearest valid
+// tap within a pixel per axis (the higher quality first, as wrs_track_prefer). For display only: the
+// pixel stores its candidate as before (a sample moved a whole pixel onto the footprint would be
+// misplaced by half a pixel from then on), and shows the kept neighbourhood (wrs_shown_color) where
+// the retention rule would keep that sample.
+WRS_FN void wrs_track_gap_consider(WRS_INOUT(bool) found, WRS_INOUT(uvec4) best, WRS_INOUT(float) bq, WRS_INOUT(vec2) bd,
+                                   WRS_INOUT(uvec2) bqk, uvec4 pk, ivec2 base, uint k, uvec2 size, vec2 pos) {
+    uvec2 qk;
+    if (!wrs_track_tap(base, k, size, qk) || !wrs_packed_tracked_valid(pk)) return;
+    vec2 dk = wrs_track_offset(qk, wrs_packed_offset(pk), pos);
+    if (!(abs(dk.x) < 1.0f && abs(dk.y) < 1.0f)) return;
+    float qual = wrs_packed_quality(pk);
+    if (found && !wrs_track_prefer(qual, dk, bq, bd)) return;
+    found = true;
+    best = pk;
+    bq = qual;
+    bd = dk;
+    bqk = qk;
+}
+// The gap's sample (h, its offset snapped onto the footprint as wrs_track_end does, and the pixel it
+// was stored at); false when no valid tap lies within a pixel.
+WRS_FN bool wrs_track_gap(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, uvec2 size, vec2 pos,
+                          WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS_OUT(uvec2) q) {
+    bool found = false;
+    uvec4 best = uvec4(0u, 0u, 0u, 0u);
+    float bq = 0.0f;
+    vec2 bd = vec2(0.0f, 0.0f);
+    q = uvec2(0u, 0u);
+    wrs_track_gap_consider(found, best, bq, bd, q, t0, base, 0u, size, pos);
+    wrs_track_gap_consider(found, best, bq, bd, q, t1, base, 1u, size, pos);
+    wrs_track_gap_consider(found, best, bq, bd, q, t2, base, 2u, size, pos);
+    wrs_track_gap_consider(found, best, bq, bd, q, t3, base, 3u, size, pos);
+    h = wrs_unpack_tracked(best);
+    d = wrs_track_snap(bd);
+    return found;
 }
 
 // Display of a kept sample under motion (docs/retention.md "Display"). The tracked samples of the

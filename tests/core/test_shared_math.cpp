@@ -995,14 +995,15 @@ TEST(SparseRetention, FloorRuleTakesTheCandidateOnlyAtTheFloor) {
     EXPECT_EQ(outcome, WRS_OUT_BETTER);
 }
 
-TEST(TrackedLookup, AGapBetweenUnevenlyDriftedSamplesIsFilledByTheNearest) {
+TEST(TrackedLookup, AGapBetweenUnevenlyDriftedSamplesShowsTheNearest) {
     // Under a slow pan, kept samples taken in different frames drift at different sub-pixel phases, so
     // neighbouring samples can sit up to two pixels apart. A pixel whose centre fell in such a gap
     // found no sample in its 2x2 lookup and showed its blurred candidate for a frame: isolated-pixel
     // speckle inside kept regions (docs/retention.md "Natural texture in motion"). The offsets below
-    // are those wrsfov-bench --flicker found at such a pixel of the photo scene (baboon, 0.37 px/frame):
-    // the centre lies 0.87 px from one sample and 0.76 px from the next, both beyond the old quarter
-    // pixel of slack (0.75). The nearest sample within a pixel per axis now fills the gap.
+    // are those wrsfov-bench --flicker found at such a pixel of the photo scene (mandrill, 0.37 px per
+    // frame): the centre lies 0.87 px from one sample and 0.76 px from the next, both beyond the
+    // fallback's 0.75. The lookup still finds nothing to store (a sample moved a whole pixel would be
+    // misplaced from then on), but wrs_track_gap finds the nearest one to show (wrs_shown_color).
     const uvec2 p(246u, 178u), size(512u, 384u);
     const vec3 mv(0.3701172f, 0.0f, 0.0f);
     vec2 pos;
@@ -1010,29 +1011,33 @@ TEST(TrackedLookup, AGapBetweenUnevenlyDriftedSamplesIsFilledByTheNearest) {
     ASSERT_TRUE(wrs_track_start(p, size, mv, kInf, pos, base));
     const vec2 offsets[4] = {vec2(-0.5f, 0.0f), vec2(0.1299f, 0.0f), vec2(0.0157f, 0.0f), vec2(0.4961f, 0.0f)};
     TrackState ts = wrs_track_begin(p);
+    uvec4 taps[4];
     for (uint k = 0; k < 4u; ++k) {
         uvec2 q;
         ASSERT_TRUE(wrs_track_tap(base, k, size, q));
         Tracked t = tracked(vec3(0.1f * float(k + 1)), 1.0f, 40.0f);
         t.d = offsets[k];
-        wrs_track_consider(ts, wrs_pack_tracked(t, vec2(0.5f)), q, pos);
+        taps[k] = wrs_pack_tracked(t, vec2(0.5f));
+        wrs_track_consider(ts, taps[k], q, pos);
     }
-    EXPECT_FALSE(ts.has_inside);
     Tracked h;
     vec2 d;
     uvec2 q;
-    ASSERT_TRUE(wrs_track_end(ts, h, d, q)) << "the gap pixel finds a sample";
+    EXPECT_FALSE(wrs_track_end(ts, h, d, q)) << "nothing within the fallback's reach to store";
+    ASSERT_TRUE(wrs_track_gap(taps[0], taps[1], taps[2], taps[3], base, size, pos, h, d, q)) << "a sample to show";
     EXPECT_EQ(q, uvec2(247u, 178u)) << "the nearest: 0.76 px to the right";
     EXPECT_NEAR(h.color.x, 0.2f, 1e-3f);
-    EXPECT_TRUE(wrs_track_inside(d)) << "moved onto the footprint's edge";
-    // Still nothing from farther than a pixel on either axis.
-    TrackState far = wrs_track_begin(p);
+    EXPECT_TRUE(wrs_track_inside(d));
+    // What is shown: the tent mean of the samples of its quality around the centre, here the two on
+    // either side of the gap (weights 1 - 0.76 and 1 - 0.87, the lower row a pixel down: weight 0).
+    const vec3 shown = wrs_shown_color(taps[0], taps[1], taps[2], taps[3], base, size, pos, h, 0.0f, 0.0f, 0.05f);
+    const float w0 = 1.0f - 0.8701172f, w1 = 1.0f - 0.7598f;
+    EXPECT_NEAR(shown.x, (0.1f * w0 + 0.2f * w1) / (w0 + w1), 2e-3f);
+    // Nothing from farther than a pixel on either axis.
     Tracked t = tracked(vec3(0.5f), 1.0f, 40.0f);
     t.d = vec2(0.49f, 0.49f);
-    uvec2 q3;
-    ASSERT_TRUE(wrs_track_tap(base, 3u, size, q3));
-    wrs_track_consider(far, wrs_pack_tracked(t, vec2(0.5f)), q3, pos);  // 1.12 px right, 1.49 px down
-    EXPECT_FALSE(far.has_inside || far.has_near);
+    const uvec4 far = wrs_pack_tracked(t, vec2(0.5f));  // at tap 3: 1.12 px right, 1.49 px down
+    EXPECT_FALSE(wrs_track_gap(uvec4(0u), uvec4(0u), uvec4(0u), far, base, size, pos, h, d, q));
 }
 
 TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
