@@ -755,12 +755,12 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
 }
 
 Status forEachSceneFrame(vk::Context& ctx, SceneKind scene, const BenchOptions& o,
-                         const std::function<Status(const HostStereoApp::Options&, int, double,
+                         const std::function<Status(const SceneFrameInfo&, int, double,
                                                     std::array<EyeSubmission, 2>&)>& visit) {
     auto setup = openScene(ctx, scene, o);
     if (!setup) return setup.error();
     SceneFrames& frames = *setup->frames;
-    const HostStereoApp::Options app = frames.appOptions();
+    const SceneFrameInfo app{frames.appOptions(), frames.fps()};
     double prevT = 0;
     for (int f = 0; f < o.frames; ++f) {
         const double t = f / frames.fps();
@@ -778,33 +778,21 @@ Status forEachSceneFrame(vk::Context& ctx, SceneKind scene, const BenchOptions& 
 
 Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions& o, const std::string& dir) {
     if (o.frames < 1) return benchError("write sequence: frames must be at least 1");
-    auto setup = openScene(ctx, scene, o);
-    if (!setup) return setup.error();
-    SceneFrames& frames = *setup->frames;
-    const HostStereoApp::Options app = frames.appOptions();
-    SequenceInfo info;
-    info.width = app.width;
-    info.height = app.height;
-    info.frameCount = uint32_t(o.frames);
-    info.fps = frames.fps();
-    info.color = app.color == layers::Format::RGBA8_SRGB ? ColorFile::Png : ColorFile::Exr;
-    if (app.depth) info.depth = SequenceDepth{app.nearZ, app.farZ, app.reversedZ};
-    if (app.motion) info.motion = MotionUnits::Pixels;
-    std::ostringstream d;
-    d << "scene " << toString(scene) << ", seed " << o.seed << ", written by wrsfov-bench --write-sequence";
-    info.description = d.str();
     std::unique_ptr<SequenceWriter> writer;
-    double prevT = 0;
-    for (int f = 0; f < o.frames; ++f) {
-        const double t = f / frames.fps();
-        std::array<EyeSubmission, 2> eyes;
-        if (Status s = frames.frame(f, t, f == 0 ? t : prevT, eyes); !s) return s;
-        prevT = t;
-        if (!frames.providesGaze()) {
-            gaze::GazeSample g = setup->gaze->sample(t);
-            for (int e = 0; e < 2; ++e) eyes[e].gaze = {g.eye[e].dir, g.eye[e].valid, g.eye[e].confidence};
-        }
+    SequenceInfo info;
+    auto write = [&](const SceneFrameInfo& si, int f, double, std::array<EyeSubmission, 2>& eyes) -> Status {
         if (!writer) {  // the json needs the field of view, which the first frame brings
+            const HostStereoApp::Options& app = si.app;
+            info.width = app.width;
+            info.height = app.height;
+            info.frameCount = uint32_t(o.frames);
+            info.fps = si.fps;
+            info.color = app.color == layers::Format::RGBA8_SRGB ? ColorFile::Png : ColorFile::Exr;
+            if (app.depth) info.depth = SequenceDepth{app.nearZ, app.farZ, app.reversedZ};
+            if (app.motion) info.motion = MotionUnits::Pixels;
+            std::ostringstream d;
+            d << "scene " << toString(scene) << ", seed " << o.seed << ", written by wrsfov-bench --write-sequence";
+            info.description = d.str();
             info.fov = {eyes[0].fov, eyes[1].fov};
             auto w = SequenceWriter::create(dir, info);
             if (!w) return w.error();
@@ -817,7 +805,9 @@ Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions&
         if (Status s = writer->writeFrame(uint32_t(f), eyes); !s) return s;
         if (o.progress && ((f + 1) % 30 == 0 || f + 1 == o.frames))
             o.progress("wrote frame " + std::to_string(f + 1) + "/" + std::to_string(o.frames));
-    }
+        return {};
+    };
+    if (Status s = forEachSceneFrame(ctx, scene, o, write); !s) return s;
     return writer->finish();
 }
 

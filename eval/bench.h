@@ -122,11 +122,17 @@ struct CellResult {
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);
 
+/// What forEachSceneFrame shows its visitor with each frame: the application's swapchain options and
+/// the scene's frame rate.
+struct SceneFrameInfo {
+    HostStereoApp::Options app;
+    double fps = 90.0;
+};
 /// Frames of `scene` as the sweep submits them (size, camera path, seed, gaze of the sweep), one at a
-/// time: `visit(app, index, time, eyes)` gets the application's swapchain options and each frame's
-/// images and gaze; a failing visit stops the walk with its error.
+/// time: `visit(info, index, time, eyes)` gets each frame's images and gaze; a failing visit stops the
+/// walk with its error.
 Status forEachSceneFrame(vk::Context& ctx, SceneKind scene, const BenchOptions& options,
-                         const std::function<Status(const HostStereoApp::Options&, int, double,
+                         const std::function<Status(const SceneFrameInfo&, int, double,
                                                     std::array<EyeSubmission, 2>&)>& visit);
 
 /// Writes `options.frames` frames of `scene` (at options.width x options.height, camera path and

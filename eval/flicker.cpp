@@ -64,7 +64,8 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                                        "outside the taps", "floor rule"};
     cv::Mat excess;  // per pixel: sum of |Δ wrs| - |Δ fov| over stable pairs
     FlickerReport rep;
-    auto visit = [&](const HostStereoApp::Options& app, int f, double t, std::array<EyeSubmission, 2>& eyes) -> Status {
+    auto visit = [&](const SceneFrameInfo& si, int f, double t, std::array<EyeSubmission, 2>& eyes) -> Status {
+        const HostStereoApp::Options& app = si.app;
         if (!runs[0].comp) {
             for (int r = 0; r < 3; ++r) {
                 CompositorConfig cc;

@@ -454,19 +454,24 @@ int main(int argc, char** argv) {
     if (o.scenes.empty() || o.methods.empty() || o.foveas.empty() || o.modes.empty())
         return cli::usageError(app, "scenes, methods, fovea sizes and modes must not be empty");
     if (writeDir.empty() && o.frames <= o.warmup) return cli::usageError(app, "--frames must exceed --warmup");
-    if (!writeDir.empty()) {
+    // --write-sequence and --flicker: one Vulkan context, progress lines on stdout.
+    std::unique_ptr<vk::Context> toolCtx;
+    if (!writeDir.empty() || flicker) {
         auto ctx = vk::Context::create();
         if (!ctx) {
             std::fprintf(stderr, "wrsfov-bench: %s\n", ctx.error().message.c_str());
             return 1;
         }
+        toolCtx = std::move(*ctx);
         o.progress = [](const std::string& s) {
             std::printf("%s\n", s.c_str());
             std::fflush(stdout);
         };
+    }
+    if (!writeDir.empty()) {
         std::printf("wrsfov-bench: writing %s, %ux%u per eye, %d frames -> %s\n",
                     std::string(eval::toString(o.scenes[0])).c_str(), o.width, o.height, o.frames, writeDir.c_str());
-        if (Status s = eval::writeSceneSequence(**ctx, o.scenes[0], o, writeDir); !s) {
+        if (Status s = eval::writeSceneSequence(*toolCtx, o.scenes[0], o, writeDir); !s) {
             std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
             return 1;
         }
@@ -474,16 +479,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (flicker) {
-        auto ctx = vk::Context::create();
-        if (!ctx) {
-            std::fprintf(stderr, "wrsfov-bench: %s\n", ctx.error().message.c_str());
-            return 1;
-        }
-        o.progress = [](const std::string& s) {
-            std::printf("%s\n", s.c_str());
-            std::fflush(stdout);
-        };
-        auto r = eval::analyseFlicker(**ctx, o, out);
+        auto r = eval::analyseFlicker(*toolCtx, o, out);
         if (!r) {
             std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
             return 1;

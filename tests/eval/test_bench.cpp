@@ -2,11 +2,13 @@
 // than FOV on the reading page (reading gaze) and in the atrium (free viewing, static camera).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include <gtest/gtest.h>
 
 #include "../core/gpu_rig.h"
 #include "eval/bench.h"
+#include "eval/flicker.h"
 
 namespace wrsfov::test {
 namespace {
@@ -51,6 +53,51 @@ TEST_F(Bench, WrsBeatsFovNearGazeAtFiveDegrees) {
         std::printf("%s: near-gaze PSNR fov %.3f dB, wrs %.3f dB\n", std::string(eval::toString(scene)).c_str(), fov,
                     wrs);
         EXPECT_GT(wrs, fov) << eval::toString(scene);
+    }
+}
+
+TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
+    // wrsfov-bench --flicker on the photo scene: its classes partition the stable pixel pairs and
+    // their sums are the methods' temporal instabilities; a still head gives `wrs` nothing to flicker
+    // with (kept samples do not move: steadier than fov), a slow pan does, and the files are written.
+    eval::BenchOptions o;
+    o.scenes = {eval::SceneKind::Photo};
+    o.monitor = true;
+    o.foveas = {5.0f};
+    o.modes = {FoveationMode::Mip};
+    o.width = 128;
+    o.height = 96;
+    o.frames = 24;
+    o.warmup = 4;
+    for (scenes::PhotoMotion m : {scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan}) {
+        SCOPED_TRACE(std::string(scenes::toString(m)));
+        o.photoMotion = m;
+        const std::string dir = ::testing::TempDir() + "flicker_" + std::string(scenes::toString(m));
+        auto r = eval::analyseFlicker(context(), o, dir);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        uint64_t pairs = 0;
+        double w = 0, f = 0;
+        for (const eval::FlickerClass& c : r->classes) {
+            pairs += c.pairs;
+            w += c.wrsChange;
+            f += c.fovChange;
+            EXPECT_GT(c.pairs, 0u) << c.name;
+        }
+        ASSERT_GT(r->stablePairs, 1000u);
+        EXPECT_EQ(pairs, r->stablePairs);
+        EXPECT_NEAR(r->wrsInstability, w / double(pairs), 1e-12);
+        EXPECT_NEAR(r->fovInstability, f / double(pairs), 1e-12);
+        std::printf("%s: wrs %.6f fov %.6f reference %.6f over %llu pairs, %zu classes\n",
+                    std::string(scenes::toString(m)).c_str(), r->wrsInstability, r->fovInstability, r->refInstability,
+                    (unsigned long long)r->stablePairs, r->classes.size());
+        if (m == scenes::PhotoMotion::Static) {
+            EXPECT_LE(r->wrsInstability, r->fovInstability);
+            EXPECT_EQ(r->refInstability, 0.0) << "a still scene: the reference never changes";
+        } else {
+            EXPECT_GT(r->refInstability, 0.0);
+        }
+        for (const char* file : {"/flicker.md", "/flicker.csv", "/flicker.png"})
+            EXPECT_TRUE(std::filesystem::exists(dir + file)) << file;
     }
 }
 
