@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -212,6 +213,9 @@ Result<std::unique_ptr<PhotoScene>> PhotoScene::create(const PhotoOptions& o) {
         s->originX_ = x0 - kMargin / ppt;
         s->originY_ = y1 + kMargin / ppt;
     } else {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(o.image, ec))
+            return Error{1, "photo: cannot read an image from " + o.image + " (no such file; a PNG or JPEG file, or grass / wood)"};
         cv::Mat img = cv::imread(o.image, cv::IMREAD_COLOR);
         if (img.empty()) return Error{1, "photo: cannot read an image from " + o.image + " (a PNG or JPEG file, or grass / wood)"};
         cv::Mat lin(img.rows, img.cols, CV_32FC3);
