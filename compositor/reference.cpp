@@ -290,19 +290,14 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     t.source = q.y * W + q.x;
                     vec3 shown = t.outcome == WRS_OUT_KEPT ? h_shown : r.color;
                     // As retain.comp: a gap between unevenly drifted kept samples shows the kept
-                    // neighbourhood where the rule would keep the nearest sample (wrs_track_gap).
+                    // neighbourhood where the rule keeps a sharper sample (wrs_track_gap, wrs_gap_shows).
                     Tracked hg;
                     vec2 dg;
                     uvec2 qg;
-                    bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(rule) &&
-                               wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, dg, qg) &&
-                               !(hasDepth && wrs_depth_flush(hg.z, c.z, dz, params.tuning.y));
-                    if (gap) {
-                        uint og;
-                        float mg;
-                        wrs_retain(rule, true, hg, dg, c, vec3(ref), rnd, og, mg);
-                        gap = og == WRS_OUT_KEPT;
-                    }
+                    const bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(rule) &&
+                                     wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, dg, qg) &&
+                                     !(hasDepth && wrs_depth_flush(hg.z, c.z, dz, params.tuning.y)) &&
+                                     wrs_gap_shows(hg, c);
                     if (gap)
                         shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, c.z,
                                                                dz, params.tuning.y),

@@ -120,31 +120,23 @@ float retain_pixel(uint eye, uvec2 p) {
     if (wrs_rule_is_oracle(RULE)) hd.color = h_shown;
     Tracked r = wrs_retain(RULE, has_history, hd, d, c, ref.rgb, rnd, outcome, margin);
     if (outcome == WRS_OUT_KEPT) r.color = h.color;  // the sample itself is stored; only the display differs
-    if (!wrs_rule_is_oracle(RULE) && outcome == WRS_OUT_KEPT) {
-        if (show_mean)
-            h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
+    // A gap between unevenly drifted kept samples (wrs_track_gap): the nearest kept sample within a
+    // pixel is shown where the rule keeps a sharper sample (wrs_gap_shows); the candidate is stored.
+    Tracked hg;
+    vec2 dg;
+    uvec2 qg = q;
+    bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(RULE) &&
+               wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size, pos, hg, dg, qg) &&
+               !(HAS_DEPTH && wrs_depth_flush(hg.z, c.z, dz, frame.tuning.y)) && wrs_gap_shows(hg, c);
+    bool kept = outcome == WRS_OUT_KEPT || gap;
+    if (!wrs_rule_is_oracle(RULE) && kept) {
+        Tracked hs = gap ? hg : h;
+        if (show_mean || gap) h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, hs, c.z, dz, frame.tuning.y);
         h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
     }
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
-    vec3 shown = outcome == WRS_OUT_KEPT ? h_shown : r.color;
-    // A gap between unevenly drifted kept samples (wrs_track_gap): shows the kept neighbourhood where
-    // the rule would keep the nearest sample; stores the candidate.
-    Tracked hg;
-    vec2 dg;
-    uvec2 qg;
-    bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(RULE) &&
-               wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size, pos, hg, dg, qg) &&
-               !(HAS_DEPTH && wrs_depth_flush(hg.z, c.z, dz, frame.tuning.y));
-    if (gap) {
-        uint og;
-        float mg;
-        wrs_retain(RULE, true, hg, dg, c, ref.rgb, rnd, og, mg);
-        gap = og == WRS_OUT_KEPT;
-    }
-    if (gap)
-        shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, hg, c.z, dz, frame.tuning.y),
-                               c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
+    vec3 shown = kept ? h_shown : r.color;
     store_output(eye, p, shown);
     if (frame.tuning.z != 0.0) {
         vec4 b = vec4(ref.rgb, 0.0);

@@ -943,6 +943,17 @@ struct RetainInput {
     float q_floor;  // the floor rule's quality (wrs_rule_floor; 0: no floor rule)
 };
 
+// Whether a gap's sample (wrs_track_gap) is shown: where the retention rule would keep it as sharper
+// than the candidate (wrs_retain's WRS_OUT_KEPT for a sharper history: the change test passes and the
+// candidate is of lower quality, or invalid with the history above the floor).
+WRS_FN bool wrs_gap_shows(Tracked h, RetainInput c) {
+    if (!(c.q > 0.0f)) return h.q > c.q_floor * (1.0f + WRS_Q_EQUAL);
+    bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved;
+    float tol = WRS_FP_TOL + (moved ? c.fp_range : 0.0f);
+    if (abs(h.fp - c.fp) > tol) return false;
+    return c.q < h.q * (1.0f - WRS_Q_EQUAL);
+}
+
 // Outcomes of wrs_retain, for statistics and tests.
 const uint WRS_OUT_FRESH = 0u;     // no usable history: the candidate
 const uint WRS_OUT_CHANGED = 1u;   // the change test flushed the history: the candidate
