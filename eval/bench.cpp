@@ -590,9 +590,9 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     std::array<std::unique_ptr<JodMetric>, 2> jod;
                     cv::Mat out[2];  // this frame's output as the metrics read it
                 };
-                // The fovea-worth sweep: fov at the extra foveas, in the first fovea's cell.
+                // The fovea-worth sweep: fov at the extra foveas, in the first fovea's cell (not without foveation).
                 std::vector<float> sweepFoveas;
-                if (o.qualityMetrics && o.jod && fovea == o.foveas.front())
+                if (o.qualityMetrics && o.jod && fovea == o.foveas.front() && mode != FoveationMode::None)
                     for (float wf : o.worthFoveas)
                         if (std::find(o.foveas.begin(), o.foveas.end(), wf) == o.foveas.end() &&
                             std::find(sweepFoveas.begin(), sweepFoveas.end(), wf) == sweepFoveas.end())
