@@ -498,6 +498,19 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
 
     const int w = int(g.width), h = int(g.height);
     const float peak = float(options_.photometry.peak), black = float(options_.photometry.black());
+    // Each channel's emitted luminance as detail::displayLuminance computes it; for the 256 values an
+    // 8-bit image gives (code / 255.0f) from a table of the same expression (the same floats, without
+    // a pow per channel), any other value directly.
+    auto channel = [&](float v) { return (peak - black) * detail::srgbToLinear(std::clamp(v, 0.0f, 1.0f)) + black; };
+    std::array<float, 256> lin;
+    for (int k = 0; k < 256; ++k) lin[size_t(k)] = channel(float(k) / 255.0f);
+    auto emitted = [&](float v) {
+        if (v >= 0.0f && v <= 1.0f) {
+            const int k = int(v * 255.0f + 0.5f);
+            if (float(k) / 255.0f == v) return lin[size_t(k)];
+        }
+        return channel(v);
+    };
     auto toLuminance = [&](const cv::Mat& img, Plane& out) {
         out.w = w;
         out.h = h;
@@ -506,7 +519,8 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
             const float* p = img.ptr<float>(y);
             float* o = out.v.data() + size_t(y) * w;
             for (int x = 0; x < w; ++x)
-                o[x] = detail::displayLuminance(p[3 * x], p[3 * x + 1], p[3 * x + 2], peak, black);
+                o[x] = 0.2126729f * emitted(p[3 * x]) + 0.7151522f * emitted(p[3 * x + 1]) +
+                       0.0721750f * emitted(p[3 * x + 2]);
         }
     };
     if (window_test_.empty()) {
@@ -540,16 +554,31 @@ void Metric::processFrame(glm::vec2 gaze_px) {
     // The newest frame sits just before window_next_ in the ring.
     std::array<std::vector<float>, 4> chan;
     for (auto& c : chan) c.assign(npix, 0.0f);
+    // In blocks of pixels that stay in cache over the window's frames (each pixel's sum still runs
+    // from the newest frame to the oldest).
+    std::vector<const float*> tvs(static_cast<size_t>(filter_len_)), rvs(static_cast<size_t>(filter_len_));
     for (int k = 0; k < filter_len_; ++k) {
         const int slot = ((window_next_ - 1 - k) % filter_len_ + filter_len_) % filter_len_;
-        const float* tv = window_test_[size_t(slot)].v.data();
-        const float* rv = window_ref_[size_t(slot)].v.data();
-        const float fs = filters_[0][size_t(k)], ft = filters_[1][size_t(k)];
-        for (size_t i = 0; i < npix; ++i) {
-            chan[0][i] += fs * tv[i];
-            chan[1][i] += fs * rv[i];
-            chan[2][i] += ft * tv[i];
-            chan[3][i] += ft * rv[i];
+        tvs[size_t(k)] = window_test_[size_t(slot)].v.data();
+        rvs[size_t(k)] = window_ref_[size_t(slot)].v.data();
+    }
+    constexpr size_t kBlock = 2048;
+    for (size_t i0 = 0; i0 < npix; i0 += kBlock) {
+        const size_t i1 = std::min(npix, i0 + kBlock);
+        float* c0 = chan[0].data();
+        float* c1 = chan[1].data();
+        float* c2 = chan[2].data();
+        float* c3 = chan[3].data();
+        for (int k = 0; k < filter_len_; ++k) {
+            const float* tv = tvs[size_t(k)];
+            const float* rv = rvs[size_t(k)];
+            const float fs = filters_[0][size_t(k)], ft = filters_[1][size_t(k)];
+            for (size_t i = i0; i < i1; ++i) {
+                c0[i] += fs * tv[i];
+                c1[i] += fs * rv[i];
+                c2[i] += ft * tv[i];
+                c3[i] += ft * rv[i];
+            }
         }
     }
 
