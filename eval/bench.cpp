@@ -1351,11 +1351,12 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             const CellResult* oracleQ = find(scene, mode, Method::OracleQ, f0);
             if (oracle)
                 md << "the oracle bound gains " << fmt(oracle->psnr - fov->psnr) << " dB full / "
-                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov";
+                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov"
+                   << (std::isnan(oracle->jod) ? std::string() : " (JOD " + fmt(oracle->jod) + ")");
             if (oracleQ)
                 md << (oracle ? ", the retention bound (oracle-q) " : "the retention bound (oracle-q) gains ")
                    << fmt(oracleQ->psnr - fov->psnr) << " dB full / " << fmt(oracleQ->nearPsnr - fov->nearPsnr)
-                   << " dB near gaze";
+                   << " dB near gaze" << (std::isnan(oracleQ->jod) ? std::string() : " (JOD " + fmt(oracleQ->jod) + ")");
             if (oracle || oracleQ) md << ". ";
             bool firstM = true;
             for (Method m : o.methods) {
