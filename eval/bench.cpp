@@ -638,7 +638,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 // --write-outputs: this cell's directory, one folder per method and eye, the gaze.
                 std::string outDir;
                 std::ofstream gazeCsv, viewCsv;
-                if (!o.outputsDir.empty()) {
+                if (!o.outputsDir.empty() && o.qualityMetrics) {  // without metrics nothing is read back
                     std::ostringstream name;
                     name << o.outputsDir << "/" << toString(scene) << "_" << toString(mode) << "_" << fovea;
                     outDir = name.str();

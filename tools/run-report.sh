@@ -68,13 +68,14 @@ echo "== 4/4: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 3
     echo "## $cell"
     echo
     sed -n '/^## Summary/,/^## Columns/p' "out/report/$cell/table.md" | sed '1d;$d'
-    echo "FovVideoVDP JOD per method (foveated, over the last $jod_frames frames; fov (sweep): the fovea-worth sweep) beside PSNR:"
+    echo "FovVideoVDP JOD per method (foveated, over the last $jod_frames frames) and near-gaze PSNR over the same"
+    echo "frames; PSNR over the 290 counted frames (fov (sweep), the fovea-worth sweep: over the $jod_frames frames):"
     echo
-    echo "| method | fovea | JOD | PSNR | near PSNR |"
+    echo "| method | fovea | JOD | near PSNR, same frames | PSNR |"
     echo "|---|---|---|---|---|"
     awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
       { printf "| %s%s | %s° | %.2f | %.2f | %.2f |\n", $c["method"], ($c["worth_sweep"] == 1 ? " (sweep)" : ""),
-        $c["fovea_deg"], $c["jod"], $c["psnr"], $c["near_gaze_psnr"] }' "out/report/$cell/results.csv"
+        $c["fovea_deg"], $c["jod"], $c["jod_near_gaze_psnr"], $c["psnr"] }' "out/report/$cell/results.csv"
     echo
   done
   echo "## speed"

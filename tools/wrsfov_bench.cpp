@@ -453,6 +453,9 @@ int main(int argc, char** argv) {
         if (!given("--modes")) o.modes = {FoveationMode::Mip};
     }
     if (given("--scaling") && scaling.empty()) return cli::usageError(app, "--scaling needs at least one size");
+    if (!o.outputsDir.empty() && (!scaling.empty() || costModel || flicker || !writeDir.empty()))
+        return cli::usageError(app, "--write-outputs writes a sweep's outputs: not with --scaling, --cost-model, "
+                                    "--flicker or --write-sequence");
     if (!o.sequenceDir.empty()) {
         // The sequence brings its own size and length.
         auto info = eval::readSequenceInfo(o.sequenceDir);
