@@ -367,7 +367,8 @@ Taps expandTaps(int m, int n) {
 
 // Applies `rows` taps between rows (whole rows at once) and `cols` taps within each row.
 void resample(const float* src, int sw, float* dst, int w, int h, const Taps& rows, const Taps& cols) {
-    std::vector<float> tmp(size_t(sw) * size_t(h), 0.0f);
+    thread_local std::vector<float> tmp;  // kept per thread: no allocation per call after the first
+    tmp.assign(size_t(sw) * size_t(h), 0.0f);
     for (int y = 0; y < h; ++y) {
         float* o = tmp.data() + size_t(y) * sw;
         for (int t = rows.first[size_t(y)]; t < rows.first[size_t(y) + 1]; ++t) {
@@ -552,7 +553,8 @@ void Metric::processFrame(glm::vec2 gaze_px) {
 
     // Temporal channels: 0 test sustained, 1 reference sustained, 2 test transient, 3 reference transient.
     // The newest frame sits just before window_next_ in the ring.
-    std::array<std::vector<float>, 4> chan;
+    Scratch& sc = scratch_;
+    std::array<std::vector<float>, 4>& chan = sc.a;
     for (auto& c : chan) c.assign(npix, 0.0f);
     // In blocks of pixels that stay in cache over the window's frames (each pixel's sum still runs
     // from the newest frame to the oldest).
@@ -589,27 +591,34 @@ void Metric::processFrame(glm::vec2 gaze_px) {
 
     last_.band.assign(size_t(nb), {0.0, 0.0});
     // Gaussian level l of each channel; level l + 1 is made from it as the bands go down.
-    std::array<std::vector<float>, 4> cur = std::move(chan), next;
-    std::vector<float> expanded(npix), ecc(npix), rho(npix);
-    std::array<std::vector<float>, 4> band;
+    std::array<std::vector<float>, 4>* cur = &sc.a;  // holds the temporal channels now
+    std::array<std::vector<float>, 4>* next = &sc.b;
+    std::vector<float>& expanded = sc.expanded;
+    std::vector<float>& ecc = sc.ecc;
+    std::vector<float>& rho = sc.rho;
+    expanded.resize(npix);
+    ecc.resize(npix);
+    rho.resize(npix);
+    std::array<std::vector<float>, 4>& band = sc.band;
     std::vector<std::vector<float>> dmap_bands(options_.distortion_map ? size_t(nb) : 0);
     for (int b = 0; b < nb; ++b) {
         const BandGeometry& bg = bands_[size_t(b)];
         const int bw = bg.w, bh = bg.h, nw = (bw + 1) / 2, nh = (bh + 1) / 2;
         const size_t n = size_t(bw) * size_t(bh);
         for (int c = 0; c < 4; ++c) {
-            next[size_t(c)].resize(size_t(nw) * size_t(nh));
-            detail::pyramidReduce(cur[size_t(c)].data(), bw, bh, next[size_t(c)].data());
+            (*next)[size_t(c)].resize(size_t(nw) * size_t(nh));
+            detail::pyramidReduce((*cur)[size_t(c)].data(), bw, bh, (*next)[size_t(c)].data());
         }
         // Laplacian bands; the background luminance is the expanded next level of the reference's
         // sustained channel.
-        std::vector<float> l_bkg(n);
-        detail::pyramidExpand(next[1].data(), nw, nh, l_bkg.data(), bw, bh);
+        std::vector<float>& l_bkg = sc.l_bkg;
+        l_bkg.resize(n);  // every value written by the expansion
+        detail::pyramidExpand((*next)[1].data(), nw, nh, l_bkg.data(), bw, bh);
         for (int c = 0; c < 4; ++c) {
             band[size_t(c)].resize(n);
-            if (c != 1) detail::pyramidExpand(next[size_t(c)].data(), nw, nh, expanded.data(), bw, bh);
+            if (c != 1) detail::pyramidExpand((*next)[size_t(c)].data(), nw, nh, expanded.data(), bw, bh);
             const float* e = c == 1 ? l_bkg.data() : expanded.data();
-            const float* cv = cur[size_t(c)].data();
+            const float* cv = (*cur)[size_t(c)].data();
             for (size_t i = 0; i < n; ++i) band[size_t(c)][i] = cv[i] - e[i];
         }
         // Contrast: band / max(background, 0.1), capped at 1000; bands between the finest and the
