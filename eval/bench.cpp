@@ -12,6 +12,9 @@
 #include <span>
 #include <sstream>
 
+#include <filesystem>
+
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -356,6 +359,8 @@ struct Accum {
     int shareFrames = 0;
     TemporalInstability instab[2];
     std::array<double, kEccBands.size() - 1> bandSe{}, bandPx{};  ///< squared error and pixels per band
+    double jodNearMse = 0;  ///< near-gaze MSE summed over the JOD frames' eye-frames
+    int jodN = 0;
 };
 
 // Adds each pixel's squared error (sRGB, mean over channels, as psnr) to its eccentricity band.
@@ -434,6 +439,29 @@ cv::Point gazePixel(const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
     return {int(std::lround(u * w)), int(std::lround(v * h))};
 }
 
+// The same as fvvdp::Metric::push wants it: continuous pixel coordinates, pixel (x, y) centred at
+// (x + 0.5, y + 0.5) (the view's centre when the gaze points backwards, as gazePixel).
+glm::vec2 gazePixelF(const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
+    const glm::vec3 g(ep.gaze);
+    if (!(g.z < 0.0f)) return {float(w / 2), float(h / 2)};
+    const float tx = g.x / -g.z, ty = g.y / -g.z;
+    const float u = (tx - ep.fov_tan.x) / (ep.fov_tan.y - ep.fov_tan.x), v = (ep.fov_tan.z - ty) / (ep.fov_tan.z - ep.fov_tan.w);
+    return {u * float(w) - 0.5f, v * float(h) - 0.5f};
+}
+
+// The C++ reference behind the bench's JodMetric interface.
+class CpuJodMetric final : public JodMetric {
+public:
+    explicit CpuJodMetric(fvvdp::Metric m) : m_(std::move(m)) {}
+    Status push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gazePx) override {
+        return m_.push(test, reference, gazePx);
+    }
+    Result<double> jod() const override { return m_.jod(); }
+
+private:
+    fvvdp::Metric m_;
+};
+
 constexpr int kCropW = 96, kCropH = 72, kZoom = 3;  // crops are magnified 3x, nearest neighbour
 
 // A kCropW x kCropH crop around `centre` (clamped into the image), magnified, with markers for the
@@ -484,6 +512,48 @@ cv::Mat flipColourBar(int w, int h) {
 
 }  // namespace
 
+Result<std::unique_ptr<JodMetric>> makeJodMetric(vk::Context&, const fvvdp::Options& options) {
+    auto m = fvvdp::Metric::create(options);
+    if (!m) return m.error();
+    return std::unique_ptr<JodMetric>(std::make_unique<CpuJodMetric>(std::move(*m)));
+}
+
+fvvdp::Options jodOptions(const BenchOptions& o, SceneKind scene, uint32_t width, uint32_t height, glm::vec4 fovTan,
+                          double fps) {
+    fvvdp::Options fo;
+    const bool hmd = !o.monitor && scene != SceneKind::Sequence;
+    fo.photometry = hmd ? fvvdp::DisplayPhotometry::hmd() : fvvdp::DisplayPhotometry::monitor();
+    fo.geometry = fvvdp::ViewGeometry::view(width, height, fovTan);
+    fo.fps = fps;
+    fo.foveated = true;
+    return fo;
+}
+
+FoveaWorth foveaWorth(std::vector<std::pair<double, double>> curve, double target) {
+    std::erase_if(curve, [](const auto& p) { return !std::isfinite(p.first) || !std::isfinite(p.second); });
+    if (curve.empty() || !std::isfinite(target)) return {};
+    std::sort(curve.begin(), curve.end());
+    if (curve.front().second >= target) return {curve.front().first, FoveaWorth::Bound::AtMost};
+    // The first segment that climbs to the target (a curve that is not monotonic: its first crossing).
+    for (std::size_t i = 1; i < curve.size(); ++i) {
+        const auto [f0, s0] = curve[i - 1];
+        const auto [f1, s1] = curve[i];
+        if (s0 < target && s1 >= target) return {f0 + (f1 - f0) * (target - s0) / (s1 - s0), FoveaWorth::Bound::Exact};
+    }
+    return {curve.back().first, FoveaWorth::Bound::MoreThan};
+}
+
+std::string toString(const FoveaWorth& w) {
+    char buf[48];
+    switch (w.bound) {
+    case FoveaWorth::Bound::Exact: std::snprintf(buf, sizeof buf, "%.1f°", w.deg); return buf;
+    case FoveaWorth::Bound::AtMost: std::snprintf(buf, sizeof buf, "%.1f° or less", w.deg); return buf;
+    case FoveaWorth::Bound::MoreThan: std::snprintf(buf, sizeof buf, "more than %.1f°", w.deg); return buf;
+    case FoveaWorth::Bound::Unknown: break;
+    }
+    return "n/a";
+}
+
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o) {
     auto say = [&](const std::string& s) {
         if (o.progress) o.progress(s);
@@ -515,16 +585,29 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     std::unique_ptr<HostStereoApp> app;
                     Accum acc;
                     HostImage last[2];
+                    float fovea = 0;
+                    bool sweep = false;  // a fovea-worth run: fov at an extra fovea, JOD frames only
+                    std::array<std::unique_ptr<JodMetric>, 2> jod;
+                    cv::Mat out[2];  // this frame's output as the metrics read it
                 };
+                // The fovea-worth sweep: fov at the extra foveas, in the first fovea's cell (not without foveation).
+                std::vector<float> sweepFoveas;
+                if (o.qualityMetrics && o.jod && fovea == o.foveas.front() && mode != FoveationMode::None)
+                    for (float wf : o.worthFoveas)
+                        if (std::find(o.foveas.begin(), o.foveas.end(), wf) == o.foveas.end() &&
+                            std::find(sweepFoveas.begin(), sweepFoveas.end(), wf) == sweepFoveas.end())
+                            sweepFoveas.push_back(wf);
+                const int methodRuns = int(o.methods.size());
                 std::vector<Run> runs;
-                for (int i = -1; i < int(o.methods.size()); ++i) {
+                for (int i = -1; i < methodRuns + int(sweepFoveas.size()); ++i) {
+                    const bool sweep = i >= methodRuns;
                     CompositorConfig cc;
-                    cc.method = i < 0 ? Method::Fov : o.methods[i];
+                    cc.method = i < 0 || sweep ? Method::Fov : o.methods[i];
                     cc.foveation = i < 0 ? FoveationMode::None : mode;
-                    cc.foveaDeg = fovea;
+                    cc.foveaDeg = sweep ? sweepFoveas[size_t(i - methodRuns)] : fovea;
                     cc.seed = o.seed;
                     cc.change = o.change;
-                    cc.measureCopy = i >= 0;
+                    cc.measureCopy = i >= 0 && !sweep;
                     cc.skipTiles = o.skipTiles;
                     cc.sparseRetention = o.sparseRetention;
                     cc.floorMerge = o.floorMerge;
@@ -536,6 +619,8 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     if (!a) return a.error();
                     Run run;
                     run.method = cc.method;
+                    run.fovea = cc.foveaDeg;
+                    run.sweep = sweep;
                     run.comp = std::move(*c);
                     run.app = std::move(*a);
                     runs.push_back(std::move(run));
@@ -546,7 +631,33 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 const int evalEyes = o.monitor ? 1 : 2;
                 int fovRun = -1;  // fov's run, for the stale-pixel comparison
                 for (std::size_t r = 1; r < runs.size(); ++r)
-                    if (runs[r].method == Method::Fov) fovRun = int(r);
+                    if (runs[r].method == Method::Fov && !runs[r].sweep) fovRun = int(r);
+                // JOD (and the sweep) over the last jodFrames counted frames, or all of them.
+                const bool scoreJod = o.qualityMetrics && o.jod;
+                const int jodStart = o.jodFrames > 0 ? std::max(o.warmup, o.frames - o.jodFrames) : o.warmup;
+                // --write-outputs: this cell's directory, one folder per method and eye, the gaze.
+                std::string outDir;
+                std::ofstream gazeCsv, viewCsv;
+                if (!o.outputsDir.empty() && o.qualityMetrics) {  // without metrics nothing is read back
+                    std::ostringstream name;
+                    name << o.outputsDir << "/" << toString(scene) << "_" << toString(mode) << "_" << fovea;
+                    outDir = name.str();
+                    std::error_code ec;
+                    for (std::size_t r = 0; r < runs.size() && !ec; ++r)
+                        for (int e = 0; e < evalEyes && !runs[r].sweep && !ec; ++e)
+                            std::filesystem::create_directories(
+                                outDir + "/" + (r == 0 ? std::string("reference") : std::string(toString(runs[r].method))) +
+                                    (e == 0 ? "/L" : "/R"),
+                                ec);
+                    if (ec) return benchError("bench: cannot create " + outDir + ": " + ec.message());
+                    gazeCsv.open(outDir + "/gaze.csv");
+                    if (!gazeCsv) return benchError("bench: cannot write " + outDir + "/gaze.csv");
+                    gazeCsv << (evalEyes == 2 ? "frame,left_x,left_y,right_x,right_y,bench_frame,t_s\n"
+                                              : "frame,left_x,left_y,bench_frame,t_s\n");
+                    viewCsv.open(outDir + "/view.csv");
+                    if (!viewCsv) return benchError("bench: cannot write " + outDir + "/view.csv");
+                    viewCsv << "eye,tan_left,tan_right,tan_up,tan_down,width,height,fps,display,first_frame,jod_first_frame\n";
+                }
                 for (int f = 0; f < o.frames; ++f) {
                     const double t = f / frames->fps();
                     std::array<EyeSubmission, 2> eyes;
@@ -563,9 +674,14 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     double shading[2] = {0, 0};
                     // The copy kernel doubles a frame's GPU work: it runs on every copyEvery-th counted frame.
                     const bool copyFrame = f >= o.warmup && (f - o.warmup) % std::max(1, o.copyEvery) == 0;
+                    const bool jodFrame = scoreJod && f >= jodStart;
+                    glm::vec2 gazeF[2];
                     for (std::size_t r = 0; r < runs.size(); ++r) {
                         Run& run = runs[r];
-                        if (r > 0 && run.comp->config().measureCopy != copyFrame) {
+                        run.out[0] = run.out[1] = cv::Mat();
+                        // fov keeps nothing between frames: the sweep's runs see only the frames they score.
+                        if (run.sweep && f < jodStart) continue;
+                        if (r > 0 && !run.sweep && run.comp->config().measureCopy != copyFrame) {
                             CompositorConfig cc = run.comp->config();
                             cc.measureCopy = copyFrame;
                             if (Status s = run.comp->setConfig(cc); !s) return s.error();
@@ -581,6 +697,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             ref[0] = run.last[0];
                             ref[1] = run.last[1];
                             gazePx.push_back(gazePixel(run.comp->lastParams().eye[0], o.width, o.height));
+                            for (int e = 0; e < 2; ++e) gazeF[e] = gazePixelF(run.comp->lastParams().eye[e], o.width, o.height);
                             // Eccentricity and shading work are the same for every method of the cell.
                             for (int e = 0; e < evalEyes; ++e) {
                                 const gpu::EyeParams& ep = run.comp->lastParams().eye[e];
@@ -594,7 +711,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             }
                             continue;
                         }
-                        cv::Mat outMat[2];
+                        cv::Mat* outMat = run.out;
                         for (int e = 0; e < evalEyes && o.qualityMetrics; ++e) {
                             outMat[e] = toMat(run.last[e]);
                             run.acc.instab[e].addFrame(refMat[e], outMat[e]);
@@ -630,6 +747,10 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                             // view); such an eye-frame adds nothing there (counted as zero error).
                             double np = nearGazePsnr(refMat[e], outMat[e], ecc[e]);
                             run.acc.nearMse += std::isnan(np) ? 0.0 : mseFromPsnr(np);
+                            if (jodFrame) {
+                                run.acc.jodNearMse += std::isnan(np) ? 0.0 : mseFromPsnr(np);
+                                run.acc.jodN++;
+                            }
                             run.acc.eccMse += weightedMse(refMat[e], outMat[e], eccWeights[e]);
                             run.acc.shading += shading[e];
                             addBandErrors(refMat[e], outMat[e], ecc[e], run.acc);
@@ -649,15 +770,83 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         run.acc.n += evalEyes;
                         if (heavy) run.acc.heavy += evalEyes;
                     }
+                    // --write-outputs: the counted frames, numbered from 0, and where the gaze was.
+                    if (!outDir.empty() && f >= o.warmup) {
+                        const int k = f - o.warmup;
+                        char file[32];
+                        std::snprintf(file, sizeof file, "%06d.png", k);
+                        for (std::size_t r = 0; r < runs.size(); ++r) {
+                            if (runs[r].sweep) continue;
+                            const std::string name = r == 0 ? std::string("reference") : std::string(toString(runs[r].method));
+                            for (int e = 0; e < evalEyes; ++e)
+                                if (!cv::imwrite(outDir + "/" + name + (e == 0 ? "/L/" : "/R/") + file, toBgr8(runs[r].last[e])))
+                                    return benchError("bench: cannot write " + outDir + "/" + name + "/" + file);
+                        }
+                        gazeCsv.precision(7);
+                        gazeCsv << k;
+                        for (int e = 0; e < evalEyes; ++e) gazeCsv << ',' << gazeF[e].x << ',' << gazeF[e].y;
+                        gazeCsv << ',' << f << ',' << f / frames->fps() << '\n';
+                        if (k == 0)
+                            for (int e = 0; e < evalEyes; ++e) {
+                                const glm::vec4 ft = runs[0].comp->lastParams().eye[e].fov_tan;
+                                viewCsv.precision(9);
+                                viewCsv << (e == 0 ? "L" : "R") << ',' << ft.x << ',' << ft.y << ',' << ft.z << ',' << ft.w
+                                        << ',' << o.width << ',' << o.height << ',' << frames->fps() << ','
+                                        << (!o.monitor && scene != SceneKind::Sequence ? "hmd" : "monitor") << ','
+                                        << o.warmup << ',' << jodStart - o.warmup << '\n';
+                            }
+                    }
+                    // JOD: every method's (and eye's) metric takes the frame; independent, so in parallel.
+                    if (jodFrame) {
+                        std::vector<std::pair<int, int>> jobs;  // (run, eye)
+                        for (std::size_t r = 1; r < runs.size(); ++r)
+                            for (int e = 0; e < evalEyes; ++e) {
+                                if (runs[r].out[e].empty()) continue;
+                                if (!runs[r].jod[e]) {
+                                    const glm::vec4 ft = runs[0].comp->lastParams().eye[e].fov_tan;
+                                    auto m = makeJodMetric(ctx, jodOptions(o, scene, o.width, o.height, ft, frames->fps()));
+                                    if (!m) return benchError("bench: JOD: " + m.error().message);
+                                    runs[r].jod[e] = std::move(*m);
+                                }
+                                jobs.emplace_back(int(r), e);
+                            }
+                        std::vector<std::string> failed(jobs.size());
+                        cv::parallel_for_(cv::Range(0, int(jobs.size())), [&](const cv::Range& range) {
+                            for (int j = range.start; j < range.end; ++j) {
+                                const auto [r, e] = jobs[size_t(j)];
+                                if (Status st = runs[size_t(r)].jod[size_t(e)]->push(runs[size_t(r)].out[e], refMat[e], gazeF[e]); !st)
+                                    failed[size_t(j)] = st.message();
+                            }
+                        });
+                        for (std::size_t j = 0; j < jobs.size(); ++j)
+                            if (!failed[j].empty())
+                                return benchError("bench: JOD of " + std::string(toString(runs[size_t(jobs[j].first)].method)) +
+                                                  ", frame " + std::to_string(f) + ": " + failed[j]);
+                    }
                 }
                 double fovTotal = 0;
                 for (std::size_t r = 1; r < runs.size(); ++r)
-                    if (runs[r].method == Method::Fov) fovTotal = median(runs[r].acc.total);
+                    if (runs[r].method == Method::Fov && !runs[r].sweep) fovTotal = median(runs[r].acc.total);
                 for (std::size_t r = 1; r < runs.size(); ++r) {
                     Run& run = runs[r];
                     Accum& a = run.acc;
-                    CellResult c{scene, run.method, mode, fovea};
-                    c.frames = o.frames - o.warmup;
+                    CellResult c{scene, run.method, mode, run.fovea};
+                    c.worthSweep = run.sweep;
+                    c.frames = run.sweep ? o.frames - jodStart : o.frames - o.warmup;
+                    if (run.jod[0]) {
+                        double sum = 0;
+                        int eyes = 0;
+                        for (int e = 0; e < evalEyes; ++e) {
+                            if (!run.jod[e]) continue;
+                            auto j = run.jod[e]->jod();
+                            if (!j) return benchError("bench: JOD of " + std::string(toString(run.method)) + ": " + j.error().message);
+                            sum += *j;
+                            ++eyes;
+                        }
+                        c.jod = sum / eyes;
+                        c.jodFrames = o.frames - jodStart;
+                        c.jodNearPsnr = psnrFromMse(a.jodNearMse / std::max(1, a.jodN));
+                    }
                     c.gpu = {median(a.pyramid), median(a.foveate), median(a.temporal), median(a.total),
                              median(a.copy),    median(a.copyFloor), !a.total.empty()};
                     // Sparse retention: the bytes of the tiles that ran retention and of those that did not.
@@ -712,6 +901,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     const double gain = boundGain(fovCell->mse, bound->mse),
                                  gainNear = boundGain(fovCell->nearMse, bound->nearMse);
                     for (std::size_t k = first; k < results.size(); ++k) {
+                        if (results[k].worthSweep) continue;
                         if (gain > 0) results[k].*whole = (fovCell->mse - results[k].mse) / gain;
                         if (gainNear > 0) results[k].*near = (fovCell->nearMse - results[k].nearMse) / gainNear;
                     }
@@ -725,11 +915,13 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     const cv::Point then = gazePx[gazePx.size() - 1 - back], now = gazePx.back();
                     FlipOptions fo{pixelsPerDegreeAtCentre(o.width, runs[0].comp->lastParams().eye[0].fov_tan)};
                     std::vector<cv::Mat> flipMaps(runs.size());
-                    for (std::size_t r = 1; r < runs.size(); ++r) flipMaps[r] = flip(runs[0].last[0], runs[r].last[0], fo).map;
+                    for (std::size_t r = 1; r < runs.size(); ++r)
+                        if (!runs[r].sweep) flipMaps[r] = flip(runs[0].last[0], runs[r].last[0], fo).map;
                     std::vector<cv::Mat> rows;
                     for (const auto& [centre, what] : {std::pair{then, std::string("1 s ago")}, std::pair{now, std::string("now")}}) {
                         std::vector<cv::Mat> images, maps;
                         for (std::size_t r = 0; r < runs.size(); ++r) {
+                            if (runs[r].sweep) continue;
                             const std::string label = r == 0 ? "reference" : std::string(toString(runs[r].method));
                             images.push_back(cropTile(toBgr8(runs[r].last[0]), centre, then, now, label + " (" + what + ")"));
                             maps.push_back(r == 0 ? flipColourBar(images[0].cols, images[0].rows)
@@ -814,7 +1006,8 @@ Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions&
 float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene, FoveationMode mode) {
     double target = std::numeric_limits<double>::quiet_NaN();
     for (const auto& c : results)
-        if (c.scene == scene && c.mode == mode && c.method == Method::Fov && c.foveaDeg == 10.0f) target = c.nearPsnr;
+        if (c.scene == scene && c.mode == mode && c.method == Method::Fov && c.foveaDeg == 10.0f && !c.worthSweep)
+            target = c.nearPsnr;
     if (std::isnan(target)) return 0.0f;
     float best = 0.0f;
     for (const auto& c : results)
@@ -1037,18 +1230,68 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     csv.precision(7);
     csv << "scene,method,mode,fovea_deg,frames,pyramid_ms,foveate_ms,temporal_ms,total_ms,per_eye_ms,"
            "copy_ms,copy_floor_ms,traffic_bytes,bytes_per_px,floor_bytes_per_px,ratio_to_floor_bytes,ratio_to_copy,"
-           "ratio_to_copy_floor,ratio_to_fov,shading_fraction,psnr,ssim,near_gaze_psnr,ecc_mse,flip,"
+           "ratio_to_copy_floor,ratio_to_fov,shading_fraction,psnr,jod,ssim,near_gaze_psnr,ecc_mse,flip,"
            "temporal_instability,mse,near_gaze_mse,eta,eta_near_gaze,stale_fraction,stale_mse,stale_fov_mse,eta_q,"
-           "eta_q_near_gaze,retain_share\n";
+           "eta_q_near_gaze,retain_share,jod_frames,jod_near_gaze_psnr,worth_sweep\n";
     for (const auto& c : results)
         csv << toString(c.scene) << ',' << toString(c.method) << ',' << toString(c.mode) << ',' << c.foveaDeg << ','
             << c.frames << ',' << c.gpu.pyramid << ',' << c.gpu.foveate << ',' << c.gpu.temporal << ',' << c.gpu.total
             << ',' << c.gpu.total / 2 << ',' << c.copyMs << ',' << c.copyFloorMs << ',' << c.trafficBytes << ','
             << c.traffic.perPixel() << ',' << c.traffic.floor << ',' << c.traffic.perPixel() / c.traffic.floor << ','
             << c.gpu.total / c.copyMs << ',' << c.gpu.total / c.copyFloorMs << ',' << c.gpu.total / c.fovTotalMs << ','
-            << c.shadingFraction << ',' << c.psnr << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
+            << c.shadingFraction << ',' << c.psnr << ',' << c.jod << ',' << c.ssim << ',' << c.nearPsnr << ',' << c.eccMse << ',' << c.flip << ',' << c.temporal
             << ',' << c.mse << ',' << c.nearMse << ',' << c.eta << ',' << c.etaNear << ',' << c.staleFraction << ','
-            << c.staleMse << ',' << c.staleFovMse << ',' << c.etaQ << ',' << c.etaQNear << ',' << c.retainShare << '\n';
+            << c.staleMse << ',' << c.staleFovMse << ',' << c.etaQ << ',' << c.etaQNear << ',' << c.retainShare << ','
+            << c.jodFrames << ',' << c.jodNearPsnr << ',' << (c.worthSweep ? 1 : 0) << '\n';
+
+    // The fovea each method at the first fovea is worth: fov's fovea of equal JOD, and of equal near-gaze
+    // PSNR over the same frames.
+    struct Worth {
+        SceneKind scene;
+        FoveationMode mode;
+        Method method;
+        const CellResult* cell;
+        FoveaWorth byJod, byPsnr;
+        double fovMin = 0, fovMax = 0;
+    };
+    std::vector<Worth> worth;
+    const float fovea0 = o.foveas.front();
+    for (SceneKind scene : o.scenes)
+        for (FoveationMode mode : o.modes) {
+            std::vector<std::pair<double, double>> byJod, byPsnr;
+            for (const CellResult& c : results)
+                if (c.scene == scene && c.mode == mode && c.method == Method::Fov && c.foveaDeg >= fovea0) {
+                    byJod.emplace_back(c.foveaDeg, c.jod);
+                    byPsnr.emplace_back(c.foveaDeg, c.jodNearPsnr);
+                }
+            if (byJod.size() < 2) continue;
+            double lo = 1e9, hi = 0;
+            for (auto [f, v] : byJod) lo = std::min(lo, f), hi = std::max(hi, f);
+            for (Method m : o.methods) {
+                if (m == Method::Fov) continue;
+                const CellResult* c = findCell(results, scene, mode, fovea0, m);
+                if (!c || std::isnan(c->jod)) continue;
+                worth.push_back({scene, mode, m, c, foveaWorth(byJod, c->jod), foveaWorth(byPsnr, c->jodNearPsnr), lo, hi});
+            }
+        }
+    if (!worth.empty()) {
+        std::ofstream wc(dir + "/fovea_worth.csv");
+        if (!wc) return Error{1, "cannot write " + dir + "/fovea_worth.csv"};
+        wc.precision(7);
+        wc << "scene,mode,method,fovea_deg,jod,worth_jod_deg,worth_jod_bound,near_gaze_psnr,worth_psnr_deg,"
+              "worth_psnr_bound,fov_min_deg,fov_max_deg,jod_frames\n";
+        auto bound = [](FoveaWorth::Bound b) {
+            return b == FoveaWorth::Bound::Exact      ? "exact"
+                   : b == FoveaWorth::Bound::AtMost   ? "at_most"
+                   : b == FoveaWorth::Bound::MoreThan ? "more_than"
+                                                      : "unknown";
+        };
+        for (const Worth& w : worth)
+            wc << toString(w.scene) << ',' << toString(w.mode) << ',' << toString(w.method) << ',' << fovea0 << ','
+               << w.cell->jod << ',' << w.byJod.deg << ',' << bound(w.byJod.bound) << ',' << w.cell->jodNearPsnr << ','
+               << w.byPsnr.deg << ',' << bound(w.byPsnr.bound) << ',' << w.fovMin << ',' << w.fovMax << ','
+               << w.cell->jodFrames << '\n';
+    }
 
     auto find = [&](SceneKind scene, FoveationMode mode, Method m, float fovea) {
         return findCell(results, scene, mode, fovea, m);
@@ -1098,11 +1341,12 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             const CellResult* oracleQ = find(scene, mode, Method::OracleQ, f0);
             if (oracle)
                 md << "the oracle bound gains " << fmt(oracle->psnr - fov->psnr) << " dB full / "
-                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov";
+                   << fmt(oracle->nearPsnr - fov->nearPsnr) << " dB near gaze over fov"
+                   << (std::isnan(oracle->jod) ? std::string() : " (JOD " + fmt(oracle->jod) + ")");
             if (oracleQ)
                 md << (oracle ? ", the retention bound (oracle-q) " : "the retention bound (oracle-q) gains ")
                    << fmt(oracleQ->psnr - fov->psnr) << " dB full / " << fmt(oracleQ->nearPsnr - fov->nearPsnr)
-                   << " dB near gaze";
+                   << " dB near gaze" << (std::isnan(oracleQ->jod) ? std::string() : " (JOD " + fmt(oracleQ->jod) + ")");
             if (oracle || oracleQ) md << ". ";
             bool firstM = true;
             for (Method m : o.methods) {
@@ -1124,16 +1368,41 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                     if (etaQ) md << (eta ? ", " : "") << "η_q " << fmt(c->etaQ) << " / " << fmt(c->etaQNear);
                     md << ")";
                 }
+                if (!std::isnan(c->jod)) md << ", JOD " << fmt(c->jod) << " vs fov " << fmt(fov->jod);
                 md << " at " << fmt(c->gpu.total / fov->gpu.total) << "× fov's GPU time";
                 if (!std::isnan(c->staleMse) && c->staleFraction > 0)
                     md << ", stale-pixel MSE " << fmt(c->staleMse, 5) << " vs fov " << fmt(c->staleFovMse, 5);
                 firstM = false;
             }
             md << ".\n";
+            for (const Worth& w : worth) {
+                if (w.scene != scene || w.mode != mode || w.method != Method::Wrs) continue;
+                md << "- **The fovea `wrs` at " << fmt(fovea0, 1) << "° is worth** (the `fov` fovea of equal score, fov "
+                   << "swept over " << fmt(w.fovMin, 1) << "–" << fmt(w.fovMax, 1) << "°, linear in the score, over the "
+                   << w.cell->jodFrames << " JOD frames): **" << toString(w.byJod) << " by FovVideoVDP** (JOD "
+                   << fmt(w.cell->jod) << "), " << toString(w.byPsnr) << " by near-gaze PSNR ("
+                   << fmt(w.cell->jodNearPsnr) << " dB). The paper's user study preferred WRS at 5° over FOV at 5° "
+                   << "(64 %) and over FOV at 7.5° (62 %): WRS 5° judged about as good as FOV 7.5° or better; by JOD "
+                   << "here it is "
+                   << (w.byJod.bound == FoveaWorth::Bound::MoreThan || (w.byJod.bound == FoveaWorth::Bound::Exact && w.byJod.deg >= 7.5)
+                           ? "as good as fov at 7.5° or better, as the study found"
+                       : w.byJod.bound == FoveaWorth::Bound::Unknown ? "not known"
+                                                                      : "worth less than fov at 7.5°, less than the study found")
+                   << ".\n";
+            }
         }
 
     md << "\n## Columns\n\n"
           "- *near PSNR*: PSNR (dB, sRGB 8-bit) over pixels within 10° of the gaze; *PSNR* over the whole image.\n"
+          "- *JOD*: FovVideoVDP v1.2 (our implementation, eval/fvvdp.h, docs/metrics.md), foveated with the run's "
+          "gaze, 10 = no visible difference, against the unfoveated reference; display "
+       << (o.monitor ? "monitor (200 cd/m², 1000:1, 250 lux)" : "HMD (100 cd/m², black 0.1 cd/m²) for built-in scenes, monitor for sequences")
+       << ", geometry from the submitted field of view, "
+       << (o.jodFrames > 0 ? "over the last " + std::to_string(std::min(o.jodFrames, o.frames - o.warmup)) + " counted frames"
+                           : std::string("over every counted frame"))
+       << (o.monitor ? "" : ", mean of the two eyes") << ". *fov (sweep)* rows: fov at the fovea-worth sweep's extra "
+          "foveas, submitted and scored over the JOD frames only (fov keeps nothing between frames); their near "
+          "PSNR and PSNR are over those frames.\n"
           "- *η* / *η near*: retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, "
           "whole image / within 10°: 0 = no better than fov, 1 = as good as the oracle (which keeps, per pixel, "
           "whichever of history and candidate is closer to the reference). n/a without fov and oracle, or when "
@@ -1162,13 +1431,13 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
             md << "\n## " << toString(scene) << ", foveation " << toString(mode) << "\n\n"
-               << "| method | fovea | near PSNR | PSNR | η | η near | η_q | η_q near | SSIM | FLIP | ecc-MSE | temporal "
+               << "| method | fovea | near PSNR | PSNR | JOD | η | η near | η_q | η_q near | SSIM | FLIP | ecc-MSE | temporal "
                   "| stale | stale MSE | fov there | GPU ms | ×copy | ×copy floor | ×fov | B/px | shading | retain |\n"
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
             for (const auto& c : results) {
                 if (c.scene != scene || c.mode != mode) continue;
-                md << "| " << toString(c.method) << " | " << fmt(c.foveaDeg, 1) << "° | " << fmt(c.nearPsnr) << " | "
-                   << fmt(c.psnr) << " | " << fmt(c.eta) << " | " << fmt(c.etaNear) << " | " << fmt(c.etaQ) << " | "
+                md << "| " << toString(c.method) << (c.worthSweep ? " (sweep)" : "") << " | " << fmt(c.foveaDeg, 1) << "° | "
+                   << fmt(c.nearPsnr) << " | " << fmt(c.psnr) << " | " << fmt(c.jod) << " | " << fmt(c.eta) << " | " << fmt(c.etaNear) << " | " << fmt(c.etaQ) << " | "
                    << fmt(c.etaQNear) << " | " << fmt(c.ssim, 4)
                    << " | " << fmt(c.flip, 4) << " | " << fmt(c.eccMse, 5) << " | " << fmt(c.temporal, 5) << " | "
                    << (std::isnan(c.staleFraction) ? std::string("n/a") : fmt(100 * c.staleFraction, 3) + " %")
@@ -1182,6 +1451,24 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
             md << "\nEqual-quality fovea (smallest wrs fovea below 10° with near-gaze PSNR ≥ fov at 10°): "
                << (eq > 0 ? fmt(eq, 1) + "°" : std::string("none in this sweep")) << "\n";
         }
+
+    if (!worth.empty()) {
+        md << "\n## The fovea a method is worth\n\n"
+              "For each method at "
+           << fmt(fovea0, 1)
+           << "°, the `fov` fovea that scores the same: fov's JOD (and near-gaze PSNR) against its fovea "
+              "diameter, interpolated linearly in the score between the swept foveas; the smallest fovea that "
+              "reaches the method's score (\"or less\": fov at the smallest fovea already does; \"more than\": no "
+              "swept fovea does). Both scores over the same JOD frames. The paper's user study: WRS at 5° "
+              "preferred over FOV at 5° by 64 % and over FOV at 7.5° by 62 % of the answers. fovea_worth.csv "
+              "has the figures.\n\n"
+              "| scene | mode | method | JOD | worth by JOD | near PSNR (JOD frames) | worth by near PSNR | fov swept |\n"
+              "|---|---|---|---|---|---|---|---|\n";
+        for (const Worth& w : worth)
+            md << "| " << toString(w.scene) << " | " << toString(w.mode) << " | " << toString(w.method) << " | "
+               << fmt(w.cell->jod) << " | " << toString(w.byJod) << " | " << fmt(w.cell->jodNearPsnr) << " dB | "
+               << toString(w.byPsnr) << " | " << fmt(w.fovMin, 1) << "–" << fmt(w.fovMax, 1) << "° |\n";
+    }
 
     writeTrafficSection(md, results);
     writeBandSection(md, results);
@@ -1199,13 +1486,21 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
     // Per scene and mode: error against run time, against fovea size, and η per method.
     for (SceneKind scene : o.scenes)
         for (FoveationMode mode : o.modes) {
-            std::vector<Series> vsTime, vsFovea, eta;
+            std::vector<Series> vsTime, vsFovea, eta, jodTime;
+            bool anyJod = false;
             for (Method m : o.methods) {
                 Series st{std::string(toString(m)), methodColour(m)}, sf{std::string(toString(m)), methodColour(m)};
-                Series se{std::string(toString(m)), methodColour(m)};
+                Series se{std::string(toString(m)), methodColour(m)}, sj{std::string(toString(m)), methodColour(m)};
                 sf.line = true;
                 for (const auto& c : results) {
                     if (c.scene != scene || c.method != m || c.mode != mode) continue;
+                    // JOD against time: the sweep's fov points too (fov's whole curve).
+                    if (!std::isnan(c.jod)) {
+                        sj.points.push_back({c.gpu.total, c.jod});
+                        sj.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
+                        anyJod = true;
+                    }
+                    if (c.worthSweep) continue;
                     st.points.push_back({c.gpu.total, c.nearPsnr});
                     st.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
                     sf.points.push_back({c.foveaDeg, c.nearPsnr});
@@ -1215,8 +1510,13 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                 vsTime.push_back(st);
                 vsFovea.push_back(sf);
                 eta.push_back(se);
+                jodTime.push_back(sj);
             }
             const std::string s(toString(scene)), m(toString(mode)), tag = s + "_" + m;
+            if (anyJod)
+                cv::imwrite(dir + "/jod_vs_time_" + tag + ".png",
+                            chart(s + " (" + m + "): FovVideoVDP JOD against GPU time", "GPU ms per frame (both eyes)",
+                                  "JOD (10 = no visible difference)", jodTime));
             cv::imwrite(dir + "/error_vs_time_" + tag + ".png",
                         chart(s + " (" + m + "): near-gaze PSNR against GPU time", "GPU ms per frame (both eyes)",
                               "near-gaze PSNR (dB)", vsTime));

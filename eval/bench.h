@@ -13,6 +13,7 @@
 #include "compositor/compositor.h"
 #include "compositor/host_app.h"
 #include "compositor/vk_context.h"
+#include "eval/fvvdp.h"
 #include "layers/status.h"
 #include "scenes/atrium.h"
 #include "scenes/photo.h"
@@ -73,6 +74,22 @@ struct BenchOptions {
     /// displayed at f / fps of the json. width/height must be the sequence's, frames <= its frame count.
     std::string sequenceDir;
     std::string cropDir;  ///< where to write side-by-side crops and error maps ("" = none)
+    /// FovVideoVDP JOD (foveated, eval/fvvdp.h) per method beside the other error metrics; needs
+    /// qualityMetrics. Display: monitor in monitor mode and for sequences, HMD otherwise; the view
+    /// geometry from the submitted field of view; the run's per-frame gaze; the scene's frame rate.
+    bool jod = true;
+    /// JOD over the last `jodFrames` counted frames only (0: every counted frame), the same frames for
+    /// every method of a cell, so that JOD costs less. CellResult::jodNearPsnr is near-gaze PSNR over them.
+    int jodFrames = 0;
+    /// The fovea a method is worth: `fov` at these extra fovea diameters (degrees) in the cell of the
+    /// first fovea, fed the same frames and scored (JOD and near-gaze PSNR) over the JOD frames only
+    /// (fov keeps nothing from frame to frame, so it is submitted only those frames). Empty: none.
+    /// Foveas of `foveas` are not run twice. See foveaWorth and writeReport's fovea_worth.csv.
+    std::vector<float> worthFoveas;
+    /// Where to write every method's output frames and the reference as PNG, with the gaze in pixels
+    /// ("" = nowhere): DIR/<scene>_<mode>_<fovea>/<method|reference>/{L,R}/NNNNNN.png over the counted
+    /// frames (R only in HMD stereo), gaze.csv and view.csv (docs/metrics.md, "Outputs for other metrics").
+    std::string outputsDir;
     std::function<void(const std::string&)> progress;
 };
 
@@ -94,6 +111,14 @@ struct CellResult {
     Traffic traffic;          ///< per pass, bytes per pixel of one view, and the method's floor
     double shadingFraction = 0;  ///< full-rate shading work the foveation represents (1 = none saved)
     double psnr = 0, ssim = 0, nearPsnr = 0, eccMse = 0, flip = 0, temporal = 0;
+    /// FovVideoVDP JOD (foveated; 10 = no visible difference) over the JOD frames (BenchOptions::jodFrames),
+    /// mean of the eyes in HMD stereo; NaN without it. jodNearPsnr: near-gaze PSNR over the same frames.
+    double jod = std::numeric_limits<double>::quiet_NaN();
+    double jodNearPsnr = std::numeric_limits<double>::quiet_NaN();
+    int jodFrames = 0;  ///< frames the JOD is over
+    /// A run of the fovea-worth sweep (BenchOptions::worthFoveas): fov at an extra fovea, submitted and
+    /// scored over the JOD frames only; its times are medians over those frames.
+    bool worthSweep = false;
     double mse = 0, nearMse = 0;  ///< mean squared error (sRGB, 0..1), full image and within 10° of gaze
     /// Retention efficiency (MSE_fov − MSE) / (MSE_fov − MSE_oracle) in the same cell, full image and
     /// near gaze; NaN without fov and oracle in the cell or where the oracle removes less than 1 % of
@@ -140,6 +165,42 @@ Status forEachSceneFrame(vk::Context& ctx, SceneKind scene, const BenchOptions& 
 /// colour PNG, depth and motion EXR where the scene has them, gaze.csv. runBench on the written
 /// sequence then sees the same images and gaze as runBench on the scene.
 Status writeSceneSequence(vk::Context& ctx, SceneKind scene, const BenchOptions& options, const std::string& dir);
+
+/// What the bench needs of a FovVideoVDP implementation: frames in, JOD out. fvvdp::Metric (the C++
+/// reference) is one; a GPU version with the same push/jod stands in through makeJodMetric.
+class JodMetric {
+public:
+    virtual ~JodMetric() = default;
+    /// `test`, `reference`: CV_32FC3 sRGB-encoded RGB of the metric's size; `gazePx` the pixel looked at
+    /// (fvvdp::Metric::push's convention: pixel (x, y) spans [x, x + 1), its centre at x + 0.5).
+    virtual Status push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gazePx) = 0;
+    virtual Result<double> jod() const = 0;
+};
+
+/// The JOD implementation the bench scores with. `ctx`: the bench's device, for a GPU version.
+Result<std::unique_ptr<JodMetric>> makeJodMetric(vk::Context& ctx, const fvvdp::Options& options);
+
+/// The metric's options for one eye of a bench cell: display preset (monitor in monitor mode and for
+/// sequences, HMD otherwise), view geometry from the eye's fov tangents, foveated, at `fps`.
+fvvdp::Options jodOptions(const BenchOptions& options, SceneKind scene, uint32_t width, uint32_t height,
+                          glm::vec4 fovTan, double fps);
+
+/// The fovea a method is worth: the smallest fovea at which a curve of (fovea diameter, score) of
+/// `fov` reaches `target` (the method's score; higher is better), interpolated linearly in the score
+/// between the sweep's foveas. Points need not be sorted; non-finite scores are ignored.
+struct FoveaWorth {
+    enum class Bound : uint8_t {
+        Exact,     ///< deg lies within the sweep
+        AtMost,    ///< fov at the smallest fovea already reaches the target: deg is that fovea (or less)
+        MoreThan,  ///< no fovea of the sweep reaches the target: more than deg, the largest
+        Unknown,   ///< no finite target or no points
+    };
+    double deg = std::numeric_limits<double>::quiet_NaN();
+    Bound bound = Bound::Unknown;
+};
+FoveaWorth foveaWorth(std::vector<std::pair<double, double>> curve, double target);
+/// "7.9°", "5.0° or less", "more than 15.0°", "n/a".
+std::string toString(const FoveaWorth& w);
 
 /// The smallest WRS fovea whose near-gaze PSNR is at least FOV's at 10° (same scene and mode);
 /// 0 when none is (or the sweep lacks the cells).

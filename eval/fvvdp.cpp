@@ -367,7 +367,8 @@ Taps expandTaps(int m, int n) {
 
 // Applies `rows` taps between rows (whole rows at once) and `cols` taps within each row.
 void resample(const float* src, int sw, float* dst, int w, int h, const Taps& rows, const Taps& cols) {
-    std::vector<float> tmp(size_t(sw) * size_t(h), 0.0f);
+    thread_local std::vector<float> tmp;  // kept per thread: no allocation per call after the first
+    tmp.assign(size_t(sw) * size_t(h), 0.0f);
     for (int y = 0; y < h; ++y) {
         float* o = tmp.data() + size_t(y) * sw;
         for (int t = rows.first[size_t(y)]; t < rows.first[size_t(y) + 1]; ++t) {
@@ -498,6 +499,19 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
 
     const int w = int(g.width), h = int(g.height);
     const float peak = float(options_.photometry.peak), black = float(options_.photometry.black());
+    // Each channel's emitted luminance as detail::displayLuminance computes it; for the 256 values an
+    // 8-bit image gives (code / 255.0f) from a table of the same expression (the same floats, without
+    // a pow per channel), any other value directly.
+    auto channel = [&](float v) { return (peak - black) * detail::srgbToLinear(std::clamp(v, 0.0f, 1.0f)) + black; };
+    std::array<float, 256> lin;
+    for (int k = 0; k < 256; ++k) lin[size_t(k)] = channel(float(k) / 255.0f);
+    auto emitted = [&](float v) {
+        if (v >= 0.0f && v <= 1.0f) {
+            const int k = int(v * 255.0f + 0.5f);
+            if (float(k) / 255.0f == v) return lin[size_t(k)];
+        }
+        return channel(v);
+    };
     auto toLuminance = [&](const cv::Mat& img, Plane& out) {
         out.w = w;
         out.h = h;
@@ -506,7 +520,8 @@ Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaz
             const float* p = img.ptr<float>(y);
             float* o = out.v.data() + size_t(y) * w;
             for (int x = 0; x < w; ++x)
-                o[x] = detail::displayLuminance(p[3 * x], p[3 * x + 1], p[3 * x + 2], peak, black);
+                o[x] = 0.2126729f * emitted(p[3 * x]) + 0.7151522f * emitted(p[3 * x + 1]) +
+                       0.0721750f * emitted(p[3 * x + 2]);
         }
     };
     if (window_test_.empty()) {
@@ -538,18 +553,34 @@ void Metric::processFrame(glm::vec2 gaze_px) {
 
     // Temporal channels: 0 test sustained, 1 reference sustained, 2 test transient, 3 reference transient.
     // The newest frame sits just before window_next_ in the ring.
-    std::array<std::vector<float>, 4> chan;
+    Scratch& sc = scratch_;
+    std::array<std::vector<float>, 4>& chan = sc.a;
     for (auto& c : chan) c.assign(npix, 0.0f);
+    // In blocks of pixels that stay in cache over the window's frames (each pixel's sum still runs
+    // from the newest frame to the oldest).
+    std::vector<const float*> tvs(static_cast<size_t>(filter_len_)), rvs(static_cast<size_t>(filter_len_));
     for (int k = 0; k < filter_len_; ++k) {
         const int slot = ((window_next_ - 1 - k) % filter_len_ + filter_len_) % filter_len_;
-        const float* tv = window_test_[size_t(slot)].v.data();
-        const float* rv = window_ref_[size_t(slot)].v.data();
-        const float fs = filters_[0][size_t(k)], ft = filters_[1][size_t(k)];
-        for (size_t i = 0; i < npix; ++i) {
-            chan[0][i] += fs * tv[i];
-            chan[1][i] += fs * rv[i];
-            chan[2][i] += ft * tv[i];
-            chan[3][i] += ft * rv[i];
+        tvs[size_t(k)] = window_test_[size_t(slot)].v.data();
+        rvs[size_t(k)] = window_ref_[size_t(slot)].v.data();
+    }
+    constexpr size_t kBlock = 2048;
+    for (size_t i0 = 0; i0 < npix; i0 += kBlock) {
+        const size_t i1 = std::min(npix, i0 + kBlock);
+        float* c0 = chan[0].data();
+        float* c1 = chan[1].data();
+        float* c2 = chan[2].data();
+        float* c3 = chan[3].data();
+        for (int k = 0; k < filter_len_; ++k) {
+            const float* tv = tvs[size_t(k)];
+            const float* rv = rvs[size_t(k)];
+            const float fs = filters_[0][size_t(k)], ft = filters_[1][size_t(k)];
+            for (size_t i = i0; i < i1; ++i) {
+                c0[i] += fs * tv[i];
+                c1[i] += fs * rv[i];
+                c2[i] += ft * tv[i];
+                c3[i] += ft * rv[i];
+            }
         }
     }
 
@@ -560,27 +591,34 @@ void Metric::processFrame(glm::vec2 gaze_px) {
 
     last_.band.assign(size_t(nb), {0.0, 0.0});
     // Gaussian level l of each channel; level l + 1 is made from it as the bands go down.
-    std::array<std::vector<float>, 4> cur = std::move(chan), next;
-    std::vector<float> expanded(npix), ecc(npix), rho(npix);
-    std::array<std::vector<float>, 4> band;
+    std::array<std::vector<float>, 4>* cur = &sc.a;  // holds the temporal channels now
+    std::array<std::vector<float>, 4>* next = &sc.b;
+    std::vector<float>& expanded = sc.expanded;
+    std::vector<float>& ecc = sc.ecc;
+    std::vector<float>& rho = sc.rho;
+    expanded.resize(npix);
+    ecc.resize(npix);
+    rho.resize(npix);
+    std::array<std::vector<float>, 4>& band = sc.band;
     std::vector<std::vector<float>> dmap_bands(options_.distortion_map ? size_t(nb) : 0);
     for (int b = 0; b < nb; ++b) {
         const BandGeometry& bg = bands_[size_t(b)];
         const int bw = bg.w, bh = bg.h, nw = (bw + 1) / 2, nh = (bh + 1) / 2;
         const size_t n = size_t(bw) * size_t(bh);
         for (int c = 0; c < 4; ++c) {
-            next[size_t(c)].resize(size_t(nw) * size_t(nh));
-            detail::pyramidReduce(cur[size_t(c)].data(), bw, bh, next[size_t(c)].data());
+            (*next)[size_t(c)].resize(size_t(nw) * size_t(nh));
+            detail::pyramidReduce((*cur)[size_t(c)].data(), bw, bh, (*next)[size_t(c)].data());
         }
         // Laplacian bands; the background luminance is the expanded next level of the reference's
         // sustained channel.
-        std::vector<float> l_bkg(n);
-        detail::pyramidExpand(next[1].data(), nw, nh, l_bkg.data(), bw, bh);
+        std::vector<float>& l_bkg = sc.l_bkg;
+        l_bkg.resize(n);  // every value written by the expansion
+        detail::pyramidExpand((*next)[1].data(), nw, nh, l_bkg.data(), bw, bh);
         for (int c = 0; c < 4; ++c) {
             band[size_t(c)].resize(n);
-            if (c != 1) detail::pyramidExpand(next[size_t(c)].data(), nw, nh, expanded.data(), bw, bh);
+            if (c != 1) detail::pyramidExpand((*next)[size_t(c)].data(), nw, nh, expanded.data(), bw, bh);
             const float* e = c == 1 ? l_bkg.data() : expanded.data();
-            const float* cv = cur[size_t(c)].data();
+            const float* cv = (*cur)[size_t(c)].data();
             for (size_t i = 0; i < n; ++i) band[size_t(c)][i] = cv[i] - e[i];
         }
         // Contrast: band / max(background, 0.1), capped at 1000; bands between the finest and the

@@ -208,6 +208,13 @@ private:
     double q_image_ = 0.0;    ///< first frame's sustained-only quality (the image score)
     FrameQuality last_;
     cv::Mat distortion_;
+    /// A frame's working buffers, kept from frame to frame so that processing a frame allocates
+    /// nothing after the first.
+    struct Scratch {
+        std::array<std::vector<float>, 4> a, b, band;
+        std::vector<float> expanded, ecc, rho, l_bkg;
+    };
+    Scratch scratch_;
 };
 
 /// JOD of a whole video pair (frames in order, one gaze per frame or none for the image centre).

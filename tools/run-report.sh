@@ -16,6 +16,9 @@
 #   out/report/steady/   fov and wrs at 512^2 per eye at steady state: timed over frames 300-329, after
 #                        3.3 s of gaze, so the area the gaze visited (where wrs runs retention) is a
 #                        user's (the sweep above times frames 5-19)
+# The two cells also report FovVideoVDP JOD per method and the fovea each method at 5 degrees is worth
+# (the fov fovea of equal JOD, and of equal near-gaze PSNR; fov swept over 5-15 degrees), both over the
+# last 30 frames of the cell (fovea_worth.csv, table.md).
 # Each has table.md (summary first), results.csv, plots and crops; out/report/index.md links them.
 # With arguments, runs one wrsfov-bench with them instead (see wrsfov-bench --help), into out/report.
 set -euo pipefail
@@ -33,12 +36,17 @@ rm -rf out/report
 mkdir -p out/report
 start=$(date +%s)
 common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
+# FovVideoVDP JOD and the fovea each method is worth (fov also at 7.5-15 degrees) over the last
+# $jod_frames frames of each cell: JOD over all 290 counted frames, and the sweep over them, would
+# take the job well past its time on this machine (docs/metrics.md, "In the benchmark").
+jod_frames=30
+worth=(--jod-frames "$jod_frames" --fovea-worth 7.5,10,12.5,15)
 echo "== 1/4: monitor mode, text, 1024x768"
 "$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
-  --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
+  "${worth[@]}" --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 2/4: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
-  "${common[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
+  "${common[@]}" "${worth[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 3/4: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
 "$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --cost-model --out out/report/speed \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
@@ -60,6 +68,15 @@ echo "== 4/4: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 3
     echo "## $cell"
     echo
     sed -n '/^## Summary/,/^## Columns/p' "out/report/$cell/table.md" | sed '1d;$d'
+    echo "FovVideoVDP JOD per method (foveated, over the last $jod_frames frames) and near-gaze PSNR over the same"
+    echo "frames; PSNR over the 290 counted frames (fov (sweep), the fovea-worth sweep: over the $jod_frames frames):"
+    echo
+    echo "| method | fovea | JOD | near PSNR, same frames | PSNR |"
+    echo "|---|---|---|---|---|"
+    awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+      { printf "| %s%s | %s° | %.2f | %.2f | %.2f |\n", $c["method"], ($c["worth_sweep"] == 1 ? " (sweep)" : ""),
+        $c["fovea_deg"], $c["jod"], $c["jod_near_gaze_psnr"], $c["psnr"] }' "out/report/$cell/results.csv"
+    echo
   done
   echo "## speed"
   echo

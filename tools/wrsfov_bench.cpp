@@ -278,7 +278,7 @@ int main(int argc, char** argv) {
     std::string writeDir;
     std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
     cli::Size size{o.width, o.height};
-    bool flicker = false;
+    bool flicker = false, noJod = false;
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
 
@@ -377,6 +377,24 @@ int main(int argc, char** argv) {
                 "(docs/retention.md \"Motion reach\"); 0: no limit, the classification reads every far tile's "
                 "motion.")
         ->type_name("DEG");
+    app.add_flag("--no-jod", noJod,
+                 "No FovVideoVDP JOD (eval/fvvdp.h, docs/metrics.md): it is computed per method by default, "
+                 "foveated, with the monitor display in monitor mode and for sequences and the HMD display "
+                 "otherwise.");
+    cli::option(app, "--jod-frames", o.jodFrames, cli::integer(0, 100000),
+                "JOD over the last N counted frames of each cell only (the same frames for every method), to "
+                "make it cheaper; 0 (the default): every counted frame.")
+        ->type_name("N");
+    cli::listOption(app, "--fovea-worth", o.worthFoveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
+                "The fovea each method at the first --fovea is worth: fov also runs at these fovea diameters "
+                "(e.g. 7.5,10,12.5,15) in the first fovea's cell, submitted and scored over the JOD frames only, and "
+                "the report gives the fov fovea whose JOD (and near-gaze PSNR) equals each method's "
+                "(fovea_worth.csv, table.md). Needs JOD.")
+        ->type_name("DEG,...");
+    cli::option(app, "--write-outputs", o.outputsDir, cli::text("a directory name", "DIR"),
+                "Write what the metrics score: every method's output and the reference as PNG over the counted "
+                "frames, DIR/SCENE_MODE_FOVEA/{reference,METHOD}/L/NNNNNN.png (and R/ in HMD stereo), with gaze.csv "
+                "(the gaze in pixels per frame) and view.csv (fov tangents, display, fps); docs/metrics.md.");
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");
@@ -423,6 +441,8 @@ int main(int argc, char** argv) {
     o.skipTiles = !noSkip;
     o.sparseRetention = !dense;
     o.floorMerge = floorMerge;
+    o.jod = !noJod;
+    if (noJod && !o.worthFoveas.empty()) return cli::usageError(app, "--fovea-worth needs JOD: drop --no-jod");
     if (quick) {
         if (!scenesGiven) o.scenes = {eval::SceneKind::Text, eval::SceneKind::Atrium};
         if (!sizeGiven) o.width = 160, o.height = 144;
@@ -432,6 +452,9 @@ int main(int argc, char** argv) {
         if (!given("--modes")) o.modes = {FoveationMode::Mip};
     }
     if (given("--scaling") && scaling.empty()) return cli::usageError(app, "--scaling needs at least one size");
+    if (!o.outputsDir.empty() && (!scaling.empty() || costModel || flicker || !writeDir.empty()))
+        return cli::usageError(app, "--write-outputs writes a sweep's outputs: not with --scaling, --cost-model, "
+                                    "--flicker or --write-sequence");
     if (!o.sequenceDir.empty()) {
         // The sequence brings its own size and length.
         auto info = eval::readSequenceInfo(o.sequenceDir);

@@ -7,7 +7,7 @@ out="$2"
 rm -rf "$out"
 "$bench" --quick --out "$out" > "$out.log" 2>&1 || { cat "$out.log"; exit 1; }
 grep -q "cell 4/4" "$out.log" || { echo "no progress lines"; cat "$out.log"; exit 1; }
-for f in results.csv table.md error_vs_time_text_mip.png error_vs_time_atrium_mip.png error_vs_fovea_text_mip.png \
+for f in results.csv table.md jod_vs_time_text_mip.png error_vs_time_text_mip.png error_vs_time_atrium_mip.png error_vs_fovea_text_mip.png \
          error_vs_fovea_atrium_mip.png eta_text_mip.png eta_atrium_mip.png crops_text_mip_5.png crops_atrium_mip_5.png; do
   [ -s "$out/$f" ] || { echo "missing or empty: $out/$f"; exit 1; }
 done
@@ -18,14 +18,17 @@ rows=$(wc -l < "$out/results.csv")
 # and the oracles have no separate foveate pass)
 awk -F, 'NR > 1 { for (i = 6; i <= 15; i++) if (!($i + 0 > 0) && i != 7 && !(i == 8 && ($2 == "wrs" || $2 == "oracle" || $2 == "oracle-q"))) { print "bad value in column " i ": " $0; exit 1 } }' \
   "$out/results.csv"
-# η_q (columns 34, 35): 1 for the retention oracle itself and 0 for fov wherever that oracle gains
-head -1 "$out/results.csv" | grep -q ",eta_q,eta_q_near_gaze,retain_share$" || { echo "no eta_q or retain_share columns"; exit 1; }
+# JOD (column 22, beside PSNR): a score in (0, 10] for every method
+head -1 "$out/results.csv" | grep -q ",psnr,jod,ssim," || { echo "no jod column beside psnr"; exit 1; }
+awk -F, 'NR > 1 && !($22 > 0 && $22 <= 10) { print "bad JOD: " $0; exit 1 }' "$out/results.csv"
+# η_q (columns 35, 36): 1 for the retention oracle itself and 0 for fov wherever that oracle gains
+head -1 "$out/results.csv" | grep -q ",eta_q,eta_q_near_gaze,retain_share,jod_frames,jod_near_gaze_psnr,worth_sweep$" || { echo "no eta_q, retain_share or jod_frames columns"; exit 1; }
 awk -F, 'NR > 1 && ($2 == "oracle-q" || $2 == "fov") { want = $2 == "fov" ? 0 : 1
-  for (i = 34; i <= 35; i++) if ($i != "nan" && ($i - want > 1e-9 || want - $i > 1e-9)) { print "eta_q of " $2 ": " $0; exit 1 } }' \
+  for (i = 35; i <= 36; i++) if ($i != "nan" && ($i - want > 1e-9 || want - $i > 1e-9)) { print "eta_q of " $2 ": " $0; exit 1 } }' \
   "$out/results.csv"
-# retain_share (column 36): none for methods without the retain pass, every tile for the oracle (no
+# retain_share (column 37): none for methods without the retain pass, every tile for the oracle (no
 # sparse retention: it chooses among equally sharp samples), a share in (0, 1] for wrs and oracle-q
-awk -F, 'NR > 1 { m = $2; v = $36
+awk -F, 'NR > 1 { m = $2; v = $37
   if ((m == "fov" || m == "wrs-paper") && v != "nan") { print "retain_share of " m ": " $0; exit 1 }
   if (m == "oracle" && v != 1) { print "retain_share of oracle: " $0; exit 1 }
   if ((m == "wrs" || m == "oracle-q") && !(v > 0 && v <= 1)) { print "retain_share of " m ": " $0; exit 1 } }' \

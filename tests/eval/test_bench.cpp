@@ -3,8 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "../core/gpu_rig.h"
 #include "eval/bench.h"
@@ -99,6 +105,150 @@ TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
         for (const char* file : {"/flicker.md", "/flicker.csv", "/flicker.png"})
             EXPECT_TRUE(std::filesystem::exists(dir + file)) << file;
     }
+}
+
+// A small text page in HMD stereo: fov without foveation (the reference itself) and with it.
+eval::BenchOptions smallJodSweep() {
+    eval::BenchOptions o;
+    o.scenes = {eval::SceneKind::Text};
+    o.methods = {Method::Fov, Method::Wrs};
+    o.foveas = {5.0f};
+    o.width = 96;
+    o.height = 80;
+    o.frames = 14;
+    o.warmup = 4;
+    o.heavyEvery = 1000;
+    o.jodFrames = 6;
+    return o;
+}
+
+const eval::CellResult* cell(const std::vector<eval::CellResult>& r, Method m, FoveationMode mode, float fovea) {
+    for (const auto& c : r)
+        if (c.method == m && c.mode == mode && c.foveaDeg == fovea) return &c;
+    return nullptr;
+}
+
+TEST_F(Bench, JodIsTenForTheReferenceAndLowerForFoveation) {
+    eval::BenchOptions o = smallJodSweep();
+    o.modes = {FoveationMode::None, FoveationMode::Mip};
+    o.worthFoveas = {5.0f, 10.0f};  // 5° is a cell already: only 10° is added
+    auto r = eval::runBench(context(), o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const eval::CellResult* same = cell(*r, Method::Fov, FoveationMode::None, 5.0f);
+    const eval::CellResult* fov = cell(*r, Method::Fov, FoveationMode::Mip, 5.0f);
+    const eval::CellResult* fov10 = cell(*r, Method::Fov, FoveationMode::Mip, 10.0f);
+    ASSERT_TRUE(same && fov && fov10);
+    EXPECT_EQ(same->jod, 10.0);  // no foveation: the output is the reference
+    EXPECT_EQ(same->jodFrames, 6);
+    EXPECT_LT(fov->jod, 9.99);
+    EXPECT_GT(fov->jod, 0.0);
+    EXPECT_FALSE(fov->worthSweep);
+    EXPECT_TRUE(fov10->worthSweep);
+    EXPECT_EQ(fov10->frames, 6);
+    EXPECT_TRUE(std::isfinite(fov10->jod));
+    EXPECT_TRUE(std::isfinite(fov10->jodNearPsnr));
+    EXPECT_GE(fov10->jodNearPsnr, fov->jodNearPsnr);  // a larger fovea loses less near the gaze
+    EXPECT_EQ(r->size(), 2u /* none */ + 3u /* mip: fov, wrs, fov at 10° */);
+
+    const std::string dir = ::testing::TempDir() + "/bench_jod_report";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    ASSERT_TRUE(eval::writeReport(*r, o, dir, "test").ok());
+    std::ifstream csv(dir + "/results.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_NE(header.find(",psnr,jod,ssim,"), std::string::npos) << header;
+    EXPECT_NE(header.find(",jod_frames,jod_near_gaze_psnr,worth_sweep"), std::string::npos) << header;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/fovea_worth.csv"));
+    EXPECT_TRUE(std::filesystem::exists(dir + "/jod_vs_time_text_mip.png"));
+    std::ifstream md(dir + "/table.md");
+    const std::string table((std::istreambuf_iterator<char>(md)), {});
+    EXPECT_NE(table.find("| JOD |"), std::string::npos);
+    EXPECT_NE(table.find("The fovea `wrs` at 5.0° is worth"), std::string::npos);
+    EXPECT_NE(table.find("| fov (sweep) | 10.0°"), std::string::npos);
+}
+
+// Splits one CSV line.
+std::vector<std::string> fields(const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+    return out;
+}
+
+TEST_F(Bench, WriteOutputsWritesWhatTheMetricsScored) {
+    eval::BenchOptions o = smallJodSweep();
+    o.modes = {FoveationMode::Mip};
+    const std::string dir = ::testing::TempDir() + "/bench_outputs";
+    std::filesystem::remove_all(dir);
+    o.outputsDir = dir;
+    auto r = eval::runBench(context(), o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const std::string cellDir = dir + "/text_mip_5";
+    const int counted = o.frames - o.warmup;
+    for (const char* who : {"reference", "fov", "wrs"})
+        for (const char* eye : {"L", "R"}) {
+            for (int k = 0; k < counted; ++k) {
+                char name[16];
+                std::snprintf(name, sizeof name, "%06d.png", k);
+                const std::string path = cellDir + "/" + who + "/" + eye + "/" + name;
+                ASSERT_TRUE(std::filesystem::exists(path)) << path;
+            }
+            char extra[16];
+            std::snprintf(extra, sizeof extra, "%06d.png", counted);
+            EXPECT_FALSE(std::filesystem::exists(cellDir + "/" + who + "/" + eye + "/" + extra));
+        }
+    // gaze.csv: a header and one line per counted frame with both eyes' gaze in pixels.
+    std::ifstream gaze(cellDir + "/gaze.csv");
+    std::string line;
+    std::getline(gaze, line);
+    EXPECT_EQ(line, "frame,left_x,left_y,right_x,right_y,bench_frame,t_s");
+    std::vector<std::array<float, 4>> gazePx;
+    while (std::getline(gaze, line)) {
+        const auto f = fields(line);
+        ASSERT_EQ(f.size(), 7u) << line;
+        EXPECT_EQ(std::stoi(f[0]), int(gazePx.size()));
+        EXPECT_EQ(std::stoi(f[5]), int(gazePx.size()) + o.warmup);
+        gazePx.push_back({std::stof(f[1]), std::stof(f[2]), std::stof(f[3]), std::stof(f[4])});
+    }
+    ASSERT_EQ(int(gazePx.size()), counted);
+    // view.csv: each eye's tangents; scoring the written frames with them and the gaze gives the
+    // bench's JOD (mean of the eyes).
+    std::ifstream view(cellDir + "/view.csv");
+    std::getline(view, line);
+    std::vector<glm::vec4> tan;
+    int jodFirst = -1;
+    while (std::getline(view, line)) {
+        const auto f = fields(line);
+        ASSERT_EQ(f.size(), 11u) << line;
+        tan.emplace_back(std::stof(f[1]), std::stof(f[2]), std::stof(f[3]), std::stof(f[4]));
+        EXPECT_EQ(f[8], "hmd");
+        jodFirst = std::stoi(f[10]);
+    }
+    ASSERT_EQ(tan.size(), 2u);
+    EXPECT_EQ(jodFirst, counted - o.jodFrames);
+    const eval::CellResult* wrs = cell(*r, Method::Wrs, FoveationMode::Mip, 5.0f);
+    ASSERT_TRUE(wrs);
+    double sum = 0;
+    for (int e = 0; e < 2; ++e) {
+        auto metric = eval::makeJodMetric(context(), eval::jodOptions(o, eval::SceneKind::Text, o.width, o.height,
+                                                                      tan[size_t(e)], 90.0));
+        ASSERT_TRUE(metric.ok()) << metric.error().message;
+        for (int k = jodFirst; k < counted; ++k) {
+            char name[16];
+            std::snprintf(name, sizeof name, "%06d.png", k);
+            auto load = [&](const char* who) {
+                cv::Mat bgr = cv::imread(cellDir + "/" + who + "/" + (e == 0 ? "L/" : "R/") + name), rgb, f;
+                cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+                rgb.convertTo(f, CV_32FC3, 1.0 / 255.0);
+                return f;
+            };
+            const glm::vec2 g(gazePx[size_t(k)][2 * e], gazePx[size_t(k)][2 * e + 1]);
+            ASSERT_TRUE((*metric)->push(load("wrs"), load("reference"), g).ok());
+        }
+        sum += *(*metric)->jod();
+    }
+    EXPECT_NEAR(sum / 2, wrs->jod, 1e-4);
 }
 
 TEST(BenchOptions, RefusesBadSweeps) {
