@@ -117,18 +117,23 @@ private:
     std::unique_ptr<scenes::TextScene> scene_;
 };
 
-// What the atrium (and dynamic) submit: sRGB colour, D32F depth, RGBA16F motion.
-HostStereoApp::Options atriumAppOptions(const scenes::AtriumOptions& o) {
+// What a scene with depth and motion submits (atrium, dynamic, photo): sRGB colour, D32F depth,
+// RGBA16F motion.
+HostStereoApp::Options depthMotionAppOptions(uint32_t width, uint32_t height, float nearZ, float farZ, bool reversedZ,
+                                             bool monoView) {
     HostStereoApp::Options a;
-    a.width = o.width;
-    a.height = o.height;
+    a.width = width;
+    a.height = height;
     a.depth = layers::Format::D32F;
     a.motion = layers::Format::RGBA16F;
-    a.nearZ = o.nearZ;
-    a.farZ = o.farZ;
-    a.reversedZ = o.reversedZ;
-    a.monoView = o.monitor;
+    a.nearZ = nearZ;
+    a.farZ = farZ;
+    a.reversedZ = reversedZ;
+    a.monoView = monoView;
     return a;
+}
+HostStereoApp::Options atriumAppOptions(const scenes::AtriumOptions& o) {
+    return depthMotionAppOptions(o.width, o.height, o.nearZ, o.farZ, o.reversedZ, o.monitor);
 }
 
 // The atrium is rendered with Vulkan into an application's swapchains, then read back so that
@@ -211,15 +216,7 @@ public:
     }
     HostStereoApp::Options appOptions() const override {
         const scenes::PhotoOptions& o = scene_->options();
-        HostStereoApp::Options a;
-        a.width = o.width;
-        a.height = o.height;
-        a.depth = layers::Format::D32F;
-        a.motion = layers::Format::RGBA16F;
-        a.nearZ = o.nearZ;
-        a.farZ = o.farZ;
-        a.monoView = o.monitor;
-        return a;
+        return depthMotionAppOptions(o.width, o.height, o.nearZ, o.farZ, false, o.monitor);
     }
 
 private:
@@ -1561,10 +1558,7 @@ Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, 
         gc = sweepGaze(o, &text.layout());
     } else if (scene == SceneKind::Photo) {
         const scenes::PhotoOptions po = photoOptions(o);
-        app.width = width, app.height = height;
-        app.depth = layers::Format::D32F;
-        app.motion = layers::Format::RGBA16F;
-        app.monoView = po.monitor;
+        app = depthMotionAppOptions(width, height, po.nearZ, po.farZ, false, po.monitor);
         fov[0] = scenes::photoFov(po, 0), fov[1] = scenes::photoFov(po, 1);
         gc = sweepGaze(o, nullptr);
     } else {

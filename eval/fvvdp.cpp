@@ -33,19 +33,6 @@ std::string firstNonFinite(const cv::Mat& m) {
     return {};
 }
 
-Status checkImage(const cv::Mat& m, const char* what, const ViewGeometry& g) {
-    if (m.empty()) return error(FvvdpError::InvalidInput, std::string(what) + " image is empty");
-    if (m.type() != CV_32FC3)
-        return error(FvvdpError::InvalidInput, std::string(what) +
-                                                   " image must be CV_32FC3 (sRGB-encoded RGB in [0, 1]), got type " +
-                                                   std::to_string(m.type()));
-    if (m.cols != int(g.width) || m.rows != int(g.height))
-        return error(FvvdpError::InvalidInput, std::string(what) + " image is " + sizeText(m.cols, m.rows) +
-                                                   ", the geometry is " + sizeText(int(g.width), int(g.height)));
-    if (std::string at = firstNonFinite(m); !at.empty())
-        return error(FvvdpError::NonFinite, std::string(what) + " image has a non-finite value at pixel " + at);
-    return Status::success();
-}
 
 // The CSF table's axes, as the values the interpolation works in.
 struct CsfAxes {
@@ -485,14 +472,28 @@ void Metric::reset() {
     distortion_.release();
 }
 
+Status detail::checkInputImage(const cv::Mat& m, const char* what, const ViewGeometry& g) {
+    if (m.empty()) return error(FvvdpError::InvalidInput, std::string(what) + " image is empty");
+    if (m.type() != CV_32FC3)
+        return error(FvvdpError::InvalidInput, std::string(what) +
+                                                   " image must be CV_32FC3 (sRGB-encoded RGB in [0, 1]), got type " +
+                                                   std::to_string(m.type()));
+    if (m.cols != int(g.width) || m.rows != int(g.height))
+        return error(FvvdpError::InvalidInput, std::string(what) + " image is " + sizeText(m.cols, m.rows) +
+                                                   ", the geometry is " + sizeText(int(g.width), int(g.height)));
+    if (std::string at = firstNonFinite(m); !at.empty())
+        return error(FvvdpError::NonFinite, std::string(what) + " image has a non-finite value at pixel " + at);
+    return Status::success();
+}
+
 Status Metric::push(const cv::Mat& test, const cv::Mat& reference) {
     return push(test, reference, glm::vec2(float(options_.geometry.width / 2), float(options_.geometry.height / 2)));
 }
 
 Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px) {
     const ViewGeometry& g = options_.geometry;
-    if (Status s = checkImage(test, "test", g); !s) return s;
-    if (Status s = checkImage(reference, "reference", g); !s) return s;
+    if (Status s = detail::checkInputImage(test, "test", g); !s) return s;
+    if (Status s = detail::checkInputImage(reference, "reference", g); !s) return s;
     if (!std::isfinite(gaze_px.x) || !std::isfinite(gaze_px.y))
         return error(FvvdpError::InvalidInput,
                      "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");

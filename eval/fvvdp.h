@@ -291,6 +291,10 @@ double jodFromQuality(double q, const Parameters& p = kParameters);
 void pyramidReduce(const float* src, int w, int h, float* dst);
 void pyramidExpand(const float* src, int sw, int sh, float* dst, int w, int h);
 
+/// The checks every push makes on an input frame, with their codes and messages: empty, not CV_32FC3,
+/// not the geometry's size (InvalidInput), a non-finite value (NonFinite, naming the first pixel).
+Status checkInputImage(const cv::Mat& m, const char* what, const ViewGeometry& g);
+
 }  // namespace detail
 
 }  // namespace wrsfov::eval::fvvdp

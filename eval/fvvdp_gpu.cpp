@@ -20,33 +20,6 @@ Error error(FvvdpError code, std::string message) { return Error{int(code), "fvv
 
 std::string sizeText(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
-// The checks of Metric::push, with its codes and messages: nothing the device would score as NaN
-// reaches it.
-Status checkImage(const cv::Mat& m, const char* what, const ViewGeometry& g) {
-    if (m.empty()) return error(FvvdpError::InvalidInput, std::string(what) + " image is empty");
-    if (m.type() != CV_32FC3)
-        return error(FvvdpError::InvalidInput, std::string(what) +
-                                                   " image must be CV_32FC3 (sRGB-encoded RGB in [0, 1]), got type " +
-                                                   std::to_string(m.type()));
-    if (m.cols != int(g.width) || m.rows != int(g.height))
-        return error(FvvdpError::InvalidInput, std::string(what) + " image is " + sizeText(m.cols, m.rows) +
-                                                   ", the geometry is " + sizeText(int(g.width), int(g.height)));
-    for (int y = 0; y < m.rows; ++y) {
-        const float* p = m.ptr<float>(y);
-        uint32_t any = 0;
-        for (int i = 0; i < m.cols * 3; ++i) {
-            uint32_t bits;
-            std::memcpy(&bits, p + i, 4);
-            any |= uint32_t((bits & 0x7f800000u) == 0x7f800000u);
-        }
-        if (!any) continue;
-        for (int i = 0; i < m.cols * 3; ++i)
-            if (!std::isfinite(p[i]))
-                return error(FvvdpError::NonFinite, std::string(what) + " image has a non-finite value at pixel (" +
-                                                        std::to_string(i / 3) + ", " + std::to_string(y) + ")");
-    }
-    return Status::success();
-}
 
 uint32_t groups(uint32_t n) { return (n + FVVDP_GROUP - 1) / FVVDP_GROUP; }
 
@@ -304,8 +277,8 @@ Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference) {
 Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px) {
     Impl& m = *impl_;
     const ViewGeometry& g = m.options.geometry;
-    if (Status s = checkImage(test, "test", g); !s) return s;
-    if (Status s = checkImage(reference, "reference", g); !s) return s;
+    if (Status s = detail::checkInputImage(test, "test", g); !s) return s;
+    if (Status s = detail::checkInputImage(reference, "reference", g); !s) return s;
     if (!std::isfinite(gaze_px.x) || !std::isfinite(gaze_px.y))
         return error(FvvdpError::InvalidInput,
                      "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");
