@@ -436,16 +436,6 @@ cv::Point gazePixel(const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
     return {int(std::lround(u * w)), int(std::lround(v * h))};
 }
 
-// The same as fvvdp::Metric::push wants it: continuous pixel coordinates, pixel (x, y) centred at
-// (x + 0.5, y + 0.5) (the view's centre when the gaze points backwards, as gazePixel).
-glm::vec2 gazePixelF(const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
-    const glm::vec3 g(ep.gaze);
-    if (!(g.z < 0.0f)) return {float(w / 2), float(h / 2)};
-    const float tx = g.x / -g.z, ty = g.y / -g.z;
-    const float u = (tx - ep.fov_tan.x) / (ep.fov_tan.y - ep.fov_tan.x), v = (ep.fov_tan.z - ty) / (ep.fov_tan.z - ep.fov_tan.w);
-    return {u * float(w) - 0.5f, v * float(h) - 0.5f};
-}
-
 // The C++ reference behind the bench's JodMetric interface.
 class CpuJodMetric final : public JodMetric {
 public:

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/quality/qualityssim.hpp>
@@ -207,6 +207,15 @@ cv::Mat eccentricityMap(uint32_t width, uint32_t height, glm::vec4 fov_tan, glm:
 
 cv::Mat eccentricityMap(uint32_t width, uint32_t height, const gpu::EyeParams& eye) {
     return eccentricityMap(width, height, eye.fov_tan, glm::vec3(eye.gaze));
+}
+
+glm::vec2 gazePixelF(const gpu::EyeParams& ep, uint32_t w, uint32_t h) {
+    const glm::vec3 g(ep.gaze);
+    if (!(g.z < 0.0f)) return {float(w / 2), float(h / 2)};
+    const float tx = g.x / -g.z, ty = g.y / -g.z;
+    const float u = (tx - ep.fov_tan.x) / (ep.fov_tan.y - ep.fov_tan.x),
+                v = (ep.fov_tan.z - ty) / (ep.fov_tan.z - ep.fov_tan.w);
+    return {u * float(w) - 0.5f, v * float(h) - 0.5f};
 }
 
 double nearGazePsnr(const cv::Mat& reference, const cv::Mat& test, const cv::Mat& eccentricity, double max_deg) {

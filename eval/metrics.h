@@ -73,6 +73,11 @@ cv::Mat eccentricityMap(uint32_t width, uint32_t height, glm::vec4 fov_tan, glm:
 /// Same, from one eye's compositor parameters (fov_tan and gaze.xyz).
 cv::Mat eccentricityMap(uint32_t width, uint32_t height, const gpu::EyeParams& eye);
 
+/// Where the gaze of `eye` meets its image as fvvdp::Metric::push wants it: continuous pixel
+/// coordinates, pixel (x, y) centred at (x + 0.5, y + 0.5), possibly outside the image; the image's
+/// central pixel (w / 2, h / 2) when the gaze does not point forwards.
+glm::vec2 gazePixelF(const gpu::EyeParams& eye, uint32_t width, uint32_t height);
+
 /// Radius of the near-gaze region of docs/conventions.md, "Evaluation", in degrees.
 inline constexpr double kNearGazeDeg = 10.0;
 

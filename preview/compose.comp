@@ -1,7 +1,8 @@
 // The preview's compose pass: one panel of the preview image per dispatch. Copies one eye of the
-// compositor's output (or of the reference, or their difference as an error map) into the preview
-// image and draws the gaze marker and the fovea / mid-periphery circles at their eccentricities,
-// computed with the compositor's own ray and angle functions (shaders/wrs_common.h).
+// compositor's output (or of the reference, their difference as an error map, or FovVideoVDP's
+// visible distortion) into the preview image and draws the gaze marker and the fovea /
+// mid-periphery circles at their eccentricities, computed with the compositor's own ray and angle
+// functions (shaders/wrs_common.h).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "wrs_common.h"
@@ -13,6 +14,8 @@ layout(set = 0, binding = 0) uniform sampler2DArray outputImage;     // RGBA8, s
 layout(set = 0, binding = 1) uniform sampler2DArray referenceImage;  // same layout, unfoveated
 layout(std430, set = 0, binding = 2) readonly buffer Strip { uint strip[]; };  // RGBA8, premultiplied
 layout(set = 0, binding = 3, rgba8) uniform writeonly image2D target;  // the preview image (UNORM view)
+// Visible distortion in JOD units per eye (eye-major rows of size.x; zeros when none was computed).
+layout(std430, set = 0, binding = 4) readonly buffer Visible { float visible[]; };
 layout(push_constant) uniform Push { ComposePush pc; };
 
 // Error ramp: black -> purple -> orange -> light yellow.
@@ -52,6 +55,8 @@ void main() {
         vec3 ref_c = texelFetch(referenceImage, ivec3(p, eye), 0).rgb;
         if (kind == WRS_PANEL_REFERENCE) {
             c = ref_c;
+        } else if (kind == WRS_PANEL_VISIBLE) {
+            c = heat(visible[(uint(eye) * pc.size.y + uint(p.y)) * pc.size.x + uint(p.x)] * pc.radii.w);
         } else {
             vec3 d = abs(out_c - ref_c);
             c = heat(max(d.r, max(d.g, d.b)) * pc.radii.y);

@@ -14,6 +14,7 @@
 #define WRS_PANEL_REFERENCE 1u  // the unfoveated reference of the same frame
 #define WRS_PANEL_ERROR 2u      // |output - reference|, colour-mapped
 #define WRS_PANEL_STRIP 3u      // the stats strip: dark background under the CPU-drawn text
+#define WRS_PANEL_VISIBLE 4u    // FovVideoVDP's visible distortion (JOD units, from the CPU), colour-mapped
 
 // Flags (ComposePush.size.w).
 #define WRS_COMPOSE_CIRCLES 1u  // fovea and mid-periphery circles at their eccentricities
@@ -37,7 +38,8 @@ struct ComposePush {
     uvec4 size;    // x, y: panel size (one eye's image); z: preview image width; w: WRS_COMPOSE_* flags
     vec4 fov_tan;  // the eye's field of view: tan left, right, up, down
     vec4 gaze;     // xyz: unit gaze direction the compositor used; w: fovea radius r_f in degrees
-    vec4 radii;    // x: mid-periphery radius r_m in degrees; y: error-map gain; z: marker radius (pixels); w: pad
+    vec4 radii;    // x: mid-periphery radius r_m in degrees; y: error-map gain; z: marker radius (pixels);
+                   // w: visible-difference gain (1 / the JOD shown at the top of the ramp)
 };
 
 WRS_END

@@ -5,10 +5,6 @@
 
 namespace wrsfov::preview {
 
-namespace {
-constexpr View kViews[] = {View::Stereo, View::Left, View::Right, View::Compare, View::Error};
-}  // namespace
-
 std::string_view toString(View v) {
     switch (v) {
         case View::Stereo:
@@ -21,6 +17,8 @@ std::string_view toString(View v) {
             return "compare";
         case View::Error:
             return "error";
+        case View::Visible:
+            return "visible";
     }
     return "?";
 }
@@ -37,7 +35,7 @@ View nextView(View v) {
     return View::Stereo;
 }
 
-bool needsReference(View v) { return v == View::Compare || v == View::Error; }
+bool needsReference(View v) { return v == View::Compare || v == View::Error || v == View::Visible; }
 
 Layout makeLayout(View view, uint32_t w, uint32_t h, uint32_t stripLines) {
     Layout l;
@@ -66,9 +64,12 @@ Layout makeLayout(View view, uint32_t w, uint32_t h, uint32_t stripLines) {
             add(1, 1, PanelKind::Reference, 1);
             break;
         case View::Error:
-            add(0, 0, PanelKind::Error, 0);
-            add(1, 0, PanelKind::Error, 1);
+        case View::Visible: {
+            const PanelKind k = view == View::Error ? PanelKind::Error : PanelKind::Visible;
+            add(0, 0, k, 0);
+            add(1, 0, k, 1);
             break;
+        }
     }
     l.width = cols * w;
     // About 6.5 pixels per character of the strip font and up to ~300 characters of stats: as many lines

@@ -17,7 +17,10 @@ enum class View : uint8_t {
     Right,    ///< the right eye's output alone
     Compare,  ///< output above the unfoveated reference, both eyes
     Error,    ///< |output - reference| per eye, colour-mapped
+    Visible,  ///< FovVideoVDP's visible distortion of the output against the reference per eye, colour-mapped
 };
+/// Every view, in the V key's order.
+inline constexpr View kViews[] = {View::Stereo, View::Left, View::Right, View::Compare, View::Error, View::Visible};
 std::string_view toString(View v);
 std::optional<View> parseView(std::string_view name);
 /// The next view in the order above (the V key).
@@ -26,7 +29,7 @@ View nextView(View v);
 bool needsReference(View v);
 
 /// Values equal WRS_PANEL_* in compose_params.h.
-enum class PanelKind : uint32_t { Output = 0, Reference = 1, Error = 2 };
+enum class PanelKind : uint32_t { Output = 0, Reference = 1, Error = 2, Visible = 4 };
 
 struct Panel {
     uint32_t x = 0, y = 0;  ///< origin in the preview image

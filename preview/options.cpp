@@ -114,16 +114,16 @@ std::vector<std::pair<std::string, T>> named(const T (&values)[N]) {
     return out;
 }
 
-constexpr View kViews[] = {View::Stereo, View::Left, View::Right, View::Compare, View::Error};
 constexpr SceneKind kScenes[] = {SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Text, SceneKind::Photo};
 constexpr scenes::PhotoMotion kPhotoMotions[] = {scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan,
                                                  scenes::PhotoMotion::Turn};
 
 // The command line over `o`: each option writes into it; `resize` and `cursor` are read after parsing.
 struct CommandLine {
-    CLI::App app{"A window showing the compositor's output for both eyes, with the gaze, the fovea and the stats "
-                 "(docs/preview.md).",
-                 "wrsfov-preview"};
+    CLI::App app{
+        "A window showing the compositor's output for both eyes, with the gaze, the fovea and the stats "
+        "(docs/preview.md).",
+        "wrsfov-preview"};
     cli::Size size;
     std::array<std::string, 2> resize;
     std::array<double, 2> cursor{};
@@ -145,8 +145,9 @@ struct CommandLine {
         cli::option(app, "--path", o.path, cli::oneOf(named(kPaths)),
                     "Camera path of atrium and dynamic: static, lateral or turn.");
         cli::option(app, "--method", o.method,
-                    cli::parsedBy<PreviewMethod>(parseMethod, [](const PreviewMethod& m) { return std::string(toString(m)); },
-                                                 "one of reference, fov, fov+taa (or taa), wrs-paper, wrs"),
+                    cli::parsedBy<PreviewMethod>(
+                        parseMethod, [](const PreviewMethod& m) { return std::string(toString(m)); },
+                        "one of reference, fov, fov+taa (or taa), wrs-paper, wrs"),
                     "What the compositor runs: reference (no foveation), fov, fov+taa, wrs-paper (WRS as published) "
                     "or wrs (quality-aware retention).");
         cli::option(app, "--fovea", o.foveaDeg, cli::number<float>(0, 60, cli::Ends::OpenLow),
@@ -169,8 +170,11 @@ struct CommandLine {
                     "up positive).");
         cli::option(app, "--seed", o.seed, cli::integer<uint32_t>(0, 0xffffffffu),
                     "Seed of the scene, the gaze generator and WRS, 0..4294967295.");
-        cli::option(app, "--view", o.view, cli::oneOf(named(kViews)),
-                    "View: stereo, left, right, compare (output above reference) or error (|output - reference|).");
+        cli::option(
+            app, "--view", o.view, cli::oneOf(named(kViews)),
+            "View: stereo, left, right, compare (output above reference), error (|output - reference|) or visible "
+            "(FovVideoVDP's visible distortion against the reference); the last three score the output's JOD "
+            "live (docs/preview.md).");
         cli::option(app, "--overlay", o.overlay, cli::oneOf<bool>({{"on", true}, {"off", false}}),
                     "Gaze marker and fovea / mid-periphery circles: on or off.")
             ->type_name("on|off");
@@ -197,9 +201,10 @@ struct CommandLine {
                         "I:K[,I:K...]"},
                     "Press key K (a letter, a digit, space, right, escape) at loop iteration I (tests).");
         cli::addConfig(app);
-        app.footer("Environment: WRSFOV_DEVICE=<name part> picks the Vulkan device, WRSFOV_VALIDATION=1 runs under "
-                   "the\nKhronos validation layer (the exit status is 3 if it reported errors).\n\n" +
-                   keyHelp());
+        app.footer(
+            "Environment: WRSFOV_DEVICE=<name part> picks the Vulkan device, WRSFOV_VALIDATION=1 runs under "
+            "the\nKhronos validation layer (the exit status is 3 if it reported errors).\n\n" +
+            keyHelp());
     }
 };
 
@@ -249,7 +254,7 @@ std::string keyHelp() {
            "  1 2 3 4 5 method: reference, FOV, FOV+TAA, WRS-paper, WRS   M  next method\n"
            "  F         fovea size 5 -> 7.5 -> 10 degrees         G  foveation mip <-> gauss\n"
            "  N         scene text -> atrium -> dynamic -> photo  P  camera path static -> lateral -> turn\n"
-           "  V         view stereo -> left -> right -> compare -> error\n"
+           "  V         view stereo -> left -> right -> compare -> error -> visible\n"
            "  I         gaze source (mouse, generator, and the one given with --gaze)\n"
            "  O         gaze marker and circles on/off\n"
            "  Space     pause / resume     Right or .  one frame while paused\n"

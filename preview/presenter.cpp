@@ -73,6 +73,7 @@ Status Presenter::init() {
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
         {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
         {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
     });
     pipelineLayout_ =
         ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::ComposePush), VK_SHADER_STAGE_COMPUTE_BIT);
@@ -95,7 +96,7 @@ Status Presenter::init() {
     sampler_ = vk::Sampler(ctx_.device(), sampler);
 
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2 * kFramesInFlight},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kFramesInFlight},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * kFramesInFlight},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kFramesInFlight}};
     VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpi.maxSets = kFramesInFlight;
@@ -245,7 +246,9 @@ Result<bool> Presenter::createSwapchain() {
 }
 
 Status Presenter::ensureTargets(const Layout& layout) {
-    if (layout.width == targetWidth_ && layout.height == targetHeight_ && layout.stripHeight == stripHeight_) return {};
+    if (layout.width == targetWidth_ && layout.height == targetHeight_ && layout.stripHeight == stripHeight_ &&
+        layout.eyeWidth == eyeWidth_ && layout.eyeHeight == eyeHeight_)
+        return {};
     for (Slot& s : slots_)
         if (VkResult r = vkWaitForFences(ctx_.device(), 1, &s.inFlight, VK_TRUE, UINT64_MAX); r != VK_SUCCESS)
             return presentError("waiting for a frame in flight", r);
@@ -259,6 +262,7 @@ Status Presenter::ensureTargets(const Layout& layout) {
     for (Slot& s : slots_) {
         s.target.reset();
         s.strip.reset();
+        s.visible.reset();
         auto img = ctx_.createImage(ici, VK_FORMAT_R8G8B8A8_UNORM);
         if (!img) return img.error();
         s.target = std::move(*img);
@@ -266,6 +270,10 @@ Status Presenter::ensureTargets(const Layout& layout) {
                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
         if (!buf) return buf.error();
         s.strip = std::move(*buf);
+        auto vis = ctx_.createBuffer(VkDeviceSize(layout.eyeWidth) * layout.eyeHeight * 2 * sizeof(float),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+        if (!vis) return vis.error();
+        s.visible = std::move(*vis);
     }
     Status st = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         for (Slot& s : slots_) {
@@ -281,6 +289,8 @@ Status Presenter::ensureTargets(const Layout& layout) {
     targetWidth_ = layout.width;
     targetHeight_ = layout.height;
     stripHeight_ = layout.stripHeight;
+    eyeWidth_ = layout.eyeWidth;
+    eyeHeight_ = layout.eyeHeight;
     lastSlot_ = -1;
     return {};
 }
@@ -324,16 +334,30 @@ Result<PresentOutcome> Presenter::present(const ComposeFrame& f) {
     else
         std::memset(slot.strip.mapped(), 0, size_t(layout.width) * layout.stripHeight * 4);
 
+    // The visible distortion of each eye, likewise; black where there is none.
+    const size_t eyePixels = size_t(layout.eyeWidth) * layout.eyeHeight;
+    for (size_t e = 0; e < 2; ++e) {
+        auto* dst = static_cast<float*>(slot.visible.mapped()) + e * eyePixels;
+        const cv::Mat* m = f.visible[e];
+        if (m && m->cols == int(layout.eyeWidth) && m->rows == int(layout.eyeHeight) && m->type() == CV_32F &&
+            m->isContinuous())
+            std::memcpy(dst, m->data, eyePixels * sizeof(float));
+        else
+            std::fill(dst, dst + eyePixels, 0.0f);
+    }
+
     const vk::Image& ref = f.reference ? *f.reference : *f.output;
     VkDescriptorImageInfo ii[2] = {{sampler_.get(), f.output->arrayView(), VK_IMAGE_LAYOUT_GENERAL},
                                    {sampler_.get(), ref.arrayView(), VK_IMAGE_LAYOUT_GENERAL}};
     VkDescriptorBufferInfo bi{slot.strip.handle(), 0, VK_WHOLE_SIZE};
     VkDescriptorImageInfo ti{VK_NULL_HANDLE, slot.target.layerView(0), VK_IMAGE_LAYOUT_GENERAL};
-    VkWriteDescriptorSet w[4] = {vk::imageWrite(slot.set, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[0]),
+    VkDescriptorBufferInfo vi{slot.visible.handle(), 0, VK_WHOLE_SIZE};
+    VkWriteDescriptorSet w[5] = {vk::imageWrite(slot.set, 0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[0]),
                                  vk::imageWrite(slot.set, 1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[1]),
                                  vk::bufferWrite(slot.set, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &bi),
-                                 vk::imageWrite(slot.set, 3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &ti)};
-    vkUpdateDescriptorSets(ctx_.device(), 4, w, 0, nullptr);
+                                 vk::imageWrite(slot.set, 3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &ti),
+                                 vk::bufferWrite(slot.set, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &vi)};
+    vkUpdateDescriptorSets(ctx_.device(), 5, w, 0, nullptr);
 
     VkCommandBuffer cb = slot.cmd;
     VK_CHECK(vkResetCommandBuffer(cb, 0));
@@ -358,7 +382,7 @@ Result<PresentOutcome> Presenter::present(const ComposeFrame& f) {
         push.size = glm::uvec4(layout.eyeWidth, layout.eyeHeight, layout.width, flags);
         push.fov_tan = eo.fovTan;
         push.gaze = eo.gaze;
-        push.radii = glm::vec4(eo.midRadiusDeg, f.errorGain, kMarkerRadiusPx, 0.0f);
+        push.radii = glm::vec4(eo.midRadiusDeg, f.errorGain, kMarkerRadiusPx, f.visibleGain);
         dispatch(push, layout.eyeWidth, layout.eyeHeight);
     }
     // Panels that a view leaves empty (none today) and the strip.

@@ -41,6 +41,10 @@ struct ComposeFrame {
     bool circles = true;  ///< fovea and mid-periphery circles
     bool marker = true;   ///< gaze marker
     float errorGain = 4.0f;
+    /// FovVideoVDP's visible distortion of each eye in JOD units (CV_32F, one eye's size), for the
+    /// visible-difference panels; null: those panels show black.
+    std::array<const cv::Mat*, 2> visible{};
+    float visibleGain = 0.2f;        ///< 1 / the JOD at the top of the ramp (5: the map's values reach about 5)
     const cv::Mat* strip = nullptr;  ///< CV_8UC4 premultiplied RGBA, layout->width x layout->stripHeight
 };
 
@@ -88,8 +92,9 @@ private:
         VkSemaphore imageAvailable = VK_NULL_HANDLE;
         VkFence inFlight = VK_NULL_HANDLE;
         VkDescriptorSet set = VK_NULL_HANDLE;
-        vk::Image target;  ///< the preview image this slot composes into (GENERAL)
-        vk::Buffer strip;  ///< the stats strip, written by the CPU
+        vk::Image target;    ///< the preview image this slot composes into (GENERAL)
+        vk::Buffer strip;    ///< the stats strip, written by the CPU
+        vk::Buffer visible;  ///< both eyes' visible distortion (float), written by the CPU
     };
 
     vk::Context& ctx_;
@@ -115,7 +120,7 @@ private:
     vk::Sampler sampler_;
     VkFormat targetFormat_ = VK_FORMAT_R8G8B8A8_UNORM;
     bool linearBlit_ = true;
-    uint32_t targetWidth_ = 0, targetHeight_ = 0, stripHeight_ = 0;
+    uint32_t targetWidth_ = 0, targetHeight_ = 0, stripHeight_ = 0, eyeWidth_ = 0, eyeHeight_ = 0;
     std::array<Slot, kFramesInFlight> slots_;
     uint32_t frame_ = 0;
     int lastSlot_ = -1;

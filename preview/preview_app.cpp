@@ -15,8 +15,10 @@
 
 #include "compositor/compositor.h"
 #include "compositor/vk_context.h"
+#include "eval/metrics.h"
 #include "preview/gaze_input.h"
 #include "preview/layout.h"
+#include "preview/live_jod.h"
 #include "preview/presenter.h"
 #include "preview/scene_feed.h"
 #include "preview/strip.h"
@@ -102,6 +104,8 @@ private:
     Status makeGaze(const GazeSpec& spec);
     Status applyConfig();
     Status composite(bool advance);
+    Status scoreJod(double t);
+    std::string jodText() const;
     void handleKey(int key);
     void fitWindow();
     std::vector<std::string> statsItems() const;
@@ -142,6 +146,11 @@ private:
     std::unique_ptr<SceneFeed> feed_;
     std::unique_ptr<GazeInput> gaze_;
     std::unique_ptr<Presenter> presenter_;
+    // Live FovVideoVDP of the output against the reference (views that run the reference).
+    std::unique_ptr<LiveJod> jod_;
+    uint64_t jodFrame_ = 0;                  // frame index of the last frame scored
+    double jodT_ = 0;                        // its scene time
+    uint64_t settingsGen_ = 0, jodGen_ = 0;  // settings changed since the video began: a new video
 
     Layout layout_;
     std::vector<int> keys_;
@@ -230,6 +239,8 @@ Status Session::makeScene() {
     auto f = SceneFeed::create(*ctx_, fo);
     if (!f) return f.error();
     feed_ = std::move(*f);  // the old scene's swapchains go with the old feed
+    jod_.reset();           // the new scene's views may have another field of view
+    ++settingsGen_;
     main_->resetHistory();
     if (reference_) reference_->resetHistory();
     referenceFrame_ = 0;
@@ -245,11 +256,13 @@ Status Session::makeGaze(const GazeSpec& spec) {
     if (!g) return g.error();
     gaze_ = std::move(*g);
     gazeSpec_ = spec;
+    ++settingsGen_;
     return {};
 }
 
 Status Session::applyConfig() {
     if (Status s = main_->setConfig(compositorConfig(method_, mode_, fovea_, o_.seed, o_.skipTiles)); !s) return s;
+    ++settingsGen_;
     dirty_ = true;
     return {};
 }
@@ -287,7 +300,8 @@ Status Session::composite(bool advance) {
     std::vector<Compositor*> targets{main_.get()};
     if (needsReference(view_) && method_ != PreviewMethod::Reference) {
         if (!reference_) {
-            auto r = Compositor::create(*ctx_, compositorConfig(PreviewMethod::Reference, mode_, fovea_, o_.seed, o_.skipTiles));
+            auto r = Compositor::create(
+                *ctx_, compositorConfig(PreviewMethod::Reference, mode_, fovea_, o_.seed, o_.skipTiles));
             if (!r) return r.error();
             reference_ = std::move(*r);
         }
@@ -295,13 +309,66 @@ Status Session::composite(bool advance) {
     }
     ++frameIndex_;
     if (Status s = feed_->submit(targets, frameIndex_, t, prevT, g.eye); !s) return s;
-    if (targets.size() > 1) referenceFrame_ = frameIndex_;
+    if (targets.size() > 1) {
+        referenceFrame_ = frameIndex_;
+        if (Status s = scoreJod(t); !s) return s;
+    }
     sceneT_ = t;
     haveFrame_ = true;
     lastGaze_ = g.eye;
     gazeNote_ = g.note;
     ++composited_;
     return {};
+}
+
+// Scores the frame just composited, each eye's output against the reference's, with the gaze the
+// compositor used. The frames of one setting at consecutive 90 Hz times are one video; anything
+// else (a setting changed, frames without the reference, a still frame composited again) starts a
+// new one.
+Status Session::scoreJod(double t) {
+    const bool wantMap = view_ == View::Visible;
+    const gpu::FrameParams& params = main_->lastParams();
+    if (!jod_ || jod_->options().map != wantMap) {
+        LiveJodOptions lo;
+        lo.width = o_.width;
+        lo.height = o_.height;
+        for (int e = 0; e < 2; ++e) lo.fovTan[e] = params.eye[e].fov_tan;
+        lo.fps = 1.0 / kFrameStep_s;
+        lo.map = wantMap;
+        auto made = LiveJod::create(lo);
+        if (!made) return made.error();
+        jod_ = std::move(*made);
+    }
+    const bool continues =
+        jodGen_ == settingsGen_ && jodFrame_ + 1 == frameIndex_ && std::abs(t - (jodT_ + kFrameStep_s)) < 1e-6;
+    if (jod_->frames() > 0 && !continues) jod_->reset();
+    std::array<cv::Mat, 2> out, ref;
+    std::array<glm::vec2, 2> gaze;
+    for (int e = 0; e < 2; ++e) {
+        auto o = main_->readOutput(uint32_t(e));
+        if (!o) return o.error();
+        auto r = reference_->readOutput(uint32_t(e));
+        if (!r) return r.error();
+        out[e] = eval::toMat(*o);
+        ref[e] = eval::toMat(*r);
+        gaze[e] = eval::gazePixelF(params.eye[e], o_.width, o_.height);
+    }
+    if (Status s = jod_->push(out, ref, gaze); !s) return s;
+    jodFrame_ = frameIndex_;
+    jodT_ = t;
+    jodGen_ = settingsGen_;
+    return {};
+}
+
+// The JOD readout: each eye's JOD over the last second of frames scored; empty where nothing is scored.
+std::string Session::jodText() const {
+    if (!needsReference(view_)) return {};
+    if (method_ == PreviewMethod::Reference) return "JOD 10 (the reference itself)";
+    if (!jod_ || jodFrame_ != frameIndex_) return {};
+    const auto j = jod_->jod();
+    if (!j) return {};
+    return "JOD L " + fmt("%.2f", (*j)[0]) + " R " + fmt("%.2f", (*j)[1]) + " (FovVideoVDP, last " +
+           std::to_string(jod_->pooled()) + (jod_->pooled() == 1 ? " frame)" : " frames)");
 }
 
 void Session::handleKey(int key) {
@@ -350,7 +417,9 @@ void Session::handleKey(int key) {
             if (!s) path_ = before;
             dirty_ = true;
             what = "camera path " + std::string(toString(path_)) +
-                   (scene_ == SceneKind::Text ? " (text: none)" : scene_ == SceneKind::Photo ? " (photo: --photo-motion)" : "");
+                   (scene_ == SceneKind::Text    ? " (text: none)"
+                    : scene_ == SceneKind::Photo ? " (photo: --photo-motion)"
+                                                 : "");
             break;
         }
         case GLFW_KEY_V:
@@ -415,18 +484,22 @@ std::vector<std::string> Session::statsItems() const {
     items.push_back("fovea " + fmt("%.1f", fovea_) + " deg");
     items.push_back(std::string(toString(mode_)));
     std::string scene(toString(scene_));
-    if (scene_ == SceneKind::Photo) scene += " / " + std::string(scenes::toString(photoMotion_));
-    else if (scene_ != SceneKind::Text) scene += " / " + std::string(toString(path_));
+    if (scene_ == SceneKind::Photo)
+        scene += " / " + std::string(scenes::toString(photoMotion_));
+    else if (scene_ != SceneKind::Text)
+        scene += " / " + std::string(toString(path_));
     items.push_back(scene);
     std::string view = "view " + std::string(toString(view_));
     if (view_ == View::Compare) view += " (top: output, bottom: reference)";
     if (view_ == View::Error) view += " (|output - reference| x4)";
+    if (view_ == View::Visible) view += " (FovVideoVDP visible distortion, ramp 0 - 5 JOD)";
     items.push_back(view);
     std::string gz = "gaze " + toString(gazeSpec_) + ":";
     for (int e = 0; e < 2; ++e)
         gz += std::string(e ? " R " : " L ") + (st.gazeFallback[e] ? "invalid (centre, 20 deg)" : "valid");
     items.push_back(gz);
     if (!gazeNote_.empty()) items.push_back("(" + gazeNote_ + ")");
+    if (std::string jod = jodText(); !jod.empty()) items.push_back(jod);
     if (st.gpu.valid) {
         // One dispatch per pass covers both eyes (z = eye): the per-eye share is half of it.
         items.push_back("GPU ms (both eyes | per eye):");
@@ -459,6 +532,8 @@ ComposeFrame Session::composeFrame(const cv::Mat& strip) const {
                   : refCurrent                        ? &reference_->outputImage()
                                                       : nullptr;
     f.eyes = eyeOverlays(*main_);
+    if (view_ == View::Visible && jod_ && jodFrame_ == frameIndex_ && jod_->options().map)
+        f.visible = {&jod_->map(0), &jod_->map(1)};
     f.circles = f.marker = overlay_;
     f.strip = &strip;
     return f;
@@ -481,10 +556,10 @@ std::string Session::summary() const {
                     ", " + std::string(toString(method_)) + ", fovea " + fmt("%g", fovea_) + " deg, " +
                     std::string(toString(mode_)) + ", gaze " + toString(gazeSpec_) + ")";
     if (st.gpu.valid)
-        s += "; GPU ms (both eyes) pyramid " + fmt("%.3f", st.gpu.pyramid) +
-             " foveate " + fmt("%.3f", st.gpu.foveate) + " temporal " + fmt("%.3f", st.gpu.temporal) + " total " +
-             fmt("%.3f", st.gpu.total);
+        s += "; GPU ms (both eyes) pyramid " + fmt("%.3f", st.gpu.pyramid) + " foveate " + fmt("%.3f", st.gpu.foveate) +
+             " temporal " + fmt("%.3f", st.gpu.temporal) + " total " + fmt("%.3f", st.gpu.total);
     if (st.sparse) s += "; retention in " + fmt("%.1f", 100.0 * st.retainShare()) + " % of tiles";
+    if (std::string jod = jodText(); !jod.empty()) s += "; " + jod;
     s += "; swapchain " + std::to_string(presenter_->extent().width) + "x" +
          std::to_string(presenter_->extent().height) + ", recreated " +
          std::to_string(presenter_->swapchainRecreations()) + " times";

@@ -1,16 +1,21 @@
 // The preview's parts that need no window: command line, gaze sources, layout and cursor mapping,
-// the stats strip.
+// the stats strip, the live JOD.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "compositor/host_app.h"
+#include "preview/compose_params.h"
 #include "preview/gaze_input.h"
 #include "preview/layout.h"
+#include "preview/live_jod.h"
 #include "preview/options.h"
 #include "preview/strip.h"
 #include "shaders/wrs_common.h"
@@ -188,7 +193,8 @@ TEST(PreviewOptions, KeyCyclesAndConfigs) {
     EXPECT_EQ(nextMethod(PreviewMethod::Wrs), PreviewMethod::Reference);
     EXPECT_EQ(nextScene(SceneKind::Dynamic), SceneKind::Photo);
     EXPECT_EQ(nextScene(SceneKind::Photo), SceneKind::Text);
-    EXPECT_EQ(nextView(View::Error), View::Stereo);
+    EXPECT_EQ(nextView(View::Error), View::Visible);
+    EXPECT_EQ(nextView(View::Visible), View::Stereo);
 
     CompositorConfig ref = compositorConfig(PreviewMethod::Reference, FoveationMode::Gauss, 7.5f, 3);
     EXPECT_EQ(ref.method, Method::Fov);
@@ -221,7 +227,15 @@ TEST(PreviewLayout, PanelsAndStrip) {
     EXPECT_EQ(r.width, 192u);
     EXPECT_GT(r.stripLines, s.stripLines);  // a narrower strip needs more lines
 
+    const Layout v = makeLayout(View::Visible, 192, 176);
+    ASSERT_EQ(v.panels.size(), 2u);
+    EXPECT_EQ(v.panels[0].kind, PanelKind::Visible);
+    EXPECT_EQ(v.panels[1].eye, 1u);
+    EXPECT_EQ(uint32_t(PanelKind::Visible), WRS_PANEL_VISIBLE);
+    EXPECT_EQ(uint32_t(PanelKind::Error), WRS_PANEL_ERROR);
+
     EXPECT_TRUE(needsReference(View::Error));
+    EXPECT_TRUE(needsReference(View::Visible));
     EXPECT_FALSE(needsReference(View::Stereo));
 }
 
@@ -325,4 +339,162 @@ TEST(PreviewStrip, WrapsItemsOntoLines) {
     EXPECT_GT(inkInLine(many, 1), 10);
     EXPECT_EQ(stripLinesNeeded(l.width, {"WRS"}), 1u);
     EXPECT_GE(stripLinesNeeded(l.width, {"fovea 5.0 deg", "mip", "atrium / lateral", "view stereo", "gaze mouse"}), 2u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Live JOD (preview/live_jod.h)
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+constexpr uint32_t kJodW = 64, kJodH = 48;
+
+LiveJodOptions jodOptions(std::size_t window, bool map, double fps = 90.0) {
+    LiveJodOptions o;
+    o.fps = fps;
+    o.width = kJodW;
+    o.height = kJodH;
+    o.fovTan = {glm::vec4(-0.8f, 0.7f, 0.6f, -0.65f), glm::vec4(-0.7f, 0.8f, 0.6f, -0.65f)};
+    o.window = window;
+    o.map = map;
+    return o;
+}
+
+// Fine random texture (fixed seed) in sRGB-encoded [0, 1], and a copy blurred inside a disc.
+cv::Mat texture(uint64_t seed) {
+    cv::Mat m(int(kJodH), int(kJodW), CV_32FC3);
+    cv::RNG rng(seed);
+    rng.fill(m, cv::RNG::UNIFORM, 0.1, 0.9);
+    return m;
+}
+
+cv::Mat blurredDisc(const cv::Mat& m, cv::Point centre, int radius, double sigma) {
+    cv::Mat b, out = m.clone();
+    cv::GaussianBlur(m, b, {0, 0}, sigma);
+    cv::Mat mask = cv::Mat::zeros(m.size(), CV_8U);
+    cv::circle(mask, centre, radius, 255, cv::FILLED);
+    b.copyTo(out, mask);
+    return out;
+}
+
+}  // namespace
+
+TEST(PreviewLiveJod, IdenticalFramesScoreTenWithAnEmptyMap) {
+    auto j = LiveJod::create(jodOptions(90, true));
+    ASSERT_TRUE(j.ok()) << j.error().message;
+    EXPECT_FALSE((*j)->jod().has_value());
+    for (int f = 0; f < 3; ++f) {
+        const cv::Mat a = texture(10 + f), b = texture(20 + f);
+        ASSERT_TRUE((*j)->push({a, b}, {a, b}, {glm::vec2(30, 20), glm::vec2(34, 20)}).ok());
+    }
+    const auto jod = (*j)->jod();
+    ASSERT_TRUE(jod.has_value());
+    for (int e = 0; e < 2; ++e) {
+        EXPECT_NEAR((*jod)[e], 10.0, 1e-9) << "eye " << e;
+        ASSERT_FALSE((*j)->map(e).empty());
+        EXPECT_EQ(cv::countNonZero((*j)->map(e) > 1e-6f), 0) << "eye " << e;
+    }
+}
+
+// Up to the window the readout is the metric's own JOD of the frames pushed (an image for one
+// frame, a video after); past it, the frames before the window no longer count. At 8 Hz the
+// temporal filters are two frames long, so a change of the blur leaves the transient channel at once.
+TEST(PreviewLiveJod, PoolsTheLastWindowAsTheMetricPoolsAVideo) {
+    constexpr std::size_t kWindow = 4;
+    constexpr double kFps = 8.0;
+    auto live = LiveJod::create(jodOptions(kWindow, false, kFps));
+    ASSERT_TRUE(live.ok()) << live.error().message;
+    std::array<std::optional<eval::fvvdp::Metric>, 2> whole;
+    for (int e = 0; e < 2; ++e) {
+        eval::fvvdp::Options fo;
+        fo.photometry = eval::fvvdp::DisplayPhotometry::hmd();
+        fo.geometry = eval::fvvdp::ViewGeometry::view(kJodW, kJodH, jodOptions(kWindow, false).fovTan[e]);
+        fo.fps = kFps;
+        auto m = eval::fvvdp::Metric::create(fo);
+        ASSERT_TRUE(m.ok());
+        whole[e].emplace(std::move(*m));
+    }
+    std::vector<std::array<double, 2>> frameQuality;
+    const glm::vec2 gaze(20, 24);
+    const cv::Mat ref = texture(100);
+    constexpr int kFrames = 9;
+    for (int f = 0; f < kFrames; ++f) {
+        // Heavily blurred at the gaze for the first three frames, lightly after.
+        const cv::Mat test = blurredDisc(ref, {20, 24}, 14, f < 3 ? 2.5 : 0.6);
+        ASSERT_TRUE((*live)->push({test, test}, {ref, ref}, {gaze, gaze}).ok());
+        std::array<double, 2> q{};
+        for (int e = 0; e < 2; ++e) {
+            ASSERT_TRUE(whole[e]->push(test, ref, gaze).ok());
+            q[e] = eval::fvvdp::detail::poolFrame(whole[e]->lastFrame())[1];
+        }
+        frameQuality.push_back(q);
+        const auto j = (*live)->jod();
+        ASSERT_TRUE(j.has_value());
+        EXPECT_EQ((*live)->pooled(), std::min<std::size_t>(f + 1, kWindow));
+        for (int e = 0; e < 2; ++e) {
+            if (std::size_t(f) < kWindow) {
+                EXPECT_NEAR((*j)[e], *whole[e]->jod(), 1e-9) << "frame " << f << " eye " << e;
+            } else {
+                double sum = 0;
+                for (std::size_t k = frameQuality.size() - kWindow; k < frameQuality.size(); ++k)
+                    sum += frameQuality[k][e];
+                EXPECT_NEAR((*j)[e], eval::fvvdp::detail::jodFromQuality(sum / kWindow), 1e-9) << "frame " << f;
+            }
+            // The heavily blurred frames and the change have left the window: better than the whole video.
+            if (f == kFrames - 1) EXPECT_GT((*j)[e], *whole[e]->jod() + 0.05) << "eye " << e;
+        }
+    }
+    (*live)->reset();
+    EXPECT_FALSE((*live)->jod().has_value());
+    EXPECT_EQ((*live)->frames(), 0u);
+}
+
+// The map shows where the difference is: inside the blurred disc, not away from it.
+TEST(PreviewLiveJod, MapIsWhereTheBlurIs) {
+    auto j = LiveJod::create(jodOptions(90, true));
+    ASSERT_TRUE(j.ok());
+    const cv::Mat ref = texture(7);
+    const cv::Mat test = blurredDisc(ref, {16, 24}, 10, 2.0);
+    ASSERT_TRUE((*j)->push({test, test}, {ref, ref}, {glm::vec2(16, 24), glm::vec2(16, 24)}).ok());
+    for (int e = 0; e < 2; ++e) {
+        const cv::Mat& m = (*j)->map(e);
+        ASSERT_EQ(m.size(), cv::Size(int(kJodW), int(kJodH)));
+        const double inside = cv::mean(m(cv::Rect(10, 18, 12, 12)))[0];
+        const double away = cv::mean(m(cv::Rect(44, 4, 16, 12)))[0];
+        EXPECT_GT(inside, 0.1) << "eye " << e;
+        EXPECT_GT(inside, 10 * away) << "eye " << e;
+        EXPECT_LT((*(*j)->jod())[e], 9.9);
+    }
+    auto noMap = LiveJod::create(jodOptions(90, false));
+    ASSERT_TRUE(noMap.ok());
+    ASSERT_TRUE((*noMap)->push({test, test}, {ref, ref}, {glm::vec2(16, 24), glm::vec2(16, 24)}).ok());
+    EXPECT_TRUE((*noMap)->map(0).empty());
+}
+
+// A NaN, a wrong size or a non-finite gaze is an error naming the eye; what was pooled stays.
+TEST(PreviewLiveJod, BadFramesAreRefusedAndChangeNothing) {
+    auto j = LiveJod::create(jodOptions(90, false));
+    ASSERT_TRUE(j.ok());
+    const cv::Mat ref = texture(3), test = blurredDisc(ref, {30, 20}, 12, 1.5);
+    const std::array<glm::vec2, 2> gaze{glm::vec2(30, 20), glm::vec2(30, 20)};
+    ASSERT_TRUE((*j)->push({test, test}, {ref, ref}, gaze).ok());
+    const auto before = *(*j)->jod();
+
+    cv::Mat nan = test.clone();
+    nan.at<cv::Vec3f>(5, 7)[1] = std::numeric_limits<float>::quiet_NaN();
+    Status s = (*j)->push({test, nan}, {ref, ref}, gaze);
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.message().find("eye 1"), std::string::npos) << s.message();
+    cv::Mat small(10, 10, CV_32FC3, cv::Scalar::all(0.5));
+    EXPECT_FALSE((*j)->push({test, test}, {small, ref}, gaze).ok());
+    EXPECT_FALSE((*j)->push({test, test}, {ref, ref}, {glm::vec2(NAN, 1), gaze[1]}).ok());
+    EXPECT_EQ((*j)->frames(), 1u);
+    EXPECT_EQ(*(*j)->jod(), before);
+
+    LiveJodOptions bad = jodOptions(90, false);
+    bad.width = 4;
+    auto refused = LiveJod::create(bad);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("live JOD"), std::string::npos);
+    EXPECT_FALSE(LiveJod::create(jodOptions(0, false)).ok());
 }

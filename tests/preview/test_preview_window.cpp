@@ -293,6 +293,47 @@ TEST_F(PreviewWindow, CompareAndErrorViews) {
     }
 }
 
+// Visible-difference view: FovVideoVDP's distortion map of `fov` against the reference is darker
+// at the gaze (the fovea is the reference; the coarse bands' distortion still reaches it) than in
+// the blurred periphery; the JOD readout is in
+// the stats and the exit summary, below 10 for `fov` and 10 for the reference itself.
+TEST_F(PreviewWindow, VisibleDifferenceViewAndJodReadout) {
+    const std::string common = kScene + " --gaze fixed:5,2 --frames 3 --view visible --overlay off";
+    const std::string path = outPath("visible.png");
+    std::remove(path.c_str());
+    ProgramRun r = runPreview(common + " --method fov --screenshot '" + path + "'");
+    ASSERT_EQ(r.status, 0) << r.output;
+    expectClean(r);
+    const size_t at = r.output.find("JOD L ");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    double left = NAN, right = NAN;
+    int frames = 0;
+    ASSERT_EQ(
+        std::sscanf(r.output.c_str() + at, "JOD L %lf R %lf (FovVideoVDP, last %d frames)", &left, &right, &frames), 3)
+        << r.output.substr(at, 80);
+    EXPECT_EQ(frames, 3);
+    for (double j : {left, right}) {
+        EXPECT_GT(j, 3.0);
+        EXPECT_LT(j, 9.9);
+    }
+    cv::Mat vis = cv::imread(path, cv::IMREAD_COLOR);
+    ASSERT_FALSE(vis.empty());
+    EXPECT_EQ(vis.cols, int(2 * kW));
+    const glm::vec3 g = gaze::direction_from_angle({5, 2});
+    const cv::Mat black = cv::Mat::zeros(int(kH), int(kW), CV_8UC3);
+    for (int e = 0; e < 2; ++e) {
+        const layers::Fov f = scenes::atriumFov(e);
+        int nNear = 0, nFar = 0;
+        const double near = meanDiff(panel(vis, e), black, f, g, 0.0, 2.0, nNear);
+        const double far = meanDiff(panel(vis, e), black, f, g, 15.0, 180.0, nFar);
+        EXPECT_GT(far, 40.0) << "eye " << e;
+        EXPECT_LT(near, 0.5 * far) << "eye " << e;
+    }
+    ProgramRun self = runPreview(common + " --method reference");
+    ASSERT_EQ(self.status, 0) << self.output;
+    EXPECT_NE(self.output.find("JOD 10 (the reference itself)"), std::string::npos) << self.output;
+}
+
 // The window is resized while frames are presented: the swapchain is recreated at the new size
 // and the run finishes normally (a moving scene with TAA history, for good measure).
 TEST_F(PreviewWindow, ResizeRecreatesTheSwapchain) {
