@@ -7,11 +7,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "eval/bench.h"
 #include "eval/cost_model.h"
+#include "shaders/config.h"
 
 using namespace wrsfov;
 using namespace wrsfov::eval;
@@ -171,9 +173,10 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     CompositorConfig noSkip = config(Method::Wrs);
     noSkip.skipTiles = false;
     EXPECT_EQ(names(pipelineVariants(noSkip, kAtrium)), (V{"pyramid/whole", "retain/whole"}));
-    // Whole-image dispatch shapes: 8x8 groups per pixel pass, 16x16-pixel groups for the mip pyramid.
+    // Whole-image dispatch shapes: 8x8 groups per pixel pass, 32x32-pixel groups for the mip pyramid.
     EXPECT_EQ(pipelineVariants(noSkip, kAtrium)[1].groups, 64u * 64u * 2u);
-    EXPECT_EQ(pipelineVariants(noSkip, kAtrium)[0].groups, 32u * 32u * 2u);
+    static_assert(WRS_MIP_TILE == 32);
+    EXPECT_EQ(pipelineVariants(noSkip, kAtrium)[0].groups, 16u * 16u * 2u);
     // Every pass of traffic() has its variants and their bytes, and nothing else but the classification's.
     // A tile list's variant moves its own pixels' bytes: retention's as if every tile retained, the
     // skipped tiles' as if none did (traffic() weighs the two by the measured share).
@@ -197,8 +200,9 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
             EXPECT_GT(found, 0) << toString(m) << ": no variant for pass " << p.pass;
         }
         for (const PipelineVariant& v : vs)
-            EXPECT_TRUE(v.pass == "classify" || v.pass == "reach" || std::any_of(t.passes.begin(), t.passes.end(),
-                                                            [&](const PassTraffic& p) { return p.pass == v.pass; }))
+            EXPECT_TRUE(
+                v.pass == "classify" || v.pass == "reach" ||
+                std::any_of(t.passes.begin(), t.passes.end(), [&](const PassTraffic& p) { return p.pass == v.pass; }))
                 << v.pass;
     }
 }
@@ -222,14 +226,14 @@ TEST(CostModel, VariantKeysRoundTrip) {
 
 TEST(CostModel, RooflineArithmetic) {
     const auto rows = rowsFor({Method::Fov});
-    // pyramid: whole image, 16x16-pixel groups: 32 x 32 x 2 groups of one wave64 each.
+    // pyramid: whole image, 32x32-pixel groups: 16 x 16 x 2 groups of one wave64 each.
     const CostRow& pyr = rows[1];
     ASSERT_EQ(pyr.pass, "pyramid");
-    EXPECT_DOUBLE_EQ(pyr.groups, 2048);
-    EXPECT_DOUBLE_EQ(pyr.aluUs, 2048 * 400.0 / 20 / 1000.0);
+    EXPECT_DOUBLE_EQ(pyr.groups, 512);
+    EXPECT_DOUBLE_EQ(pyr.aluUs, 512 * 400.0 / 20 / 1000.0);
     EXPECT_DOUBLE_EQ(pyr.memUs, 512.0 * 512 * 2 * pyr.bytesPerPx / (100.0 * 1e3));
     EXPECT_DOUBLE_EQ(pyr.predictedUs, std::max(pyr.aluUs, pyr.memUs));
-    EXPECT_DOUBLE_EQ(pyr.cyclesPerPx, 400.0 / 256);
+    EXPECT_DOUBLE_EQ(pyr.cyclesPerPx, 400.0 / 1024);
     // A tile class: its share of the tiles, one group per tile; a dispatch lasts at least one wave's latency.
     const CostRow& fovea = rows[3];
     ASSERT_EQ(fovea.cls, "fovea");
@@ -303,8 +307,8 @@ TEST(CostModel, CsvHasTheColumnsARowPerPassClassAndMethodAndTotalsThatSum) {
     using S = std::set<std::string>;
     EXPECT_EQ(seen["fov"],
               (S{"classify/whole", "pyramid/whole", "foveate/any", "foveate/fovea", "foveate/mid", "foveate/far"}));
-    EXPECT_EQ(seen["wrs"], (S{"reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea", "retain/mid", "retain/far",
-                              "skip/skip"}));
+    EXPECT_EQ(seen["wrs"], (S{"reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea",
+                              "retain/mid", "retain/far", "skip/skip"}));
     EXPECT_EQ(seen["fov+taa"], (S{"pyramid/whole", "foveate/whole", "taa/whole"}));
     EXPECT_EQ(seen["wrs-paper"], (S{"pyramid/whole", "foveate/whole", "wrs-paper/whole"}));
     ASSERT_EQ(totals.size(), 4u);
@@ -358,8 +362,13 @@ TEST(CostModelDevice, ADeviceWithoutStatisticsIsASkipWithItsReason) {
 
 TEST(CostModelDevice, RadvNullDeviceGivesAcoStatistics) {
     std::vector<VariantKey> keys;
-    for (const PipelineVariant& v : pipelineVariants(config(Method::Wrs), kAtrium))
+    std::optional<VariantKey> retainAny, retainFar;
+    for (const PipelineVariant& v : pipelineVariants(config(Method::Wrs), kAtrium)) {
         keys.push_back({v.shader, v.constants});
+        if (v.pass == "retain" && v.tileClass == gpu::WRS_TILE_ANY) retainAny = keys.back();
+        if (v.pass == "retain" && v.tileClass == gpu::WRS_TILE_FAR) retainFar = keys.back();
+    }
+    ASSERT_TRUE(retainAny && retainFar);
     auto stats = collectStatistics(WRSFOV_BENCH_EXE, *parseStatsTarget("gfx1100"), keys);
     if (!stats && stats.error().code == int(CostError::Unavailable))
         GTEST_SKIP() << "RADV's null device is unavailable here: " << stats.error().message;
@@ -373,6 +382,6 @@ TEST(CostModelDevice, RadvNullDeviceGivesAcoStatistics) {
         EXPECT_TRUE(s.subgroupSize == 32 || s.subgroupSize == 64) << toString(k);
     }
     // The retain pass of the far class computes no eccentricity: fewer instructions than per pixel.
-    EXPECT_LT((*stats)[keys[5]].instructions, (*stats)[keys[2]].instructions);
+    EXPECT_LT((*stats)[*retainFar].instructions, (*stats)[*retainAny].instructions);
 }
 #endif
