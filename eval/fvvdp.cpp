@@ -486,17 +486,22 @@ Status detail::checkInputImage(const cv::Mat& m, const char* what, const ViewGeo
     return Status::success();
 }
 
+Status detail::checkInputFrame(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px, const ViewGeometry& g) {
+    if (Status s = checkInputImage(test, "test", g); !s) return s;
+    if (Status s = checkInputImage(reference, "reference", g); !s) return s;
+    if (!std::isfinite(gaze_px.x) || !std::isfinite(gaze_px.y))
+        return error(FvvdpError::InvalidInput,
+                     "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");
+    return Status::success();
+}
+
 Status Metric::push(const cv::Mat& test, const cv::Mat& reference) {
     return push(test, reference, glm::vec2(float(options_.geometry.width / 2), float(options_.geometry.height / 2)));
 }
 
 Status Metric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px) {
     const ViewGeometry& g = options_.geometry;
-    if (Status s = detail::checkInputImage(test, "test", g); !s) return s;
-    if (Status s = detail::checkInputImage(reference, "reference", g); !s) return s;
-    if (!std::isfinite(gaze_px.x) || !std::isfinite(gaze_px.y))
-        return error(FvvdpError::InvalidInput,
-                     "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");
+    if (Status s = detail::checkInputFrame(test, reference, gaze_px, g); !s) return s;
 
     const int w = int(g.width), h = int(g.height);
     const float peak = float(options_.photometry.peak), black = float(options_.photometry.black());

@@ -294,6 +294,9 @@ void pyramidExpand(const float* src, int sw, int sh, float* dst, int w, int h);
 /// The checks every push makes on an input frame, with their codes and messages: empty, not CV_32FC3,
 /// not the geometry's size (InvalidInput), a non-finite value (NonFinite, naming the first pixel).
 Status checkInputImage(const cv::Mat& m, const char* what, const ViewGeometry& g);
+/// The checks of one push: the test image, the reference image (checkInputImage) and a finite gaze
+/// (InvalidInput).
+Status checkInputFrame(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px, const ViewGeometry& g);
 
 }  // namespace detail
 

@@ -277,11 +277,7 @@ Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference) {
 Status GpuMetric::push(const cv::Mat& test, const cv::Mat& reference, glm::vec2 gaze_px) {
     Impl& m = *impl_;
     const ViewGeometry& g = m.options.geometry;
-    if (Status s = detail::checkInputImage(test, "test", g); !s) return s;
-    if (Status s = detail::checkInputImage(reference, "reference", g); !s) return s;
-    if (!std::isfinite(gaze_px.x) || !std::isfinite(gaze_px.y))
-        return error(FvvdpError::InvalidInput,
-                     "gaze (" + std::to_string(gaze_px.x) + ", " + std::to_string(gaze_px.y) + ") is not finite");
+    if (Status s = detail::checkInputFrame(test, reference, gaze_px, g); !s) return s;
 
     const int w = int(g.width), h = int(g.height);
     const size_t row = size_t(w) * 3;

@@ -28,14 +28,10 @@ Result<std::unique_ptr<LiveJod>> LiveJod::create(const LiveJodOptions& o) {
 Status LiveJod::push(const std::array<cv::Mat, 2>& test, const std::array<cv::Mat, 2>& reference,
                      const std::array<glm::vec2, 2>& gazePx) {
     // Check both eyes before either metric takes a frame, so that a bad frame leaves both as they were.
-    for (int e = 0; e < 2; ++e) {
-        for (const auto& [img, what] : {std::pair{&test[e], "output"}, std::pair{&reference[e], "reference"}})
-            if (Status s = fvvdp::detail::checkInputImage(*img, what, metric_[e].options().geometry); !s)
-                return Error{s.error().code, "live JOD, eye " + std::to_string(e) + ": " + s.error().message};
-        if (!std::isfinite(gazePx[e].x) || !std::isfinite(gazePx[e].y))
-            return Error{int(fvvdp::FvvdpError::NonFinite),
-                         "live JOD, eye " + std::to_string(e) + ": the gaze is not finite"};
-    }
+    for (int e = 0; e < 2; ++e)
+        if (Status s = fvvdp::detail::checkInputFrame(test[e], reference[e], gazePx[e], metric_[e].options().geometry);
+            !s)
+            return Error{s.error().code, "live JOD, eye " + std::to_string(e) + ": " + s.error().message};
     std::array<Status, 2> st;
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
         for (int e = r.start; e < r.end; ++e) st[e] = metric_[e].push(test[e], reference[e], gazePx[e]);

@@ -441,7 +441,9 @@ TEST(PreviewLiveJod, PoolsTheLastWindowAsTheMetricPoolsAVideo) {
                 EXPECT_NEAR((*j)[e], eval::fvvdp::detail::jodFromQuality(sum / kWindow), 1e-9) << "frame " << f;
             }
             // The heavily blurred frames and the change have left the window: better than the whole video.
-            if (f == kFrames - 1) EXPECT_GT((*j)[e], *whole[e]->jod() + 0.05) << "eye " << e;
+            if (f == kFrames - 1) {
+                EXPECT_GT((*j)[e], *whole[e]->jod() + 0.05) << "eye " << e;
+            }
         }
     }
     (*live)->reset();
