@@ -990,9 +990,9 @@ void Compositor::recordPyramid(const FramePlan& plan) {
     const bool gauss = config_.foveation == FoveationMode::Gauss;
     const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
-    // mip: every level in one dispatch of 16x16-pixel tiles; gauss: one dispatch per level.
+    // mip: every level in one dispatch of WRS_MIP_TILE-pixel tiles; gauss: one dispatch per level.
     const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
-    const uint32_t tile = 2 * WRS_GROUP_X;
+    const uint32_t tile = WRS_MIP_TILE;
     for (uint32_t level = 1; level <= dispatches; ++level) {
         gpu::LevelPush push{level, 0, 0, 0};
         vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);

@@ -139,7 +139,7 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     }
     if (pyramid) {
         const bool gauss = c.foveation == FoveationMode::Gauss;
-        uint64_t groups = groupsOf(in.width, 2 * WRS_GROUP_X) * groupsOf(in.height, 2 * WRS_GROUP_Y) * eyes;
+        uint64_t groups = groupsOf(in.width, WRS_MIP_TILE) * groupsOf(in.height, WRS_MIP_TILE) * eyes;
         if (gauss) {  // one dispatch per level
             groups = 0;
             for (uint32_t level = 1; level < WRS_LEVELS; ++level) {

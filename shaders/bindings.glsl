@@ -88,11 +88,17 @@ vec4 pyr_read(uint eye, uint level, uvec2 q) { return pyr_unpack(pyramid[pyramid
 void pyr_write(uint eye, uint level, uvec2 q, uvec2 packed_texel) { pyramid[pyramid_index(eye, level, q)] = packed_texel; }
 
 // Level 0 at pixel p of the eye's rectangle: linear RGB, sanitized, validity (1 or 0) in alpha.
+// The sRGB table it decodes with: the buffer, or a pass's copy of it in shared memory (a pass that
+// defines WRS_SRGB_TABLE before including this file fills that copy before its first load_color).
+#ifndef WRS_SRGB_TABLE
+#define WRS_SRGB_TABLE srgb_table
+#endif
 vec4 load_color(uint eye, uvec2 p) {
     EyeParams ep = frame.eye[eye];
     vec3 c = texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0).rgb;
     if (ep.color_rect.z != 0u)
-        c = vec3(srgb_table[wrs_srgb8_code(c.r)], srgb_table[wrs_srgb8_code(c.g)], srgb_table[wrs_srgb8_code(c.b)]);
+        c = vec3(WRS_SRGB_TABLE[wrs_srgb8_code(c.r)], WRS_SRGB_TABLE[wrs_srgb8_code(c.g)],
+                 WRS_SRGB_TABLE[wrs_srgb8_code(c.b)]);
     bool valid;
     c = wrs_sanitize_color(c, valid);
     return vec4(c, valid ? 1.0 : 0.0);

@@ -7,6 +7,10 @@
 #define WRS_GROUP_X 8
 #define WRS_GROUP_Y 8
 
+// The mip pyramid pass: each group builds the levels of a 32x32-pixel tile of level 0 (each of its 8x8
+// invocations a 4x4 block), the support of 2x2 level-4 texels (shaders/pyramid.comp).
+#define WRS_MIP_TILE 32
+
 // Levels 0..4: the fovea samples level 0, the mid-periphery the 8x8 shading rate (level 3) and the
 // far periphery 16x16 (level 4), as in docs/conventions.md "Foveation".
 #define WRS_LEVELS 5

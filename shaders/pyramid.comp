@@ -2,9 +2,13 @@
 // stored) and written as fp16 RGBA. Level 4 carries its L* in alpha (wrs_pyramid_texel).
 //
 // FILTER 1 (`mip`, and the fingerprint pyramid of `wrs` under `none`): 2x2 box, all levels in one
-// dispatch; only the levels the mode samples are stored (3 and 4 for `mip`, 4 for `none`). A 16x16 tile of level 0 is exactly the support of one level-4 texel (clamped taps stay
-// inside their tile), so a group of 8x8 invocations builds its tile's 8x8, 4x4, 2x2 and 1x1 texels
-// in shared memory, one barrier per level, as single-pass downsamplers do.
+// dispatch; only the levels the mode samples are stored (3 and 4 for `mip`, 4 for `none`). A 16x16
+// tile of level 0 is exactly the support of one level-4 texel (clamped taps stay inside their
+// tile), so a group of 8x8 invocations builds a 32x32-pixel tile's four level-4 texels: each
+// invocation reduces a 4x4 block of level 0 to its 2x2 level-1 texels and its level-2 texel in
+// registers, then levels 3 and 4 go through shared memory, one barrier per level, as single-pass
+// downsamplers do. The sRGB table is staged in shared memory once per group, so that the 48 decodes
+// of an invocation read it there rather than from a buffer.
 // FILTER 2 (`gauss`): separable [1 3 3 1]/8, whose support crosses tiles; one dispatch per level.
 // Level 1 (push.level == 1) stages the 18x18 level-0 texels of its 8x8 output tile in shared memory,
 // each decoded once; levels 2..4 read the level below from the buffer.
@@ -12,6 +16,9 @@
 // CPU reference (compositor/reference.cpp) builds it from.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+// The sRGB table (bindings.glsl, load_color) is read from the group's copy in shared memory.
+shared float s_srgb[256];
+#define WRS_SRGB_TABLE s_srgb
 #include "bindings.glsl"
 
 layout(constant_id = 0) const uint FILTER = 1u;
@@ -22,6 +29,12 @@ layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1)
 const uint GAUSS_SPAN = 2u * WRS_GROUP_X + 2u;  // level-0 texels behind 8 level-1 texels: taps -1..2
 shared vec4 s_texels[GAUSS_SPAN * GAUSS_SPAN];
 
+// Copies the sRGB table into shared memory (every group, before its first load_color).
+void stage_srgb_table() {
+    for (uint i = gl_LocalInvocationIndex; i < 256u; i += WRS_GROUP_X * WRS_GROUP_Y) s_srgb[i] = srgb_table[i];
+    barrier();
+}
+
 // Rounds a filtered texel to its stored fp16 value and writes it where the level has that texel and
 // the foveation mode samples the level.
 vec4 store_texel(uint eye, uint level, uvec2 d, vec4 filtered) {
@@ -30,19 +43,39 @@ vec4 store_texel(uint eye, uint level, uvec2 d, vec4 filtered) {
     return pyr_unpack(h);
 }
 
+// The level-1 texel d from its four clamped level-0 taps.
+vec4 level1_texel(uint eye, uvec2 d, uvec2 size0) {
+    vec4 r = wrs_down_box(
+        load_color(eye, wrs_down_tap(d, ivec2(0, 0), size0)), load_color(eye, wrs_down_tap(d, ivec2(1, 0), size0)),
+        load_color(eye, wrs_down_tap(d, ivec2(0, 1), size0)), load_color(eye, wrs_down_tap(d, ivec2(1, 1), size0)));
+    return store_texel(eye, 1u, d, r);
+}
+
 void mip_chain(uint eye) {
     uvec2 t = gl_LocalInvocationID.xy;
     uvec2 g = gl_WorkGroupID.xy;
     uvec2 size0 = frame.size.xy;
-    uvec2 d = g * 8u + t;
-    vec4 r = wrs_down_box(load_color(eye, wrs_down_tap(d, ivec2(0, 0), size0)),
-                          load_color(eye, wrs_down_tap(d, ivec2(1, 0), size0)),
-                          load_color(eye, wrs_down_tap(d, ivec2(0, 1), size0)),
-                          load_color(eye, wrs_down_tap(d, ivec2(1, 1), size0)));
-    s_texels[t.y * 8u + t.x] = store_texel(eye, 1u, d, r);
+    stage_srgb_table();
+    // This invocation's level-2 texel and the four level-1 texels it is built from.
+    uvec2 d2 = g * 8u + t;
+    uvec2 d1 = 2u * d2;
+    vec4 l1[4];
+    l1[0] = level1_texel(eye, d1, size0);
+    l1[1] = level1_texel(eye, d1 + uvec2(1u, 0u), size0);
+    l1[2] = level1_texel(eye, d1 + uvec2(0u, 1u), size0);
+    l1[3] = level1_texel(eye, d1 + uvec2(1u, 1u), size0);
+    // The level-2 texel's taps d1 + o, clamped to level 1: d1 + 1 where it lies inside level 1, else
+    // d1 (a level-2 texel inside the image has d1 inside level 1). A texel outside the image is never
+    // read by the levels above, whatever it holds.
+    uvec2 size1 = level_size(1u);
+    bool cx = d1.x + 1u < size1.x, cy = d1.y + 1u < size1.y;
+    vec4 t10 = cx ? l1[1] : l1[0];
+    vec4 t01 = cy ? l1[2] : l1[0];
+    vec4 t11 = cy ? (cx ? l1[3] : l1[2]) : t10;
+    s_texels[t.y * 8u + t.x] = store_texel(eye, 2u, d2, wrs_down_box(l1[0], t10, t01, t11));
     barrier();
     uint n = 4u;  // texels per tile side at `level`
-    for (uint level = 2u; level < uint(WRS_LEVELS); ++level, n /= 2u) {
+    for (uint level = 3u; level < uint(WRS_LEVELS); ++level, n /= 2u) {
         bool inside = all(lessThan(t, uvec2(n)));
         vec4 v = vec4(0.0);
         if (inside) {
@@ -68,6 +101,7 @@ void gauss_level1(uint eye) {
     uvec2 size0 = frame.size.xy;
     uvec2 first = gl_WorkGroupID.xy * 8u;  // the tile's first level-1 texel
     ivec2 origin = ivec2(2u * first) - ivec2(1, 1);
+    stage_srgb_table();
     for (uint i = gl_LocalInvocationIndex; i < GAUSS_SPAN * GAUSS_SPAN; i += WRS_GROUP_X * WRS_GROUP_Y) {
         ivec2 s = clamp(origin + ivec2(i % GAUSS_SPAN, i / GAUSS_SPAN), ivec2(0), ivec2(size0) - ivec2(1));
         s_texels[i] = load_color(eye, uvec2(s));
@@ -95,8 +129,9 @@ void gauss_level(uint eye, uint level) {
     uint src = level - 1u;
     vec4 rows[4];
     for (int j = 0; j < 4; ++j) {
-        rows[j] = wrs_binomial_row(tap(eye, src, d, ivec2(-1, j - 1), src_size), tap(eye, src, d, ivec2(0, j - 1), src_size),
-                                   tap(eye, src, d, ivec2(1, j - 1), src_size), tap(eye, src, d, ivec2(2, j - 1), src_size));
+        rows[j] =
+            wrs_binomial_row(tap(eye, src, d, ivec2(-1, j - 1), src_size), tap(eye, src, d, ivec2(0, j - 1), src_size),
+                             tap(eye, src, d, ivec2(1, j - 1), src_size), tap(eye, src, d, ivec2(2, j - 1), src_size));
     }
     store_texel(eye, level, d, wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]));
 }
