@@ -1085,8 +1085,9 @@ TEST(XrClient, InvalidEnumValuesAndPaths) {
     EXPECT_EQ(xrGetReferenceSpaceBoundsRect(c->session, XR_REFERENCE_SPACE_TYPE_MAX_ENUM, &bounds),
               XR_ERROR_VALIDATION_FAILURE);
 
-    // A view configuration no specification defines is a validation failure, a defined one this
-    // system lacks is unsupported.
+    // A view configuration that is no valid enum for this application (none at all, or one of an
+    // extension it has not enabled) is a validation failure, a valid one this system lacks is
+    // unsupported.
     XrViewConfigurationProperties vcp{XR_TYPE_VIEW_CONFIGURATION_PROPERTIES};
     EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, &vcp),
               XR_ERROR_VALIDATION_FAILURE);
@@ -1099,9 +1100,14 @@ TEST(XrClient, InvalidEnumValuesAndPaths) {
     EXPECT_EQ(
         xrEnumerateEnvironmentBlendModes(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM, 0, &n, nullptr),
         XR_ERROR_VALIDATION_FAILURE);
-    EXPECT_EQ(
-        xrEnumerateEnvironmentBlendModes(c->instance, c->system, XrViewConfigurationType(1000037000), 0, &n, nullptr),
-        XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED);  // XR_VARJO_quad_views'
+    for (int ext : {1000037000, 1000054000}) {  // XR_VARJO_quad_views', XR_MSFT_first_person_observer's
+        EXPECT_EQ(
+            xrEnumerateEnvironmentBlendModes(c->instance, c->system, XrViewConfigurationType(ext), 0, &n, nullptr),
+            XR_ERROR_VALIDATION_FAILURE);
+        EXPECT_EQ(
+            xrEnumerateViewConfigurationViews(c->instance, c->system, XrViewConfigurationType(ext), 0, &n, nullptr),
+            XR_ERROR_VALIDATION_FAILURE);
+    }
     XrSessionBeginInfo sbi{XR_TYPE_SESSION_BEGIN_INFO};
     sbi.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_MAX_ENUM;
     EXPECT_EQ(xrBeginSession(c->session, &sbi), XR_ERROR_VALIDATION_FAILURE);
