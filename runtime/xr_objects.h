@@ -186,6 +186,10 @@ struct Instance final : Object {
     std::set<std::string> extensions;
     std::string applicationName;
     XrTime epoch = 0;  // the runtime clock's zero (instance creation)
+    // pace = free: the last display time handed out. A session's first frame is one period after it
+    // (after the epoch for the first session), not after the wall clock, so that a free-paced run
+    // sees the same display times, head poses and gaze whatever the machine's speed.
+    mutable std::atomic<XrTime> freeDisplayTime{0};
 
     std::recursive_mutex mutex;  // the instance's state (see the top of this file)
 

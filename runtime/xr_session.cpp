@@ -799,7 +799,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* i
     const Instance& inst = *s->instance;
     const XrDuration p = period(inst);
     XrTime now = nowXrTime();
-    if (s->nextDisplayTime == 0) s->nextDisplayTime = now + p;
+    if (s->nextDisplayTime == 0)
+        s->nextDisplayTime = inst.config.pace ? now + p : std::max(inst.freeDisplayTime.load(), inst.epoch) + p;
     XrTime display;
     if (inst.config.pace) {
         // Paced by the display and by the compositor: consecutive frames are at least the
@@ -827,6 +828,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrWaitFrame(XrSession h, const XrFrameWaitInfo* i
     } else {
         display = s->nextDisplayTime;
         s->nextDisplayTime += p;
+        inst.freeDisplayTime = display;
     }
     ++s->waited;
     s->waitedDisplayTimes.push_back(display);
