@@ -182,6 +182,10 @@ bool runsSparse(const CompositorConfig& c) {
     return c.sparseRetention && c.skipTiles && usesRetainPass(c.method) && floorQuality(c) > 0.0f;
 }
 
+bool steadyFloorActive(const CompositorConfig& c) {
+    return c.steadyFloor && floorQuality(c) > 0.0f && c.foveation != FoveationMode::None;
+}
+
 double Traffic::perPixel() const {
     double b = 0;
     for (const PassTraffic& p : passes) b += p.read + p.write;
@@ -221,6 +225,14 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
         const bool gauss = c.foveation == FoveationMode::Gauss;
         const double below = gauss ? (level[1] + level[2] + level[3]) * kTexel : 0;
         t.passes.push_back({"pyramid", in.colorBytes + below, levels * kTexel});
+    }
+    if (pyramid && steadyFloorActive(c)) {
+        // Per level-4 texel: its 3x3 neighbourhood (each texel read by nine, once from memory), the
+        // history's bilinear taps (once), one motion texel; the filtered texel out. Then level 4 and
+        // the filtered texel in, level 4 out.
+        const double motionTexel = in.motionBytes > 0 ? in.motionBytes : 0;
+        t.passes.push_back({"steady", level[4] * (2 * kTexel + motionTexel), level[4] * kTexel});
+        t.passes.push_back({"steady-copy", level[4] * 2 * kTexel, level[4] * kTexel});
     }
     if (!retain)
         t.passes.push_back({"foveate", in.colorBytes + levelsRead, temporal ? 16.0 : 4.0});  // candidate or output
@@ -537,8 +549,11 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     const uint64_t pixels = uint64_t(width) * height * WRS_EYES;
     // Levels 1..4 only (level 0 is the submitted image), fp16 RGBA.
+    // Then the steady floor's two slots of both eyes' level 4 (pyramid.comp, FILTER 3).
+    const glm::uvec2 level4 = gpu::wrs_level_size(glm::uvec2(width, height), gpu::WRS_STEADY_LEVEL);
     const uint64_t pyramidTexels =
-        (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES;
+        (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES +
+        2ull * WRS_EYES * level4.x * level4.y;
     vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts;
     struct Alloc {
         vk::Buffer* buffer;
@@ -769,6 +784,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     }
     if (configPending_) {
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
+        if (!steadyFloorActive(pending_)) steadyValid_ = false;
         config_ = pending_;
         configPending_ = false;
     }
@@ -877,14 +893,17 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         }
     };
     transitionInputs(true);
-    const FramePlan plan{cb,        w,      h,       eyes,  hasDepth, hasMotion, retain,  wrsPaper, taa, temporal,
-                         pyramid,   tiled,  sparse,  inPlace, mono,   timing,    written, tilesPerEye};
+    const bool steady = pyramid && steadyFloorActive(config_);
+    stats_.steadyFloor = steady;
+    const FramePlan plan{cb,     w,      h,       eyes,    hasDepth, hasMotion, retain,  wrsPaper,    taa, temporal,
+                         pyramid, tiled, sparse, inPlace, mono,     timing,    steady,  written, tilesPerEye};
     // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
     recordHistoryStart(plan);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
     stamp(plan, 0);
     recordClassify(plan);
     recordPyramid(plan);
+    recordSteadyFloor(plan);
     stamp(plan, 1);
     recordFoveate(plan);
     stamp(plan, 2);
@@ -931,6 +950,8 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     }
     if (sparse) heldPrev_ = 1 - heldPrev_;
     held_ = sparse ? Held::Valid : Held::Unknown;
+    if (steady) steadySlot_ = 1 - steadySlot_;
+    steadyValid_ = steady;
     lastSparse_ = sparse;
     validator_.accept(frame);
     return {};
@@ -1001,6 +1022,23 @@ void Compositor::recordPyramid(const FramePlan& plan) {
             vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
         else
             vkCmdDispatch(cb, groups(plan.w, tile), groups(plan.h, tile), plan.eyes);
+        computeBarrier(cb);
+    }
+}
+
+void Compositor::recordSteadyFloor(const FramePlan& plan) {
+    if (!plan.steady) return;
+    VkCommandBuffer cb = plan.cb;
+    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
+    const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), gpu::WRS_STEADY_LEVEL);
+    // Written: the slot the last frame did not write; read: the last frame's, where it wrote one (a
+    // history reset starts the filter anew, as it does the reservoirs).
+    const uint32_t slot = 1 - steadySlot_;
+    const gpu::LevelPush push{0, slot, steadySlot_, steadyValid_ && historyValid_ ? 1u : 0u};
+    vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    for (uint32_t phase = 0; phase < 2; ++phase) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {3u, firstStored, plan.hasMotion, phase}));
+        vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
         computeBarrier(cb);
     }
 }
@@ -1078,6 +1116,13 @@ void Compositor::recordMonoCopies(const FramePlan& plan) {
     const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + plan.tilesPerEye) * 4,
                           VkDeviceSize(plan.tilesPerEye) * 4};
     if (plan.sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
+    if (plan.steady) {  // the right eye's steady floor, which its next stereo frame reads
+        const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), gpu::WRS_STEADY_LEVEL);
+        const VkDeviceSize texels = VkDeviceSize(ls.x) * ls.y;
+        const VkDeviceSize first = VkDeviceSize(2) * params_.levels[gpu::WRS_STEADY_LEVEL].w + (1 - steadySlot_) * 2 * texels;
+        const VkBufferCopy sc{first * 8, (first + texels) * 8, texels * 8};
+        vkCmdCopyBuffer(cb, pyramid_.handle(), pyramid_.handle(), 1, &sc);
+    }
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
@@ -1168,6 +1213,24 @@ Result<std::vector<float>> Compositor::readTileHeld(uint32_t eye) {
     if (!words) return words.error();
     std::vector<float> out(perEye);
     std::memcpy(out.data(), words->data(), perEye * 4);
+    return out;
+}
+
+Result<std::vector<glm::vec4>> Compositor::readSteadyFloor(uint32_t eye) {
+    if (eye >= WRS_EYES || !output_) return Error{1, "no steady floor: eye out of range or no frame composited yet"};
+    if (!steadyValid_) return std::vector<glm::vec4>{};
+    const glm::uvec2 size0(width_, height_);
+    const glm::uvec2 ls = gpu::wrs_level_size(size0, gpu::WRS_STEADY_LEVEL);
+    const uint64_t texels = uint64_t(ls.x) * ls.y;
+    const uint64_t stored = gpu::wrs_pyramid_texels(size0) - uint64_t(width_) * height_;
+    auto words = readWords(pyramid_, (2 * stored + (steadySlot_ * 2 + eye) * texels) * 2, texels * 2);
+    if (!words) return words.error();
+    std::vector<glm::vec4> out(texels);
+    for (uint64_t i = 0; i < texels; ++i) {
+        const uint32_t a = (*words)[2 * i], b = (*words)[2 * i + 1];
+        out[i] = glm::vec4(gpu::wrs_f16_to_f32(a & 0xffffu), gpu::wrs_f16_to_f32(a >> 16), gpu::wrs_f16_to_f32(b & 0xffffu),
+                           gpu::wrs_f16_to_f32(b >> 16));
+    }
     return out;
 }
 

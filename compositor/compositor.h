@@ -107,6 +107,12 @@ struct CompositorConfig {
     /// at the price of retention in every far tile (no sparse retention). Off (the default): the floor
     /// rule takes the candidate there (docs/retention.md "Sparse retention").
     bool floorMerge = false;
+    /// Where the floor rule applies (steadyFloorActive): level 4, the far periphery's candidate, is
+    /// filtered over time at its own resolution (16x16 pixels a texel) before any pass samples it, as
+    /// TAA filters pixels: reprojected with the motion at each texel's centre, clipped to its 3x3
+    /// neighbourhood's variance box (docs/retention.md "The steady floor"). It steadies what the floor
+    /// rule shows under motion, as the merge at the floor did, for 1/256 of the pixels' work.
+    bool steadyFloor = true;
     /// Convert to fp16 for storage (pyramid, reservoirs) with the device's own instruction where the
     /// first compositor on the context found it giving the hand conversion's bits (round to nearest
     /// even) on every probe value: the same bits, a fraction of the arithmetic. Off: always by hand.
@@ -119,6 +125,9 @@ uint32_t retainRule(const CompositorConfig& c);
 float floorQuality(const CompositorConfig& c);
 /// Whether frames with config `c` run sparse retention (CompositorConfig::sparseRetention and what it needs).
 bool runsSparse(const CompositorConfig& c);
+/// Whether frames with config `c` filter the floor level over time (CompositorConfig::steadyFloor
+/// where the floor rule applies: floorQuality > 0).
+bool steadyFloorActive(const CompositorConfig& c);
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 /// On a CPU device (Mesa lavapipe) timestamps do not bracket the dispatches between them: a pass's
@@ -183,6 +192,8 @@ struct FrameStats {
     bool retained = false;
     /// Sparse retention ran (runsSparse).
     bool sparse = false;
+    /// The floor level was filtered over time (steadyFloorActive).
+    bool steadyFloor = false;
     /// Tiled frames (Wait and Submit modes): tiles of both eyes on each list (WRS_TILE_FOVEA, MID,
     /// FAR, ANY and SKIP), read back after the frame; all zero otherwise.
     std::array<uint32_t, gpu::WRS_TILE_LISTS> tiles{};
@@ -293,6 +304,9 @@ public:
     /// stored nothing), as sparse retention's next classification reads it. Empty when the last frame
     /// did not run sparse retention (every tile then counts as holding anything).
     Result<std::vector<float>> readTileHeld(uint32_t eye);
+    /// The steady floor the last frame wrote (level-4 texels row-major, linear RGB, alpha 1), which the
+    /// next frame reads as its history; empty when the last frame did not filter the floor.
+    Result<std::vector<glm::vec4>> readSteadyFloor(uint32_t eye);
     /// CompositorConfig::trackBirth: per pixel of one eye, the linear colour submitted when the
     /// shown sample was taken (W*H, rgb; alpha unused).
     Result<std::vector<glm::vec4>> readBirth(uint32_t eye);
@@ -357,6 +371,10 @@ private:
     // reads the half at heldPrev_ and writes the other one.
     vk::Buffer tileHeld_;
     uint32_t heldPrev_ = 0;
+    // The steady floor's two slots after the stored pyramids: the last frame wrote steadySlot_, and
+    // steadyValid_ says it did (for both eyes).
+    uint32_t steadySlot_ = 0;
+    bool steadyValid_ = false;
     // What the half at heldPrev_ says: written by the last frame (Valid), all zero after a history
     // reset (nothing held), or unknown (the last frame did not run sparse retention, or reservoirs were
     // written from outside: the next sparse frame first marks every tile as holding anything).
@@ -379,6 +397,7 @@ private:
         bool hasDepth, hasMotion;
         bool retain, wrsPaper, taa, temporal, pyramid;  ///< which passes (temporal: a pass with history)
         bool tiled, sparse, inPlace, mono, timing;
+        bool steady;           ///< the steady floor (steadyFloorActive)
         uint32_t written;      ///< the reservoir buffer the frame writes
         uint32_t tilesPerEye;  ///< 8x8 tiles of one eye
     };
@@ -389,6 +408,8 @@ private:
     void recordClassify(const FramePlan& plan);
     /// Pass 1: pyramid levels 1..4.
     void recordPyramid(const FramePlan& plan);
+    /// Pass 1b: the steady floor (level 4 filtered over time), after the pyramid.
+    void recordSteadyFloor(const FramePlan& plan);
     /// A per-pixel pass over every pixel or per tile list.
     void recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased = false);
     /// Pass 2 (methods without the retain pass): foveation.

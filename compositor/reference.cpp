@@ -84,6 +84,47 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     }
             }
         }
+        auto round4 = [](vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); };
+
+        // Pass 1b: the steady floor (pyramid.comp, FILTER 3): level 4 filtered over time, its alpha
+        // (the fingerprint's L*) kept.
+        if (steadyFloorActive(config_)) {
+            const uvec2 s4 = wrs_level_size(size0, WRS_STEADY_LEVEL);
+            const std::size_t n4 = std::size_t(s4.x) * s4.y;
+            const std::vector<vec4> prev = history_ && steady_[eye].size() == n4 ? steady_[eye] : std::vector<vec4>{};
+            std::vector<vec4> cur(n4);
+            for (uint y = 0; y < s4.y; ++y)
+                for (uint x = 0; x < s4.x; ++x) {
+                    uvec2 d(x, y);
+                    vec3 nb[9];
+                    for (int j = 0; j < 3; ++j)
+                        for (int i = 0; i < 3; ++i)
+                            nb[j * 3 + i] = wrs_rgb_to_ycocg(vec3(at(WRS_STEADY_LEVEL, wrs_taa_tap(d, ivec2(i - 1, j - 1), s4))));
+                    vec3 mv(0.0f);
+                    if (hasMotion) {
+                        uvec2 p = wrs_steady_motion_pixel(d, size0);
+                        mv = wrs_steady_motion(vec3(in.motion->fetch(p.x, p.y)) * vec3(ep.motion_scale));
+                    }
+                    uvec2 i0, i1;
+                    vec2 f;
+                    auto hAt = [&](uvec2 q) { return prev[std::size_t(q.y) * s4.x + q.x]; };
+                    bool has = !prev.empty() && wrs_taa_reproject(d, s4, mv, i0, i1, f) && hAt(d).w != 0.0f;
+                    vec3 hist(0.0f);
+                    if (has) {
+                        hist = vec3(wrs_bilinear(hAt(i0), hAt(uvec2(i1.x, i0.y)), hAt(uvec2(i0.x, i1.y)), hAt(i1), f));
+                        has = wrs_finite3(hist);
+                    }
+                    cur[std::size_t(y) * s4.x + x] = round4(vec4(wrs_taa_step(nb, hist, has, WRS_STEADY_ALPHA), 1.0f));
+                }
+            for (uint y = 0; y < s4.y; ++y)
+                for (uint x = 0; x < s4.x; ++x) {
+                    vec4& t = at(WRS_STEADY_LEVEL, uvec2(x, y));
+                    t = vec4(vec3(cur[std::size_t(y) * s4.x + x]), t.w);
+                }
+            steady_[eye] = std::move(cur);
+        } else {
+            steady_[eye].clear();
+        }
 
         // Pass 2: foveate.
         auto sampleLevel = [&](uint level, uvec2 p) {

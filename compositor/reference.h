@@ -45,6 +45,10 @@ public:
 
     void setConfig(const CompositorConfig& config) { config_ = config; }
     void resetHistory() { history_ = false; }
+    /// Replaces the steady floor the next step reads as its history (Compositor::readSteadyFloor).
+    void setSteadyFloor(uint32_t eye, std::vector<glm::vec4> steady) { steady_[eye] = std::move(steady); }
+    /// The steady floor after the last step (empty where it did not filter the floor).
+    const std::vector<glm::vec4>& steadyFloor(uint32_t eye) const { return steady_[eye]; }
     /// Replaces the history the next step reads (packed reservoirs, W*H) and, for sparse retention,
     /// the held quality of each tile (Compositor::readTileHeld; empty: every tile may hold anything).
     void setHistory(uint32_t eye, std::vector<glm::uvec4> packed, std::vector<float> held = {});
@@ -66,6 +70,7 @@ private:
     bool history_ = false;
     std::array<std::vector<glm::uvec4>, 2> prev_, res_;
     std::array<std::vector<float>, 2> held_;
+    std::array<std::vector<glm::vec4>, 2> steady_;
     uint32_t motionTiles_ = 0;
     std::array<std::vector<glm::vec4>, 2> cand_;
     std::array<std::vector<Trace>, 2> trace_;

@@ -76,6 +76,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                 cc.skipTiles = o.skipTiles;
                 cc.sparseRetention = o.sparseRetention;
                 cc.floorMerge = o.floorMerge;
+                cc.steadyFloor = o.steadyFloor;
                 cc.motionReachDeg = o.motionReachDeg;
                 auto c = Compositor::create(ctx, cc);
                 if (!c) return c.error();
@@ -93,6 +94,9 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                 if (!g) return g.error();
                 auto held = runs[2].comp->readTileHeld(e);
                 cpu->setHistory(e, std::move(*g), held ? std::move(*held) : std::vector<float>{});
+                auto steady = runs[2].comp->readSteadyFloor(e);
+                if (!steady) return steady.error();
+                cpu->setSteadyFloor(e, std::move(*steady));
             }
         }
         for (Run& r : runs) {

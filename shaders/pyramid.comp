@@ -12,6 +12,12 @@
 // FILTER 2 (`gauss`): separable [1 3 3 1]/8, whose support crosses tiles; one dispatch per level.
 // Level 1 (push.level == 1) stages the 18x18 level-0 texels of its 8x8 output tile in shared memory,
 // each decoded once; levels 2..4 read the level below from the buffer.
+// FILTER 3: the steady floor (wrs_common.h), one invocation per level-4 texel, z = eye, after the
+// pyramid. Phase 0 filters level 4 over time into this frame's slot of the steady history (after
+// both eyes' stored pyramids in the same buffer: two slots of both eyes' level 4, push.pad0 the slot
+// written, push.pad1 the slot read, push.pad2 1 where that slot holds a history); phase 1 puts the
+// filtered colour into level 4, keeping its alpha (the fingerprint's L*, unfiltered). Two dispatches,
+// because phase 0 reads the 3x3 neighbourhood of the unfiltered texels.
 // Shared and stored values are the fp16-rounded ones, so each level is built from exactly what the
 // CPU reference (compositor/reference.cpp) builds it from.
 #version 450
@@ -23,6 +29,8 @@ shared float s_srgb[256];
 
 layout(constant_id = 0) const uint FILTER = 1u;
 layout(constant_id = 1) const uint FIRST_STORED = 1u;  // wrs_first_stored_level of the foveation mode
+layout(constant_id = 2) const bool HAS_MOTION = false;  // FILTER 3: the views have motion vectors
+layout(constant_id = 3) const uint STEADY_PHASE = 0u;   // FILTER 3: 0 filter, 1 copy into level 4
 layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
@@ -136,9 +144,52 @@ void gauss_level(uint eye, uint level) {
     store_texel(eye, level, d, wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]));
 }
 
+// Texel d of an eye's level 4 in slot `slot` of the steady history.
+uint steady_index(uint slot, uint eye, uvec2 d) {
+    uvec4 l = frame.levels[WRS_STEADY_LEVEL];
+    return 2u * l.w + (slot * 2u + eye) * (l.x * l.y) + d.y * l.x + d.x;
+}
+vec4 steady_read(uint slot, uint eye, uvec2 d) { return pyr_unpack(pyramid[steady_index(slot, eye, d)]); }
+
+void steady_floor(uint eye) {
+    uvec2 d = gl_GlobalInvocationID.xy;
+    uvec2 size4 = level_size(WRS_STEADY_LEVEL);
+    if (any(greaterThanEqual(d, size4))) return;
+    if (STEADY_PHASE == 1u) {
+        vec4 s = steady_read(push.pad0, eye, d);
+        vec4 raw = pyr_read(eye, WRS_STEADY_LEVEL, d);
+        pyr_write(eye, WRS_STEADY_LEVEL, d, pyr_pack(vec4(s.rgb, raw.a)));
+        return;
+    }
+    vec3 nb[9];
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+            nb[j * 3 + i] = wrs_rgb_to_ycocg(pyr_read(eye, WRS_STEADY_LEVEL, wrs_taa_tap(d, ivec2(i - 1, j - 1), size4)).rgb);
+    EyeParams ep = frame.eye[eye];
+    vec3 mv = vec3(0.0);
+    if (HAS_MOTION) {
+        uvec2 p = wrs_steady_motion_pixel(d, frame.size.xy);
+        mv = wrs_steady_motion(texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz * ep.motion_scale.xyz);
+    }
+    uvec2 i0, i1;
+    vec2 f;
+    uint prev = push.pad1;
+    bool has = push.pad2 != 0u && wrs_taa_reproject(d, size4, mv, i0, i1, f) && steady_read(prev, eye, d).a != 0.0;
+    vec3 hist = vec3(0.0);
+    if (has) {
+        hist = wrs_bilinear(steady_read(prev, eye, i0), steady_read(prev, eye, uvec2(i1.x, i0.y)),
+                            steady_read(prev, eye, uvec2(i0.x, i1.y)), steady_read(prev, eye, i1), f).rgb;
+        has = wrs_finite3(hist);
+    }
+    vec3 c = wrs_taa_step(nb, hist, has, WRS_STEADY_ALPHA);
+    pyramid[steady_index(push.pad0, eye, d)] = pyr_pack(vec4(c, 1.0));
+}
+
 void main() {
     uint eye = gl_WorkGroupID.z;
-    if (FILTER == 1u) {
+    if (FILTER == 3u) {
+        steady_floor(eye);
+    } else if (FILTER == 1u) {
         mip_chain(eye);
     } else if (push.level == 1u) {
         gauss_level1(eye);

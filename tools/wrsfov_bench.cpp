@@ -83,6 +83,7 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         c.method = m;
         c.sparseRetention = o.sparseRetention;
         c.floorMerge = o.floorMerge;
+        c.steadyFloor = o.steadyFloor;
         c.motionReachDeg = o.motionReachDeg;
         c.foveation = mode;
         c.foveaDeg = fovea;
@@ -280,6 +281,7 @@ int main(int argc, char** argv) {
     cli::Size size{o.width, o.height};
     bool flicker = false, noJod = false;
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
+    bool noSteadyFloor = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
 
     CLI::App app{
@@ -368,6 +370,9 @@ int main(int argc, char** argv) {
                  "Retention in every tile (no sparse retention, docs/retention.md \"Sparse retention\"): the "
                  "same output bit for bit; the time and bytes show what skipping the far tiles that hold "
                  "nothing sharper saves.");
+    app.add_flag("--no-steady-floor", noSteadyFloor,
+                 "Leave the floor level (level 4, the far periphery's candidate) unfiltered over time: the floor "
+                 "rule then shows each frame's 16x16 box averages (docs/retention.md \"The steady floor\").");
     app.add_flag("--floor-merge", floorMerge,
                  "wrs merges equal-quality samples at the floor quality too (the far periphery's running mean, "
                  "which smooths its flicker under motion), with retention in every tile: the rule before sparse "
@@ -441,6 +446,7 @@ int main(int argc, char** argv) {
     o.skipTiles = !noSkip;
     o.sparseRetention = !dense;
     o.floorMerge = floorMerge;
+    o.steadyFloor = !noSteadyFloor;
     o.jod = !noJod;
     if (noJod && !o.worthFoveas.empty()) return cli::usageError(app, "--fovea-worth needs JOD: drop --no-jod");
     if (quick) {

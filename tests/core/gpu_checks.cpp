@@ -99,7 +99,10 @@ Reservoirs stepBoth(Compositor& gpu, StereoApp& app, Reference& ref, uint64_t fr
     Reservoirs prev;
     if (gpu.width() != 0) {
         prev = readReservoirs(gpu);
-        for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, prev[e], *gpu.readTileHeld(e));
+        for (uint32_t e = 0; e < 2; ++e) {
+            ref.setHistory(e, prev[e], *gpu.readTileHeld(e));
+            ref.setSteadyFloor(e, *gpu.readSteadyFloor(e));
+        }
     }
     Status s = app.submit(frameIndex, eyes);
     EXPECT_TRUE(s.ok()) << what << ": " << s.message();

@@ -93,6 +93,7 @@ protected:
                     for (uint32_t e = 0; e < 2; ++e) {
                         prev[e] = *l->comp->readReservoirs(e);
                         l->ref->setHistory(e, prev[e], *l->comp->readTileHeld(e));
+                        l->ref->setSteadyFloor(e, *l->comp->readSteadyFloor(e));
                     }
                 ASSERT_TRUE(l->app->submit(index, eyes).ok());
                 l->ref->step(l->comp->lastParams(), referenceInputs(eyes));
@@ -213,6 +214,7 @@ TEST_F(Retain, AGapBetweenKeptSamplesShowsThemNotTheCandidate) {
     for (uint32_t e = 0; e < 2; ++e) {
         ASSERT_TRUE((*comp)->writeReservoirs(e, packed).ok());
         ref.setHistory(e, packed);
+        ref.setSteadyFloor(e, *(*comp)->readSteadyFloor(e));
     }
     const auto eyes = frameWith(motionImage(0.37f, 0.0f));
     ASSERT_TRUE(app.submit(2, eyes).ok());

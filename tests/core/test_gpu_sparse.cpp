@@ -219,7 +219,10 @@ TEST_F(Sparse, FloorMergeKeepsTheRuleBeforeIt) {
             eyes[e].gaze = {gazeAtPixel(60, 50), true, 1.0f};
         }
         if (f > 1)
-            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *(*b)->readReservoirs(e));
+            for (uint32_t e = 0; e < 2; ++e) {
+                ref.setHistory(e, *(*b)->readReservoirs(e));
+                ref.setSteadyFloor(e, *(*b)->readSteadyFloor(e));
+            }
         ASSERT_TRUE(appA.submit(f, eyes).ok());
         ASSERT_TRUE(appB.submit(f, eyes).ok());
         ref.step((*b)->lastParams(), referenceInputs(eyes));
@@ -285,7 +288,10 @@ TEST_F(Sparse, MotionReachBoundsWhereTheMotionIsRead) {
                 eyes[e].gaze = {test::gazeAtPixel(50, 50, BW, BH, fov) + glm::vec3(0.0f, 0.002f * float(e), 0.0f), true, 1.0f};
             }
             if (f > 1)
-                for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *(*comp)->readReservoirs(e), *(*comp)->readTileHeld(e));
+                for (uint32_t e = 0; e < 2; ++e) {
+                    ref.setHistory(e, *(*comp)->readReservoirs(e), *(*comp)->readTileHeld(e));
+                    ref.setSteadyFloor(e, *(*comp)->readSteadyFloor(e));
+                }
             ASSERT_TRUE(app.submit(f, eyes).ok());
             ref.step((*comp)->lastParams(), referenceInputs(eyes));
             const FrameStats& st = (*comp)->stats();

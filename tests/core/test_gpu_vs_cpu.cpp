@@ -192,6 +192,7 @@ void runAgainstReference(const Case& c, uint32_t W, uint32_t H, int frames, bool
                 ASSERT_TRUE(r.ok());
                 prev[e] = *r;
                 ref.setHistory(e, prev[e], *(*comp)->readTileHeld(e));
+                ref.setSteadyFloor(e, *(*comp)->readSteadyFloor(e));
             }
         }
         Status s = app.submit(uint64_t(f + 1), eyes, c.reversed);

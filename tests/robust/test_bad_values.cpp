@@ -426,7 +426,10 @@ struct SanitizeLane {
         Reservoirs prev;
         if (lane.comp->width() != 0) {
             prev = readReservoirs(*lane.comp);
-            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, prev[e], *lane.comp->readTileHeld(e));
+            for (uint32_t e = 0; e < 2; ++e) {
+                ref.setHistory(e, prev[e], *lane.comp->readTileHeld(e));
+                ref.setSteadyFloor(e, *lane.comp->readSteadyFloor(e));
+            }
         }
         lane.app->write(eyes);
         F f = lane.app->frameEnd(next, eyes);
