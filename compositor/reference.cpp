@@ -111,7 +111,12 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     bool has = !prev.empty() && wrs_taa_reproject(d, s4, mv, i0, i1, f) && hAt(d).w != 0.0f;
                     vec3 hist(0.0f);
                     if (has) {
-                        hist = vec3(wrs_bilinear(hAt(i0), hAt(uvec2(i1.x, i0.y)), hAt(uvec2(i0.x, i1.y)), hAt(i1), f));
+                        const vec4 wx = wrs_catmull_rom(f.x), wy = wrs_catmull_rom(f.y);
+                        for (int j = 0; j < 4; ++j) {
+                            vec3 row(0.0f);
+                            for (int i = 0; i < 4; ++i) row += wx[i] * vec3(hAt(wrs_cubic_tap(i0, ivec2(i, j), s4)));
+                            hist += wy[j] * row;
+                        }
                         has = wrs_finite3(hist);
                     }
                     cur[std::size_t(y) * s4.x + x] = round4(vec4(wrs_taa_step(nb, hist, has, WRS_STEADY_ALPHA), 1.0f));

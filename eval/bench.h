@@ -50,8 +50,8 @@ struct BenchOptions {
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in
     /// every tile).
     bool floorMerge = false;
-    /// CompositorConfig::steadyFloor (--no-steady-floor: the floor level unfiltered over time).
-    bool steadyFloor = true;
+    /// CompositorConfig::steadyFloor (--steady-floor: the floor level filtered over time).
+    bool steadyFloor = false;
     /// Scene `photo` (scenes/photo.h): the image (a file, or grass / wood generated), the head's motion
     /// and its speed in pixels per frame at the view's centre (--photo, --photo-motion, --photo-speed).
     std::string photoImage = "grass";

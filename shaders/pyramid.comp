@@ -177,8 +177,12 @@ void steady_floor(uint eye) {
     bool has = push.pad2 != 0u && wrs_taa_reproject(d, size4, mv, i0, i1, f) && steady_read(prev, eye, d).a != 0.0;
     vec3 hist = vec3(0.0);
     if (has) {
-        hist = wrs_bilinear(steady_read(prev, eye, i0), steady_read(prev, eye, uvec2(i1.x, i0.y)),
-                            steady_read(prev, eye, uvec2(i0.x, i1.y)), steady_read(prev, eye, i1), f).rgb;
+        vec4 wx = wrs_catmull_rom(f.x), wy = wrs_catmull_rom(f.y);
+        for (int j = 0; j < 4; ++j) {
+            vec3 row = vec3(0.0);
+            for (int i = 0; i < 4; ++i) row += wx[i] * steady_read(prev, eye, wrs_cubic_tap(i0, ivec2(i, j), size4)).rgb;
+            hist += wy[j] * row;
+        }
         has = wrs_finite3(hist);
     }
     vec3 c = wrs_taa_step(nb, hist, has, WRS_STEADY_ALPHA);

@@ -23,7 +23,8 @@ layers::Fov wideFov() { return layers::Fov{std::atan(-0.8f), std::atan(0.8f), st
 bool far(uint32_t x, uint32_t y) { return std::hypot(double(x) + 0.5 - kGazeX, double(y) + 0.5 - kGazeY) > 70.0; }
 
 // Texture with energy at 12-20 px wavelengths, above level 4's Nyquist frequency (32 px) but not
-// removed by its 16x16 boxes: it aliases into level 4 and crawls there as it moves, sampled at the shifted pixel centres, scaled in brightness.
+// removed by its 16x16 boxes: it aliases into level 4 and crawls there as it moves, sampled at the shifted pixel
+// centres, scaled in brightness.
 HostImage crawlTexture(float sx, float brightness) {
     HostImage img = HostImage::make(layers::Format::RGBA16F, W, H);
     for (uint32_t y = 0; y < H; ++y)
@@ -122,7 +123,7 @@ TEST_F(SteadyFloor, SteadiesTheFarPeripheryUnderASlowPan) {
         "far periphery, slow pan: change per frame %.4f codes steady, %.4f unfiltered; error %.3f / %.3f codes\n",
         changeOn, changeOff, errorOn, errorOff);
     EXPECT_GT(changeOff, 0.05) << "the pan must make the unfiltered floor crawl for this test to mean anything";
-    // Measured 0.83x: a filter over time takes out the frame-to-frame flicker of the aliased detail,
+    // Measured 0.84x: a filter over time takes out the frame-to-frame flicker of the aliased detail,
     // not the smooth part of its crawl.
     EXPECT_LT(changeOn, 0.9 * changeOff) << "the steady floor must change less from frame to frame";
     EXPECT_LT(errorOn, errorOff * 1.02) << "and must not lose accuracy against the full-rate image there";
@@ -151,6 +152,7 @@ TEST_F(SteadyFloor, GpuMatchesTheReferenceWhileFiltering) {
     cfg.method = Method::Wrs;
     cfg.foveation = FoveationMode::Mip;
     cfg.foveaDeg = 5.0f;
+    cfg.steadyFloor = true;
     auto c = Compositor::create(context(), cfg);
     ASSERT_TRUE(c.ok());
     StereoApp app(**c, W, H, layers::Format::RGBA16F, std::nullopt, layers::Format::RG16F);
@@ -192,6 +194,45 @@ TEST_F(SteadyFloor, GpuMatchesTheReferenceWhileFiltering) {
         }
     }
     EXPECT_LE(maxOutputDiff, 1);
+}
+
+TEST_F(SteadyFloor, SparseRetentionAndMonoViewsKeepTheirGuarantees) {
+    // Sparse and dense retention read the same filtered level 4: the same output bit for bit. With one
+    // view as both eyes the passes run for the left eye, and the right eye's steady floor, which its
+    // next stereo frame reads, is copied from the left's.
+    CompositorConfig cfg;
+    cfg.method = Method::Wrs;
+    cfg.foveation = FoveationMode::Mip;
+    cfg.foveaDeg = 5.0f;
+    cfg.steadyFloor = true;
+    CompositorConfig dense = cfg;
+    dense.sparseRetention = false;
+    auto a = Compositor::create(context(), cfg);
+    auto b = Compositor::create(context(), dense);
+    ASSERT_TRUE(a.ok() && b.ok());
+    HostStereoApp::Options o;
+    o.width = W;
+    o.height = H;
+    o.color = layers::Format::RGBA16F;
+    o.motion = layers::Format::RG16F;
+    o.monoView = true;
+    auto appA = HostStereoApp::create(**a, o);
+    auto appB = HostStereoApp::create(**b, o);
+    ASSERT_TRUE(appA.ok() && appB.ok());
+    for (uint64_t f = 1; f <= 14; ++f) {
+        std::array<EyeSubmission, 2> eyes = panFrame(0.37f * float(f), 0.37f, 1.0f);
+        eyes[1] = eyes[0];
+        ASSERT_TRUE((*appA)->submit(f, f / 90.0, eyes).ok());
+        ASSERT_TRUE((*appB)->submit(f, f / 90.0, eyes).ok());
+        ASSERT_TRUE((*a)->stats().monoViews && (*a)->stats().sparse && (*a)->stats().steadyFloor);
+        const std::string what = "frame " + std::to_string(f);
+        expectSameOutputs(**a, **b, what);
+        auto left = (*a)->readSteadyFloor(0), right = (*a)->readSteadyFloor(1);
+        ASSERT_TRUE(left.ok() && right.ok());
+        ASSERT_FALSE(left->empty());
+        EXPECT_TRUE(*left == *right) << what << ": the right eye's steady floor is the left eye's";
+        if (HasFailure()) return;
+    }
 }
 
 }  // namespace
