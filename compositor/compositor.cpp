@@ -228,7 +228,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     }
     if (pyramid && steadyFloorActive(c)) {
         // Per level-4 texel: its 3x3 neighbourhood (each texel read by nine, once from memory), the
-        // history's bilinear taps (once), one motion texel; the filtered texel out. Then level 4 and
+        // history's 4x4 Catmull-Rom taps (once), one motion texel; the filtered texel out. Then level 4 and
         // the filtered texel in, level 4 out.
         const double motionTexel = in.motionBytes > 0 ? in.motionBytes : 0;
         t.passes.push_back({"steady", level[4] * (2 * kTexel + motionTexel), level[4] * kTexel});
