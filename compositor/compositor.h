@@ -111,7 +111,7 @@ struct CompositorConfig {
     /// filtered over time at its own resolution (16x16 pixels a texel) before any pass samples it, as
     /// TAA filters pixels: reprojected with the motion at each texel's centre, clipped to its 3x3
     /// neighbourhood's variance box (docs/retention.md "The steady floor"). It steadies what the floor
-    /// rule shows under motion (temporal instability 15-37 % lower on pans), as the merge at the floor
+    /// rule shows under motion (temporal instability 3-37 % lower on pans), as the merge at the floor
     /// did, for 1/256 of the pixels' work, but softens the far periphery, and FovVideoVDP scores it
     /// 0.02-0.08 JOD lower than without; off by default.
     bool steadyFloor = false;
