@@ -1117,10 +1117,10 @@ void Compositor::recordMonoCopies(const FramePlan& plan) {
                           VkDeviceSize(plan.tilesPerEye) * 4};
     if (plan.sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
     if (plan.steady) {  // the right eye's steady floor, which its next stereo frame reads
-        const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), gpu::WRS_STEADY_LEVEL);
-        const VkDeviceSize texels = VkDeviceSize(ls.x) * ls.y;
-        const VkDeviceSize first = VkDeviceSize(2) * params_.levels[gpu::WRS_STEADY_LEVEL].w + (1 - steadySlot_) * 2 * texels;
-        const VkBufferCopy sc{first * 8, (first + texels) * 8, texels * 8};
+        const glm::uvec4 l4 = params_.levels[gpu::WRS_STEADY_LEVEL];
+        const VkDeviceSize left = gpu::wrs_steady_offset(l4, 1 - steadySlot_, 0);
+        const VkDeviceSize right = gpu::wrs_steady_offset(l4, 1 - steadySlot_, 1);
+        const VkBufferCopy sc{left * 8, right * 8, VkDeviceSize(l4.x) * l4.y * 8};
         vkCmdCopyBuffer(cb, pyramid_.handle(), pyramid_.handle(), 1, &sc);
     }
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -1219,11 +1219,10 @@ Result<std::vector<float>> Compositor::readTileHeld(uint32_t eye) {
 Result<std::vector<glm::vec4>> Compositor::readSteadyFloor(uint32_t eye) {
     if (eye >= WRS_EYES || !output_) return Error{1, "no steady floor: eye out of range or no frame composited yet"};
     if (!steadyValid_) return std::vector<glm::vec4>{};
-    const glm::uvec2 size0(width_, height_);
-    const glm::uvec2 ls = gpu::wrs_level_size(size0, gpu::WRS_STEADY_LEVEL);
-    const uint64_t texels = uint64_t(ls.x) * ls.y;
-    const uint64_t stored = gpu::wrs_pyramid_texels(size0) - uint64_t(width_) * height_;
-    auto words = readWords(pyramid_, (2 * stored + (steadySlot_ * 2 + eye) * texels) * 2, texels * 2);
+    // The last frame's parameters describe the buffer as it wrote it.
+    const glm::uvec4 l4 = params_.levels[gpu::WRS_STEADY_LEVEL];
+    const uint64_t texels = uint64_t(l4.x) * l4.y;
+    auto words = readWords(pyramid_, uint64_t(gpu::wrs_steady_offset(l4, steadySlot_, eye)) * 2, texels * 2);
     if (!words) return words.error();
     std::vector<glm::vec4> out(texels);
     for (uint64_t i = 0; i < texels; ++i) {

@@ -58,6 +58,9 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             return pyr[wrs_level_offset(size0, level) + q.y * sl.x + q.x];
         };
 
+        // What a texel of the pyramid buffer stores: fp16 RGBA.
+        auto round4 = [](vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); };
+
         // Pass 1: pyramid levels 1..4 (methods wrs and oracle need level 4 for every mode: a box pyramid for `none`).
         if (mode != WRS_FOV_NONE || retain) {
             for (uint level = 1; level < uint(WRS_LEVELS); ++level) {
@@ -78,14 +81,10 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                             r = wrs_binomial_row(rows[0], rows[1], rows[2], rows[3]);
                         }
                         // Stored as fp16 (pyramid.comp), and the next level is built from that.
-                        vec4 t = wrs_pyramid_texel(r, level);
-                        at(level, d) = vec4(wrs_round_f16(t.x), wrs_round_f16(t.y), wrs_round_f16(t.z),
-                                            wrs_round_f16(t.w));
+                        at(level, d) = round4(wrs_pyramid_texel(r, level));
                     }
             }
         }
-        auto round4 = [](vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); };
-
         // Pass 1b: the steady floor (pyramid.comp, FILTER 3): level 4 filtered over time, its alpha
         // (the fingerprint's L*) kept.
         if (steadyFloorActive(config_)) {

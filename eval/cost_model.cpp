@@ -147,14 +147,13 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
                 groups += groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
             }
         }
-        add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, gpu::wrs_first_stored_level(fov)}, groups,
-            bytes("pyramid"));
+        const uint32_t first = gpu::wrs_first_stored_level(fov);
+        add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, first}, groups, bytes("pyramid"));
         if (steadyFloorActive(c)) {  // the steady floor: one invocation per level-4 texel, two phases
             const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(in.width, in.height), gpu::WRS_STEADY_LEVEL);
             const uint64_t g4 = groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
-            add("steady", ShaderId::Pyramid, {3u, gpu::wrs_first_stored_level(fov), hasMotion, 0u}, g4, bytes("steady"));
-            add("steady-copy", ShaderId::Pyramid, {3u, gpu::wrs_first_stored_level(fov), hasMotion, 1u}, g4,
-                bytes("steady-copy"));
+            add("steady", ShaderId::Pyramid, {3u, first, hasMotion, 0u}, g4, bytes("steady"));
+            add("steady-copy", ShaderId::Pyramid, {3u, first, hasMotion, 1u}, g4, bytes("steady-copy"));
         }
     }
     if (!retain) addPixels("foveate", ShaderId::Foveate, {fov, temporal ? 0u : 1u});

@@ -147,7 +147,7 @@ void gauss_level(uint eye, uint level) {
 // Texel d of an eye's level 4 in slot `slot` of the steady history.
 uint steady_index(uint slot, uint eye, uvec2 d) {
     uvec4 l = frame.levels[WRS_STEADY_LEVEL];
-    return 2u * l.w + (slot * 2u + eye) * (l.x * l.y) + d.y * l.x + d.x;
+    return wrs_steady_offset(l, slot, eye) + d.y * l.x + d.x;
 }
 vec4 steady_read(uint slot, uint eye, uvec2 d) { return pyr_unpack(pyramid[steady_index(slot, eye, d)]); }
 

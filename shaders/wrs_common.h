@@ -1232,16 +1232,20 @@ WRS_FN bool wrs_taa_reproject(uvec2 p, uvec2 size, vec3 mv, WRS_OUT(uvec2) i0, W
 // per 16x16 pixels), filtered over time as TAA filters pixels, for the retention methods whose floor
 // rule takes the candidate there. Without it the far periphery shows each frame's 16x16 box averages,
 // which crawl as content moves under them; the merge at the floor smoothed that at the price of
-// retention in every far tile. Filtering 1/256 of the pixels gives the same steadiness without it.
+// retention in every far tile. Filtering 1/256 of the pixels steadies it as much; FovVideoVDP scores
+// both smoothings lower than neither, so it is an option (CompositorConfig::steadyFloor).
 // ---------------------------------------------------------------------------------------------
 
 const uint WRS_STEADY_LEVEL = 4u;  // the floor level of `mip` and `gauss` (quality 1/256)
 // Weight of the current texel. Atrium lateral at 512x384 (150 frames, fovea 5 deg, `mip`): temporal
 // instability 0.00116 unfiltered, 0.00082 / 0.00074 / 0.00066 / 0.00060 at 0.4 / 0.25 / 0.15 / 0.1,
-// near-gaze PSNR -0.013 / -0.018 / -0.022 / -0.026 dB (the filter's lag where level 4 blends in near
-// the gaze); 0.25 keeps that within 0.02 dB.
+// near-gaze PSNR -0.013 / -0.018 / -0.022 / -0.026 dB (with bilinear resampling of the history, where
+// level 4 is seen within 10 deg of the gaze); 0.25 keeps that within 0.02 dB.
 const float WRS_STEADY_ALPHA = 0.25f;
 
+// First texel of an eye's level 4 in slot `slot` (0 or 1) of the steady history, which follows both
+// eyes' stored pyramids in the pyramid buffer; `l4` is level 4's row of FrameParams::levels.
+WRS_FN uint wrs_steady_offset(uvec4 l4, uint slot, uint eye) { return 2u * l4.w + (slot * 2u + eye) * (l4.x * l4.y); }
 // The pixel whose motion moves level-4 texel d: the centre of its 16x16 block, clamped to the image.
 WRS_FN uvec2 wrs_steady_motion_pixel(uvec2 d, uvec2 size0) {
     uint s = 1u << WRS_STEADY_LEVEL;
