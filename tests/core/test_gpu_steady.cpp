@@ -2,10 +2,12 @@
 // filtered over time at its own resolution. Under a slow pan the far periphery then changes less
 // from frame to frame than with each frame's 16x16 box averages, without losing accuracy there; a
 // light change is not smeared over frames (the history is clipped to the new neighbourhood); the
-// GPU matches the CPU reference while it filters.
+// GPU matches the CPU reference while it filters, and non-finite motion or colour leaves every
+// filtered texel finite.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "gpu_checks.h"
 
@@ -54,13 +56,17 @@ struct Lane {
     std::unique_ptr<StereoApp> app;
 };
 
-Lane makeLane(bool steady) {
+CompositorConfig wrsConfig(bool steady) {
     CompositorConfig cfg;
     cfg.method = Method::Wrs;
     cfg.foveation = FoveationMode::Mip;
     cfg.foveaDeg = 5.0f;
     cfg.steadyFloor = steady;
-    auto c = Compositor::create(context(), cfg);
+    return cfg;
+}
+
+Lane makeLane(bool steady) {
+    auto c = Compositor::create(context(), wrsConfig(steady));
     EXPECT_TRUE(c.ok());
     Lane l;
     l.comp = std::move(*c);
@@ -148,21 +154,26 @@ TEST_F(SteadyFloor, ALightChangeIsNotSmearedOverFrames) {
 }
 
 TEST_F(SteadyFloor, GpuMatchesTheReferenceWhileFiltering) {
-    CompositorConfig cfg;
-    cfg.method = Method::Wrs;
-    cfg.foveation = FoveationMode::Mip;
-    cfg.foveaDeg = 5.0f;
-    cfg.steadyFloor = true;
+    const CompositorConfig cfg = wrsConfig(true);
     auto c = Compositor::create(context(), cfg);
     ASSERT_TRUE(c.ok());
     StereoApp app(**c, W, H, layers::Format::RGBA16F, std::nullopt, layers::Format::RG16F);
     Reference ref(cfg);
     int maxOutputDiff = 0;
     for (uint64_t f = 1; f <= 12; ++f) {
-        // A pan, a light change, then a pan the other way.
+        // A pan, a light change, then a pan the other way; on frame 10, non-finite motion at the
+        // pixels two level-4 texels take their motion from, and a non-finite colour.
         const float speed = f <= 8 ? 0.37f : -0.6f;
         const float shift = 0.37f * float(std::min<uint64_t>(f, 8)) - 0.6f * float(f > 8 ? f - 8 : 0);
-        const auto eyes = panFrame(shift, speed, f == 6 ? 0.7f : 1.0f);
+        auto eyes = panFrame(shift, speed, f == 6 ? 0.7f : 1.0f);
+        if (f == 10) {
+            const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+            for (EyeFrame& e : eyes) {
+                e.motion->store(24, 8, glm::vec4(nan, nan, 0.0f, 0.0f));
+                e.motion->store(40, 24, glm::vec4(inf, -inf, 0.0f, 0.0f));
+                e.color.store(100, 60, glm::vec4(nan, inf, -inf, 1.0f));
+            }
+        }
         // The reference steps from the GPU's history: reservoirs, held qualities and steady floor.
         if (f > 1)
             for (uint32_t e = 0; e < 2; ++e) {
@@ -178,6 +189,9 @@ TEST_F(SteadyFloor, GpuMatchesTheReferenceWhileFiltering) {
             const std::vector<glm::vec4>& cpu = ref.steadyFloor(e);
             ASSERT_EQ(gpu->size(), cpu.size());
             ASSERT_FALSE(cpu.empty());
+            for (const glm::vec4& t : *gpu)
+                ASSERT_TRUE(std::isfinite(t.x) && std::isfinite(t.y) && std::isfinite(t.z) && std::isfinite(t.w))
+                    << "frame " << f;
             int differ = 0;
             for (std::size_t i = 0; i < cpu.size(); ++i) {
                 const glm::vec4 d = glm::abs((*gpu)[i] - cpu[i]);
@@ -200,11 +214,7 @@ TEST_F(SteadyFloor, SparseRetentionAndMonoViewsKeepTheirGuarantees) {
     // Sparse and dense retention read the same filtered level 4: the same output bit for bit. With one
     // view as both eyes the passes run for the left eye, and the right eye's steady floor, which its
     // next stereo frame reads, is copied from the left's.
-    CompositorConfig cfg;
-    cfg.method = Method::Wrs;
-    cfg.foveation = FoveationMode::Mip;
-    cfg.foveaDeg = 5.0f;
-    cfg.steadyFloor = true;
+    const CompositorConfig cfg = wrsConfig(true);
     CompositorConfig dense = cfg;
     dense.sparseRetention = false;
     auto a = Compositor::create(context(), cfg);
