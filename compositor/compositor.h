@@ -406,9 +406,10 @@ private:
     void stamp(const FramePlan& plan, uint32_t i);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
     void recordHistoryStart(const FramePlan& plan);
-    /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention).
+    /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention). Its
+    /// last dispatch and the pyramid's first have no barrier between them: the GPU may overlap them.
     void recordClassify(const FramePlan& plan);
-    /// Pass 1: pyramid levels 1..4.
+    /// Pass 1: pyramid levels 1..4; its last barrier also publishes pass 0's lists.
     void recordPyramid(const FramePlan& plan);
     /// Pass 1b: the steady floor (level 4 filtered over time), after the pyramid.
     void recordSteadyFloor(const FramePlan& plan);
