@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -440,7 +441,11 @@ Status Compositor::init() {
     VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
     frameFence_ = vk::Fence(dev, fence);
     if (!ctx_.halfProbe()) ctx_.setHalfProbe(probeHardwareHalf());
-    hardwareHalf_ = config_.hardwareHalf && *ctx_.halfProbe();
+    // WRSFOV_HARDWARE_HALF=0 keeps the hand conversion whatever the probe found: the check for a
+    // driver whose passes differ with its own conversion though the probe passed (docs/speed.md,
+    // "GPU against the CPU reference on an NVIDIA H200").
+    const char* forced = std::getenv("WRSFOV_HARDWARE_HALF");
+    hardwareHalf_ = config_.hardwareHalf && *ctx_.halfProbe() && !(forced && std::string_view(forced) == "0");
     return {};
 }
 
