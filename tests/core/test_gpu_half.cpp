@@ -1,6 +1,10 @@
 // fp16 storage with the device's own conversion (CompositorConfig::hardwareHalf): where the probe
 // found it giving the hand conversion's bits (round to nearest even), every pass stores the same bits
 // with it as without it, for every method, mode and input kind.
+#include <cstdlib>
+#include <string>
+#include <string_view>
+
 #include "gpu_checks.h"
 
 namespace wrsfov::test {
@@ -24,6 +28,8 @@ TEST_F(HardwareHalf, SameBitsAsTheHandConversion) {
             auto b = Compositor::create(context(), byHand);
             ASSERT_TRUE(a.ok() && b.ok());
             EXPECT_FALSE((*b)->usesHardwareHalf());
+            if (const char* forced = std::getenv("WRSFOV_HARDWARE_HALF"); forced && std::string_view(forced) == "0")
+                GTEST_SKIP() << "WRSFOV_HARDWARE_HALF=0: the hand conversion only";
             if (!(*a)->usesHardwareHalf()) {
                 // LLVM (lavapipe) converts with round to nearest even: the probe must find it exact there.
                 ASSERT_FALSE(context().isCpuDevice()) << "the probe refused lavapipe's fp16 conversion";
@@ -51,6 +57,24 @@ TEST_F(HardwareHalf, SameBitsAsTheHandConversion) {
             }
         }
     EXPECT_EQ(compared, 5 * 3 * 4);
+}
+
+// WRSFOV_HARDWARE_HALF=0 keeps the hand conversion whatever the probe found; unset, the probe decides.
+TEST_F(HardwareHalf, EnvironmentCanForceTheHandConversion) {
+    const char* before = std::getenv("WRSFOV_HARDWARE_HALF");
+    const std::string saved = before ? before : "";
+    setenv("WRSFOV_HARDWARE_HALF", "0", 1);
+    auto forced = Compositor::create(context(), CompositorConfig{});
+    unsetenv("WRSFOV_HARDWARE_HALF");
+    auto free = Compositor::create(context(), CompositorConfig{});
+    if (before) setenv("WRSFOV_HARDWARE_HALF", saved.c_str(), 1);
+    ASSERT_TRUE(forced.ok() && free.ok());
+    EXPECT_FALSE((*forced)->usesHardwareHalf());
+    ASSERT_TRUE(context().halfProbe().has_value());
+    EXPECT_EQ((*free)->usesHardwareHalf(), *context().halfProbe());
+    if (context().isCpuDevice()) {
+        EXPECT_TRUE((*free)->usesHardwareHalf()) << "lavapipe's conversion passes the probe";
+    }
 }
 
 }  // namespace
