@@ -7,13 +7,13 @@
 // writes the largest held quality of its tiles, so that phase 0 reads a tile's motion only where a
 // sample sharper than the floor is within the motion reach (docs/retention.md "Motion reach").
 //
-// The reductions below (a max of held qualities, the range of a tile's motion) read their words in
-// rows of fixed length, unrolled, with indices clamped to the last valid one (max and min are
-// unchanged by a repeated element), so that the loads of a row are independent and issue together.
-// Read one at a time they made a chain of up to ~200 dependent memory latencies per invocation; on
-// an NVIDIA H200 reach + classify took a fixed ~85 us per frame at 2x512^2 and 2x1024^2 alike
-// (docs/speed.md "On a GPU"). Phase 1 reads its 8x8 tiles fully unrolled; a tile's motion is read
-// a row of 8 texels at a time.
+// The two long reductions below (phase 1's max over a superblock's 8x8 tiles, a tile's motion range
+// over its 8x8 pixels) read in unrolled rows with indices clamped to the last valid one (max and min
+// are unchanged by a repeated element), so that the loads of a row are independent and issue
+// together. Read one at a time they made chains of 64 dependent memory latencies; on an NVIDIA H200
+// reach + classify took a fixed ~85 us per frame at 2x512^2 and 2x1024^2 alike (docs/speed.md "On a
+// GPU"). The reach and source loops read a few words (a few superblocks, at most 16 tiles) and stay
+// plain loops. On lavapipe, which computes rather than waits, the unrolled rows cost ~3 % of `wrs`.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -23,8 +23,6 @@ layout(constant_id = 0) const uint FOV_MODE = 1u;
 layout(constant_id = 1) const bool SPARSE = false;
 layout(constant_id = 2) const bool HAS_MOTION = false;
 layout(constant_id = 3) const uint PHASE = 0u;
-// Words a row of the reach and source reductions reads at once (their rows are a few words long).
-const uint WRS_ROW = 4u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 // The largest held quality among the tiles tile t's tracked lookups can read (wrs_tile_sources),
@@ -40,9 +38,7 @@ float source_held(uint eye, uvec2 t) {
     if ((b1.x - b0.x + 1u) * (b1.y - b0.y + 1u) <= WRS_REACH_BLOCKS_MAX) {
         float near = 0.0;
         for (uint y = b0.y; y <= b1.y; ++y)
-            for (uint x0 = b0.x; x0 <= b1.x; x0 += WRS_ROW)
-                [[unroll]] for (uint i = 0u; i < WRS_ROW; ++i)
-                    near = max(near, uintBitsToFloat(tile_held[superblock_word(eye, uvec2(min(x0 + i, b1.x), y))]));
+            for (uint x = b0.x; x <= b1.x; ++x) near = max(near, uintBitsToFloat(tile_held[superblock_word(eye, uvec2(x, y))]));
         if (near <= frame.tuning.w) return near;
     }
     atomicAdd(tile_args[WRS_TILE_SKIP].w, 1u);  // tiles whose motion was read (FrameStats::motionTiles)
@@ -62,8 +58,7 @@ float source_held(uint eye, uvec2 t) {
     if ((s1.x - s0.x + 1u) * (s1.y - s0.y + 1u) > WRS_SOURCE_TILES_MAX) return 1.0;
     float held = 0.0;
     for (uint y = s0.y; y <= s1.y; ++y)
-        for (uint x0 = s0.x; x0 <= s1.x; x0 += WRS_ROW)
-            [[unroll]] for (uint i = 0u; i < WRS_ROW; ++i) held = max(held, held_prev(eye, uvec2(min(x0 + i, s1.x), y)));
+        for (uint x = s0.x; x <= s1.x; ++x) held = max(held, held_prev(eye, uvec2(x, y)));
     return held;
 }
 
