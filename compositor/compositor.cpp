@@ -155,6 +155,13 @@ Status checkConfig(const CompositorConfig& c) {
 
 }  // namespace
 
+// The check for a driver whose passes differ with its own conversion though the probe passed
+// (docs/speed.md, "GPU against the CPU reference on an NVIDIA H200").
+bool handHalfForced() {
+    const char* v = std::getenv("WRSFOV_HARDWARE_HALF");
+    return v && std::string_view(v) == "0";
+}
+
 uint32_t retainRule(const CompositorConfig& c) {
     if (c.method == Method::Oracle) return gpu::WRS_RULE_ORACLE;
     if (c.method == Method::OracleQ) return gpu::WRS_RULE_ORACLE_Q;
@@ -441,11 +448,7 @@ Status Compositor::init() {
     VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
     frameFence_ = vk::Fence(dev, fence);
     if (!ctx_.halfProbe()) ctx_.setHalfProbe(probeHardwareHalf());
-    // WRSFOV_HARDWARE_HALF=0 keeps the hand conversion whatever the probe found: the check for a
-    // driver whose passes differ with its own conversion though the probe passed (docs/speed.md,
-    // "GPU against the CPU reference on an NVIDIA H200").
-    const char* forced = std::getenv("WRSFOV_HARDWARE_HALF");
-    hardwareHalf_ = config_.hardwareHalf && *ctx_.halfProbe() && !(forced && std::string_view(forced) == "0");
+    hardwareHalf_ = config_.hardwareHalf && *ctx_.halfProbe() && !handHalfForced();
     return {};
 }
 

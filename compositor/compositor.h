@@ -123,6 +123,9 @@ struct CompositorConfig {
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
 uint32_t retainRule(const CompositorConfig& c);
+/// True where the environment sets WRSFOV_HARDWARE_HALF=0: every compositor then stores fp16 with the
+/// hand conversion, whatever CompositorConfig::hardwareHalf and the probe say.
+bool handHalfForced();
 /// The floor rule's quality of a config (wrs_rule_floor; 0 for methods without the retain pass).
 float floorQuality(const CompositorConfig& c);
 /// Whether frames with config `c` run sparse retention (CompositorConfig::sparseRetention and what it needs).

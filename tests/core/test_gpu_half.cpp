@@ -3,7 +3,6 @@
 // with it as without it, for every method, mode and input kind.
 #include <cstdlib>
 #include <string>
-#include <string_view>
 
 #include "gpu_checks.h"
 
@@ -28,8 +27,7 @@ TEST_F(HardwareHalf, SameBitsAsTheHandConversion) {
             auto b = Compositor::create(context(), byHand);
             ASSERT_TRUE(a.ok() && b.ok());
             EXPECT_FALSE((*b)->usesHardwareHalf());
-            if (const char* forced = std::getenv("WRSFOV_HARDWARE_HALF"); forced && std::string_view(forced) == "0")
-                GTEST_SKIP() << "WRSFOV_HARDWARE_HALF=0: the hand conversion only";
+            if (handHalfForced()) GTEST_SKIP() << "WRSFOV_HARDWARE_HALF=0: the hand conversion only";
             if (!(*a)->usesHardwareHalf()) {
                 // LLVM (lavapipe) converts with round to nearest even: the probe must find it exact there.
                 ASSERT_FALSE(context().isCpuDevice()) << "the probe refused lavapipe's fp16 conversion";
@@ -64,8 +62,10 @@ TEST_F(HardwareHalf, EnvironmentCanForceTheHandConversion) {
     const char* before = std::getenv("WRSFOV_HARDWARE_HALF");
     const std::string saved = before ? before : "";
     setenv("WRSFOV_HARDWARE_HALF", "0", 1);
+    EXPECT_TRUE(handHalfForced());
     auto forced = Compositor::create(context(), CompositorConfig{});
     unsetenv("WRSFOV_HARDWARE_HALF");
+    EXPECT_FALSE(handHalfForced());
     auto free = Compositor::create(context(), CompositorConfig{});
     if (before) setenv("WRSFOV_HARDWARE_HALF", saved.c_str(), 1);
     ASSERT_TRUE(forced.ok() && free.ok());
