@@ -532,17 +532,18 @@ double Compositor::timeCopy(uint64_t bytes) {
 }
 
 VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstants) {
-    // Constants 0..6 are the pass's; 7 (HARDWARE_HALF, bindings.glsl) is every pass's.
-    std::array<uint32_t, 8> constants{};
+    // Constants 0..6 are the pass's; 7 (HARDWARE_HALF) and 8 (TRACK_BIRTH, bindings.glsl) every pass's.
+    std::array<uint32_t, 9> constants{};
     std::copy(passConstants.begin(), passConstants.end(), constants.begin());
     constants[7] = hardwareHalf_;
-    std::array<uint32_t, 9> key{uint32_t(shader)};
+    constants[8] = birthAllocated_;
+    std::array<uint32_t, 10> key{uint32_t(shader)};
     std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second.get();
-    VkSpecializationMapEntry entries[8];
-    for (uint32_t i = 0; i < 8; ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-    VkSpecializationInfo spec{8, entries, sizeof(constants), constants.data()};
+    VkSpecializationMapEntry entries[std::tuple_size_v<decltype(constants)>];
+    for (uint32_t i = 0; i < constants.size(); ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{uint32_t(constants.size()), entries, sizeof(constants), constants.data()};
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -316,7 +316,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     // As retain.comp: a kept sample shows the tent-weighted mean of the tracked
                     // samples of its quality (wrs_shown_add); the oracle judges that.
                     vec3 h_shown = has_history && c.moved
-                                       ? wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, h, c.z, dz,
+                                       ? wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, h, c.z, dz,
                                                          params.tuning.y)
                                        : h.color;
                     float rnd = wrs_rand(x, y, eye, frame, seed);
@@ -340,11 +340,11 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec2 dg;
                     uvec2 qg;
                     const bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(rule) &&
-                                     wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, dg, qg) &&
+                                     wrs_track_gap(ts, hg, dg, qg) &&
                                      !(hasDepth && wrs_depth_flush(hg.z, c.z, dz, params.tuning.y)) &&
                                      wrs_gap_shows(hg, c);
                     if (gap)
-                        shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size0, pos, hg, c.z,
+                        shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, hg, c.z,
                                                                dz, params.tuning.y),
                                                c.lo, c.hi, mode != WRS_FOV_NONE && uint(lv.x) == 0u);
                     t.gapShown = gap;

@@ -113,11 +113,11 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     auto bytes = [&](std::string_view pass) { return bytesOf(t, pass); };
     const uint64_t whole = groupsOf(in.width, WRS_GROUP_X) * groupsOf(in.height, WRS_GROUP_Y) * eyes;
     std::vector<PipelineVariant> v;
-    auto add = [&](const char* pass, ShaderId s, std::array<uint32_t, 8> k, uint64_t groups, double bpp) {
+    auto add = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k, uint64_t groups, double bpp) {
         v.push_back({pass, s, k, kWholeImage, groups, WRS_GROUP_X * WRS_GROUP_Y, bpp});
     };
     // A per-pixel pass: one dispatch, or one indirect dispatch per tile class (class in constant 5).
-    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 8> k) {
+    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k) {
         if (!tiled) return add(pass, s, k, whole, bytes(pass));
         for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
             k[5] = 1 + cls;
@@ -170,7 +170,11 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     // Constant 7 (HARDWARE_HALF) of every pass: the device's fp16 conversion, which the compositor uses
     // where its probe finds round to nearest even, as AMD's v_cvt_f16_f32 does in the default mode (the
     // null device runs nothing, so the probe cannot run there).
-    for (PipelineVariant& x : v) x.constants[7] = 1;
+    // Constant 8 (TRACK_BIRTH): the stale-pixel evaluation's birth colours, where the configuration tracks them.
+    for (PipelineVariant& x : v) {
+        x.constants[7] = 1;
+        x.constants[8] = c.trackBirth ? 1u : 0u;
+    }
     return v;
 }
 

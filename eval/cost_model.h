@@ -37,7 +37,7 @@ std::string tileClassName(int tileClass);
 struct PipelineVariant {
     std::string pass;  ///< traffic()'s name of the pass ("classify", which traffic() leaves out, has none)
     ShaderId shader = ShaderId::Foveate;
-    std::array<uint32_t, 8> constants{};  ///< specialisation constants 0..7, as Compositor::pipeline binds them
+    std::array<uint32_t, 9> constants{};  ///< specialisation constants 0..8, as Compositor::pipeline binds them
     int tileClass = kWholeImage;          ///< gpu::WRS_TILE_*: the indirect dispatch of one class's tiles
     /// kWholeImage: workgroups of all the pass's dispatches of one frame (both eyes). A tile class: 0
     /// (one group per tile of the class, from the cell's tile shares).
@@ -57,7 +57,7 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& config, co
 /// A pipeline to compile: shader and specialisation constants. Text form "retain:1,1,1,0,0,2".
 struct VariantKey {
     ShaderId shader = ShaderId::Foveate;
-    std::array<uint32_t, 8> constants{};
+    std::array<uint32_t, 9> constants{};
     auto operator<=>(const VariantKey&) const = default;
 };
 std::string toString(const VariantKey& k);

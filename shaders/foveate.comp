@@ -41,7 +41,7 @@ void main() {
     if (WRITE_OUTPUT) {
         store_output(eye, p, c.rgb);
         // A skipped tile shows its candidate, taken now (the stale-pixel evaluation's birth colour).
-        if (TILE == 1u + WRS_TILE_SKIP && frame.tuning.z != 0.0) birth_cur[pixel_index(eye, p)] = vec4(level0.rgb, 0.0);
+        if (TILE == 1u + WRS_TILE_SKIP && TRACK_BIRTH) birth_cur[pixel_index(eye, p)] = vec4(level0.rgb, 0.0);
     } else {
         candidate[pixel_index(eye, p)] = vec4(c.rgb, w);
     }

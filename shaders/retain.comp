@@ -112,7 +112,7 @@ float retain_pixel(uint eye, uvec2 p) {
     bool show_mean = has_history && c.moved;
     vec3 h_shown = h.color;
     if (wrs_rule_is_oracle(RULE) && show_mean)
-        h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, h, c.z, dz, frame.tuning.y);
+        h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, h, c.z, dz, frame.tuning.y);
     float rnd = wrs_rand(p.x, p.y, eye, frame.size.z, frame.size.w);
     uint outcome;
     float margin;
@@ -126,19 +126,19 @@ float retain_pixel(uint eye, uvec2 p) {
     vec2 dg;
     uvec2 qg = q;
     bool gap = !found && c.moved && on_screen && !wrs_rule_is_oracle(RULE) &&
-               wrs_track_gap(tap[0], tap[1], tap[2], tap[3], base, size, pos, hg, dg, qg) &&
+               wrs_track_gap(ts, hg, dg, qg) &&
                !(HAS_DEPTH && wrs_depth_flush(hg.z, c.z, dz, frame.tuning.y)) && wrs_gap_shows(hg, c);
     bool kept = outcome == WRS_OUT_KEPT || gap;
     if (!wrs_rule_is_oracle(RULE) && kept) {
         Tracked hs = gap ? hg : h;
-        if (show_mean || gap) h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, size, pos, hs, c.z, dz, frame.tuning.y);
+        if (show_mean || gap) h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, hs, c.z, dz, frame.tuning.y);
         h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
     }
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
     vec3 shown = kept ? h_shown : r.color;
     store_output(eye, p, shown);
-    if (frame.tuning.z != 0.0) {
+    if (TRACK_BIRTH) {
         vec4 b = vec4(ref.rgb, 0.0);
         vec4 hb = birth_prev[pixel_index(eye, q)];
         if (outcome == WRS_OUT_KEPT) b = hb;

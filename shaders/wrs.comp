@@ -38,6 +38,6 @@ void main() {
     Reservoir r = wrs_combine(has_history, hist, cand.rgb, cand.a, z_cur, rnd, CHANGE_METRIC, BERNOULLI, keep);
     res_cur[idx] = wrs_pack(r);
     store_output(eye, p, r.color);
-    if (frame.tuning.z != 0.0)
+    if (TRACK_BIRTH)
         birth_cur[idx] = keep ? birth_prev[pixel_index(eye, q)] : vec4(load_color(eye, p).rgb, 0.0);
 }

@@ -774,13 +774,16 @@ WRS_FN bool wrs_packed_tracked_valid(uvec4 p) {
 // The 2x2 lookup, fed one tap at a time (wrs_track_consider), then read (wrs_track_end): the best
 // sample inside the footprint, else the best near it (snapped onto the footprint's edge). Candidates
 // are kept packed, and only their quality and offset unpacked, until the one taken is unpacked once.
+// Outside the footprint one tap is kept: the best near one, else the best within a pixel per axis
+// (the gap's sample, wrs_track_gap), so a near tap always displaces a gap's.
 struct TrackState {
     bool has_inside;
     uvec4 h;
     float hq;
     vec2 d;
     uvec2 q;
-    bool has_near;
+    bool has_outer;  // a tap within a pixel per axis outside the footprint
+    bool has_near;   // ... and it is near (wrs_track_near)
     uvec4 hn;
     float hnq;
     vec2 dn;
@@ -793,6 +796,7 @@ WRS_FN TrackState wrs_track_begin(uvec2 p) {
     s.hq = 0.0f;
     s.d = vec2(0.0f, 0.0f);
     s.q = p;
+    s.has_outer = false;
     s.has_near = false;
     s.hn = s.h;
     s.hnq = 0.0f;
@@ -812,13 +816,18 @@ WRS_FN void wrs_track_consider(WRS_INOUT(TrackState) s, uvec4 pk, uvec2 qk, vec2
         s.hq = qual;
         s.d = dk;
         s.q = qk;
-    } else if (wrs_track_near(dk) && (!s.has_near || wrs_track_prefer(qual, dk, s.hnq, s.dn))) {
-        s.has_near = true;
-        s.hn = pk;
-        s.hnq = qual;
-        s.dn = dk;
-        s.qn = qk;
+        return;
     }
+    bool is_near = wrs_track_near(dk);
+    if (!(abs(dk.x) < 1.0f && abs(dk.y) < 1.0f)) return;
+    // The same tier as the tap held: the preferred one; a near tap over a gap's; never a gap's over a near.
+    if (s.has_outer && (is_near == s.has_near ? !wrs_track_prefer(qual, dk, s.hnq, s.dn) : !is_near)) return;
+    s.has_outer = true;
+    s.has_near = is_near;
+    s.hn = pk;
+    s.hnq = qual;
+    s.dn = dk;
+    s.qn = qk;
 }
 // The history found (false: none; then h is all-zero, d = 0 and q the pixel itself), its offset
 // and the pixel it was stored at.
@@ -837,37 +846,16 @@ WRS_FN bool wrs_track_end(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS
 // tap within a pixel per axis (the higher quality first, as wrs_track_prefer). For display only: the
 // pixel stores its candidate as before (a sample moved a whole pixel onto the footprint would be
 // misplaced by half a pixel from then on), and shows the kept neighbourhood (wrs_shown_color) where
-// the retention rule would keep that sample.
-WRS_FN void wrs_track_gap_consider(WRS_INOUT(bool) found, WRS_INOUT(uvec4) best, WRS_INOUT(float) bq, WRS_INOUT(vec2) bd,
-                                   WRS_INOUT(uvec2) bqk, uvec4 pk, ivec2 base, uint k, uvec2 size, vec2 pos) {
-    uvec2 qk;
-    if (!wrs_track_tap(base, k, size, qk) || !wrs_packed_tracked_valid(pk)) return;
-    vec2 dk = wrs_track_offset(qk, wrs_packed_offset(pk), pos);
-    if (!(abs(dk.x) < 1.0f && abs(dk.y) < 1.0f)) return;
-    float qual = wrs_packed_quality(pk);
-    if (found && !wrs_track_prefer(qual, dk, bq, bd)) return;
-    found = true;
-    best = pk;
-    bq = qual;
-    bd = dk;
-    bqk = qk;
-}
-// The gap's sample (h, its offset snapped onto the footprint as wrs_track_end does, and the pixel it
-// was stored at); false when no valid tap lies within a pixel.
-WRS_FN bool wrs_track_gap(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, uvec2 size, vec2 pos,
-                          WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS_OUT(uvec2) q) {
-    bool found = false;
-    uvec4 best = uvec4(0u, 0u, 0u, 0u);
-    float bq = 0.0f;
-    vec2 bd = vec2(0.0f, 0.0f);
-    q = uvec2(0u, 0u);
-    wrs_track_gap_consider(found, best, bq, bd, q, t0, base, 0u, size, pos);
-    wrs_track_gap_consider(found, best, bq, bd, q, t1, base, 1u, size, pos);
-    wrs_track_gap_consider(found, best, bq, bd, q, t2, base, 2u, size, pos);
-    wrs_track_gap_consider(found, best, bq, bd, q, t3, base, 3u, size, pos);
-    h = wrs_unpack_tracked(best);
-    d = wrs_track_snap(bd);
-    return found;
+// the retention rule would keep that sample. Returns the gap's sample (h, its offset snapped onto the
+// footprint as wrs_track_end does, and the pixel it was stored at); false when no valid tap lies within
+// a pixel. wrs_track_consider gathers it in the same pass over the taps as the lookup (the outer tap
+// when none is near); it is meaningful only where wrs_track_end found nothing: then no valid tap
+// within a pixel was inside or near, and the outer tap is the best of them.
+WRS_FN bool wrs_track_gap(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS_OUT(uvec2) q) {
+    h = wrs_unpack_tracked(s.hn);
+    d = wrs_track_snap(s.dn);
+    q = s.qn;
+    return s.has_outer;
 }
 
 // Display of a kept sample under motion (docs/retention.md "Display"). The tracked samples of the
@@ -891,19 +879,17 @@ WRS_FN vec3 wrs_shown_end(vec4 acc, vec3 kept) {
     return acc.w > 0.0f ? vec3(acc.x / acc.w, acc.y / acc.w, acc.z / acc.w) : kept;
 }
 // The shown colour of the kept sample h from the packed taps t0..t3 of the 2x2 lookup at `base`
-// (all-zero where a tap was not read), as the shader and the CPU reference both compute it.
-WRS_FN vec3 wrs_shown_color(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, uvec2 size, vec2 pos, Tracked h,
+// (all-zero where a tap was not read), as the shader and the CPU reference both compute it. A tap off
+// the screen was not read, so it fails wrs_shown_add's validity test before its pixel is used: the
+// pixels are base + (k & 1, k >> 1) unclamped (wrs_track_tap clamps; `size` is not needed).
+WRS_FN vec3 wrs_shown_color(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, vec2 pos, Tracked h,
                             float z_cur, float dz, float tau) {
     vec4 acc = vec4(0.0f, 0.0f, 0.0f, 0.0f);
-    uvec2 qk;
-    wrs_track_tap(base, 0u, size, qk);
-    wrs_shown_add(acc, t0, qk, pos, h.q, z_cur, dz, tau);
-    wrs_track_tap(base, 1u, size, qk);
-    wrs_shown_add(acc, t1, qk, pos, h.q, z_cur, dz, tau);
-    wrs_track_tap(base, 2u, size, qk);
-    wrs_shown_add(acc, t2, qk, pos, h.q, z_cur, dz, tau);
-    wrs_track_tap(base, 3u, size, qk);
-    wrs_shown_add(acc, t3, qk, pos, h.q, z_cur, dz, tau);
+    uvec2 b = uvec2(base);  // modular for a negative base: only read for on-screen taps
+    wrs_shown_add(acc, t0, b, pos, h.q, z_cur, dz, tau);
+    wrs_shown_add(acc, t1, b + uvec2(1u, 0u), pos, h.q, z_cur, dz, tau);
+    wrs_shown_add(acc, t2, b + uvec2(0u, 1u), pos, h.q, z_cur, dz, tau);
+    wrs_shown_add(acc, t3, b + uvec2(1u, 1u), pos, h.q, z_cur, dz, tau);
     return wrs_shown_end(acc, h.color);
 }
 

@@ -1024,20 +1024,27 @@ TEST(TrackedLookup, AGapBetweenUnevenlyDriftedSamplesShowsTheNearest) {
     vec2 d;
     uvec2 q;
     EXPECT_FALSE(wrs_track_end(ts, h, d, q)) << "nothing within the fallback's reach to store";
-    ASSERT_TRUE(wrs_track_gap(taps[0], taps[1], taps[2], taps[3], base, size, pos, h, d, q)) << "a sample to show";
+    ASSERT_TRUE(wrs_track_gap(ts, h, d, q)) << "a sample to show";
     EXPECT_EQ(q, uvec2(247u, 178u)) << "the nearest: 0.76 px to the right";
     EXPECT_NEAR(h.color.x, 0.2f, 1e-3f);
     EXPECT_TRUE(wrs_track_inside(d));
     // What is shown: the tent mean of the samples of its quality around the centre, here the two on
     // either side of the gap (weights 1 - 0.76 and 1 - 0.87, the lower row a pixel down: weight 0).
-    const vec3 shown = wrs_shown_color(taps[0], taps[1], taps[2], taps[3], base, size, pos, h, 0.0f, 0.0f, 0.05f);
+    const vec3 shown = wrs_shown_color(taps[0], taps[1], taps[2], taps[3], base, pos, h, 0.0f, 0.0f, 0.05f);
     const float w0 = 1.0f - 0.8701172f, w1 = 1.0f - 0.7598f;
     EXPECT_NEAR(shown.x, (0.1f * w0 + 0.2f * w1) / (w0 + w1), 2e-3f);
     // Nothing from farther than a pixel on either axis.
     Tracked t = tracked(vec3(0.5f), 1.0f, 40.0f);
     t.d = vec2(0.49f, 0.49f);
     const uvec4 far = wrs_pack_tracked(t, vec2(0.5f));  // at tap 3: 1.12 px right, 1.49 px down
-    EXPECT_FALSE(wrs_track_gap(uvec4(0u), uvec4(0u), uvec4(0u), far, base, size, pos, h, d, q));
+    TrackState lone = wrs_track_begin(p);
+    for (uint k = 0; k < 4u; ++k) {
+        uvec2 qk;
+        ASSERT_TRUE(wrs_track_tap(base, k, size, qk));
+        wrs_track_consider(lone, k == 3u ? far : uvec4(0u), qk, pos);
+    }
+    EXPECT_FALSE(wrs_track_end(lone, h, d, q));
+    EXPECT_FALSE(wrs_track_gap(lone, h, d, q));
 }
 
 TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
@@ -1062,6 +1069,7 @@ TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
         wrs_track_consider(a, p, q, pos);
         wrs_track_consider(b, fresh, q, pos);
         EXPECT_EQ(a.has_inside, b.has_inside);
+        EXPECT_EQ(a.has_outer, b.has_outer);
         EXPECT_EQ(a.has_near, b.has_near);
         EXPECT_EQ(a.d, b.d);
         EXPECT_EQ(a.dn, b.dn);

@@ -159,17 +159,17 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     // classify {mode, sparse, motion, phase} (phase 1: the superblocks of the motion reach), the skip
     // list's foveate {mode, output, -, -, -, 1 + skip}.
     const auto wrs = pipelineVariants(config(Method::Wrs), kAtrium);
-    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 8>{1, 1, 1, 1, 0, 0, 0, 1}));
-    EXPECT_EQ(wrs[1].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 0, 0, 1}));
-    EXPECT_EQ(wrs[3].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 1, 1, 1}));
-    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 8>{1, 1, 1, 0, 0, 4, 1, 1}));
-    EXPECT_EQ(wrs[7].constants, (std::array<uint32_t, 8>{1, 1, 0, 0, 0, 5, 0, 1}));
+    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 9>{1, 1, 1, 1, 0, 0, 0, 1, 0}));
+    EXPECT_EQ(wrs[1].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 0, 0, 1, 0}));
+    EXPECT_EQ(wrs[3].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 1, 1, 1, 0}));
+    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 4, 1, 1, 0}));
+    EXPECT_EQ(wrs[7].constants, (std::array<uint32_t, 9>{1, 1, 0, 0, 0, 5, 0, 1, 0}));
     // 64 x 64 tiles per eye at 512 px: 8 x 8 superblocks, one 8 x 8 group per eye.
     EXPECT_EQ(wrs[0].groups, 2u);
     const auto still = pipelineVariants(config(Method::Wrs), {512, 512, 4, 4, 0});
-    EXPECT_EQ(still[2].constants, (std::array<uint32_t, 8>{0, 1, 1, 0, 1, 1, 1, 1})) << "no motion: in place";
+    EXPECT_EQ(still[2].constants, (std::array<uint32_t, 9>{0, 1, 1, 0, 1, 1, 1, 1, 0})) << "no motion: in place";
     EXPECT_EQ(pipelineVariants(config(Method::Fov), kAtrium)[2].constants,
-              (std::array<uint32_t, 8>{1, 1, 0, 0, 0, 1, 0, 1}));
+              (std::array<uint32_t, 9>{1, 1, 0, 0, 0, 1, 0, 1, 0}));
     CompositorConfig noSkip = config(Method::Wrs);
     noSkip.skipTiles = false;
     EXPECT_EQ(names(pipelineVariants(noSkip, kAtrium)), (V{"pyramid/whole", "retain/whole"}));
@@ -217,7 +217,7 @@ TEST(CostModel, VariantKeysRoundTrip) {
         }
     EXPECT_FALSE(parseVariantKey("retain:1,2"));
     EXPECT_FALSE(parseVariantKey("copy:0,0,0,0,0,0"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,7"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,7"));
     EXPECT_FALSE(parseStatsTarget("device:"));
     EXPECT_FALSE(parseStatsTarget("GFX 1100"));
     EXPECT_EQ(parseStatsTarget("vangogh")->family, "vangogh");
