@@ -88,21 +88,25 @@ float retain_pixel(uint eye, uvec2 p) {
     // Without motion only the pixel's own sample can be inside its footprint (footprints are disjoint
     // and every stored offset lies inside its own): one read instead of four, the same result.
     uint taps = c.moved ? 4u : 1u;
+    float dz = wrs_finite(mv.z) ? mv.z : 0.0;
     TrackState ts = wrs_track_begin(p);
-    uvec4 tap[4];  // kept for the display of a kept sample (wrs_shown_color)
+    // Kept for the display of a kept sample: each tap's colour and quality words and its weight
+    // (wrs_shown_weight, worked out here so that its depth and offset words need not stay live).
+    uvec4 tap[4];
+    vec4 tap_w = vec4(0.0);
     for (uint k = 0u; k < 4u; ++k) {
         tap[k] = uvec4(0u);  // all-zero storage is no sample
         uvec2 qk;
         if (k >= taps || !on_screen || !wrs_track_tap(base, k, size, qk)) continue;
         tap[k] = history_tap(eye, qk);
         wrs_track_consider(ts, tap[k], qk, pos);
+        tap_w[k] = wrs_shown_weight(tap[k], qk, pos, c.z, dz, frame.tuning.y);
     }
     Tracked h;
     vec2 d;
     uvec2 q;
     bool found = wrs_track_end(ts, h, d, q);
     bool has_history = found;
-    float dz = wrs_finite(mv.z) ? mv.z : 0.0;
     if (HAS_DEPTH && has_history && !wrs_rule_is_oracle(RULE) && wrs_depth_flush(h.z, c.z, dz, frame.tuning.y))
         has_history = false;
 
@@ -112,7 +116,7 @@ float retain_pixel(uint eye, uvec2 p) {
     bool show_mean = has_history && c.moved;
     vec3 h_shown = h.color;
     if (wrs_rule_is_oracle(RULE) && show_mean)
-        h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, h, c.z, dz, frame.tuning.y);
+        h_shown = wrs_shown_mean(tap[0], tap[1], tap[2], tap[3], tap_w, h.q, h.color);
     float rnd = wrs_rand(p.x, p.y, eye, frame.size.z, frame.size.w);
     uint outcome;
     float margin;
@@ -131,7 +135,7 @@ float retain_pixel(uint eye, uvec2 p) {
     bool kept = outcome == WRS_OUT_KEPT || gap;
     if (!wrs_rule_is_oracle(RULE) && kept) {
         Tracked hs = gap ? hg : h;
-        if (show_mean || gap) h_shown = wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, hs, c.z, dz, frame.tuning.y);
+        if (show_mean || gap) h_shown = wrs_shown_mean(tap[0], tap[1], tap[2], tap[3], tap_w, hs.q, hs.color);
         h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
     }
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));

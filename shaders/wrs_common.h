@@ -865,32 +865,52 @@ WRS_FN bool wrs_track_gap(TrackState s, WRS_OUT(Tracked) h, WRS_OUT(vec2) d, WRS
 // the kept sample's quality that pass the depth test, each weighted by max(0, 1 - |d|) per axis of
 // its offset d from the centre. The reservoir keeps the sample itself, so the display never feeds
 // back into what is stored. Fed one tap at a time, as wrs_track_consider; acc = (sum w c, sum w).
-WRS_FN void wrs_shown_add(WRS_INOUT(vec4) acc, uvec4 pk, uvec2 qk, vec2 pos, float hq, float z_cur, float dz,
-                          float tau) {
-    if (!wrs_packed_tracked_valid(pk)) return;
-    if (abs(wrs_packed_quality(pk) - hq) > hq * WRS_Q_EQUAL) return;
-    if (wrs_depth_flush(wrs_packed_depth(pk), z_cur, dz, tau)) return;
+// In two steps: a tap's weight (wrs_shown_weight: 0 where it is not a valid sample or fails the depth
+// test), which does not depend on the kept sample, so the retain pass works it out while it passes
+// over the taps for the lookup and keeps a float per tap instead of the taps' depth and offset words;
+// then the taps of the kept sample's quality are added with it (wrs_shown_add_weighted).
+WRS_FN float wrs_shown_weight(uvec4 pk, uvec2 qk, vec2 pos, float z_cur, float dz, float tau) {
+    if (!wrs_packed_tracked_valid(pk)) return 0.0f;
+    if (wrs_depth_flush(wrs_packed_depth(pk), z_cur, dz, tau)) return 0.0f;
     vec2 dk = wrs_track_offset(qk, wrs_packed_offset(pk), pos);
-    float w = max(0.0f, 1.0f - abs(dk.x)) * max(0.0f, 1.0f - abs(dk.y));
+    return max(0.0f, 1.0f - abs(dk.x)) * max(0.0f, 1.0f - abs(dk.y));
+}
+// Reads only pk's colour and quality (words 0 and 1). A weight of 0 adds nothing, as a valid tap of
+// weight 0 would (its colour is finite), and an invalid tap is never read.
+WRS_FN void wrs_shown_add_weighted(WRS_INOUT(vec4) acc, uvec4 pk, float w, float hq) {
+    if (!(w > 0.0f)) return;
+    if (abs(wrs_packed_quality(pk) - hq) > hq * WRS_Q_EQUAL) return;
     vec3 col = wrs_packed_color(pk);
     acc += vec4(col.x * w, col.y * w, col.z * w, w);
+}
+WRS_FN void wrs_shown_add(WRS_INOUT(vec4) acc, uvec4 pk, uvec2 qk, vec2 pos, float hq, float z_cur, float dz,
+                          float tau) {
+    wrs_shown_add_weighted(acc, pk, wrs_shown_weight(pk, qk, pos, z_cur, dz, tau), hq);
 }
 WRS_FN vec3 wrs_shown_end(vec4 acc, vec3 kept) {
     return acc.w > 0.0f ? vec3(acc.x / acc.w, acc.y / acc.w, acc.z / acc.w) : kept;
 }
-// The shown colour of the kept sample h from the packed taps t0..t3 of the 2x2 lookup at `base`
-// (all-zero where a tap was not read), as the shader and the CPU reference both compute it. A tap off
-// the screen was not read, so it fails wrs_shown_add's validity test before its pixel is used: the
-// pixels are base + (k & 1, k >> 1) unclamped (wrs_track_tap clamps; `size` is not needed).
+// The shown colour of the kept sample (quality hq, colour `kept`) from the packed taps t0..t3 of the 2x2
+// lookup and their weights w (wrs_shown_weight; 0 where a tap was not read).
+WRS_FN vec3 wrs_shown_mean(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, vec4 w, float hq, vec3 kept) {
+    vec4 acc = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    wrs_shown_add_weighted(acc, t0, w.x, hq);
+    wrs_shown_add_weighted(acc, t1, w.y, hq);
+    wrs_shown_add_weighted(acc, t2, w.z, hq);
+    wrs_shown_add_weighted(acc, t3, w.w, hq);
+    return wrs_shown_end(acc, kept);
+}
+// The same from the taps alone, at the 2x2 lookup at `base` (all-zero where a tap was not read), as the
+// CPU reference computes it. A tap off the screen was not read, so it is invalid and weighs 0 before its
+// pixel is used: the pixels are base + (k & 1, k >> 1) unclamped (wrs_track_tap's clamp is not needed).
 WRS_FN vec3 wrs_shown_color(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, vec2 pos, Tracked h,
                             float z_cur, float dz, float tau) {
-    vec4 acc = vec4(0.0f, 0.0f, 0.0f, 0.0f);
     uvec2 b = uvec2(base);  // modular for a negative base: only read for on-screen taps
-    wrs_shown_add(acc, t0, b, pos, h.q, z_cur, dz, tau);
-    wrs_shown_add(acc, t1, b + uvec2(1u, 0u), pos, h.q, z_cur, dz, tau);
-    wrs_shown_add(acc, t2, b + uvec2(0u, 1u), pos, h.q, z_cur, dz, tau);
-    wrs_shown_add(acc, t3, b + uvec2(1u, 1u), pos, h.q, z_cur, dz, tau);
-    return wrs_shown_end(acc, h.color);
+    vec4 w = vec4(wrs_shown_weight(t0, b, pos, z_cur, dz, tau),
+                  wrs_shown_weight(t1, b + uvec2(1u, 0u), pos, z_cur, dz, tau),
+                  wrs_shown_weight(t2, b + uvec2(0u, 1u), pos, z_cur, dz, tau),
+                  wrs_shown_weight(t3, b + uvec2(1u, 1u), pos, z_cur, dz, tau));
+    return wrs_shown_mean(t0, t1, t2, t3, w, h.q, h.color);
 }
 
 // A kept sample (of higher quality than the candidate) against a candidate that blends in level 0:
