@@ -317,8 +317,8 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
         const glm::uvec2 s = gpu::wrs_level_size(size0, k);
         p.levels[k] = glm::uvec4(s, k == 0 ? 0u : gpu::wrs_level_offset(size0, k) - level0, stored);
     }
-    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, config.trackBirth ? 1.0f : 0.0f,
-                         floorQuality(config));
+    // z is unused: whether birth colours are tracked is the passes' constant TRACK_BIRTH.
+    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, 0.0f, floorQuality(config));
     p.held = glm::uvec4(0u, 0u, runsSparse(config) ? 1u : 0u, 0u);  // the offsets are the compositor's
     return p;
 }
