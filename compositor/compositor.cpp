@@ -280,6 +280,7 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
         gpu::EyeParams& e = p.eye[i];
         e.fov_tan = glm::vec4(std::tan(v.fov.angleLeft), std::tan(v.fov.angleRight), std::tan(v.fov.angleUp),
                               std::tan(v.fov.angleDown));
+        e.tile = gpu::wrs_tile_geometry(glm::uvec2(width, height), e.fov_tan);
         const layers::EyeGaze& g = frame.gaze[i];
         float len = finite3(g.dir) ? glm::length(g.dir) : 0.0f;
         fallback[i] = !(g.valid && std::isfinite(len) && len > 1e-6f);

@@ -188,20 +188,29 @@ WRS_FN vec3 wrs_image_point_ray(vec2 pt, uvec2 size, vec4 fov_tan) {
     return normalize(vec3(tx, ty, -1.0f));
 }
 
-// The class of tile t of a view: the eccentricity range of its footprint is the centre's e plus
-// and minus the largest angle from the centre to a corner (the angle to a fixed ray has convex
-// sublevel sets on the image plane, so its maximum over the rectangle is at a corner), widened by
-// the margin.
-WRS_FN uint wrs_tile_class(uint mode, uvec2 t, uvec2 size, vec4 fov_tan, vec3 gaze, float r_f, float r_m) {
-    vec2 a = vec2(t * WRS_TILE);
-    vec2 b = vec2(min((t + uvec2(1u, 1u)) * WRS_TILE, size));
-    vec3 c = wrs_image_point_ray(0.5f * (a + b), size, fov_tan);
-    float rho = wrs_eccentricity_deg(wrs_image_point_ray(a, size, fov_tan), c);
-    rho = max(rho, wrs_eccentricity_deg(wrs_image_point_ray(vec2(b.x, a.y), size, fov_tan), c));
-    rho = max(rho, wrs_eccentricity_deg(wrs_image_point_ray(vec2(a.x, b.y), size, fov_tan), c));
-    rho = max(rho, wrs_eccentricity_deg(wrs_image_point_ray(b, size, fov_tan), c));
-    float e = wrs_eccentricity_deg(c, gaze);
-    return wrs_tile_class_of_range(mode, e - rho - WRS_TILE_MARGIN_DEG, e + rho + WRS_TILE_MARGIN_DEG, r_f, r_m);
+// The classification's constants of a view (EyeParams::tile, set once per frame): a pixel's width
+// and height on the image plane (z = -1, tangent units; x grows rightwards, y downwards) and rho, a
+// bound in degrees on the angle from a tile's centre to any point of the tile. The central
+// projection of the image plane onto the unit sphere shrinks every length, radially by 1 / (1 + r^2)
+// and across by 1 / sqrt(1 + r^2) at distance r from the axis, so an angle in radians is at most the
+// distance on the plane: rho is a tile's half-diagonal there (a partial tile at the edge is
+// smaller). It is tight on the axis and about 1 / cos^2 too wide at an angle from it, which widens
+// the mixed-tile rings around the fovea's edges a little when the gaze is far off-axis.
+WRS_FN vec4 wrs_tile_geometry(uvec2 size, vec4 fov_tan) {
+    vec2 pixel = vec2(fov_tan.y - fov_tan.x, fov_tan.z - fov_tan.w) / vec2(size);
+    float rho = 0.5f * length(float(WRS_TILE) * pixel) * WRS_RAD_TO_DEG;
+    return vec4(pixel.x, pixel.y, rho, 0.0f);
+}
+
+// The class of tile t of a view: the eccentricity range of its footprint is the centre's e plus and
+// minus rho, widened by the margin (which also covers the centre's ray here being computed with the
+// pixel size rather than as wrs_image_point_ray does: a few ulps). One ray and one arctangent per
+// tile; the angle to each corner it replaced cost four more of each (docs/speed.md "Tiles").
+WRS_FN uint wrs_tile_class(uint mode, uvec2 t, uvec2 size, vec4 fov_tan, vec4 tile, vec3 gaze, float r_f, float r_m) {
+    vec2 c = 0.5f * vec2(t * WRS_TILE + min((t + uvec2(1u, 1u)) * WRS_TILE, size));
+    vec3 ray = normalize(vec3(fov_tan.x + c.x * tile.x, fov_tan.z - c.y * tile.y, -1.0f));
+    float e = wrs_eccentricity_deg(ray, gaze);
+    return wrs_tile_class_of_range(mode, e - tile.z - WRS_TILE_MARGIN_DEG, e + tile.z + WRS_TILE_MARGIN_DEG, r_f, r_m);
 }
 
 // The lowest pyramid level above 0 that a mode's wrs_foveation_levels ever returns: `mip` blends

@@ -17,6 +17,8 @@ struct EyeParams {
     vec4 depth_range;   // near, far (may be +inf), zw: pad
     vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion);
                         // w: the motion reach in pixels (wrs_within_reach; +inf: no limit)
+    vec4 tile;          // the classification's view constants (wrs_tile_geometry): xy: a pixel's width
+                        // and height on the image plane (tangent units); z: rho (degrees); w: pad
 };
 
 struct FrameParams {
@@ -44,8 +46,8 @@ struct LevelPush {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::EyeParams) == 112);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 112 + 32 + 16 * WRS_LEVELS + 16);
+static_assert(sizeof(wrsfov::gpu::EyeParams) == 128);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 128 + 32 + 16 * WRS_LEVELS + 16);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 
