@@ -1007,11 +1007,12 @@ void Compositor::recordClassify(const FramePlan& plan) {
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     const uint32_t tilesX = groups(plan.w, gpu::WRS_TILE), tilesY = groups(plan.h, gpu::WRS_TILE);
     if (plan.sparse && plan.hasMotion) {
-        // Phase 1: the previous frame's held qualities per superblock, for phase 0's reach test.
+        // Phase 1: the previous frame's held qualities per superblock, for phase 0's reach test; one
+        // group per superblock, one invocation per tile.
+        static_assert(gpu::WRS_SUPERBLOCK == WRS_GROUP_X && gpu::WRS_SUPERBLOCK == WRS_GROUP_Y);
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
                           pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion, 1u}));
-        vkCmdDispatch(cb, groups(groups(tilesX, gpu::WRS_SUPERBLOCK), WRS_GROUP_X),
-                      groups(groups(tilesY, gpu::WRS_SUPERBLOCK), WRS_GROUP_Y), plan.eyes);
+        vkCmdDispatch(cb, groups(tilesX, gpu::WRS_SUPERBLOCK), groups(tilesY, gpu::WRS_SUPERBLOCK), plan.eyes);
         computeBarrier(cb);
     }
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,

@@ -113,29 +113,40 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     auto bytes = [&](std::string_view pass) { return bytesOf(t, pass); };
     const uint64_t whole = groupsOf(in.width, WRS_GROUP_X) * groupsOf(in.height, WRS_GROUP_Y) * eyes;
     std::vector<PipelineVariant> v;
+    // The barriers of endFrame: a dispatch goes into the current phase, barrier() starts the next.
+    int phase = 0;
+    auto barrier = [&] { ++phase; };
     auto add = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k, uint64_t groups, double bpp) {
-        v.push_back({pass, s, k, kWholeImage, groups, WRS_GROUP_X * WRS_GROUP_Y, bpp});
+        v.push_back({pass, s, k, kWholeImage, groups, WRS_GROUP_X * WRS_GROUP_Y, bpp, phase});
     };
-    // A per-pixel pass: one dispatch, or one indirect dispatch per tile class (class in constant 5).
-    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k) {
+    // A per-pixel pass: one dispatch, or one indirect dispatch per tile class (class in constant 5),
+    // with barriers between them where the pass reads a buffer it writes (recordPixelPass).
+    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k, bool aliased) {
         if (!tiled) return add(pass, s, k, whole, bytes(pass));
         for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
+            if (aliased && cls > 0) barrier();
             k[5] = 1 + cls;
-            v.push_back({pass, s, k, int(cls), 0, WRS_GROUP_X * WRS_GROUP_Y, bytes(pass)});
+            v.push_back({pass, s, k, int(cls), 0, WRS_GROUP_X * WRS_GROUP_Y, bytes(pass), phase});
         }
     };
 
     // Every pipeline of a frame, one line each (a new variant is a line here).
     if (tiled) {  // one invocation per tile; each writes its 4-byte list entry (and reads far tiles' motion)
         const uint64_t tx = groupsOf(in.width, gpu::WRS_TILE), ty = groupsOf(in.height, gpu::WRS_TILE);
-        if (sparse && hasMotion) {  // phase 1: a superblock's largest held quality from its tiles' (4 bytes each)
-            const uint64_t bx = groupsOf(tx, gpu::WRS_SUPERBLOCK), by = groupsOf(ty, gpu::WRS_SUPERBLOCK);
-            add("reach", ShaderId::Classify, {fov, 1u, 1u, 1u}, groupsOf(bx, WRS_GROUP_X) * groupsOf(by, WRS_GROUP_Y) * eyes,
+        if (sparse && hasMotion) {  // phase 1: a superblock's largest held quality from its tiles' (4 bytes each),
+                                    // one group per superblock
+            add("reach", ShaderId::Classify, {fov, 1u, 1u, 1u},
+                groupsOf(tx, gpu::WRS_SUPERBLOCK) * groupsOf(ty, gpu::WRS_SUPERBLOCK) * eyes,
                 4.0 / (gpu::WRS_TILE * gpu::WRS_TILE));
+            barrier();
         }
         add("classify", ShaderId::Classify, {fov, sparse, sparse && hasMotion, 0u},
             groupsOf(tx, WRS_GROUP_X) * groupsOf(ty, WRS_GROUP_Y) * eyes,
             4.0 / (gpu::WRS_TILE * gpu::WRS_TILE) + bytes("classify"));
+        // The pyramid follows with no barrier (recordClassify); `gauss` builds it in one dispatch per
+        // level with barriers between, of which the classification overlaps only the first: the model
+        // keeps them apart.
+        if (!pyramid || c.foveation == FoveationMode::Gauss) barrier();
     }
     if (pyramid) {
         const bool gauss = c.foveation == FoveationMode::Gauss;
@@ -149,24 +160,30 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
         }
         const uint32_t first = gpu::wrs_first_stored_level(fov);
         add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, first}, groups, bytes("pyramid"));
+        barrier();
         if (steadyFloorActive(c)) {  // the steady floor: one invocation per level-4 texel, two phases
             const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(in.width, in.height), gpu::WRS_STEADY_LEVEL);
             const uint64_t g4 = groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
             add("steady", ShaderId::Pyramid, {3u, first, hasMotion, 0u}, g4, bytes("steady"));
+            barrier();
             add("steady-copy", ShaderId::Pyramid, {3u, first, hasMotion, 1u}, g4, bytes("steady-copy"));
+            barrier();
         }
     }
-    if (!retain) addPixels("foveate", ShaderId::Foveate, {fov, temporal ? 0u : 1u});
+    if (!retain) addPixels("foveate", ShaderId::Foveate, {fov, temporal ? 0u : 1u}, false);
+    if (!retain && temporal) barrier();
     if (retain)
-        addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace, 0, sparse});
+        addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace, 0, sparse}, inPlace);
     else if (c.method == Method::WrsPaper)
         add("wrs-paper", ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli}, whole,
             bytes("wrs-paper"));
     else if (c.method == Method::FovTaa)
         add("taa", ShaderId::Taa, {hasMotion}, whole, bytes("taa"));
-    if (sparse)  // the far tiles that skip retention: the foveating pass alone
+    if (sparse) {  // the far tiles that skip retention: the foveating pass alone, after a barrier if in place
+        if (inPlace) barrier();
         v.push_back({"skip", ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}, int(gpu::WRS_TILE_SKIP), 0,
-                     WRS_GROUP_X * WRS_GROUP_Y, bytesOf(skipped, "skip")});
+                     WRS_GROUP_X * WRS_GROUP_Y, bytesOf(skipped, "skip"), phase});
+    }
     // Constant 7 (HARDWARE_HALF) of every pass: the device's fp16 conversion, which the compositor uses
     // where its probe finds round to nearest even, as AMD's v_cvt_f16_f32 does in the default mode (the
     // null device runs nothing, so the probe cannot run there).
@@ -706,16 +723,34 @@ std::vector<CostRow> costRows(const CostCell& cell, const std::map<VariantKey, E
         const double cycles = waves64 * r.stats.invThroughput;
         r.cyclesPerPx = covered > 0 ? cycles / covered : 0.0;
         r.bytesPerPx = v.bytesPerPx;
-        r.aluUs = r.groups > 0 ? std::max(cycles / g.simds, r.stats.latency) / g.clockMHz : 0.0;
+        r.aluUs = cycles / g.simds / g.clockMHz;
         r.memUs = covered * v.bytesPerPx / (g.bandwidthGBs * 1e3);
+        rows.push_back(r);
+    }
+    // A phase lasts at least the latency of its slowest wave: the shortfall of the phase's throughput
+    // cycles goes to that wave's row. A dispatch with no groups (an empty tile list) has no wave.
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const int phase = cell.variants[i].phase;
+        const bool own = phase == kOwnPhase;
+        double throughput = 0, latency = 0;
+        std::size_t slowest = i;
+        for (std::size_t j = 0; j < rows.size(); ++j) {
+            if (j != i && (own || cell.variants[j].phase != phase)) continue;
+            if (j < i) break;  // the phase was settled at its first row
+            throughput += rows[j].aluUs * g.clockMHz;
+            if (rows[j].groups > 0 && rows[j].stats.latency > latency) latency = rows[j].stats.latency, slowest = j;
+        }
+        if (latency > throughput) rows[slowest].aluUs += (latency - throughput) / g.clockMHz;
+    }
+    for (CostRow& r : rows) {
         r.predictedUs = std::max(r.aluUs, r.memUs);
+        const double covered = r.share * px;
         total.groups += r.groups;
-        total.cyclesPerPx += cycles / px;
-        total.bytesPerPx += covered * v.bytesPerPx / px;
+        total.cyclesPerPx += r.cyclesPerPx * covered / px;
+        total.bytesPerPx += covered * r.bytesPerPx / px;
         total.aluUs += r.aluUs;
         total.memUs += r.memUs;
         total.predictedUs += r.predictedUs;
-        rows.push_back(r);
     }
     total.share = 1.0;
     rows.push_back(total);
@@ -785,8 +820,11 @@ Status writeCostModel(const std::vector<CostRow>& rows, const std::vector<std::s
        << "\n\nEvery pipeline the cell dispatches (pass × specialisation constants × tile class, "
           "eval/cost_model.cpp `pipelineVariants`) compiled on RADV's null device for each GPU's family; the "
           "statistics are those of Mesa's ACO compiler (VK_KHR_pipeline_executable_properties). Per row: "
-          "`alu µs = max(waves64 × inverse throughput / SIMDs, latency) / clock`, `mem µs = bytes / bandwidth`, "
-          "`predicted = max(alu, mem)`; a total sums its rows (the passes are separated by barriers). No cache "
+          "`alu µs = waves64 × inverse throughput / SIMDs / clock`, where the dispatches recorded with no barrier "
+          "between them (a phase: the classification and the `mip` pyramid, the tile classes of a pass that does "
+          "not write what it reads) last at least their slowest wave's latency, added to that wave's row where "
+          "the phase's throughput falls short of it; `mem µs = bytes / bandwidth`, `predicted = max(alu, mem)`; a "
+          "total sums its rows. No cache "
           "model, no dispatch overhead, peak bandwidth: estimates to compare passes and methods, not timings "
           "(docs/speed.md \"Cost model\").\n\n";
     if (!skipped.empty()) {

@@ -45,7 +45,11 @@ struct PipelineVariant {
     uint32_t invocationsPerGroup = 64;  ///< WRS_GROUP_X x WRS_GROUP_Y
     /// Bytes read and written per pixel covered (traffic(); classify: its tile-list entry per tile).
     double bytesPerPx = 0;
+    /// Dispatches of one phase are recorded with no barrier between them, so a GPU runs them together
+    /// and one wave's latency bounds the phase, not each dispatch. kOwnPhase: barriers on both sides.
+    int phase = -1;
 };
+inline constexpr int kOwnPhase = -1;
 
 /// The pipelines Compositor::endFrame dispatches for `config` on views like `in` (depth and motion
 /// where `in` has them, `eyes` views, no stale tracking), in the order they run. This is the one place
@@ -140,8 +144,10 @@ struct CostRow {
     double aluUs = 0, memUs = 0, predictedUs = 0;
 };
 /// The rows of a cell (its variants in dispatch order, then the total). `stats` holds every variant's
-/// key. alu_us = max(waves64 x inv_throughput / SIMDs, latency) / clock (latency: a dispatch lasts at
-/// least one wave); mem_us = bytes / bandwidth; predicted = max of the two. The total sums them.
+/// key. alu_us = waves64 x inv_throughput / SIMDs / clock, and a phase (PipelineVariant::phase) lasts
+/// at least its longest wave's latency: where the phase's throughput cycles fall short of it, the
+/// difference is added to the row of that wave (a dispatch alone: max(throughput, latency) / clock);
+/// mem_us = bytes / bandwidth; predicted = max of the two. The total sums them.
 std::vector<CostRow> costRows(const CostCell& cell, const std::map<VariantKey, ExecutableStats>& stats);
 
 /// The columns of cost_model.csv, in order.

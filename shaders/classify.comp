@@ -7,13 +7,15 @@
 // writes the largest held quality of its tiles, so that phase 0 reads a tile's motion only where a
 // sample sharper than the floor is within the motion reach (docs/retention.md "Motion reach").
 //
-// The two long reductions below (phase 1's max over a superblock's 8x8 tiles, a tile's motion range
-// over its 8x8 pixels) read in unrolled rows with indices clamped to the last valid one (max and min
-// are unchanged by a repeated element), so that the loads of a row are independent and issue
-// together. Read one at a time they made chains of 64 dependent memory latencies; on an NVIDIA H200
-// reach + classify took a fixed ~85 us per frame at 2x512^2 and 2x1024^2 alike (docs/speed.md "On a
-// GPU"). The reach and source loops read a few words (a few superblocks, at most 16 tiles) and stay
-// plain loops. On lavapipe, which computes rather than waits, the unrolled rows cost ~3 % of `wrs`.
+// Phase 1's max over a superblock's 8x8 tiles is a group of 64 invocations reading one word each
+// (WRS_SUPERBLOCK = WRS_GROUP_X = WRS_GROUP_Y). A tile's motion range over its 8x8 pixels reads in
+// unrolled rows with indices clamped to the last valid one (max and min are unchanged by a repeated
+// element), so that the loads of a row are independent and issue together. Read one at a time these
+// reductions made chains of 64 dependent memory latencies; on an NVIDIA H200 reach + classify took a
+// fixed ~85 us per frame at 2x512^2 and 2x1024^2 alike (docs/speed.md "On a GPU"). One invocation
+// per superblock reading its 64 words unrolled still cost a wave's whole latency in a dispatch of a
+// few dozen groups (docs/speed.md "Cost model"). The reach and source loops read a few words (a few
+// superblocks, at most 16 tiles) and stay plain loops.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -24,6 +26,7 @@ layout(constant_id = 1) const bool SPARSE = false;
 layout(constant_id = 2) const bool HAS_MOTION = false;
 layout(constant_id = 3) const uint PHASE = 0u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
+shared uint superblock_held;  // phase 1: the group's superblock's largest held quality, as bits
 
 // The largest held quality among the tiles tile t's tracked lookups can read (wrs_tile_sources),
 // or 1 (anything) where the motion spreads over more than WRS_SOURCE_TILES_MAX tiles. Where every
@@ -65,19 +68,21 @@ float source_held(uint eye, uvec2 t) {
 void main() {
     uint eye = gl_WorkGroupID.z;
     if (PHASE == 1u) {
-        uvec2 b = gl_GlobalInvocationID.xy;
-        if (any(greaterThanEqual(b, superblock_count()))) return;
-        uvec2 t0 = b * WRS_SUPERBLOCK, last = min(t0 + uvec2(WRS_SUPERBLOCK), tile_count()) - uvec2(1u);
-        float held = 0.0;
-        [[unroll]] for (uint j = 0u; j < WRS_SUPERBLOCK; ++j)
-            [[unroll]] for (uint i = 0u; i < WRS_SUPERBLOCK; ++i) held = max(held, held_prev(eye, min(t0 + uvec2(i, j), last)));
-        tile_held[superblock_word(eye, b)] = floatBitsToUint(held);
+        // One group per superblock, one invocation per tile: each reads one word, and the group's
+        // maximum gathers in shared memory (held qualities are finite and >= 0, so their bits order
+        // as the values do; a tile past the edge adds 0, which changes no maximum).
+        if (gl_LocalInvocationIndex == 0u) superblock_held = 0u;
+        barrier();
+        uvec2 b = gl_WorkGroupID.xy, t = b * WRS_SUPERBLOCK + gl_LocalInvocationID.xy;
+        if (all(lessThan(t, tile_count()))) atomicMax(superblock_held, floatBitsToUint(held_prev(eye, t)));
+        barrier();
+        if (gl_LocalInvocationIndex == 0u) tile_held[superblock_word(eye, b)] = superblock_held;
         return;
     }
     uvec2 t = gl_GlobalInvocationID.xy;
     if (any(greaterThanEqual(t, tile_count()))) return;
     EyeParams ep = frame.eye[eye];
-    uint cls = wrs_tile_class(FOV_MODE, t, frame.size.xy, ep.fov_tan, ep.gaze.xyz, ep.gaze.w, frame.tuning.x);
+    uint cls = wrs_tile_class(FOV_MODE, t, frame.size.xy, ep.fov_tan, ep.tile, ep.gaze.xyz, ep.gaze.w, frame.tuning.x);
     if (SPARSE && cls == WRS_TILE_FAR && wrs_tile_skips(cls, source_held(eye, t), frame.tuning.w)) {
         cls = WRS_TILE_SKIP;
         tile_held[frame.held.y + tile_index(eye, t)] = 0u;

@@ -164,8 +164,8 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     EXPECT_EQ(wrs[3].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 1, 1, 1, 0}));
     EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 4, 1, 1, 0}));
     EXPECT_EQ(wrs[7].constants, (std::array<uint32_t, 9>{1, 1, 0, 0, 0, 5, 0, 1, 0}));
-    // 64 x 64 tiles per eye at 512 px: 8 x 8 superblocks, one 8 x 8 group per eye.
-    EXPECT_EQ(wrs[0].groups, 2u);
+    // 64 x 64 tiles per eye at 512 px: 8 x 8 superblocks, one group of 8 x 8 tiles each.
+    EXPECT_EQ(wrs[0].groups, 8u * 8u * 2u);
     const auto still = pipelineVariants(config(Method::Wrs), {512, 512, 4, 4, 0});
     EXPECT_EQ(still[2].constants, (std::array<uint32_t, 9>{0, 1, 1, 0, 1, 1, 1, 1, 0})) << "no motion: in place";
     EXPECT_EQ(pipelineVariants(config(Method::Fov), kAtrium)[2].constants,
@@ -245,6 +245,58 @@ TEST(CostModel, RooflineArithmetic) {
     const auto er = costRows(empty, fakeStats({Method::Fov}, 400));
     EXPECT_EQ(er[3].aluUs, 0.0);
     EXPECT_EQ(er[3].memUs, 0.0);
+}
+
+// Phases follow endFrame's barriers: the classification overlaps the `mip` pyramid; the tile classes
+// of a pass that writes what it does not read run together, those of the in-place retain pass (no
+// motion) one after another.
+TEST(CostModel, PhasesFollowTheBarriers) {
+    auto phases = [](const std::vector<PipelineVariant>& vs) {
+        std::vector<int> out;
+        for (const PipelineVariant& v : vs) out.push_back(v.phase);
+        return out;
+    };
+    using P = std::vector<int>;
+    // classify, pyramid | foveate any, fovea, mid, far
+    EXPECT_EQ(phases(pipelineVariants(config(Method::Fov), kAtrium)), (P{0, 0, 1, 1, 1, 1}));
+    // reach | classify, pyramid | retain any, fovea, mid, far, skip
+    EXPECT_EQ(phases(pipelineVariants(config(Method::Wrs), kAtrium)), (P{0, 1, 1, 2, 2, 2, 2, 2}));
+    // No motion: no reach, and the reservoirs are updated in place.
+    EXPECT_EQ(phases(pipelineVariants(config(Method::Wrs), {512, 512, 4, 4, 0})), (P{0, 0, 1, 2, 3, 4, 5}));
+    CompositorConfig gauss = config(Method::Fov);
+    gauss.foveation = FoveationMode::Gauss;
+    EXPECT_EQ(phases(pipelineVariants(gauss, kAtrium)), (P{0, 1, 2, 2, 2, 2}));
+    // pyramid | foveate | taa
+    EXPECT_EQ(phases(pipelineVariants(config(Method::FovTaa), kAtrium)), (P{0, 1, 2}));
+}
+
+// A dispatch lasts at least one wave's latency; dispatches with no barrier between them share that floor.
+TEST(CostModel, ALatencyFloorPerPhase) {
+    const uint64_t px = 512ull * 512 * 2;
+    const VariantKey a{ShaderId::Foveate, {1, 1, 0, 0, 0, 2, 0, 1, 0}}, b{ShaderId::Foveate, {1, 1, 0, 0, 0, 3, 0, 1, 0}};
+    std::map<VariantKey, ExecutableStats> stats;
+    stats[a].latency = 3000, stats[a].invThroughput = 100;
+    stats[b].latency = 1000, stats[b].invThroughput = 100;
+    auto cellOf = [&](int pa, int pb) {
+        CostCell c{&kGpu, 512, 512, 2, Method::Fov, {}, {0, 0.01, 0.01, 0}};
+        c.variants.push_back({"foveate", a.shader, a.constants, 1, 0, 64, 8.0, pa});
+        c.variants.push_back({"foveate", b.shader, b.constants, 2, 0, 64, 8.0, pb});
+        return c;
+    };
+    const double groups = 0.01 * px / 64, throughput = groups * 100 / 20;  // 81.92 groups: 409.6 cycles each
+    ASSERT_LT(throughput, 1000.0);
+    const auto apart = costRows(cellOf(kOwnPhase, kOwnPhase), stats);
+    EXPECT_DOUBLE_EQ(apart[0].aluUs, 3000.0 / 1000);
+    EXPECT_DOUBLE_EQ(apart[1].aluUs, 1000.0 / 1000);
+    const auto together = costRows(cellOf(4, 4), stats);
+    EXPECT_DOUBLE_EQ(together[0].aluUs, (3000.0 - throughput) / 1000);  // the slowest wave's row holds the floor
+    EXPECT_DOUBLE_EQ(together[1].aluUs, throughput / 1000);
+    EXPECT_DOUBLE_EQ(together[2].aluUs, 3.0) << "the phase: one latency";
+    EXPECT_DOUBLE_EQ(apart[2].aluUs, 4.0);
+    // Enough waves hide the latency: the phase costs its throughput.
+    stats[a].invThroughput = stats[b].invThroughput = 10000;
+    const auto busy = costRows(cellOf(4, 4), stats);
+    EXPECT_DOUBLE_EQ(busy[2].aluUs, 2 * groups * 10000 / 20 / 1000);
 }
 
 TEST(CostModel, MemoryTimeScalesWithBytesAndBandwidth) {
