@@ -3,7 +3,7 @@
 // With sparse retention (docs/retention.md "Sparse retention") a far tile that none of its source
 // tiles can bring a sample sharper than the floor goes on the skip list instead, and its held
 // quality for this frame is 0 (it stores nothing); the retain pass writes every other tile's.
-// Phase 1 (sparse retention with motion, dispatched first): one invocation per superblock and eye
+// Phase 1 (sparse retention with motion, dispatched first): one group per superblock and eye
 // writes the largest held quality of its tiles, so that phase 0 reads a tile's motion only where a
 // sample sharper than the floor is within the motion reach (docs/retention.md "Motion reach").
 //
