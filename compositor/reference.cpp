@@ -246,7 +246,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             for (uint ty = 0; sparse && ty < tiles.y; ++ty)
                 for (uint tx = 0; tx < tiles.x; ++tx) {
                     const uvec2 t(tx, ty);
-                    const uint cls = wrs_tile_class(mode, t, size0, ep.fov_tan, ep.tile, vec3(ep.gaze), ep.gaze.w, params.tuning.x);
+                    const uint cls =
+                        wrs_tile_class(mode, t, size0, ep.fov_tan, ep.tile, vec3(ep.gaze), ep.gaze.w, params.tuning.x);
                     if (cls != WRS_TILE_FAR) continue;
                     skip[ty * tiles.x + tx] = wrs_tile_skips(cls, sourceHeld(t), params.tuning.w);
                 }

@@ -1597,8 +1597,7 @@ Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, 
             for (uint32_t ty = 0; ty < tiles.y; ++ty)
                 for (uint32_t tx = 0; tx < tiles.x; ++tx)
                     count[gpu::wrs_tile_class(uint32_t(mode), glm::uvec2(tx, ty), size, ep.fov_tan, ep.tile,
-                                              glm::vec3(ep.gaze),
-                                              ep.gaze.w, p.tuning.x)] += 1;
+                                              glm::vec3(ep.gaze), ep.gaze.w, p.tuning.x)] += 1;
         }
     }
     double all = 0;

@@ -727,16 +727,16 @@ std::vector<CostRow> costRows(const CostCell& cell, const std::map<VariantKey, E
         r.memUs = covered * v.bytesPerPx / (g.bandwidthGBs * 1e3);
         rows.push_back(r);
     }
-    // A phase lasts at least the latency of its slowest wave: the shortfall of the phase's throughput
-    // cycles goes to that wave's row. A dispatch with no groups (an empty tile list) has no wave.
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        const int phase = cell.variants[i].phase;
-        const bool own = phase == kOwnPhase;
+    // A phase (a run of dispatches with no barrier between them) lasts at least the latency of its
+    // slowest wave: the shortfall of the phase's throughput cycles goes to that wave's row. A dispatch
+    // with no groups (an empty tile list) has no wave.
+    for (std::size_t first = 0, end; first < rows.size(); first = end) {
+        const int phase = cell.variants[first].phase;
+        end = first + 1;
+        while (phase != kOwnPhase && end < rows.size() && cell.variants[end].phase == phase) ++end;
         double throughput = 0, latency = 0;
-        std::size_t slowest = i;
-        for (std::size_t j = 0; j < rows.size(); ++j) {
-            if (j != i && (own || cell.variants[j].phase != phase)) continue;
-            if (j < i) break;  // the phase was settled at its first row
+        std::size_t slowest = first;
+        for (std::size_t j = first; j < end; ++j) {
             throughput += rows[j].aluUs * g.clockMHz;
             if (rows[j].groups > 0 && rows[j].stats.latency > latency) latency = rows[j].stats.latency, slowest = j;
         }

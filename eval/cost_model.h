@@ -45,8 +45,8 @@ struct PipelineVariant {
     uint32_t invocationsPerGroup = 64;  ///< WRS_GROUP_X x WRS_GROUP_Y
     /// Bytes read and written per pixel covered (traffic(); classify: its tile-list entry per tile).
     double bytesPerPx = 0;
-    /// Dispatches of one phase are recorded with no barrier between them, so a GPU runs them together
-    /// and one wave's latency bounds the phase, not each dispatch. kOwnPhase: barriers on both sides.
+    /// Consecutive dispatches of one phase are recorded with no barrier between them, so a GPU runs them
+    /// together and one wave's latency bounds the phase, not each dispatch. kOwnPhase: barriers on both sides.
     int phase = -1;
 };
 inline constexpr int kOwnPhase = -1;

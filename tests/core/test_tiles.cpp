@@ -18,17 +18,29 @@ vec3 direction(float azimuthDeg, float elevationDeg) {
     return normalize(vec3(std::sin(a) * std::cos(e), std::sin(e), -std::cos(a) * std::cos(e)));
 }
 
+// A narrow to wide field of view (asymmetric, half-width `half` degrees) at a size that is not a
+// multiple of the tile.
+struct View {
+    float half;
+    vec4 fov_tan;
+    uvec2 size;
+};
+View randomView(std::mt19937& rng) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const float half = 8.0f + 52.0f * u(rng);
+    const vec4 fov_tan(std::tan((-half - 6.0f * u(rng)) * WRS_PI / 180.0f), std::tan(half * WRS_PI / 180.0f),
+                       std::tan((half + 4.0f * u(rng)) * WRS_PI / 180.0f), std::tan(-half * WRS_PI / 180.0f));
+    const uvec2 size(40u + uint(u(rng) * 200.0f), 30u + uint(u(rng) * 170.0f));
+    return {half, fov_tan, size};
+}
+
 TEST(TileClasses, EveryClassifiedPixelGetsTheClassLevels) {
     std::mt19937 rng(20261123);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::array<uint64_t, WRS_TILE_CLASSES> tiles{};
     uint64_t pixels = 0;
     for (int view = 0; view < 120; ++view) {
-        // Narrow to wide fields of view (asymmetric), sizes that are not multiples of the tile.
-        const float half = 8.0f + 52.0f * u(rng);
-        const vec4 fov_tan(std::tan((-half - 6.0f * u(rng)) * WRS_PI / 180.0f), std::tan(half * WRS_PI / 180.0f),
-                           std::tan((half + 4.0f * u(rng)) * WRS_PI / 180.0f), std::tan(-half * WRS_PI / 180.0f));
-        const uvec2 size(40u + uint(u(rng) * 200.0f), 30u + uint(u(rng) * 170.0f));
+        const auto [half, fov_tan, size] = randomView(rng);
         const vec4 tile = wrs_tile_geometry(size, fov_tan);
         const vec3 gaze = direction(-half + 2.0f * half * u(rng), -half + 2.0f * half * u(rng));
         const float foveaDeg[] = {2.0f, 5.0f, 7.5f, 10.0f, 20.0f};
@@ -69,13 +81,9 @@ TEST(TileClasses, EveryClassifiedPixelGetsTheClassLevels) {
 // of wide, asymmetric views, and it is tight on the axis (within 1 % of the exact half-diagonal angle).
 TEST(TileClasses, RhoBoundsTheAngleAcrossATile) {
     std::mt19937 rng(20261126);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
     double worst = 0.0, onAxis = 0.0;
     for (int view = 0; view < 40; ++view) {
-        const float half = 8.0f + 52.0f * u(rng);
-        const vec4 fov_tan(std::tan((-half - 6.0f * u(rng)) * WRS_PI / 180.0f), std::tan(half * WRS_PI / 180.0f),
-                           std::tan((half + 4.0f * u(rng)) * WRS_PI / 180.0f), std::tan(-half * WRS_PI / 180.0f));
-        const uvec2 size(40u + uint(u(rng) * 200.0f), 30u + uint(u(rng) * 170.0f));
+        const auto [half, fov_tan, size] = randomView(rng);
         const vec4 tile = wrs_tile_geometry(size, fov_tan);
         ASSERT_GT(tile.z, 0.0f);
         const uvec2 count = (size + uvec2(WRS_TILE - 1u)) / WRS_TILE;
@@ -87,7 +95,8 @@ TEST(TileClasses, RhoBoundsTheAngleAcrossATile) {
                 double rho = 0.0;
                 for (float y = a.y; y <= b.y; y += 0.5f)
                     for (float x = a.x; x <= b.x; x += 0.5f)
-                        rho = std::max(rho, double(wrs_eccentricity_deg(wrs_image_point_ray(vec2(x, y), size, fov_tan), c)));
+                        rho = std::max(
+                            rho, double(wrs_eccentricity_deg(wrs_image_point_ray(vec2(x, y), size, fov_tan), c)));
                 worst = std::max(worst, rho / tile.z);
                 if (c.z < -0.9999f && b.x - a.x == float(WRS_TILE) && b.y - a.y == float(WRS_TILE))
                     onAxis = std::max(onAxis, rho / tile.z);

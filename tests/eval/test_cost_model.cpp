@@ -273,7 +273,8 @@ TEST(CostModel, PhasesFollowTheBarriers) {
 // A dispatch lasts at least one wave's latency; dispatches with no barrier between them share that floor.
 TEST(CostModel, ALatencyFloorPerPhase) {
     const uint64_t px = 512ull * 512 * 2;
-    const VariantKey a{ShaderId::Foveate, {1, 1, 0, 0, 0, 2, 0, 1, 0}}, b{ShaderId::Foveate, {1, 1, 0, 0, 0, 3, 0, 1, 0}};
+    const VariantKey a{ShaderId::Foveate, {1, 1, 0, 0, 0, 2, 0, 1, 0}};
+    const VariantKey b{ShaderId::Foveate, {1, 1, 0, 0, 0, 3, 0, 1, 0}};
     std::map<VariantKey, ExecutableStats> stats;
     stats[a].latency = 3000, stats[a].invThroughput = 100;
     stats[b].latency = 1000, stats[b].invThroughput = 100;
