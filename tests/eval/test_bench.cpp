@@ -1,16 +1,16 @@
 // Regression guard of the benchmark's headline: at a 5° fovea, WRS keeps more near-gaze quality
 // than FOV on the reading page (reading gaze) and in the atrium (free viewing, static camera).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "../core/gpu_rig.h"
 #include "eval/bench.h"
@@ -65,7 +65,9 @@ TEST_F(Bench, WrsBeatsFovNearGazeAtFiveDegrees) {
 TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
     // wrsfov-bench --flicker on the photo scene: its classes partition the stable pixel pairs and
     // their sums are the methods' temporal instabilities; a still head gives `wrs` nothing to flicker
-    // with (kept samples do not move: steadier than fov), a slow pan does, and the files are written.
+    // with (kept samples do not move: steadier than fov, and none is lost to a blurrier candidate), a
+    // slow pan does (and loses kept samples in patches), the exact display of full-rate kept samples
+    // differs from `wrs` only in the pairs that show one, and the files are written.
     eval::BenchOptions o;
     o.scenes = {eval::SceneKind::Photo};
     o.monitor = true;
@@ -78,6 +80,11 @@ TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
     for (scenes::PhotoMotion m : {scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan}) {
         SCOPED_TRACE(std::string(scenes::toString(m)));
         o.photoMotion = m;
+        if (m == scenes::PhotoMotion::Pan) {  // large and long enough for the fovea's blend band to lose patches
+            o.width = 256;
+            o.height = 192;
+            o.frames = 40;
+        }
         const std::string dir = ::testing::TempDir() + "flicker_" + std::string(scenes::toString(m));
         auto r = eval::analyseFlicker(context(), o, dir);
         ASSERT_TRUE(r.ok()) << r.error().message;
@@ -93,14 +100,48 @@ TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
         EXPECT_EQ(pairs, r->stablePairs);
         EXPECT_NEAR(r->wrsInstability, w / double(pairs), 1e-12);
         EXPECT_NEAR(r->fovInstability, f / double(pairs), 1e-12);
+        // The exact display of full-rate kept samples changes what `wrs` shows only where it showed one:
+        // classes with none in either frame change as `wrs` does, those with one in both frames as the
+        // reference does.
+        double x = 0;
+        for (const eval::FlickerClass& c : r->classes) {
+            x += c.exactKeptChange;
+            const std::size_t arrow = c.name.find(" → ");
+            ASSERT_NE(arrow, std::string::npos) << c.name;
+            const std::string full = "sharper: full-rate";
+            const bool before = c.name.rfind(full, 0) == 0, after = c.name.compare(arrow + 5, full.size(), full) == 0;
+            if (!before && !after) {
+                EXPECT_NEAR(c.exactKeptChange, c.wrsChange, 1e-9) << c.name;
+            }
+            if (before && after) {
+                EXPECT_NEAR(c.exactKeptChange, c.refChange, 1e-9) << c.name;
+            }
+        }
+        EXPECT_NEAR(r->exactKeptInstability, x / double(pairs), 1e-12);
+        // Loss patches: largest first, each a connected set within its bounding box.
+        for (std::size_t k = 0; k < r->patches.size(); ++k) {
+            const eval::DropPatch& p = r->patches[k];
+            EXPECT_GE(p.area, eval::FlickerReport::kMinDropPatch);
+            EXPECT_LE(p.area, p.width * p.height);
+            EXPECT_GE(p.width + p.height - 1, int(std::sqrt(double(p.area))));
+            EXPECT_GT(p.reasonShare, 0.0);
+            EXPECT_LE(p.reasonShare, 1.0);
+            EXPECT_GT(p.frame, int(o.warmup));
+            if (k) {
+                EXPECT_LE(p.area, r->patches[k - 1].area);
+            }
+        }
+        std::printf("%zu loss patches\n", r->patches.size());
         std::printf("%s: wrs %.6f fov %.6f reference %.6f over %llu pairs, %zu classes\n",
                     std::string(scenes::toString(m)).c_str(), r->wrsInstability, r->fovInstability, r->refInstability,
                     (unsigned long long)r->stablePairs, r->classes.size());
         if (m == scenes::PhotoMotion::Static) {
             EXPECT_LE(r->wrsInstability, r->fovInstability);
             EXPECT_EQ(r->refInstability, 0.0) << "a still scene: the reference never changes";
+            EXPECT_TRUE(r->patches.empty()) << "a still scene loses no kept sample to a blurrier candidate";
         } else {
             EXPECT_GT(r->refInstability, 0.0);
+            EXPECT_FALSE(r->patches.empty()) << "under a pan the fovea's blend band loses kept samples in patches";
         }
         for (const char* file : {"/flicker.md", "/flicker.csv", "/flicker.png"})
             EXPECT_TRUE(std::filesystem::exists(dir + file)) << file;
@@ -231,8 +272,8 @@ TEST_F(Bench, WriteOutputsWritesWhatTheMetricsScored) {
     ASSERT_TRUE(wrs);
     double sum = 0;
     for (int e = 0; e < 2; ++e) {
-        auto metric = eval::makeJodMetric(context(), eval::jodOptions(o, eval::SceneKind::Text, o.width, o.height,
-                                                                      tan[size_t(e)], 90.0));
+        auto metric = eval::makeJodMetric(
+            context(), eval::jodOptions(o, eval::SceneKind::Text, o.width, o.height, tan[size_t(e)], 90.0));
         ASSERT_TRUE(metric.ok()) << metric.error().message;
         for (int k = jodFirst; k < counted; ++k) {
             char name[16];
