@@ -267,8 +267,9 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
        << " %); the reference itself " << fmtNum(rep.refInstability, 6) << ". The error's change, "
        << "mean |Δ(output − reference)|: `wrs` " << fmtNum(rep.wrsErrorInstability, 6) << ", `fov` "
        << fmtNum(rep.fovErrorInstability, 6) << ". With every full-rate kept sample shown exactly (the reference "
-       << "where `wrs` showed one: what no display of them can improve on): " << fmtNum(rep.exactKeptInstability, 6)
-       << " (" << fmtNum(100.0 * (rep.exactKeptInstability / rep.fovInstability - 1.0), 1)
+       << "where `wrs` showed one: a display of them without error; a steadier one must depart from the reference): "
+       << fmtNum(rep.exactKeptInstability, 6) << " ("
+       << fmtNum(100.0 * (rep.exactKeptInstability / rep.fovInstability - 1.0), 1)
        << " % against `fov`).\n\n| previous → now | share of pairs | `wrs` mean change | "
        << "`fov` mean change | reference mean change | `wrs` error change | `fov` error change | `wrs` error | "
        << "`fov` error | contribution | full-rate kept shown exactly: mean change "

@@ -51,8 +51,8 @@ struct FlickerReport {
     /// Mean over the same pairs of the error's change (FlickerClass::wrsErrorChange).
     double wrsErrorInstability = 0, fovErrorInstability = 0;
     /// Temporal instability over the same pairs of `wrs` with its full-rate kept samples shown exactly
-    /// (FlickerClass::exactKeptChange): what no display of them can improve on, with `wrs`'s choice of
-    /// where and what to keep.
+    /// (FlickerClass::exactKeptChange), with `wrs`'s choice of where and what to keep: what a display of
+    /// them without error gives; a steadier display of them must depart from the reference.
     double exactKeptInstability = 0;
     /// Pixels (all, not only stable ones) that showed a sharper kept sample in one frame and their
     /// candidate in the next, by the retention outcome of the CPU reference run on the GPU's history
