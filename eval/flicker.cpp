@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -63,7 +64,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
     std::vector<float> heldPrev;
     std::map<std::string, uint64_t> drops;
     const char* const outcomeName[] = {"no usable history", "change test", "candidate sharper", "kept", "merged",
-                                       "outside the taps",  "floor rule"};
+                                       "outside the taps", "floor rule"};
     cv::Mat excess;  // per pixel: sum of |Δ wrs| - |Δ fov| over stable pairs
     FlickerReport rep;
     auto visit = [&](const SceneFrameInfo& si, int f, double t, std::array<EyeSubmission, 2>& eyes) -> Status {

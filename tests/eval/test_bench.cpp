@@ -1,16 +1,16 @@
 // Regression guard of the benchmark's headline: at a 5° fovea, WRS keeps more near-gaze quality
 // than FOV on the reading page (reading gaze) and in the atrium (free viewing, static camera).
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "../core/gpu_rig.h"
 #include "eval/bench.h"
@@ -123,7 +123,7 @@ TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
             const eval::DropPatch& p = r->patches[k];
             EXPECT_GE(p.area, eval::FlickerReport::kMinDropPatch);
             EXPECT_LE(p.area, p.width * p.height);
-            EXPECT_GE(p.width + p.height - 1, int(std::sqrt(double(p.area))));
+            EXPECT_GE(p.area, std::max(p.width, p.height));  // 8-connected across its whole box
             EXPECT_GT(p.reasonShare, 0.0);
             EXPECT_LE(p.reasonShare, 1.0);
             EXPECT_GT(p.frame, int(o.warmup));
@@ -272,8 +272,8 @@ TEST_F(Bench, WriteOutputsWritesWhatTheMetricsScored) {
     ASSERT_TRUE(wrs);
     double sum = 0;
     for (int e = 0; e < 2; ++e) {
-        auto metric = eval::makeJodMetric(
-            context(), eval::jodOptions(o, eval::SceneKind::Text, o.width, o.height, tan[size_t(e)], 90.0));
+        auto metric = eval::makeJodMetric(context(), eval::jodOptions(o, eval::SceneKind::Text, o.width, o.height,
+                                                                      tan[size_t(e)], 90.0));
         ASSERT_TRUE(metric.ok()) << metric.error().message;
         for (int k = jodFirst; k < counted; ++k) {
             char name[16];
