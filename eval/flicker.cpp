@@ -190,12 +190,13 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                     bool stable = true;
                     for (int c = 0; c < 3; ++c) stable = stable && std::abs(int(ref[k + c]) - int(refP[k + c])) <= 1;
                     if (!stable) continue;
-                    double dw = 0, df = 0, dr = 0, ew = 0, ef = 0, aw = 0, af = 0, dx = 0;
+                    double dw = 0, df = 0, dr = 0, ew = 0, ef = 0, aw = 0, af = 0, dx = 0, dxf = 0;
                     // A full-rate kept sample shown exactly: the reference wherever `wrs` showed one.
                     const bool exact1 = curShown[i] == Shown::SharperFull, exact0 = prevShown[i] == Shown::SharperFull;
                     for (int c = 0; c < 3; ++c) {
                         const int r1 = ref[k + c], r0 = refP[k + c];
                         dx += std::abs((exact1 ? r1 : int(wrs[k + c])) - (exact0 ? r0 : int(wrsP[k + c])));
+                        dxf += std::abs((exact1 ? r1 : int(fov[k + c])) - (exact0 ? r0 : int(fovP[k + c])));
                         dw += std::abs(int(wrs[k + c]) - int(wrsP[k + c]));
                         df += std::abs(int(fov[k + c]) - int(fovP[k + c]));
                         dr += std::abs(r1 - r0);
@@ -205,7 +206,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                         af += std::abs(int(fov[k + c]) - r1);
                     }
                     aw /= 3 * 255.0, af /= 3 * 255.0;
-                    dw /= 3 * 255.0, df /= 3 * 255.0, dr /= 3 * 255.0, dx /= 3 * 255.0, ew /= 3 * 255.0,
+                    dw /= 3 * 255.0, df /= 3 * 255.0, dr /= 3 * 255.0, dx /= 3 * 255.0, dxf /= 3 * 255.0, ew /= 3 * 255.0,
                         ef /= 3 * 255.0;
                     FlickerClass& c = cls[int(prevShown[i])][int(curShown[i])];
                     c.pairs++;
@@ -217,6 +218,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                     c.wrsError += aw;
                     c.fovError += af;
                     c.exactKeptChange += dx;
+                    c.exactKeptFovChange += dxf;
                     ex[x] += dw - df;
                     rep.stablePairs++;
                 }
@@ -229,11 +231,11 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
         return {};
     };
     if (Status s = forEachSceneFrame(ctx, o.scenes.front(), o, visit); !s) return s.error();
-    double sw = 0, sf = 0, sr = 0, sew = 0, sef = 0, sx = 0;
+    double sw = 0, sf = 0, sr = 0, sew = 0, sef = 0, sx = 0, sxf = 0;
     for (auto& row : cls)
         for (FlickerClass& c : row) {
             sw += c.wrsChange, sf += c.fovChange, sr += c.refChange, sew += c.wrsErrorChange, sef += c.fovErrorChange;
-            sx += c.exactKeptChange;
+            sx += c.exactKeptChange, sxf += c.exactKeptFovChange;
             if (c.pairs) rep.classes.push_back(c);
         }
     const double n = double(std::max<uint64_t>(rep.stablePairs, 1));
@@ -243,6 +245,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
     rep.wrsErrorInstability = sew / n;
     rep.fovErrorInstability = sef / n;
     rep.exactKeptInstability = sx / n;
+    rep.exactKeptFovInstability = sxf / n;
     std::sort(rep.classes.begin(), rep.classes.end(), [](const FlickerClass& a, const FlickerClass& b) {
         return a.wrsChange - a.fovChange > b.wrsChange - b.fovChange;
     });
@@ -255,7 +258,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
     std::ofstream csv(dir + "/flicker.csv"), md(dir + "/flicker.md");
     if (!csv || !md) return Error{1, "flicker: cannot write " + dir + "/flicker.{csv,md}"};
     csv << "class,pairs,share,wrs_mean_change,fov_mean_change,ref_mean_change,wrs_error_change,fov_error_change,"
-           "contribution,exact_kept_mean_change\n";
+           "contribution,exact_kept_mean_change,exact_kept_fov_mean_change\n";
     md << "# Where `wrs` changes more than `fov` from frame to frame\n\nScene " << toString(o.scenes.front()) << ", "
        << toString(o.modes.front()) << ", fovea " << fmtNum(o.foveas.front(), 1) << "°, " << o.width << "x" << o.height
        << ", frames " << o.warmup + 1 << "–" << o.frames - 1 << " (left eye). Pixel pairs where the "
@@ -271,7 +274,10 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
        << "where `wrs` showed one: a display of them without error; a steadier one must depart from the reference): "
        << fmtNum(rep.exactKeptInstability, 6) << " ("
        << fmtNum(100.0 * (rep.exactKeptInstability / rep.fovInstability - 1.0), 1)
-       << " % against `fov`).\n\n| previous → now | share of pairs | `wrs` mean change | "
+       << " % against `fov`); the same with `fov`'s output everywhere else: "
+       << fmtNum(rep.exactKeptFovInstability, 6) << " ("
+       << fmtNum(100.0 * (rep.exactKeptFovInstability / rep.fovInstability - 1.0), 1)
+       << " %).\n\n| previous → now | share of pairs | `wrs` mean change | "
        << "`fov` mean change | reference mean change | `wrs` error change | `fov` error change | `wrs` error | "
        << "`fov` error | contribution | full-rate kept shown exactly: mean change "
           "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -280,7 +286,8 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                      contrib = (c.wrsChange - c.fovChange) / n;
         const double mr = c.refChange / c.pairs, ew = c.wrsErrorChange / c.pairs, ef = c.fovErrorChange / c.pairs;
         csv << '"' << c.name << "\"," << c.pairs << ',' << share << ',' << mw << ',' << mf << ',' << mr << ',' << ew
-            << ',' << ef << ',' << contrib << ',' << c.exactKeptChange / c.pairs << '\n';
+            << ',' << ef << ',' << contrib << ',' << c.exactKeptChange / c.pairs << ','
+            << c.exactKeptFovChange / c.pairs << '\n';
         md << "| " << c.name << " | " << fmtNum(100 * share, 2) << " % | " << fmtNum(mw, 6) << " | " << fmtNum(mf, 6)
            << " | " << fmtNum(mr, 6) << " | " << fmtNum(ew, 6) << " | " << fmtNum(ef, 6) << " | "
            << fmtNum(c.wrsError / c.pairs, 5) << " | " << fmtNum(c.fovError / c.pairs, 5) << " | " << fmtNum(contrib, 7)

@@ -30,6 +30,9 @@ struct FlickerClass {
     /// The change (as wrsChange) of `wrs` with every pixel that shows a full-rate kept sample showing the
     /// reference instead: a display of those samples with no error at all, where `wrs` keeps them.
     double exactKeptChange = 0;
+    /// The same with every other pixel showing `fov`'s output: the excess over `fov` is then only the
+    /// full-rate kept detail, shown without error, and its steps to and from `fov`'s output.
+    double exactKeptFovChange = 0;
 };
 
 /// A connected patch (8-neighbourhood) of pixels that showed a sharper kept sample in one frame and
@@ -54,6 +57,8 @@ struct FlickerReport {
     /// (FlickerClass::exactKeptChange), with `wrs`'s choice of where and what to keep: what a display of
     /// them without error gives; a steadier display of them must depart from the reference.
     double exactKeptInstability = 0;
+    /// The same with every other pixel showing `fov`'s output (FlickerClass::exactKeptFovChange).
+    double exactKeptFovInstability = 0;
     /// Pixels (all, not only stable ones) that showed a sharper kept sample in one frame and their
     /// candidate in the next, by the retention outcome of the CPU reference run on the GPU's history
     /// (WRS_OUT_*; "no history" where the tracked lookup found no sample).

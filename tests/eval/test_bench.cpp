@@ -101,23 +101,27 @@ TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
         EXPECT_NEAR(r->wrsInstability, w / double(pairs), 1e-12);
         EXPECT_NEAR(r->fovInstability, f / double(pairs), 1e-12);
         // The exact display of full-rate kept samples changes what `wrs` shows only where it showed one:
-        // classes with none in either frame change as `wrs` does, those with one in both frames as the
-        // reference does.
-        double x = 0;
+        // classes with none in either frame change as `wrs` does (as `fov` does with `fov`'s output
+        // elsewhere), those with one in both frames as the reference does.
+        double x = 0, xf = 0;
         for (const eval::FlickerClass& c : r->classes) {
             x += c.exactKeptChange;
+            xf += c.exactKeptFovChange;
             const std::size_t arrow = c.name.find(" → ");
             ASSERT_NE(arrow, std::string::npos) << c.name;
             const std::string full = "sharper: full-rate";
             const bool before = c.name.rfind(full, 0) == 0, after = c.name.compare(arrow + 5, full.size(), full) == 0;
             if (!before && !after) {
                 EXPECT_NEAR(c.exactKeptChange, c.wrsChange, 1e-9) << c.name;
+                EXPECT_NEAR(c.exactKeptFovChange, c.fovChange, 1e-9) << c.name;
             }
             if (before && after) {
                 EXPECT_NEAR(c.exactKeptChange, c.refChange, 1e-9) << c.name;
+                EXPECT_NEAR(c.exactKeptFovChange, c.refChange, 1e-9) << c.name;
             }
         }
         EXPECT_NEAR(r->exactKeptInstability, x / double(pairs), 1e-12);
+        EXPECT_NEAR(r->exactKeptFovInstability, xf / double(pairs), 1e-12);
         // Loss patches: largest first, each a connected set within its bounding box.
         for (std::size_t k = 0; k < r->patches.size(); ++k) {
             const eval::DropPatch& p = r->patches[k];
