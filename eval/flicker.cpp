@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <string_view>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -63,8 +64,10 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
     std::unique_ptr<Reference> cpu;
     std::vector<float> heldPrev;
     std::map<std::string, uint64_t> drops;
+    // Why a kept sample went: the retention outcome (WRS_OUT_*), or none where the lookup found nothing.
     const char* const outcomeName[] = {"no usable history", "change test", "candidate sharper", "kept", "merged",
-                                       "outside the taps", "floor rule"};
+                                       "outside the taps",  "floor rule",  "no tracked sample"};
+    constexpr int kNoTrackedSample = 7;
     cv::Mat excess;  // per pixel: sum of |Δ wrs| - |Δ fov| over stable pairs
     FlickerReport rep;
     auto visit = [&](const SceneFrameInfo& si, int f, double t, std::array<EyeSubmission, 2>& eyes) -> Status {
@@ -133,8 +136,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
             }
         if (f > o.warmup) {
             const auto& trace = cpu->trace(0);
-            cv::Mat dropMask = cv::Mat::zeros(int(H), int(W), CV_8U);
-            std::vector<std::string> dropWhy(std::size_t(W) * H);
+            cv::Mat dropMask = cv::Mat::zeros(int(H), int(W), CV_8U);  // 1 + the reason of a loss, 0: none
             for (uint32_t y = 0; y < H; ++y)
                 for (uint32_t x = 0; x < W; ++x) {
                     const std::size_t i = std::size_t(y) * W + x;
@@ -145,16 +147,13 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                         for (int dx = -1; dx <= 1; ++dx)
                             inside = inside && prevShown[i + dy * int(W) + dx] >= Shown::SharperFull;
                     const Reference::Trace& tr = trace[i];
-                    const std::string why = tr.hadHistory || tr.outcome != gpu::WRS_OUT_FRESH
-                                                ? outcomeName[std::min(tr.outcome, 6u)]
-                                                : "no tracked sample";
-                    drops[why + (inside ? ", inside the kept region" : ", at its edge")]++;
+                    const int why = tr.hadHistory || tr.outcome != gpu::WRS_OUT_FRESH ? int(std::min(tr.outcome, 6u))
+                                                                                      : kNoTrackedSample;
+                    drops[outcomeName[why] + std::string(inside ? ", inside the kept region" : ", at its edge")]++;
                     // A patch is a loss: the candidate now is less sharp than the sample stored there
                     // before (not the gaze arriving with sharper candidates).
-                    if (qCandidate[i] < gpu::wrs_packed_quality(reservoirs[i]) * (1.0f - 1e-3f)) {
-                        dropMask.at<uchar>(int(y), int(x)) = 1;
-                        dropWhy[i] = why;
-                    }
+                    if (qCandidate[i] < gpu::wrs_packed_quality(reservoirs[i]) * (1.0f - 1e-3f))
+                        dropMask.at<uchar>(int(y), int(x)) = uchar(1 + why);
                 }
             // The drops of this frame as 8-connected patches: a block lost at once shows as one.
             cv::Mat labels, stats, centroids;
@@ -169,14 +168,18 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                 dp.width = stats.at<int>(l, cv::CC_STAT_WIDTH);
                 dp.height = stats.at<int>(l, cv::CC_STAT_HEIGHT);
                 dp.area = area;
-                std::map<std::string, int> why;
+                int count[std::size(outcomeName)] = {};
                 for (int y = dp.y; y < dp.y + dp.height; ++y)
                     for (int x = dp.x; x < dp.x + dp.width; ++x)
-                        if (labels.at<int>(y, x) == l) why[dropWhy[std::size_t(y) * W + x]]++;
-                const auto top = std::max_element(why.begin(), why.end(),
-                                                  [](const auto& a, const auto& b) { return a.second < b.second; });
-                dp.reason = top->first;
-                dp.reasonShare = double(top->second) / area;
+                        if (labels.at<int>(y, x) == l) count[dropMask.at<uchar>(y, x) - 1]++;
+                // The most frequent reason; of equally frequent ones, the first by name.
+                int top = 0;
+                for (int k = 1; k < int(std::size(count)); ++k)
+                    if (count[k] > count[top] ||
+                        (count[k] == count[top] && std::string_view(outcomeName[k]) < outcomeName[top]))
+                        top = k;
+                dp.reason = outcomeName[top];
+                dp.reasonShare = double(count[top]) / area;
                 rep.patches.push_back(dp);
             }
             const auto* ref = reinterpret_cast<const uint8_t*>(runs[0].cur.data.data());
@@ -206,8 +209,8 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                         af += std::abs(int(fov[k + c]) - r1);
                     }
                     aw /= 3 * 255.0, af /= 3 * 255.0;
-                    dw /= 3 * 255.0, df /= 3 * 255.0, dr /= 3 * 255.0, dx /= 3 * 255.0, dxf /= 3 * 255.0, ew /= 3 * 255.0,
-                        ef /= 3 * 255.0;
+                    dw /= 3 * 255.0, df /= 3 * 255.0, dr /= 3 * 255.0, dx /= 3 * 255.0, dxf /= 3 * 255.0,
+                        ew /= 3 * 255.0, ef /= 3 * 255.0;
                     FlickerClass& c = cls[int(prevShown[i])][int(curShown[i])];
                     c.pairs++;
                     c.wrsChange += dw;
