@@ -47,6 +47,7 @@ glm::vec4 HostImage::fetch(uint32_t x, uint32_t y) const {
         std::memcpy(&f, p, 4);
         return glm::vec4(f, 0.0f, 0.0f, 1.0f);
     }
+    case Format::R8UI: return glm::vec4(float(uint8_t(p[0])), 0.0f, 0.0f, 1.0f);  // the integer, as usampler2D
     }
     return glm::vec4(0.0f);
 }
@@ -69,6 +70,7 @@ void HostImage::store(uint32_t x, uint32_t y, glm::vec4 v) {
         break;
     case Format::D32F:
     case Format::R32F: std::memcpy(p, &v.x, 4); break;
+    case Format::R8UI: p[0] = std::byte(uint8_t(std::isnan(v.x) ? 0.0f : std::clamp(v.x, 0.0f, 255.0f))); break;
     }
 }
 

@@ -26,10 +26,10 @@ struct HostImage {
     std::span<const std::byte> bytes() const { return data; }
 
     /// Texel as a shader's texelFetch returns it: UNORM8 -> c/255 (sRGB not decoded: the load
-    /// pass decodes), fp16 -> float, missing channels (0, 0, 0, 1).
+    /// pass decodes), fp16 -> float, R8UI -> the integer as a float, missing channels (0, 0, 0, 1).
     glm::vec4 fetch(uint32_t x, uint32_t y) const;
     /// Writes a texel, converting to the format (UNORM8 rounds and clamps; fp16 rounds to nearest
-    /// even). Values are stored as given: no sRGB encoding.
+    /// even; R8UI truncates and clamps to 0..255). Values are stored as given: no sRGB encoding.
     void store(uint32_t x, uint32_t y, glm::vec4 v);
     /// The sub-rectangle (x, y, w, h), same format.
     HostImage crop(uint32_t x, uint32_t y, uint32_t w, uint32_t h) const;

@@ -57,17 +57,57 @@ struct MotionInfo {
     glm::vec3 scale{1.0f, 1.0f, 1.0f};
 };
 
+/// A foveated inset (quad views, XR_VARJO_quad_views): the same eye and pose as its view, a field of
+/// view inside the view's, rendered at a higher pixel density (typically following the gaze). The
+/// view itself is then the wide view, rendered at a low density. The compositor resamples both into
+/// the output (ProjectionLayer::outputWidth x outputHeight over the wide view's field of view) and
+/// blends them over the inset's outer CompositorConfig::insetBlendPx pixels; each output pixel's
+/// quality is what it was rendered at: 1 in the inset, (wide px/deg / inset px/deg)^2 outside it,
+/// interpolated across the blend (docs/integrating.md, "Quad views").
+struct InsetView {
+    Fov fov;                          ///< inside the wide view's, each angle
+    SubImage color;                   ///< any size; its density must be at least the wide view's
+    std::optional<DepthInfo> depth;   ///< exactly when the wide view has depth, same near/far/reversed
+    std::optional<MotionInfo> motion; ///< exactly when the wide view has motion; in the inset's pixels
+};
+
+/// A shading-rate map (VK_KHR_fragment_shading_rate's attachment): one R8UI texel per
+/// texelWidth x texelHeight block of the view, holding the rate the block was shaded at, w x h pixels
+/// per sample with w = 2^((v >> 2) & 3), h = 2^(v & 3). The view's colour is what that rendering gave:
+/// one sample per w x h block, replicated. Each pixel's quality is 1 / (w h). Sizes of 8 (a field of
+/// 3), which Vulkan's table of fragment sizes never lists, are taken as 4; bits 4..7 are ignored, as
+/// the extension's formula does (docs/integrating.md, "Shading-rate maps").
+struct RateMapInfo {
+    SubImage subImage;  ///< R8UI (Usage::ShadingRate), ceil(W / texelWidth) x ceil(H / texelHeight) texels
+    uint32_t texelWidth = 16, texelHeight = 16;  ///< pixels per texel: powers of two, 1..64
+};
+
 struct ProjectionView {
     Fov fov;
     SubImage color;
     std::optional<DepthInfo> depth;
     std::optional<MotionInfo> motion;
+    /// Submitted foveation, at most one of the two, on both views or neither.
+    std::optional<InsetView> inset;
+    std::optional<RateMapInfo> rateMap;
 };
 
 /// Exactly two views: index 0 is the left eye, 1 the right eye.
 struct ProjectionLayer {
     std::vector<ProjectionView> views;
+    /// Quad views (views with an inset): the size of each eye's output, both or neither given (0: the
+    /// left inset's pixel density over the left view's field of view, rounded). Other frames: 0, or the
+    /// views' colour size.
+    uint32_t outputWidth = 0, outputHeight = 0;
 };
+
+/// How a frame was foveated before it was submitted.
+enum class SubmittedFoveation : uint8_t { Full, Quad, Rate };
+/// Full, Quad (views have an inset) or Rate (views have a rate map), from the left view.
+SubmittedFoveation submittedFoveation(const ProjectionLayer& layer);
+/// The size of each eye's output for a validated layer: the colour's size, or for quad views
+/// outputWidth x outputHeight or the inset's density over the wide view (ProjectionLayer).
+glm::uvec2 outputSize(const ProjectionLayer& layer);
 
 /// Gaze of one eye: unit direction in that eye's space (-Z forward). An invalid or non-finite gaze
 /// is not a refusal: the compositor falls back to the view centre with the fallback fovea size.
@@ -104,6 +144,8 @@ enum class SubmitError : int {
                             ///< lost (every later frame is refused: make a new Context and Compositor)
     InvalidMotionScale,     ///< MotionInfo::scale not finite
     InvalidSubmission,      ///< a FrameSubmission (compositor.h) that cannot be carried out
+    InvalidInset,           ///< an inset outside its view, less dense than it, or an output size out of range
+    InvalidRateMap,         ///< a rate map of the wrong size for its view, or a texel size that is not 1..64, 2^k
 };
 
 std::string_view toString(SubmitError e);

@@ -288,12 +288,157 @@ TEST_F(FrameValidation, InconsistentViews) {
 
 TEST_F(FrameValidation, EveryCodeHasItsOwnName) {
     std::vector<std::string> names;
-    for (int c = int(SubmitError::LayerCount); c <= int(SubmitError::DeviceFailure); ++c) {
+    for (int c = int(SubmitError::LayerCount); c <= int(SubmitError::InvalidRateMap); ++c) {
         std::string n(toString(SubmitError(c)));
         EXPECT_NE(n, "?") << c;
         for (const std::string& m : names) EXPECT_NE(n, m);
         names.push_back(n);
     }
+}
+
+// Quad views: the valid frame's views become wide views (64x48 over 90° x 74°) with a 40x40 inset
+// over +-12° (denser: about 89 against 32 pixels per tangent unit), depth and motion on both.
+class QuadValidation : public FrameValidation {
+protected:
+    void SetUp() override {
+        FrameValidation::SetUp();
+        insetColor = makeReleased(Usage::Color, Format::RGBA16F, 40, 40);
+        insetDepth = makeReleased(Usage::Depth, Format::R32F, 40, 40);
+        insetMotion = makeReleased(Usage::Motion, Format::RG16F, 40, 40);
+        frame = quad(11);
+        Status s = validator.validate(frame);
+        ASSERT_TRUE(s.ok()) << s.message();
+    }
+    FrameEndInfo quad(uint64_t index) {
+        FrameEndInfo f = valid(index);
+        for (uint32_t eye = 0; eye < 2; ++eye) {
+            ProjectionView& v = f.layers[0].views[eye];
+            v.fov = Fov{-45 * kDeg, 45 * kDeg, 37 * kDeg, -37 * kDeg};
+            InsetView in;
+            in.fov = Fov{-12 * kDeg, 12 * kDeg, 12 * kDeg, -12 * kDeg};
+            in.color = {insetColor.get(), {0, 0, 40, 40}, eye};
+            in.depth = DepthInfo{{insetDepth.get(), {0, 0, 40, 40}, eye}, 0.1f, 100.0f, false};
+            in.motion = MotionInfo{{insetMotion.get(), {0, 0, 40, 40}, eye}};
+            v.inset = in;
+        }
+        return f;
+    }
+    std::unique_ptr<FakeSwapchain> insetColor, insetDepth, insetMotion;
+};
+
+TEST_F(QuadValidation, TheOutputIsTheInsetsDensityOverTheWideView) {
+    EXPECT_EQ(submittedFoveation(frame.layers[0]), SubmittedFoveation::Quad);
+    // 40 px over 2 tan(12°) = 94.1 px per tangent unit; the wide view spans 2 tan(45°) x 2 tan(37°).
+    const glm::uvec2 out = outputSize(frame.layers[0]);
+    EXPECT_EQ(out.x, uint32_t(std::lround(40 / (2 * std::tan(12 * kDeg)) * 2 * std::tan(45 * kDeg))));
+    EXPECT_EQ(out.y, uint32_t(std::lround(40 / (2 * std::tan(12 * kDeg)) * 2 * std::tan(37 * kDeg))));
+    frame.layers[0].outputWidth = 300;
+    frame.layers[0].outputHeight = 200;
+    EXPECT_TRUE(validator.validate(frame).ok());
+    EXPECT_EQ(outputSize(frame.layers[0]), glm::uvec2(300, 200));
+}
+
+TEST_F(QuadValidation, EveryRefusalNamesEyeFieldAndValue) {
+    view(1).inset->fov.angleLeft = -50 * kDeg;  // past the wide view's -45°
+    expectRefused(SubmitError::InvalidInset, {"right inset", "angleLeft", "-0.872", "outside", "-0.785"});
+    frame = quad(11);
+    view(0).inset->fov.angleUp = 40 * kDeg;
+    expectRefused(SubmitError::InvalidInset, {"left inset", "angleUp"});
+    frame = quad(11);
+    view(0).inset->fov.angleDown = kNaN;
+    expectRefused(SubmitError::InvalidFov, {"left inset"});
+    frame = quad(11);
+    // 10 px over 2 tan(12°): 23.5 px per tangent unit, sparser than the wide view's 32.
+    view(1).inset->color.rect = view(1).inset->depth->subImage.rect = view(1).inset->motion->subImage.rect = {0, 0, 10, 10};
+    expectRefused(SubmitError::InvalidInset, {"right inset", "less dense"});
+    frame = quad(11);
+    view(0).inset->color.rect = {0, 0, 41, 40};
+    expectRefused(SubmitError::RectOutOfBounds, {"left inset colour", "41x40"});
+    frame = quad(11);
+    view(1).inset->depth.reset();
+    expectRefused(SubmitError::InconsistentViews, {"right inset", "no depth"});
+    frame = quad(11);
+    view(0).inset->depth->farZ = 50.0f;
+    expectRefused(SubmitError::InconsistentViews, {"left inset depth range", "far 50", "far 100"});
+    frame = quad(11);
+    view(0).inset->motion->subImage.rect = {0, 0, 20, 20};
+    expectRefused(SubmitError::SizeMismatch, {"left inset motion"});
+    frame = quad(11);
+    view(1).inset->motion->scale.x = kInf;
+    expectRefused(SubmitError::InvalidMotionScale, {"right inset motion"});
+    frame = quad(11);
+    view(0).inset->color.swapchain = insetDepth.get();
+    expectRefused(SubmitError::WrongUsage, {"left inset colour"});
+    frame = quad(11);
+    view(1).inset.reset();
+    expectRefused(SubmitError::InconsistentViews, {"inset", "one view"});
+    frame = quad(11);
+    frame.layers[0].outputWidth = 100;
+    expectRefused(SubmitError::SizeMismatch, {"output size 100x0"});
+    frame.layers[0].outputHeight = 20;  // smaller than the 64x48 wide view
+    expectRefused(SubmitError::InvalidInset, {"output size 100x20", "smaller", "64x48"});
+    frame.layers[0].outputWidth = 20000;
+    frame.layers[0].outputHeight = 200;
+    expectRefused(SubmitError::InvalidInset, {"20000x200", "larger"});
+    // A full-resolution frame may name its own size only.
+    frame = valid(11);
+    frame.layers[0].outputWidth = 128;
+    frame.layers[0].outputHeight = 96;
+    expectRefused(SubmitError::SizeMismatch, {"128x96", "64x48", "only quad views"});
+}
+
+class RateValidation : public FrameValidation {
+protected:
+    void SetUp() override {
+        FrameValidation::SetUp();
+        map = makeReleased(Usage::ShadingRate, Format::R8UI, 4, 3);  // 64x48 at 16x16 px per texel
+        frame = rated(11);
+        Status s = validator.validate(frame);
+        ASSERT_TRUE(s.ok()) << s.message();
+    }
+    FrameEndInfo rated(uint64_t index) {
+        FrameEndInfo f = valid(index);
+        for (uint32_t eye = 0; eye < 2; ++eye) f.layers[0].views[eye].rateMap = RateMapInfo{{map.get(), {0, 0, 4, 3}, eye}};
+        return f;
+    }
+    std::unique_ptr<FakeSwapchain> map;
+};
+
+TEST_F(RateValidation, WrongSizesFormatsAndMixturesAreRefused) {
+    EXPECT_EQ(submittedFoveation(frame.layers[0]), SubmittedFoveation::Rate);
+    view(0).rateMap->texelWidth = 12;
+    expectRefused(SubmitError::InvalidRateMap, {"left rate map", "12x16", "power of two"});
+    frame = rated(11);
+    view(1).rateMap->texelHeight = 128;
+    expectRefused(SubmitError::InvalidRateMap, {"right rate map", "16x128"});
+    frame = rated(11);
+    view(1).rateMap->subImage.rect = {0, 0, 4, 2};
+    expectRefused(SubmitError::InvalidRateMap, {"right rate map is 4x2 texels", "64x48 view", "needs 4x3"});
+    frame = rated(11);
+    // 8x8 px per texel needs 8x6 texels; the 4x3 map is the wrong size (and outside no image).
+    view(0).rateMap->texelWidth = view(0).rateMap->texelHeight = 8;
+    expectRefused(SubmitError::InvalidRateMap, {"needs 8x6"});
+    frame = rated(11);
+    view(0).rateMap->subImage.swapchain = color.get();
+    expectRefused(SubmitError::WrongUsage, {"left rate map", "color swapchain", "shading-rate one"});
+    frame = rated(11);
+    auto floatMap = makeReleased(Usage::ShadingRate, Format::R32F, 4, 3);
+    view(0).rateMap->subImage.swapchain = floatMap.get();
+    expectRefused(SubmitError::UnsupportedFormat, {"left rate map", "r32f"});
+    frame = rated(11);
+    view(0).rateMap.reset();
+    expectRefused(SubmitError::InconsistentViews, {"rate map", "one view"});
+    frame = rated(11);
+    auto insetColor = makeReleased(Usage::Color, Format::RGBA16F, 40, 40);
+    for (int e = 0; e < 2; ++e) {
+        InsetView in;
+        in.fov = Fov{-10 * kDeg, 10 * kDeg, 10 * kDeg, -10 * kDeg};
+        in.color = {insetColor.get(), {0, 0, 40, 40}, uint32_t(e)};
+        view(e).inset = in;
+        view(e).depth.reset();
+        view(e).motion.reset();
+    }
+    expectRefused(SubmitError::InconsistentViews, {"left view", "both an inset and a rate map"});
 }
 
 TEST(SwapchainCreateInfo, SizesAndFormatsAreChecked) {
