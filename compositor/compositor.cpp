@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 
+#include "compositor/compose.h"
+#include "compositor/input.h"
 #include "compositor/swapchain_vk.h"
 #include "classify_spv.h"
 #include "copy_spv.h"
@@ -57,6 +59,8 @@ std::string_view toString(FoveationMode m) {
             return "mip";
         case FoveationMode::Gauss:
             return "gauss";
+        case FoveationMode::Submitted:
+            return "submitted";
     }
     return "?";
 }
@@ -89,12 +93,13 @@ enum Binding : uint32_t {
     kBirthCur = 11,
     kSrgbTable = 12,
     kTiles = 13,
-    kTileHeld = 14
+    kTileHeld = 14,
+    kQuality = 15
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
-// Timestamps: the frame's start, after pyramid, foveate, wrs/taa/retain; then before and after a copy
-// kernel, in a submission of its own (measureCopy).
-constexpr uint32_t kFrameStamps = 4;
+// Timestamps: the frame's start, after compose (and classify), pyramid, foveate, wrs/taa/retain; then
+// before and after a copy kernel, in a submission of its own (measureCopy).
+constexpr uint32_t kFrameStamps = 5;
 constexpr uint32_t kTimestamps = kFrameStamps + 2;
 
 Error submitError(SubmitError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
@@ -120,19 +125,19 @@ void listsBarrier(VkCommandBuffer cb) {
                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
-// Sizes and texel bytes of what a view submits (TrafficInputs).
-TrafficInputs trafficInputs(const layers::ProjectionView& v) {
-    TrafficInputs in;
-    in.width = v.color.rect.width;
-    in.height = v.color.rect.height;
-    auto bytes = [](const layers::SubImage& s) { return uint32_t(layers::bytesPerTexel(s.swapchain->info().format)); };
-    in.colorBytes = bytes(v.color);
-    if (v.depth) in.depthBytes = bytes(v.depth->subImage);
-    if (v.motion) in.motionBytes = bytes(v.motion->subImage);
-    return in;
-}
-
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Every image a view reads, with its name for messages (nullptr where the view has none).
+std::array<std::pair<const layers::SubImage*, const char*>, 7> subImagesOf(const layers::ProjectionView& v) {
+    const layers::InsetView* in = v.inset ? &*v.inset : nullptr;
+    return {{{&v.color, "colour"},
+             {v.depth ? &v.depth->subImage : nullptr, "depth"},
+             {v.motion ? &v.motion->subImage : nullptr, "motion"},
+             {in ? &in->color : nullptr, "inset colour"},
+             {in && in->depth ? &in->depth->subImage : nullptr, "inset depth"},
+             {in && in->motion ? &in->motion->subImage : nullptr, "inset motion"},
+             {v.rateMap ? &v.rateMap->subImage : nullptr, "rate map"}}};
+}
 
 Status checkConfig(const CompositorConfig& c) {
     auto bad = [](float v, float lo, float hi) { return !std::isfinite(v) || v <= lo || v > hi; };
@@ -148,12 +153,46 @@ Status checkConfig(const CompositorConfig& c) {
         return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle or oracle-q");
     if (uint8_t(c.equalQuality) > uint8_t(EqualQuality::Reservoir)) return refuse("equal-quality rule must be merge or reservoir");
     if (uint8_t(c.foveation) > uint8_t(FoveationMode::Gauss))
-        return refuse("foveation mode must be none, mip or gauss");
+        return refuse("foveation mode must be none, mip or gauss (submitted foveation comes with the frame: quad "
+                      "views or a rate map)");
+    if (!std::isfinite(c.insetBlendPx) || c.insetBlendPx < 0.0f || c.insetBlendPx > 1024.0f)
+        return refuse("inset blend width must be in [0, 1024] inset pixels");
     if (uint8_t(c.change) > uint8_t(ChangeMetric::DeltaE94)) return refuse("change metric must be off, lstar or de94");
     return {};
 }
 
 }  // namespace
+
+TrafficInputs trafficInputs(const layers::ProjectionLayer& layer) {
+    const layers::ProjectionView& v = layer.views.at(0);
+    TrafficInputs in;
+    const glm::uvec2 out = layers::outputSize(layer);
+    in.width = out.x;
+    in.height = out.y;
+    auto bytes = [](const layers::SubImage& s) { return uint32_t(layers::bytesPerTexel(s.swapchain->info().format)); };
+    in.colorBytes = bytes(v.color);
+    if (v.depth) in.depthBytes = bytes(v.depth->subImage);
+    if (v.motion) in.motionBytes = bytes(v.motion->subImage);
+    const double px = double(out.x) * out.y;
+    if (v.inset) {
+        // Every texel of both sources once (bilinear neighbourhoods cached), per output pixel; the
+        // composed colour (RGBA16F), depth (R32F), motion (RGBA16F) and quality out, which the later
+        // passes read in place of the submitted images.
+        const layers::InsetView& n = *v.inset;
+        const double wide = double(v.color.rect.width) * v.color.rect.height / px;
+        const double inset = double(n.color.rect.width) * n.color.rect.height / px;
+        in.composeRead = wide * (in.colorBytes + in.depthBytes + in.motionBytes) +
+                         inset * (bytes(n.color) + in.depthBytes + in.motionBytes);
+        in.colorBytes = 8;
+        if (v.depth) in.depthBytes = 4;
+        if (v.motion) in.motionBytes = 8;
+        in.composeWrite = in.colorBytes + in.depthBytes + in.motionBytes + 4;
+    } else if (v.rateMap) {
+        in.composeRead = 1.0 / (double(v.rateMap->texelWidth) * v.rateMap->texelHeight);
+        in.composeWrite = 4;
+    }
+    return in;
+}
 
 // The check for a driver whose passes differ with its own conversion though the probe passed
 // (docs/speed.md, "GPU against the CPU reference on an NVIDIA H200").
@@ -198,7 +237,7 @@ bool runsSparse(const CompositorConfig& c) {
 }
 
 bool steadyFloorActive(const CompositorConfig& c) {
-    return c.steadyFloor && floorQuality(c) > 0.0f && c.foveation != FoveationMode::None;
+    return c.steadyFloor && floorQuality(c) > 0.0f && simulatesFoveation(c.foveation);
 }
 
 double Traffic::perPixel() const {
@@ -222,7 +261,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
     const bool retain = usesRetainPass(c.method);
     const bool temporal = c.method != Method::Fov;
-    const bool pyramid = c.foveation != FoveationMode::None || retain;
+    const bool pyramid = simulatesFoveation(c.foveation) || retain;
     const bool usesDepth = c.method == Method::WrsPaper || retain;
     const bool usesMotion = temporal;
     const double depth = usesDepth ? in.depthBytes : 0, motion = usesMotion ? in.motionBytes : 0;
@@ -234,6 +273,9 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     const bool sparse = retain && runsSparse(c);
     const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
     Traffic t;
+    const bool composed = in.composeWrite > 0;
+    if (composed) t.passes.push_back({"compose", in.composeRead, in.composeWrite});
+    const double quality = composed && retain ? 4 : 0;  // the retain pass reads each pixel's rendered quality
     if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.motionShare, 0.0, 1.0), 0.0});
     if (pyramid) {
         // mip: one dispatch, colour in, the stored levels out. gauss: level 1 from the colour, level k from k - 1.
@@ -257,7 +299,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
                             history + output + birth});
     if (c.method == Method::FovTaa) t.passes.push_back({"taa", 16 + history + motion, history + output});
     if (retain)  // the fingerprint level is among the stored ones in every mode
-        t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth),
+        t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth + quality),
                             share * (history + output + birth)});
     if (sparse) t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * (output + birth)});
     t.floor = in.colorBytes + output + (temporal ? share * (2 * history + depth + motion) : 0);
@@ -275,6 +317,9 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                  uint32_t height, bool fallback[2]) {
     gpu::FrameParams p{};
     const layers::ProjectionLayer& layer = frame.layers.at(0);
+    // Quad views: the passes read the compose pass's images (layer = eye, at the origin, motion already
+    // in output pixels) in place of the submitted ones.
+    const bool composed = layers::submittedFoveation(layer) == layers::SubmittedFoveation::Quad;
     for (int i = 0; i < 2; ++i) {
         const layers::ProjectionView& v = layer.views.at(i);
         gpu::EyeParams& e = p.eye[i];
@@ -292,10 +337,13 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
             e.gaze = glm::vec4(glm::normalize(c), config.fallbackFoveaDeg * 0.5f);
         }
         bool srgb = v.color.swapchain->info().format == layers::Format::RGBA8_SRGB;
-        e.color_rect = glm::uvec4(v.color.rect.x, v.color.rect.y, srgb ? 1u : 0u, v.color.arrayIndex);
+        e.color_rect = composed ? glm::uvec4(0u, 0u, gpu::WRS_INPUT_COMPOSED, uint32_t(i))
+                                : glm::uvec4(v.color.rect.x, v.color.rect.y,
+                                             srgb ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR, v.color.arrayIndex);
         if (v.depth) {
-            e.depth_rect = glm::uvec4(v.depth->subImage.rect.x, v.depth->subImage.rect.y, v.depth->reversedZ ? 1u : 0u,
-                                      v.depth->subImage.arrayIndex);
+            e.depth_rect = composed ? glm::uvec4(0u, 0u, v.depth->reversedZ ? 1u : 0u, uint32_t(i))
+                                    : glm::uvec4(v.depth->subImage.rect.x, v.depth->subImage.rect.y,
+                                                 v.depth->reversedZ ? 1u : 0u, v.depth->subImage.arrayIndex);
             e.depth_range = glm::vec4(v.depth->nearZ, v.depth->farZ, 0.0f, 0.0f);
         }
         // Motion reach in pixels: the degrees at the view's centre, where a pixel spans the most angle
@@ -305,7 +353,9 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                 ? glm::radians(config.motionReachDeg) * std::abs(pxPerRad)
                                 : std::numeric_limits<float>::infinity();
         e.motion_scale = glm::vec4(1.0f, 1.0f, 1.0f, reach);
-        if (v.motion) {
+        if (v.motion && composed) {
+            e.motion_rect = glm::uvec4(0u, 0u, 0u, uint32_t(i));
+        } else if (v.motion) {
             e.motion_rect =
                 glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
             e.motion_scale = glm::vec4(v.motion->scale, reach);
@@ -319,7 +369,15 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
         p.levels[k] = glm::uvec4(s, k == 0 ? 0u : gpu::wrs_level_offset(size0, k) - level0, stored);
     }
     // z is unused: whether birth colours are tracked is the passes' constant TRACK_BIRTH.
-    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, 0.0f, floorQuality(config));
+    // The floor rule's quality: the mode's far periphery, or for a frame submitted foveated the lowest
+    // quality it was rendered at (submittedFloor), under the same conditions (floorQuality).
+    float floor = floorQuality(config);
+    if (layers::submittedFoveation(layer) != layers::SubmittedFoveation::Full) {
+        CompositorConfig simulated = config;
+        simulated.foveation = FoveationMode::Mip;
+        floor = floorQuality(simulated) > 0.0f ? submittedFloor(layer) : 0.0f;
+    }
+    p.tuning = glm::vec4(config.midPeripheryDeg * 0.5f, config.depthTau, 0.0f, floor);
     p.held = glm::uvec4(0u, 0u, runsSparse(config) ? 1u : 0u, 0u);  // the offsets are the compositor's
     return p;
 }
@@ -328,6 +386,7 @@ Result<std::unique_ptr<Compositor>> Compositor::create(vk::Context& context, con
     if (Status s = checkConfig(config); !s) return s.error();
     std::unique_ptr<Compositor> c(new Compositor(context));
     c->config_ = config;
+    c->frame_ = config;
     if (Status s = c->init(); !s) return s.error();
     return c;
 }
@@ -355,7 +414,7 @@ Status Compositor::init() {
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
          binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
-         binding(kTiles, ssbo), binding(kTileHeld, ssbo)});
+         binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -365,7 +424,7 @@ Status Compositor::init() {
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 24},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 38},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 42},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 5;
@@ -443,6 +502,24 @@ Status Compositor::init() {
         vkCmdClearColorImage(cmd, dummy_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &ib.subresourceRange);
     });
     if (!st) return st;
+    // The placeholder of a rate map (an integer image, as usampler2D needs).
+    vk::ImageCreateInfo uci;
+    uci.format = VK_FORMAT_R8_UINT;
+    uci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    auto dummyUint = ctx_.createImage(uci);
+    if (!dummyUint) return named("compositor placeholder image", dummyUint.error());
+    dummyUint_ = std::move(*dummyUint);
+    st = ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+        vk::layoutTransition(cmd, dummyUint_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
+                             VK_IMAGE_LAYOUT_GENERAL);
+        VkClearColorValue zero{};
+        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(cmd, dummyUint_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+    });
+    if (!st) return st;
+    auto compose = ComposePass::create(ctx_, srgbTable_.handle());
+    if (!compose) return compose.error();
+    compose_ = std::move(*compose);
     cmd_ = ctx_.allocateCommandBuffer();
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VkFence fence;
@@ -571,7 +648,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     const uint64_t pyramidTexels =
         (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES +
         2ull * WRS_EYES * level4.x * level4.y;
-    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts;
+    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts, quality;
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
@@ -580,7 +657,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     for (const Alloc& a :
          {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"},
           Alloc{&reservoirs[0], pixels * 16, "reservoirs"}, Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
-          Alloc{&births[1], birth ? pixels * 16 : 16, "births"}}) {
+          Alloc{&births[1], birth ? pixels * 16 : 16, "births"}, Alloc{&quality, pixels * 4, "rendered qualities"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
         *a.buffer = std::move(*r);
@@ -638,6 +715,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     tiles_ = std::move(tiles);
     tileHeld_ = std::move(held);
     tileCounts_ = std::move(counts);
+    quality_ = std::move(quality);
     held_ = Held::Unknown;
     lastTiled_ = false;
     birthAllocated_ = birth;
@@ -650,7 +728,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
             {reservoirs_[o].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
             {birth_[o].handle(), 0, VK_WHOLE_SIZE}};
         const uint32_t bindings[7] = {kFrame, kPyramidBuf, kCandidate, kResPrev, kResCur, kBirthPrev, kBirthCur};
-        VkWriteDescriptorSet w[10];
+        VkWriteDescriptorSet w[11];
         for (int k = 0; k < 7; ++k)
             w[k] =
                 vk::bufferWrite(sets_[set], bindings[k],
@@ -661,7 +739,9 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         w[8] = vk::bufferWrite(sets_[set], kTiles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &ti);
         VkDescriptorBufferInfo hi{tileHeld_.handle(), 0, VK_WHOLE_SIZE};
         w[9] = vk::bufferWrite(sets_[set], kTileHeld, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &hi);
-        vkUpdateDescriptorSets(ctx_.device(), 10, w, 0, nullptr);
+        VkDescriptorBufferInfo qi{quality_.handle(), 0, VK_WHOLE_SIZE};
+        w[10] = vk::bufferWrite(sets_[set], kQuality, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &qi);
+        vkUpdateDescriptorSets(ctx_.device(), 11, w, 0, nullptr);
     }
     width_ = width;
     height_ = height;
@@ -743,27 +823,28 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     const bool record = submission.mode == FrameSubmission::Mode::Record;
     const layers::ProjectionLayer& layer = frame.layers[0];
     auto vkSwapchain = [&](const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); };
-    for (std::size_t eye = 0; eye < layer.views.size(); ++eye) {
-        const layers::ProjectionView& v = layer.views[eye];
-        const std::pair<const layers::SubImage*, const char*> subImages[] = {
-            {&v.color, "colour"},
-            {v.depth ? &v.depth->subImage : nullptr, "depth"},
-            {v.motion ? &v.motion->subImage : nullptr, "motion"}};
-        for (auto [s, field] : subImages) {
+    for (std::size_t eye = 0; eye < layer.views.size(); ++eye)
+        for (auto [s, field] : subImagesOf(layer.views[eye])) {
             if (!s) continue;
             const VulkanSwapchain* vs = vkSwapchain(*s);
             if (!vs || vs->owner() != this)
                 return submitError(SubmitError::ForeignSwapchain, std::string(eye == 0 ? "left " : "right ") + field +
                                                                       " swapchain was not created by this compositor");
         }
-    }
+    const layers::SubmittedFoveation kind = layers::submittedFoveation(layer);
+    if (kind != layers::SubmittedFoveation::Full && isOracle((configPending_ ? pending_ : config_).method))
+        return submitError(SubmitError::InvalidSubmission,
+                           "the oracles compare with the full-resolution image, which quad views and rate maps do not "
+                           "carry; submit full-resolution frames to evaluate them");
     // Buffers of a new size first (copy kernel, then the passes'): a failed allocation refuses the
     // frame before any state (size, history, configuration) has changed.
-    const uint32_t w = layer.views[0].color.rect.width, h = layer.views[0].color.rect.height;
+    const glm::uvec2 outSize = layers::outputSize(layer);
+    const uint32_t w = outSize.x, h = outSize.y;
     const bool hasDepth = layer.views[0].depth.has_value();
     const bool hasMotion = layer.views[0].motion.has_value();
-    const CompositorConfig& next = configPending_ ? pending_ : config_;
-    const TrafficInputs trafficIn = trafficInputs(layer.views[0]);
+    CompositorConfig next = configPending_ ? pending_ : config_;
+    if (kind != layers::SubmittedFoveation::Full) next.foveation = FoveationMode::Submitted;
+    const TrafficInputs trafficIn = trafficInputs(layer);
     if (next.measureCopy) {
         // Half the frame's traffic is read and half written: the copy moves the same bytes. The floor
         // copy moves a prefix of the same buffers (the floor is part of the traffic).
@@ -799,34 +880,68 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
                                    ? std::string(kDeviceLost)
                                    : "resizing to " + std::to_string(w) + "x" + std::to_string(h) + ": " + s.message());
     }
+    // Quad views and rate maps come with their own foveation: the frame runs with mode Submitted, and
+    // the composed images and qualities are made first (a failed allocation refuses the frame).
+    std::array<VkImageView, 4> srcColor{}, srcDepth{}, srcMotion{};
+    std::array<VkImageView, 2> srcRate{};
+    auto view = [&](const layers::SubImage& s) {
+        const VulkanSwapchain* vs = vkSwapchain(s);
+        return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
+    };
+    composeParams_ = gpu::ComposeParams{};
+    if (kind != layers::SubmittedFoveation::Full) {
+        composeParams_ = makeComposeParams(layer, outSize, next.insetBlendPx);
+        for (int eye = 0; eye < 2; ++eye) {
+            const layers::ProjectionView& v = layer.views[eye];
+            srcColor[eye] = view(v.color);
+            if (v.depth) srcDepth[eye] = view(v.depth->subImage);
+            if (v.motion) srcMotion[eye] = view(v.motion->subImage);
+            if (v.inset) {
+                srcColor[2 + eye] = view(v.inset->color);
+                if (v.inset->depth) srcDepth[2 + eye] = view(v.inset->depth->subImage);
+                if (v.inset->motion) srcMotion[2 + eye] = view(v.inset->motion->subImage);
+            }
+            if (v.rateMap) srcRate[eye] = view(v.rateMap->subImage);
+        }
+        const ComposePass::Sources sources{srcColor, srcDepth, srcMotion, srcRate};
+        if (Status s = compose_->prepare(kind, composeParams_, sources, quality_.handle(), sampler_.get(),
+                                         dummy_.layerView(0), dummyUint_.layerView(0));
+            !s)
+            return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
+    }
     if (configPending_) {
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
         if (!steadyFloorActive(pending_)) steadyValid_ = false;
         config_ = pending_;
         configPending_ = false;
     }
-    const bool wrsPaper = config_.method == Method::WrsPaper;
-    const bool retain = usesRetainPass(config_.method);
-    const bool taa = config_.method == Method::FovTaa;
+    frame_ = next;
+    submitted_ = kind;
+    // A change between full and submitted frames is a change of foveation: history starts anew.
+    if (frame_.foveation != lastFoveation_) historyValid_ = false;
+    lastFoveation_ = frame_.foveation;
+    const bool wrsPaper = frame_.method == Method::WrsPaper;
+    const bool retain = usesRetainPass(frame_.method);
+    const bool taa = frame_.method == Method::FovTaa;
     const bool temporal = wrsPaper || retain || taa;  // a pass with history in the reservoir buffers
-    // `retain` needs level 4 for its fingerprint whatever the foveation (a box pyramid for `none`).
-    const bool pyramid = config_.foveation != FoveationMode::None || retain;
+    // `retain` needs level 4 for its fingerprint whatever the foveation (a box pyramid otherwise).
+    const bool pyramid = simulatesFoveation(frame_.foveation) || retain;
 
     stats_ = FrameStats{};
     stats_.frameIndex = frame.frameIndex;
     stats_.usedDepth = hasDepth;
     stats_.usedMotion = hasMotion && temporal;
     stats_.historyReset = temporal && !historyValid_;
-    params_ = makeFrameParams(config_, frame, w, h, stats_.gazeFallback);
+    params_ = makeFrameParams(frame_, frame, w, h, stats_.gazeFallback);
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
-    const bool sparse = runsSparse(config_);
+    const bool sparse = runsSparse(frame_);
     const uint32_t tilesPerEye = groups(w, gpu::WRS_TILE) * groups(h, gpu::WRS_TILE);
     const uint32_t tileCount = tilesPerEye * uint32_t(WRS_EYES);
     params_.held.x = heldPrev_ * tileCount;
     params_.held.y = (1 - heldPrev_) * tileCount;
     params_.held.w = 2 * tileCount;  // the superblocks
     stats_.sparse = sparse;
-    stats_.retained = usesRetainPass(config_.method);
+    stats_.retained = usesRetainPass(frame_.method);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
     // Without motion, `wrs` and the oracle read only each pixel's own reservoir, so they update the
@@ -837,22 +952,25 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     const uint32_t written = inPlace ? current_ : 1 - current_;
     stats_.inPlace = inPlace;
     // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles.
-    const bool tiled = config_.skipTiles && config_.foveation != FoveationMode::None &&
-                       (config_.method == Method::Fov || retain);
+    const bool tiled = frame_.skipTiles && simulatesFoveation(frame_.foveation) &&
+                       (frame_.method == Method::Fov || retain);
     stats_.tiled = tiled;
     // Per-frame inputs: the last released image of each swapchain.
     VkDescriptorSet set = sets_[current_ + (inPlace ? 2 : 0)];
     VkDescriptorImageInfo ii[6];
+    const bool composed = kind == layers::SubmittedFoveation::Quad;
     for (int eye = 0; eye < 2; ++eye) {
         const layers::ProjectionView& v = layer.views[eye];
-        auto view = [&](const layers::SubImage& s) {
-            const VulkanSwapchain* vs = vkSwapchain(s);
-            return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
-        };
-        ii[0 + eye] = {sampler_.get(), view(v.color), VK_IMAGE_LAYOUT_GENERAL};
-        ii[2 + eye] = {sampler_.get(), v.depth ? view(v.depth->subImage) : dummy_.layerView(0),
+        // Quad views: the compose pass's images, layer = eye.
+        ii[0 + eye] = {sampler_.get(), composed ? compose_->color().layerView(eye) : view(v.color),
                        VK_IMAGE_LAYOUT_GENERAL};
-        ii[4 + eye] = {sampler_.get(), v.motion ? view(v.motion->subImage) : dummy_.layerView(0),
+        ii[2 + eye] = {sampler_.get(),
+                       !v.depth ? dummy_.layerView(0)
+                                : composed ? compose_->depth().layerView(eye) : view(v.depth->subImage),
+                       VK_IMAGE_LAYOUT_GENERAL};
+        ii[4 + eye] = {sampler_.get(),
+                       !v.motion ? dummy_.layerView(0)
+                                 : composed ? compose_->motion().layerView(eye) : view(v.motion->subImage),
                        VK_IMAGE_LAYOUT_GENERAL};
     }
     // The same images, field of view and gaze in both views (a monitor, a mono preview): the passes
@@ -860,9 +978,10 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // finds the history it would have had.
     // Not for the rules that draw random numbers (wrs-paper, wrs with the reservoir rule): their
     // hash includes the eye, so two identical views legitimately select differently.
-    const bool eyeRandom = config_.method == Method::WrsPaper ||
-                           (config_.method == Method::Wrs && config_.equalQuality == EqualQuality::Reservoir);
-    const bool mono = !eyeRandom && ii[0].imageView == ii[1].imageView && ii[2].imageView == ii[3].imageView &&
+    // Not for submitted foveation either: the composed images differ between the eyes whatever was submitted.
+    const bool eyeRandom = frame_.method == Method::WrsPaper ||
+                           (frame_.method == Method::Wrs && frame_.equalQuality == EqualQuality::Reservoir);
+    const bool mono = !eyeRandom && kind == layers::SubmittedFoveation::Full && ii[0].imageView == ii[1].imageView && ii[2].imageView == ii[3].imageView &&
                       ii[4].imageView == ii[5].imageView &&
                       std::memcmp(&params_.eye[0], &params_.eye[1], sizeof(gpu::EyeParams)) == 0;
     const uint32_t eyes = mono ? 1u : uint32_t(WRS_EYES);
@@ -893,8 +1012,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // read in GENERAL and handed back afterwards; each image once, however many views use it.
     std::vector<std::pair<const VulkanSwapchain*, uint32_t>> handOver;
     for (const layers::ProjectionView& v : layer.views)
-        for (const layers::SubImage* s : {&v.color, v.depth ? &v.depth->subImage : nullptr,
-                                          v.motion ? &v.motion->subImage : nullptr}) {
+        for (auto [s, field] : subImagesOf(v)) {
             if (!s) continue;
             const VulkanSwapchain* vs = vkSwapchain(*s);
             std::pair<const VulkanSwapchain*, uint32_t> img{vs, uint32_t(vs->lastReleased())};
@@ -910,23 +1028,25 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         }
     };
     transitionInputs(true);
-    const bool steady = pyramid && steadyFloorActive(config_);
+    const bool steady = pyramid && steadyFloorActive(frame_);
     stats_.steadyFloor = steady;
     const FramePlan plan{cb,     w,      h,       eyes,    hasDepth, hasMotion, retain,  wrsPaper,    taa, temporal,
                          pyramid, tiled, sparse, inPlace, mono,     timing,    steady,  written, tilesPerEye};
     // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
     recordHistoryStart(plan);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
     stamp(plan, 0);
+    recordCompose(plan);  // binds a set of its own layout: the passes' set is bound after it
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
     recordClassify(plan);
+    stamp(plan, 1);
     recordPyramid(plan);
     recordSteadyFloor(plan);
-    stamp(plan, 1);
-    recordFoveate(plan);
     stamp(plan, 2);
+    recordFoveate(plan);
+    stamp(plan, 3);
     recordTemporal(plan);
     recordMonoCopies(plan);
-    stamp(plan, 3);
+    stamp(plan, 4);
     transitionInputs(false);
     recordTileCounts(plan, record);
     // The output (and the history) is visible to whatever the caller runs next on the queue or
@@ -978,6 +1098,10 @@ void Compositor::stamp(const FramePlan& plan, uint32_t i) {
     if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
 }
 
+void Compositor::recordCompose(const FramePlan& plan) {
+    compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes);
+}
+
 void Compositor::recordHistoryStart(const FramePlan& plan) {
     VkCommandBuffer cb = plan.cb;
     if (plan.temporal && !historyValid_) {
@@ -1011,12 +1135,12 @@ void Compositor::recordClassify(const FramePlan& plan) {
         // group per superblock, one invocation per tile.
         static_assert(gpu::WRS_SUPERBLOCK == WRS_GROUP_X && gpu::WRS_SUPERBLOCK == WRS_GROUP_Y);
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion, 1u}));
+                          pipeline(kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 1u}));
         vkCmdDispatch(cb, groups(tilesX, gpu::WRS_SUPERBLOCK), groups(tilesY, gpu::WRS_SUPERBLOCK), plan.eyes);
         computeBarrier(cb);
     }
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kClassify, {uint32_t(config_.foveation), plan.sparse, plan.hasMotion, 0u}));
+                      pipeline(kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 0u}));
     vkCmdDispatch(cb, groups(tilesX, WRS_GROUP_X), groups(tilesY, WRS_GROUP_Y), plan.eyes);
     // The pyramid shares no buffer or image with the classification: it is recorded next with no
     // barrier between them, so that a GPU overlaps the two (on an NVIDIA H200 each was a few tens of
@@ -1027,8 +1151,8 @@ void Compositor::recordClassify(const FramePlan& plan) {
 void Compositor::recordPyramid(const FramePlan& plan) {
     if (!plan.pyramid) return;
     VkCommandBuffer cb = plan.cb;
-    const bool gauss = config_.foveation == FoveationMode::Gauss;
-    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
+    const bool gauss = frame_.foveation == FoveationMode::Gauss;
+    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
     // mip: every level in one dispatch of WRS_MIP_TILE-pixel tiles; gauss: one dispatch per level.
     const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
@@ -1051,7 +1175,7 @@ void Compositor::recordPyramid(const FramePlan& plan) {
 void Compositor::recordSteadyFloor(const FramePlan& plan) {
     if (!plan.steady) return;
     VkCommandBuffer cb = plan.cb;
-    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(config_.foveation));
+    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
     const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), gpu::WRS_STEADY_LEVEL);
     // Written: the slot the last frame did not write; read: the last frame's, where it wrote one (a
     // history reset starts the filter anew, as it does the reservoirs).
@@ -1087,13 +1211,13 @@ void Compositor::recordPixelPass(const FramePlan& plan, int shader, std::array<u
     // Tiles that skip retention: the foveating pass writes their output (and birth colours).
     if (aliased) computeBarrier(cb);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kFoveate, {uint32_t(config_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
+                      pipeline(kFoveate, {uint32_t(frame_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
     vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
 }
 
 void Compositor::recordFoveate(const FramePlan& plan) {
     if (plan.retain) return;  // foveation is fused into the retain pass
-    recordPixelPass(plan, kFoveate, {uint32_t(config_.foveation), plan.temporal ? 0u : 1u, 0, 0});
+    recordPixelPass(plan, kFoveate, {uint32_t(frame_.foveation), plan.temporal ? 0u : 1u, 0, 0});
     computeBarrier(plan.cb);
 }
 
@@ -1102,12 +1226,12 @@ void Compositor::recordTemporal(const FramePlan& plan) {
     const uint32_t gx = groups(plan.w, WRS_GROUP_X), gy = groups(plan.h, WRS_GROUP_Y);
     if (plan.retain) {
         recordPixelPass(plan, kRetain,
-                        {plan.hasMotion, plan.hasDepth, uint32_t(config_.foveation), retainRule(config_), plan.inPlace, 0,
+                        {plan.hasMotion, plan.hasDepth, uint32_t(frame_.foveation), retainRule(frame_), plan.inPlace, 0,
                          plan.sparse},
                         plan.inPlace);
     } else if (plan.wrsPaper) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(config_.change), config_.bernoulli}));
+                          pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli}));
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else if (plan.taa) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, 0, 0, 0}));
@@ -1178,22 +1302,23 @@ void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uin
     if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kFrameStamps, sizeof(ts), ts, sizeof(uint64_t),
                               VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
         double ms = ctx_.timestampPeriodNs() * 1e-6;
-        stats_.gpu.pyramid = double(ts[1] - ts[0]) * ms;
-        stats_.gpu.foveate = double(ts[2] - ts[1]) * ms;
-        stats_.gpu.temporal = double(ts[3] - ts[2]) * ms;
-        stats_.gpu.total = double(ts[3] - ts[0]) * ms;
+        stats_.gpu.compose = double(ts[1] - ts[0]) * ms;
+        stats_.gpu.pyramid = double(ts[2] - ts[1]) * ms;
+        stats_.gpu.foveate = double(ts[3] - ts[2]) * ms;
+        stats_.gpu.temporal = double(ts[4] - ts[3]) * ms;
+        stats_.gpu.total = double(ts[4] - ts[0]) * ms;
         stats_.gpu.valid = true;
     }
     if (ctx_.isCpuDevice()) {  // see PassTimes::hostTimed
         stats_.gpu.total = hostMs;
         stats_.gpu.hostTimed = true;
     }
-    if (config_.measureCopy) {
+    if (frame_.measureCopy) {
         // The yardsticks, each in a submission of its own after the frame: lavapipe moves time
         // between adjacent dispatches of one submission, which made a copy recorded before the
         // passes read as a fraction of what it costs alone.
-        stats_.gpu.copy = timeCopy(trafficBytes(config_, in) / WRS_EYES * eyes);
-        stats_.gpu.copyFloor = timeCopy(floorBytes(config_, in) / WRS_EYES * eyes);
+        stats_.gpu.copy = timeCopy(trafficBytes(frame_, in) / WRS_EYES * eyes);
+        stats_.gpu.copyFloor = timeCopy(floorBytes(frame_, in) / WRS_EYES * eyes);
     }
 }
 

@@ -3,6 +3,9 @@
 //
 // Passes, in the order they run (shaders/); level 0 and linear depth are never stored, each pass
 // decodes the submitted images where it reads them:
+//   -. compose  – frames submitted foveated only (quad views, rate maps; compose.h): quad views into
+//                 output-sized colour, depth and motion that the passes below read instead, and each
+//                 pixel's rendered quality; the passes then run with foveation FoveationMode::Submitted
 //   0. classify – (CompositorConfig::skipTiles) 8x8 tiles onto the lists of their class (fovea, mid,
 //                 far, any); passes 2 and 2+3 then run one indirect dispatch per class
 //   1. pyramid  – levels 1..4 from the submitted colour, fp16 (box for `mip`, all levels in one
@@ -26,12 +29,14 @@
 
 #include <glm/glm.hpp>
 
+#include "compositor/compose.h"
 #include "compositor/host_image.h"
 #include "compositor/vk_context.h"
 #include "layers/frame.h"
 #include "layers/status.h"
 #include "layers/swapchain.h"
 #include "shaders/wrs_common.h"
+#include "shaders/compose_params.h"
 #include "shaders/wrs_params.h"
 
 namespace wrsfov {
@@ -51,8 +56,13 @@ constexpr bool isOracle(Method m) { return m == Method::Oracle || m == Method::O
 constexpr bool usesRetainPass(Method m) { return m == Method::Wrs || isOracle(m); }
 /// What `wrs` does with a candidate of the same quality as the kept sample (shader WRS_RULE_*).
 enum class EqualQuality : uint8_t { Merge = 0, Reservoir = 1 };
-/// Values equal the shader constants WRS_FOV_*.
-enum class FoveationMode : uint8_t { None = 0, Mip = 1, Gauss = 2 };
+/// Values equal the shader constants WRS_FOV_*. None, Mip and Gauss are configuration values: how a
+/// full-resolution frame is foveated. Submitted is what the compositor runs a frame with that came
+/// foveated already (quad views or a rate map, layers/frame.h), whatever the configured mode; it is
+/// not a configuration value (setConfig refuses it).
+enum class FoveationMode : uint8_t { None = 0, Mip = 1, Gauss = 2, Submitted = 3 };
+/// Whether a mode foveates a full-resolution frame itself (mip, gauss): levels, tile classes, a floor.
+constexpr bool simulatesFoveation(FoveationMode m) { return m == FoveationMode::Mip || m == FoveationMode::Gauss; }
 /// Values equal the shader constants WRS_CHANGE_*.
 enum class ChangeMetric : uint8_t { Off = 0, LStar = 1, DeltaE94 = 2 };
 
@@ -119,6 +129,10 @@ struct CompositorConfig {
     /// first compositor on the context found it giving the hand conversion's bits (round to nearest
     /// even) on every probe value: the same bits, a fraction of the arithmetic. Off: always by hand.
     bool hardwareHalf = true;
+    /// Quad views (layers::InsetView): width in inset pixels of the band inside the inset's edge over
+    /// which the output blends from the wide view to the inset (and the quality from the wide view's to
+    /// 1). 0: a hard edge.
+    float insetBlendPx = 8.0f;
 };
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
@@ -146,6 +160,8 @@ struct PassTimes {
     double copyFloor = 0;  ///< copy kernel moving the method's floor bytes (measureCopy)
     bool valid = false;
     bool hostTimed = false;  ///< total and copies are host wall-clock times (CPU device)
+    /// Quad views and rate maps: the compose pass, with the classification recorded after it (tiled frames).
+    double compose = 0;
 };
 
 /// What one view of a frame gives the passes: size and bytes per texel of each submitted image
@@ -157,7 +173,13 @@ struct TrafficInputs {
     /// whose motion the classification read (FrameStats::retainShare, motionShare; mean over frames
     /// in a bench).
     double retainShare = 1.0, motionShare = 0.0;
+    /// Frames submitted foveated: bytes per output pixel the compose pass reads and writes (0 for a full
+    /// frame); its per-pixel quality (4 B) is then read by the foveating or retain pass.
+    double composeRead = 0, composeWrite = 0;
 };
+/// What a frame gives the passes (the left view's sizes and formats; for quad views the output size and
+/// the composed images' formats, with the compose pass's own traffic).
+TrafficInputs trafficInputs(const layers::ProjectionLayer& layer);
 /// Bytes one pass reads and writes per pixel of one view, from its bindings and formats
 /// (shaders/bindings.glsl), each texel of each binding counted once: the memory traffic of the pass
 /// with caches that hold a neighbourhood (bilinear, 2x2 and 3x3 taps), not the number of loads.
@@ -291,6 +313,10 @@ public:
 
     const FrameStats& stats() const { return stats_; }
     const gpu::FrameParams& lastParams() const { return params_; }
+    /// The compose pass's parameters of the last frame (zero unless it came as quad views or rate maps).
+    const gpu::ComposeParams& lastComposeParams() const { return composeParams_; }
+    /// How the last frame was foveated before it was submitted.
+    layers::SubmittedFoveation lastSubmitted() const { return submitted_; }
     const CompositorConfig& config() const { return config_; }
     /// Whether the passes store fp16 with the device's conversion (CompositorConfig::hardwareHalf and
     /// the probe). Fixed at creation.
@@ -342,6 +368,14 @@ private:
 
     vk::Context& ctx_;
     CompositorConfig config_;
+    /// config_ as the current frame runs it: foveation Submitted for a frame that came foveated.
+    CompositorConfig frame_;
+    layers::SubmittedFoveation submitted_ = layers::SubmittedFoveation::Full;
+    FoveationMode lastFoveation_ = FoveationMode::Mip;  // frame_.foveation of the last frame (history)
+    gpu::ComposeParams composeParams_{};
+    std::unique_ptr<ComposePass> compose_;
+    vk::Buffer quality_;  // submitted foveation: each pixel's rendered quality (binding 15)
+    vk::Image dummyUint_;  // bound where a view has no rate map (usampler2D)
     CompositorConfig pending_;
     bool configPending_ = false;
     layers::FrameValidator validator_;
@@ -407,6 +441,8 @@ private:
         uint32_t tilesPerEye;  ///< 8x8 tiles of one eye
     };
     void stamp(const FramePlan& plan, uint32_t i);
+    /// Pass 0 for frames submitted foveated: quad views composed, qualities (ComposePass).
+    void recordCompose(const FramePlan& plan);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
     void recordHistoryStart(const FramePlan& plan);
     /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention). Its

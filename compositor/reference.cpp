@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "shaders/wrs_common.h"
+#include "shaders/wrs_submitted.h"
 
 namespace wrsfov {
 
@@ -14,6 +14,88 @@ glm::u8vec4 encodeOutput(glm::vec3 linear) {
     glm::vec3 s = wrs_linear_to_srgb3(linear);
     auto q = [](float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
     return glm::u8vec4(q(s.x), q(s.y), q(s.z), 255);
+}
+
+namespace {
+
+// A source texel decoded as compose.comp's source_texel does: sRGB through the table, sanitised,
+// validity in alpha.
+vec4 sourceTexel(const HostImage& img, uvec2 q, bool srgb) {
+    vec3 c = vec3(img.fetch(q.x, q.y));
+    if (srgb) c = wrs_srgb8_to_linear3(c);
+    bool valid;
+    c = wrs_sanitize_color(c, valid);
+    return vec4(c, valid ? 1.0f : 0.0f);
+}
+
+vec4 sourceBilinear(const HostImage& img, vec2 pos, bool srgb) {
+    const uvec2 size(img.width, img.height);
+    uvec2 i0, i1;
+    const vec2 f = wrs_bilinear_taps(pos, size, i0, i1);
+    return wrs_bilinear_valid(sourceTexel(img, i0, srgb), sourceTexel(img, uvec2(i1.x, i0.y), srgb),
+                              sourceTexel(img, uvec2(i0.x, i1.y), srgb), sourceTexel(img, i1, srgb), f);
+}
+
+uvec2 nearestTexel(vec2 pos, uvec2 size) {
+    return uvec2(glm::clamp(ivec2(glm::floor(pos)), ivec2(0), ivec2(size) - ivec2(1)));
+}
+
+vec4 roundF16(vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); }
+
+}  // namespace
+
+Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, const QuadSources& src) {
+    const uvec2 size(params.size.x, params.size.y);
+    const ComposeEye& ce = params.eye[eye];
+    const uvec2 wsize(ce.sizes.x, ce.sizes.y), isize(ce.sizes.z, ce.sizes.w);
+    Reference::EyeInput out;
+    out.color = HostImage::make(layers::Format::RGBA16F, size.x, size.y);
+    if (src.wideDepth) out.depth = HostImage::make(layers::Format::R32F, size.x, size.y);
+    if (src.wideMotion) out.motion = HostImage::make(layers::Format::RGBA16F, size.x, size.y);
+    out.quality.resize(std::size_t(size.x) * size.y);
+    for (uint y = 0; y < size.y; ++y)
+        for (uint x = 0; x < size.x; ++x) {
+            const uvec2 p(x, y);
+            const vec2 wpos = wrs_source_pos(p, ce.wide_map);
+            const vec2 ipos = wrs_source_pos(p, ce.inset_map);
+            float t = wrs_inset_weight(ipos, isize, ce.inset_motion.w);
+            const vec4 wide = sourceBilinear(src.wideColor, wpos, ce.wide_color.z != 0u);
+            vec4 c = wide;
+            if (t > 0.0f) {
+                const vec4 inset = sourceBilinear(src.insetColor, ipos, ce.inset_color.z != 0u);
+                if (inset.w == 0.0f)
+                    t = 0.0f;
+                else if (wide.w == 0.0f)
+                    t = 1.0f;
+                else
+                    c = wrs_lerp_exact(wide, inset, t);
+                if (t == 1.0f) c = inset;
+            }
+            out.quality[std::size_t(y) * size.x + x] = wrs_quad_quality(ce.wide_motion.w, t);
+            out.color.store(x, y, roundF16(c));
+            const bool fromInset = t >= 0.5f;
+            const uvec2 q = fromInset ? nearestTexel(ipos, isize) : nearestTexel(wpos, wsize);
+            if (out.depth) {
+                const HostImage& d = fromInset ? *src.insetDepth : *src.wideDepth;
+                out.depth->store(x, y, vec4(d.fetch(q.x, q.y).x, 0.0f, 0.0f, 0.0f));
+            }
+            if (out.motion) {
+                const HostImage& m = fromInset ? *src.insetMotion : *src.wideMotion;
+                const vec3 scale = fromInset ? vec3(ce.inset_motion) : vec3(ce.wide_motion);
+                out.motion->store(x, y, roundF16(vec4(vec3(m.fetch(q.x, q.y)) * scale, 0.0f)));
+            }
+        }
+    return out;
+}
+
+std::vector<float> rateMapQualities(const ComposeParams& params, uint32_t eye, const HostImage& map) {
+    const uvec2 size(params.size.x, params.size.y);
+    const uvec4 rate = params.eye[eye].rate;
+    std::vector<float> q(std::size_t(size.x) * size.y);
+    for (uint y = 0; y < size.y; ++y)
+        for (uint x = 0; x < size.x; ++x)
+            q[std::size_t(y) * size.x + x] = wrs_rate_quality(uint(map.fetch(x / rate.z, y / rate.w).x));
+    return q;
 }
 
 void Reference::setHistory(uint32_t eye, std::vector<glm::uvec4> packed, std::vector<float> held) {
@@ -26,7 +108,10 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const uvec2 size0(params.size.x, params.size.y);
     const uint W = size0.x, H = size0.y;
     const uint frame = params.size.z, seed = params.size.w;
-    const uint mode = uint(config_.foveation);
+    // Frames submitted foveated (an input with qualities) run as the compositor runs them: mode submitted.
+    CompositorConfig cfg = config_;
+    if (!eyes[0].quality.empty()) cfg.foveation = FoveationMode::Submitted;
+    const uint mode = uint(cfg.foveation);
     const bool wrs = config_.method == Method::WrsPaper;
     const bool retain = usesRetainPass(config_.method);
     const bool taa = config_.method == Method::FovTaa;
@@ -44,10 +129,12 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         std::vector<float> zlin(std::size_t(W) * H, 0.0f);
         for (uint y = 0; y < H; ++y)
             for (uint x = 0; x < W; ++x) {
-                vec3 c = vec3(in.color.fetch(x, y));
-                if (ep.color_rect.z != 0u) c = wrs_srgb8_to_linear3(c);
+                const vec4 t = in.color.fetch(x, y);
+                vec3 c = vec3(t);
+                if (ep.color_rect.z == WRS_INPUT_SRGB) c = wrs_srgb8_to_linear3(c);
                 bool valid;
                 c = wrs_sanitize_color(c, valid);
+                valid = wrs_input_valid(valid, ep.color_rect.z, t.w);
                 pyr[y * W + x] = vec4(c, valid ? 1.0f : 0.0f);
                 if (hasDepth)
                     zlin[y * W + x] =
@@ -62,7 +149,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         auto round4 = [](vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); };
 
         // Pass 1: pyramid levels 1..4 (methods wrs and oracle need level 4 for every mode: a box pyramid for `none`).
-        if (mode != WRS_FOV_NONE || retain) {
+        if (wrs_mode_simulated(mode) || retain) {
             for (uint level = 1; level < uint(WRS_LEVELS); ++level) {
                 uvec2 src = wrs_level_size(size0, level - 1u), dst = wrs_level_size(size0, level);
                 auto tap = [&](uvec2 d, ivec2 o) { return at(level - 1u, wrs_down_tap(d, o, src)); };
@@ -87,7 +174,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         }
         // Pass 1b: the steady floor (pyramid.comp, FILTER 3): level 4 filtered over time, its alpha
         // (the fingerprint's L*) kept.
-        if (steadyFloorActive(config_)) {
+        if (steadyFloorActive(cfg)) {
             const uvec2 s4 = wrs_level_size(size0, WRS_STEADY_LEVEL);
             const std::size_t n4 = std::size_t(s4.x) * s4.y;
             const std::vector<vec4> prev = history_ && steady_[eye].size() == n4 ? steady_[eye] : std::vector<vec4>{};
@@ -200,7 +287,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             const uint rule = retainRule(config_);
             // Sparse retention (classify.comp): the held qualities the step reads (nothing after a
             // reset; anything where none were recorded), and which far tiles skip retention.
-            const bool sparse = runsSparse(config_);
+            const bool sparse = runsSparse(cfg);
             const uvec2 tiles((W + WRS_TILE - 1u) / WRS_TILE, (H + WRS_TILE - 1u) / WRS_TILE);
             std::vector<float> heldPrev(std::size_t(tiles.x) * tiles.y, history_ ? 1.0f : 0.0f);
             if (history_ && held_[eye].size() == heldPrev.size()) heldPrev = held_[eye];
@@ -285,7 +372,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec4 ref = at(0u, p);
                     bool valid = ref.w > 0.5f;
                     c.color = vec3(col);
-                    c.q = valid ? (mode == WRS_FOV_NONE ? wrs_sample_weight(e, r_f) : wrs_level_quality(lv)) : 0.0f;
+                    const float q_sub = mode == WRS_FOV_SUBMITTED ? in.quality[idx] : 0.0f;
+                    c.q = wrs_candidate_quality(mode, lv, e, r_f, q_sub, valid);
                     vec3 flo(0.0f), fhi(0.0f);
                     c.fp = sampleRange(WRS_FP_LEVEL, p, flo, fhi, c.fp_range).w;
                     c.z = hasDepth ? zlin[idx] : 0.0f;
@@ -327,7 +415,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     Tracked r = wrs_retain(rule, has_history, hd, d, c, vec3(ref), rnd, t.outcome, t.margin);
                     if (t.outcome == WRS_OUT_KEPT) r.color = h.color;
                     if (!wrs_rule_is_oracle(rule) && t.outcome == WRS_OUT_KEPT)
-                        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, mode != WRS_FOV_NONE && uint(lv.x) == 0u);
+                        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, wrs_mode_simulated(mode) && uint(lv.x) == 0u);
                     res_[eye][idx] = wrs_pack_tracked(r, wrs_offset_dither(frame, seed));
                     if (r.q > 0.0f) heldCur[tileOf(p)] = std::max(heldCur[tileOf(p)], r.q);
                     t.hadHistory = has_history;
@@ -347,7 +435,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     if (gap)
                         shown = wrs_kept_shown(wrs_shown_color(tap[0], tap[1], tap[2], tap[3], base, pos, hg, c.z,
                                                                dz, params.tuning.y),
-                                               c.lo, c.hi, mode != WRS_FOV_NONE && uint(lv.x) == 0u);
+                                               c.lo, c.hi, wrs_mode_simulated(mode) && uint(lv.x) == 0u);
                     t.gapShown = gap;
                     glm::u8vec4 o = encodeOutput(shown);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);

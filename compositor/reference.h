@@ -10,6 +10,7 @@
 
 #include "compositor/compositor.h"
 #include "compositor/host_image.h"
+#include "shaders/compose_params.h"
 #include "shaders/wrs_params.h"
 
 namespace wrsfov {
@@ -21,6 +22,10 @@ public:
         HostImage color;
         std::optional<HostImage> depth;
         std::optional<HostImage> motion;
+        /// Submitted foveation: each pixel's rendered quality (W*H), and `color`, `depth`, `motion`
+        /// what the compose pass makes of the submission (composeQuadViews, rateMapQualities). Empty
+        /// for a full-resolution frame.
+        std::vector<float> quality;
     };
     /// What the combine decided at one pixel, and how close it was.
     struct Trace {
@@ -76,6 +81,21 @@ private:
     std::array<std::vector<Trace>, 2> trace_;
     std::array<HostImage, 2> out_;
 };
+
+/// One eye's quad views as submitted, each image cut to its rectangle (the wide view's W x H of the
+/// view, the inset's its own size).
+struct QuadSources {
+    HostImage wideColor;
+    std::optional<HostImage> wideDepth, wideMotion;
+    HostImage insetColor;
+    std::optional<HostImage> insetDepth, insetMotion;
+};
+/// What the compose pass (shaders/compose.comp) makes of one eye's quad views: the composed colour
+/// (RGBA16F, validity in alpha), depth (R32F) and motion (RGBA16F, output pixels) at the output size,
+/// and each pixel's quality: the Reference's input for that eye.
+Reference::EyeInput composeQuadViews(const gpu::ComposeParams& params, uint32_t eye, const QuadSources& sources);
+/// The qualities the compose pass gives one eye's pixels from its rate map (R8UI, cut to its rectangle).
+std::vector<float> rateMapQualities(const gpu::ComposeParams& params, uint32_t eye, const HostImage& map);
 
 /// Encodes linear RGB for the RGBA8 output exactly as the GPU store does (sRGB, round to nearest).
 glm::u8vec4 encodeOutput(glm::vec3 linear);

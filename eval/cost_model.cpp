@@ -601,10 +601,10 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         d.device = VK_NULL_HANDLE;
         return skip("vkCreateDevice failed (" + std::string(vk::resultString(r)) + ")");
     }
-    // The compositor's descriptor set layout (Compositor::init): bindings 0-14 but 5, the three image
+    // The compositor's descriptor set layout (Compositor::init): bindings 0-15 but 5, the three image
     // bindings per eye, 16 bytes of push constants (gpu::LevelPush).
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t b = 0; b <= 14; ++b) {
+    for (uint32_t b = 0; b <= 15; ++b) {
         if (b == 5) continue;
         VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         if (b == 0) type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;

@@ -40,6 +40,9 @@ layout(std430, set = 0, binding = 13) buffer Tiles { uvec4 tile_args[WRS_TILE_LI
 // previous frame's at frame.held.x, this frame's at frame.held.y; from frame.held.w, per superblock
 // (WRS_SUPERBLOCK^2 tiles) and eye the largest of the previous frame's (classify.comp, phase 1).
 layout(std430, set = 0, binding = 14) buffer TileHeld { uint tile_held[]; };
+// Submitted foveation (FOV_MODE WRS_FOV_SUBMITTED): each pixel's rendered quality, written by the
+// compose pass (compose.comp), eye-major like the reservoirs.
+layout(std430, set = 0, binding = 15) readonly buffer Quality { float submitted_quality[]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
@@ -97,14 +100,18 @@ void pyr_write(uint eye, uint level, uvec2 q, uvec2 packed_texel) { pyramid[pyra
 #ifndef WRS_SRGB_TABLE
 #define WRS_SRGB_TABLE srgb_table
 #endif
+// Quad views: the colour is the compose pass's, whose alpha says whether any source tap was valid
+// (colour_rect.z == WRS_INPUT_COMPOSED).
 vec4 load_color(uint eye, uvec2 p) {
     EyeParams ep = frame.eye[eye];
-    vec3 c = texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0).rgb;
-    if (ep.color_rect.z != 0u)
+    vec4 t = texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0);
+    vec3 c = t.rgb;
+    if (ep.color_rect.z == WRS_INPUT_SRGB)
         c = vec3(WRS_SRGB_TABLE[wrs_srgb8_code(c.r)], WRS_SRGB_TABLE[wrs_srgb8_code(c.g)],
                  WRS_SRGB_TABLE[wrs_srgb8_code(c.b)]);
     bool valid;
     c = wrs_sanitize_color(c, valid);
+    valid = wrs_input_valid(valid, ep.color_rect.z, t.a);
     return vec4(c, valid ? 1.0 : 0.0);
 }
 // Linear view depth at pixel p (only where the view has depth).

@@ -67,7 +67,8 @@ float retain_pixel(uint eye, uvec2 p) {
     if (lv.z > 0.0) col = wrs_blend(col_a, sample_level(eye, uint(lv.y), p, ref, c.lo, c.hi, range_b), lv.z);
     bool valid = ref.a > 0.5;
     c.color = col.rgb;
-    c.q = valid ? (FOV_MODE == WRS_FOV_NONE ? wrs_sample_weight(e, r_f) : wrs_level_quality(lv)) : 0.0;
+    float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality[idx] : 0.0;
+    c.q = wrs_candidate_quality(FOV_MODE, lv, e, r_f, q_sub, valid);
     if (uint(lv.x) == WRS_FP_LEVEL) {  // the far periphery samples the fingerprint level already
         c.fp = col_a.a;
         c.fp_range = range_a;
@@ -136,7 +137,7 @@ float retain_pixel(uint eye, uvec2 p) {
     if (!wrs_rule_is_oracle(RULE) && kept) {
         Tracked hs = gap ? hg : h;
         if (show_mean || gap) h_shown = wrs_shown_mean(tap[0], tap[1], tap[2], tap[3], tap_w, hs.q, hs.color);
-        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, FOV_MODE != WRS_FOV_NONE && uint(lv.x) == 0u);
+        h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, wrs_mode_simulated(FOV_MODE) && uint(lv.x) == 0u);
     }
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;

@@ -101,6 +101,11 @@ WRS_FN float wrs_sample_weight(float e, float r_f) {
 const uint WRS_FOV_NONE = 0u;   // the application rendered foveated already: level 0 only
 const uint WRS_FOV_MIP = 1u;    // box mip chain, rates 1 / 8x8 / 16x16, 1° linear blends
 const uint WRS_FOV_GAUSS = 2u;  // [1 3 3 1] Gaussian pyramid, sigma growing with eccentricity
+// The application rendered foveated and said how (quad views, a shading-rate map): level 0 of what
+// the compose pass made of it, each pixel with the quality it was rendered at (wrs_submitted_quality).
+const uint WRS_FOV_SUBMITTED = 3u;
+// Whether a mode foveates a full-resolution frame itself (and so has levels, tile classes and a floor).
+WRS_FN bool wrs_mode_simulated(uint mode) { return mode == WRS_FOV_MIP || mode == WRS_FOV_GAUSS; }
 
 // Effective Gaussian sigma, in level-0 pixels, of pyramid level k built by repeated [1 3 3 1]/8
 // filtering and decimation: sigma_k^2 = 0.75 * (4^k - 1) / 3 * ... = 0.25 * (4^k - 1).
@@ -125,7 +130,7 @@ WRS_FN float wrs_gauss_sigma(float e, float r_f, float r_m) {
 // Levels to blend for a pixel at eccentricity e: colour = mix(level a, level b, t).
 // Returned as vec3(a, b, t).
 WRS_FN vec3 wrs_foveation_levels(uint mode, float e, float r_f, float r_m) {
-    if (mode == WRS_FOV_NONE || e <= r_f) return vec3(0.0f, 0.0f, 0.0f);
+    if (!wrs_mode_simulated(mode) || e <= r_f) return vec3(0.0f, 0.0f, 0.0f);
     if (mode == WRS_FOV_MIP) {
         float r_mid = max(r_m, r_f);
         bool skip_mid = r_f + 1.0f > r_mid;  // fovea reaches into the far periphery
@@ -169,7 +174,7 @@ WRS_FN vec3 wrs_tile_levels(uint cls) {
 
 // The class of a tile whose pixels' eccentricities all lie in [lo, hi] (see wrs_foveation_levels).
 WRS_FN uint wrs_tile_class_of_range(uint mode, float lo, float hi, float r_f, float r_m) {
-    if (mode == WRS_FOV_NONE) return WRS_TILE_ANY;
+    if (!wrs_mode_simulated(mode)) return WRS_TILE_ANY;
     if (hi <= r_f) return WRS_TILE_FOVEA;
     if (mode == WRS_FOV_MIP) {
         float r_mid = max(r_m, r_f);
@@ -317,6 +322,16 @@ WRS_FN vec3 wrs_sanitize_color(vec3 c, WRS_OUT(bool) valid) {
     valid = wrs_finite3(c);
     vec3 r = vec3(wrs_finite(c.x) ? c.x : 0.0f, wrs_finite(c.y) ? c.y : 0.0f, wrs_finite(c.z) ? c.z : 0.0f);
     return clamp(r, vec3(0.0f, 0.0f, 0.0f), vec3(WRS_HALF_MAX, WRS_HALF_MAX, WRS_HALF_MAX));
+}
+
+// How a pass's colour input is encoded (EyeParams::color_rect.z): linear, sRGB-encoded 8-bit, or the
+// compose pass's output for quad views (linear, alpha 0 where no source tap was valid).
+const uint WRS_INPUT_LINEAR = 0u;
+const uint WRS_INPUT_SRGB = 1u;
+const uint WRS_INPUT_COMPOSED = 2u;
+// Whether a decoded input texel is usable: finite, and for composed input marked valid in alpha.
+WRS_FN bool wrs_input_valid(bool finite, uint encoding, float alpha) {
+    return finite && (encoding != WRS_INPUT_COMPOSED || alpha > 0.5f);
 }
 
 // CIE 1976 L* of linear sRGB (D65), Y from the Rec. 709 primaries.
@@ -656,6 +671,18 @@ WRS_FN float wrs_level_quality(vec3 lv) {
     float qa = 1.0f / float(1u << (2u * uint(lv.x)));
     float qb = 1.0f / float(1u << (2u * uint(lv.y)));
     return qa + (qb - qa) * lv.z;
+}
+
+// The quality of a pixel's candidate, for every kind of input (the one place the retain pass and the
+// CPU reference take it from): the shading rate of the levels it was foveated with (`mip`, `gauss`),
+// the paper's p-hat (`none`: the application foveated and did not say how), or the quality it was
+// rendered at (submitted foveation: q_sub, from the compose pass). 0 for an input pixel that was not
+// finite (`valid` false): such a candidate never replaces a sharper history.
+WRS_FN float wrs_candidate_quality(uint mode, vec3 lv, float e, float r_f, float q_sub, bool valid) {
+    if (!valid) return 0.0f;
+    if (mode == WRS_FOV_SUBMITTED) return q_sub;
+    if (mode == WRS_FOV_NONE) return wrs_sample_weight(e, r_f);
+    return wrs_level_quality(lv);
 }
 
 WRS_FN uint wrs_fp_code(float lstar) { return uint(clamp(floor(lstar * WRS_FP_SCALE + 0.5f), 0.0f, 255.0f)); }
@@ -1115,7 +1142,7 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
 // The lowest quality a mode's candidates have: the far periphery's 16x16 rate (level 4) for `mip`
 // and `gauss`. `none` has no floor (its weights fall with eccentricity without end): 0.
 WRS_FN float wrs_floor_quality(uint mode) {
-    if (mode == WRS_FOV_NONE) return 0.0f;
+    if (!wrs_mode_simulated(mode)) return 0.0f;  // submitted foveation: the frame's (makeFrameParams)
     return wrs_level_quality(vec3(float(WRS_LEVELS - 1), float(WRS_LEVELS - 1), 0.0f));
 }
 // The floor of a rule: the plain oracle chooses among equally sharp samples too, so it has none.

@@ -1,0 +1,153 @@
+#include "compositor/compose.h"
+
+#include <cstring>
+
+#include "compose_spv.h"
+
+namespace wrsfov {
+
+namespace {
+enum Binding : uint32_t {
+    kParams = 0,
+    kSrcColor = 1,
+    kSrcDepth = 2,
+    kSrcMotion = 3,
+    kRateMap = 4,
+    kQuality = 5,
+    kSrgb = 6,
+    kOutColor = 7,
+    kOutDepth = 8,
+    kOutMotion = 9
+};
+constexpr uint32_t kGroup = 8;  // WRS_GROUP_X, WRS_GROUP_Y
+uint32_t groups(uint32_t n) { return (n + kGroup - 1) / kGroup; }
+}  // namespace
+
+Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuffer srgbTable) {
+    std::unique_ptr<ComposePass> c(new ComposePass(ctx));
+    auto binding = [](uint32_t i, VkDescriptorType t, uint32_t count = 1) {
+        return VkDescriptorSetLayoutBinding{i, t, count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    };
+    const VkDescriptorType sampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                           storage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+    c->setLayout_ = ctx.createSetLayout({binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kSrcColor, sampled, 4),
+                                         binding(kSrcDepth, sampled, 4), binding(kSrcMotion, sampled, 4),
+                                         binding(kRateMap, sampled, 2), binding(kQuality, ssbo), binding(kSrgb, ssbo),
+                                         binding(kOutColor, storage), binding(kOutDepth, storage),
+                                         binding(kOutMotion, storage)});
+    c->pipelineLayout_ = ctx.createPipelineLayout(c->setLayout_.get(), 0, 0);
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {sampled, 14}, {ssbo, 2}, {storage, 3}};
+    VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dpci.maxSets = 1;
+    dpci.poolSizeCount = 4;
+    dpci.pPoolSizes = sizes;
+    VkDescriptorPool pool;
+    VK_CHECK(vkCreateDescriptorPool(ctx.device(), &dpci, nullptr, &pool));
+    c->pool_ = vk::DescriptorPool(ctx.device(), pool);
+    VkDescriptorSetLayout sl = c->setLayout_.get();
+    VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    dsai.descriptorPool = pool;
+    dsai.descriptorSetCount = 1;
+    dsai.pSetLayouts = &sl;
+    VK_CHECK(vkAllocateDescriptorSets(ctx.device(), &dsai, &c->set_));
+    c->module_ = ctx.createShaderModule(compose_spv, sizeof(compose_spv));
+    auto ubo = ctx.createBuffer(sizeof(gpu::ComposeParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
+    if (!ubo) return Error{ubo.error().code, "compose parameters: " + ubo.error().message};
+    c->params_ = std::move(*ubo);
+    c->srgbTable_ = srgbTable;
+    return c;
+}
+
+VkPipeline ComposePass::pipeline(uint32_t kind, bool depth, bool motion) {
+    vk::Pipeline& slot = pipelines_[(kind - 1) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
+    if (slot) return slot.get();
+    const uint32_t constants[3] = {kind, depth, motion};
+    VkSpecializationMapEntry entries[3];
+    for (uint32_t i = 0; i < 3; ++i) entries[i] = {i, i * 4, 4};
+    VkSpecializationInfo spec{3, entries, sizeof(constants), constants};
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module_.get();
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = &spec;
+    ci.layout = pipelineLayout_.get();
+    VkPipeline p;
+    VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
+    slot = vk::Pipeline(ctx_.device(), p);
+    return p;
+}
+
+Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
+                            VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint) {
+    // Quad views: images of the output's size. Rate maps write none, but the set still needs storage
+    // images: 1x1 ones until a quad frame comes.
+    const bool quadFrame = kind == layers::SubmittedFoveation::Quad;
+    const glm::uvec2 size = quadFrame ? glm::uvec2(params.size.x, params.size.y) : glm::uvec2(1, 1);
+    if (quadFrame ? size != size_ : !color_) {
+        // All three first, then swapped in: a failed allocation keeps the old images.
+        vk::Image made[3];
+        const VkFormat formats[3] = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT};
+        const char* what[3] = {"composed colour", "composed depth", "composed motion"};
+        for (int k = 0; k < 3; ++k) {
+            vk::ImageCreateInfo ici;
+            ici.format = formats[k];
+            ici.width = size.x;
+            ici.height = size.y;
+            ici.layers = 2;
+            ici.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
+            auto img = ctx_.createImage(ici);
+            if (!img) return Error{img.error().code, std::string(what[k]) + ": " + img.error().message};
+            made[k] = std::move(*img);
+        }
+        Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+            for (const vk::Image& img : made)
+                vk::layoutTransition(cb, img.handle(), VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED,
+                                     VK_IMAGE_LAYOUT_GENERAL);
+        });
+        if (!s) return s;
+        color_ = std::move(made[0]);
+        depth_ = std::move(made[1]);
+        motion_ = std::move(made[2]);
+        size_ = quadFrame ? size : glm::uvec2(0, 0);
+    }
+    std::memcpy(params_.mapped(), &params, sizeof(params));
+    auto image = [&](VkImageView v, VkImageView fallback) {
+        return VkDescriptorImageInfo{sampler, v ? v : fallback, VK_IMAGE_LAYOUT_GENERAL};
+    };
+    VkDescriptorImageInfo src[3][4], rate[2];
+    const std::array<VkImageView, 4>* lists[3] = {&sources.color, &sources.depth, &sources.motion};
+    for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 4; ++i) src[k][i] = image((*lists[k])[i], placeholder);
+    for (int i = 0; i < 2; ++i) rate[i] = image(sources.rate[i], placeholderUint);
+    VkDescriptorBufferInfo ubo{params_.handle(), 0, VK_WHOLE_SIZE}, q{quality, 0, VK_WHOLE_SIZE},
+        srgb{srgbTable_, 0, VK_WHOLE_SIZE};
+    VkDescriptorImageInfo out[3] = {{VK_NULL_HANDLE, color_.arrayView(), VK_IMAGE_LAYOUT_GENERAL},
+                                    {VK_NULL_HANDLE, depth_.arrayView(), VK_IMAGE_LAYOUT_GENERAL},
+                                    {VK_NULL_HANDLE, motion_.arrayView(), VK_IMAGE_LAYOUT_GENERAL}};
+    VkWriteDescriptorSet w[10];
+    uint32_t n = 0;
+    w[n++] = vk::bufferWrite(set_, kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ubo);
+    w[n++] = vk::imageWrite(set_, kSrcColor, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, src[0], 4);
+    w[n++] = vk::imageWrite(set_, kSrcDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, src[1], 4);
+    w[n++] = vk::imageWrite(set_, kSrcMotion, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, src[2], 4);
+    w[n++] = vk::imageWrite(set_, kRateMap, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, rate, 2);
+    w[n++] = vk::bufferWrite(set_, kQuality, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &q);
+    w[n++] = vk::bufferWrite(set_, kSrgb, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &srgb);
+    for (int k = 0; k < 3; ++k) w[n++] = vk::imageWrite(set_, kOutColor + k, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &out[k]);
+    vkUpdateDescriptorSets(ctx_.device(), n, w, 0, nullptr);
+    return {};
+}
+
+void ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes) {
+    if (kind == layers::SubmittedFoveation::Full) return;
+    const uint32_t k = kind == layers::SubmittedFoveation::Quad ? 1u : 2u;
+    const gpu::ComposeParams* p = static_cast<const gpu::ComposeParams*>(params_.mapped());
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(k, k == 1 && depth, k == 1 && motion));
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set_, 0, nullptr);
+    vkCmdDispatch(cb, groups(p->size.x), groups(p->size.y), eyes);
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+}  // namespace wrsfov

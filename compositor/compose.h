@@ -1,0 +1,57 @@
+// Pass 0 of a frame submitted foveated (shaders/compose.comp): quad views resampled and blended into
+// output-sized colour, depth and motion images, which the later passes read in place of the submitted
+// images; and every output pixel's rendered quality (quad views and rate maps), which they read as
+// the candidate's quality. Internal to the compositor.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "compositor/vk_context.h"
+#include "layers/frame.h"
+#include "shaders/compose_params.h"
+
+namespace wrsfov {
+
+class ComposePass {
+public:
+    /// `srgbTable`: the compositor's sRGB decode table (wrs_srgb8_table), read by the pass.
+    static Result<std::unique_ptr<ComposePass>> create(vk::Context& ctx, VkBuffer srgbTable);
+
+    /// The sources of one frame, as sampled views: wide views of eyes 0, 1 then insets of eyes 0, 1
+    /// (quad views), and the rate maps of eyes 0, 1. VK_NULL_HANDLE where absent (the placeholder is bound).
+    struct Sources {
+        std::array<VkImageView, 4> color{}, depth{}, motion{};
+        std::array<VkImageView, 2> rate{};
+    };
+    /// Makes the composed images for quad views of `params.size` (kept while the size holds; a failed
+    /// allocation changes nothing) and points the pass at this frame's sources, `quality` and `params`.
+    Status prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
+                   VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint);
+    /// Records the pass for `eyes` eyes (its writes are made visible to the later compute passes).
+    void record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes);
+
+    /// The composed images (2 layers, layer = eye, VK_IMAGE_LAYOUT_GENERAL): RGBA16F linear colour with
+    /// validity in alpha, R32F depth as submitted, RGBA16F motion in output pixels.
+    const vk::Image& color() const { return color_; }
+    const vk::Image& depth() const { return depth_; }
+    const vk::Image& motion() const { return motion_; }
+
+private:
+    explicit ComposePass(vk::Context& ctx) : ctx_(ctx) {}
+    VkPipeline pipeline(uint32_t kind, bool depth, bool motion);
+    vk::Context& ctx_;
+    vk::DescriptorSetLayout setLayout_;
+    vk::PipelineLayout pipelineLayout_;
+    vk::DescriptorPool pool_;
+    VkDescriptorSet set_ = VK_NULL_HANDLE;
+    vk::ShaderModule module_;
+    std::array<vk::Pipeline, 8> pipelines_;  // kind - 1, depth, motion
+    vk::Buffer params_;
+    VkBuffer srgbTable_ = VK_NULL_HANDLE;
+    vk::Image color_, depth_, motion_;
+    glm::uvec2 size_{0, 0};
+};
+
+}  // namespace wrsfov

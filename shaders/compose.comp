@@ -1,0 +1,97 @@
+// Pass 0 for frames submitted foveated (docs/integrating.md, "Quad views", "Shading-rate maps"):
+// per output pixel, the candidate and the quality it was rendered at.
+//   KIND 1 (quad views): the wide view and the inset, each resampled bilinearly into the output view
+//     and blended over the inset's outer edge (wrs_inset_weight), into the composed colour (linear,
+//     validity in alpha), depth and motion (nearest texel of the source that weighs more, motion in
+//     output pixels), which every later pass reads in place of the submitted images; the quality
+//     wrs_quad_quality.
+//   KIND 2 (a rate map): the submitted colour is the candidate as it is; the quality
+//     wrs_rate_quality of the pixel's texel.
+// Stored values are rounded to fp16 by hand (wrs_round_f16) before a 16-bit image stores them, so the
+// device's own conversion, which may round either way, has nothing left to round.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "wrs_submitted.h"
+#include "compose_params.h"
+
+layout(constant_id = 0) const uint KIND = 1u;
+layout(constant_id = 1) const bool HAS_DEPTH = false;
+layout(constant_id = 2) const bool HAS_MOTION = false;
+layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
+
+layout(std140, set = 0, binding = 0) uniform ComposeBlock { ComposeParams params; };
+// Element eye: the wide view; element 2 + eye: the inset.
+layout(set = 0, binding = 1) uniform sampler2D srcColor[4];
+layout(set = 0, binding = 2) uniform sampler2D srcDepth[4];
+layout(set = 0, binding = 3) uniform sampler2D srcMotion[4];
+layout(set = 0, binding = 4) uniform usampler2D rateMap[2];
+layout(std430, set = 0, binding = 5) writeonly buffer Quality { float quality[]; };
+layout(std430, set = 0, binding = 6) readonly buffer SrgbTable { float srgb_table[256]; };
+layout(set = 0, binding = 7, rgba16f) uniform writeonly image2DArray composedColor;
+layout(set = 0, binding = 8, r32f) uniform writeonly image2DArray composedDepth;
+layout(set = 0, binding = 9, rgba16f) uniform writeonly image2DArray composedMotion;
+
+// Texel q of source k (eye, or 2 + eye), decoded and sanitised as load_color does; validity in alpha.
+vec4 source_texel(uint k, uvec2 q, uvec4 rect) {
+    vec3 c = texelFetch(srcColor[k], ivec2(q + rect.xy), 0).rgb;
+    if (rect.z != 0u)
+        c = vec3(srgb_table[wrs_srgb8_code(c.r)], srgb_table[wrs_srgb8_code(c.g)], srgb_table[wrs_srgb8_code(c.b)]);
+    bool valid;
+    c = wrs_sanitize_color(c, valid);
+    return vec4(c, valid ? 1.0 : 0.0);
+}
+
+vec4 source_bilinear(uint k, vec2 pos, uvec2 size, uvec4 rect) {
+    uvec2 i0, i1;
+    vec2 f = wrs_bilinear_taps(pos, size, i0, i1);
+    return wrs_bilinear_valid(source_texel(k, i0, rect), source_texel(k, uvec2(i1.x, i0.y), rect),
+                              source_texel(k, uvec2(i0.x, i1.y), rect), source_texel(k, i1, rect), f);
+}
+
+uvec2 nearest(vec2 pos, uvec2 size) { return uvec2(clamp(ivec2(floor(pos)), ivec2(0), ivec2(size) - ivec2(1))); }
+
+vec4 round_f16(vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); }
+
+void main() {
+    uint eye = gl_WorkGroupID.z;
+    uvec2 p = gl_GlobalInvocationID.xy;
+    uvec2 size = params.size.xy;
+    if (any(greaterThanEqual(p, size))) return;
+    ComposeEye ce = params.eye[eye];
+    uint idx = (eye * size.y + p.y) * size.x + p.x;
+    if (KIND == 2u) {
+        uvec2 t = p / ce.rate.zw;
+        quality[idx] = wrs_rate_quality(texelFetch(rateMap[eye], ivec2(t + ce.rate.xy), 0).r);
+        return;
+    }
+    uvec2 wsize = ce.sizes.xy, isize = ce.sizes.zw;
+    vec2 wpos = wrs_source_pos(p, ce.wide_map);
+    vec2 ipos = wrs_source_pos(p, ce.inset_map);
+    float t = wrs_inset_weight(ipos, isize, ce.inset_motion.w);
+    vec4 wide = source_bilinear(eye, wpos, wsize, ce.wide_color);
+    vec4 c = wide;
+    if (t > 0.0) {
+        vec4 inset = source_bilinear(2u + eye, ipos, isize, ce.inset_color);
+        // A source with no valid tap leaves the pixel to the other one, at that one's quality.
+        if (inset.w == 0.0) t = 0.0;
+        else if (wide.w == 0.0) t = 1.0;
+        else c = wrs_lerp_exact(wide, inset, t);
+        if (t == 1.0) c = inset;
+    }
+    quality[idx] = wrs_quad_quality(ce.wide_motion.w, t);
+    imageStore(composedColor, ivec3(p, eye), round_f16(c));
+    bool from_inset = t >= 0.5;
+    if (HAS_DEPTH) {
+        uvec2 q = from_inset ? nearest(ipos, isize) : nearest(wpos, wsize);
+        uvec2 o = from_inset ? ce.inset_offsets.xy : ce.offsets.xy;
+        float d = texelFetch(srcDepth[from_inset ? 2u + eye : eye], ivec2(q + o), 0).r;
+        imageStore(composedDepth, ivec3(p, eye), vec4(d, 0.0, 0.0, 0.0));
+    }
+    if (HAS_MOTION) {
+        uvec2 q = from_inset ? nearest(ipos, isize) : nearest(wpos, wsize);
+        uvec2 o = from_inset ? ce.inset_offsets.zw : ce.offsets.zw;
+        vec3 scale = from_inset ? ce.inset_motion.xyz : ce.wide_motion.xyz;
+        precise vec3 mv = texelFetch(srcMotion[from_inset ? 2u + eye : eye], ivec2(q + o), 0).xyz * scale;
+        imageStore(composedMotion, ivec3(p, eye), round_f16(vec4(mv, 0.0)));
+    }
+}

@@ -1,0 +1,96 @@
+// Submitted foveation (docs/integrating.md, "Quad views" and "Shading-rate maps"): the per-pixel math
+// of the compose pass (shaders/compose.comp) that turns quad views or a shading-rate map into the
+// output-sized candidate and each pixel's rendered quality. Shared by GLSL and C++ like wrs_common.h;
+// the CPU reference (compositor/reference.cpp, composeEye) runs the same functions in the same order.
+#ifndef WRSFOV_WRS_SUBMITTED_H
+#define WRSFOV_WRS_SUBMITTED_H
+
+#include "wrs_common.h"
+
+WRS_BEGIN
+
+// Exactly the same bits on the GPU and the CPU: the compose pass stores what it computes rounded to
+// fp16, where a last-bit difference before the rounding would flip a whole fp16 step. So its math is
+// additions, subtractions and multiplications only, each correctly rounded in Vulkan as in C++, kept
+// from fusing into FMAs (WRS_PRECISE; the C++ side compiles with -ffp-contract=off); every quotient
+// (tangent spans over pixel counts, the blend width) is worked out once per frame on the host
+// (compositor/input.cpp) and passed in, because a shader's division may be 2.5 ULP off.
+
+// Position (in a source image's pixels, a pixel's centre at +0.5) of output pixel p's centre: affine in
+// the pixel, map.xy its scale and map.zw its offset (makeComposeParams).
+WRS_FN vec2 wrs_source_pos(uvec2 p, vec4 map) {
+    WRS_PRECISE vec2 c = vec2(p) + vec2(0.5f, 0.5f);
+    WRS_PRECISE vec2 scaled = c * vec2(map.x, map.y);
+    WRS_PRECISE vec2 pos = scaled + vec2(map.z, map.w);
+    return pos;
+}
+
+// Bilinear taps of a source position: i0 and i1 (clamped to the image, as a clamp-to-edge sampler)
+// and the fraction towards i1.
+WRS_FN vec2 wrs_bilinear_taps(vec2 pos, uvec2 src, WRS_OUT(uvec2) i0, WRS_OUT(uvec2) i1) {
+    vec2 s = pos - vec2(0.5f, 0.5f);
+    vec2 fl = floor(s);
+    vec2 f = s - fl;
+    ivec2 lo = ivec2(fl);
+    ivec2 hi_limit = ivec2(src) - ivec2(1, 1);
+    i0 = uvec2(clamp(lo, ivec2(0, 0), hi_limit));
+    i1 = uvec2(clamp(lo + ivec2(1, 1), ivec2(0, 0), hi_limit));
+    return f;
+}
+
+// a + (b - a) t, unfused.
+WRS_FN vec4 wrs_lerp_exact(vec4 a, vec4 b, float t) {
+    WRS_PRECISE vec4 d = b - a;
+    WRS_PRECISE vec4 s = d * t;
+    WRS_PRECISE vec4 r = a + s;
+    return r;
+}
+
+// Bilinear blend of four decoded taps whose alpha is their validity (1 or 0). An invalid tap (a
+// non-finite texel) takes the colour of the first valid one in the order c00, c10, c01, c11, so that
+// nothing non-finite is blended and no weight needs renormalising (a division); alpha of the result is
+// 1 where any tap was valid, else the result is (0, 0, 0, 0).
+WRS_FN vec4 wrs_bilinear_valid(vec4 c00, vec4 c10, vec4 c01, vec4 c11, vec2 f) {
+    vec4 first = c00.w > 0.5f ? c00 : c10.w > 0.5f ? c10 : c01.w > 0.5f ? c01 : c11;
+    if (!(first.w > 0.5f)) return vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    vec4 a = c00.w > 0.5f ? c00 : first, b = c10.w > 0.5f ? c10 : first;
+    vec4 c = c01.w > 0.5f ? c01 : first, d = c11.w > 0.5f ? c11 : first;
+    vec4 r = wrs_lerp_exact(wrs_lerp_exact(a, b, f.x), wrs_lerp_exact(c, d, f.x), f.y);
+    return vec4(r.x, r.y, r.z, 1.0f);
+}
+
+// The inset's weight at a position in its pixels: 1 deeper inside than the blend width from its
+// nearest edge, falling linearly to 0 at the edge, 0 outside. inv_blend: 1 / the blend width in inset
+// pixels (0: a hard edge).
+WRS_FN float wrs_inset_weight(vec2 ipos, uvec2 isize, float inv_blend) {
+    WRS_PRECISE float dx = min(ipos.x, float(isize.x) - ipos.x);
+    WRS_PRECISE float dy = min(ipos.y, float(isize.y) - ipos.y);
+    float d = min(dx, dy);
+    if (!(d > 0.0f)) return 0.0f;
+    if (!(inv_blend > 0.0f)) return 1.0f;
+    WRS_PRECISE float t = d * inv_blend;
+    return min(t, 1.0f);
+}
+
+// Quality of a quad-view pixel: 1 where the inset alone shows, q_wide (the wide view's density over
+// the inset's, squared) where the wide view alone shows, linear across the blend.
+WRS_FN float wrs_quad_quality(float q_wide, float t) {
+    WRS_PRECISE float span = 1.0f - q_wide;
+    WRS_PRECISE float s = span * t;
+    WRS_PRECISE float q = q_wide + s;
+    return q;
+}
+
+// Quality of a pixel shaded at rate texel v (VK_KHR_fragment_shading_rate: w = 2^((v >> 2) & 3),
+// h = 2^(v & 3); bits 4..7 ignored): 1 / (w h). A size of 8 (field 3), absent from Vulkan's table of
+// fragment sizes, is taken as 4.
+WRS_FN float wrs_rate_quality(uint v) {
+    uint lw = min((v >> 2u) & 3u, 2u), lh = min(v & 3u, 2u);
+    return 1.0f / float(1u << (lw + lh));
+}
+// The lowest quality a rate map can give (4x4): the floor rule's quality for rate-map frames.
+const float WRS_RATE_FLOOR = 0.0625f;
+
+WRS_END
+
+#endif

@@ -1,0 +1,515 @@
+// Frames submitted foveated (layers/frame.h: quad views and shading-rate maps) on the GPU: the compose
+// pass and every method after it against the CPU reference (composeQuadViews, rateMapQualities and
+// Reference::step), each pixel's stored quality being the one it was rendered at, `wrs` keeping the
+// inset's detail after the inset moved on, and bad input (non-finite texels, reserved rate values,
+// the oracles, swapchains of another compositor).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <optional>
+
+#include "compositor/input.h"
+#include "gpu_checks.h"
+#include "shaders/wrs_submitted.h"
+
+namespace wrsfov::test {
+namespace {
+
+// The output view: 160 x 120 pixels over tangents +-0.8 x +-0.6, 100 pixels per tangent unit.
+constexpr uint32_t W = 160, H = 120;
+constexpr float kTanX = 0.8f, kTanY = 0.6f;
+// Wide views at 1 / 2.5 of that density (as the OpenXR specification's Varjo example); insets of
+// 40 x 40 pixels over 0.4 x 0.4 tangent units, at the output's density.
+constexpr uint32_t WW = 64, WH = 48, IW = 40, IH = 40;
+constexpr float kInsetTan = 0.4f;
+
+layers::Fov fovOf(float l, float r, float u, float d) {
+    return {std::atan(l), std::atan(r), std::atan(u), std::atan(d)};
+}
+layers::Fov outputFov() { return fovOf(-kTanX, kTanX, kTanY, -kTanY); }
+
+// The scene, continuous in tangent space: a fine pattern (periods of 3 to 4 output pixels) over a slow
+// ramp. A view sparser than the pattern's Nyquist rate renders it as a renderer with mip-mapped
+// textures does: without the fine pattern (`fine` false), which the inset keeps.
+glm::vec4 scene(float tx, float ty, float brightness = 1.0f, bool fine = true) {
+    const float u = tx * 100.0f, v = ty * 100.0f;
+    const float c = 0.5f + (fine ? 0.35f * std::sin(u * 2.1f) * std::sin(v * 1.7f) : 0.0f) + 0.1f * std::sin(u * 0.05f);
+    return glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f);
+}
+
+// An image rendered over a tangent rectangle, one sample at each pixel's centre (RGBA16F).
+HostImage render(uint32_t w, uint32_t h, glm::vec4 tan, float brightness = 1.0f, bool fine = true) {
+    HostImage img = HostImage::make(layers::Format::RGBA16F, w, h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float tx = tan.x + (x + 0.5f) / w * (tan.y - tan.x);
+            const float ty = tan.z - (y + 0.5f) / h * (tan.z - tan.w);
+            img.store(x, y, scene(tx, ty, brightness, fine));
+        }
+    return img;
+}
+
+// Depth patches in (0, 1) and a uniform motion of (mx, my) pixels of the image's own.
+HostImage depthOf(uint32_t w, uint32_t h, glm::vec4 tan) {
+    HostImage img = HostImage::make(layers::Format::R32F, w, h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float tx = tan.x + (x + 0.5f) / w * (tan.y - tan.x);
+            img.store(x, y, glm::vec4(tx < 0.1f ? 0.4f : 0.7f, 0, 0, 0));
+        }
+    return img;
+}
+
+// The inset's tangent rectangle centred on (cx, cy), kept inside the wide view.
+glm::vec4 insetTan(float cx, float cy) {
+    const float h = kInsetTan / 2;
+    cx = std::clamp(cx, -kTanX + h, kTanX - h);
+    cy = std::clamp(cy, -kTanY + h, kTanY - h);
+    return {cx - h, cx + h, cy + h, cy - h};
+}
+
+// A quad-view application: per kind one swapchain with two layers (layer = eye) for the wide views and
+// one for the insets.
+class QuadApp {
+public:
+    QuadApp(Compositor& c, bool depth, bool motion) {
+        auto make = [&](layers::Usage u, layers::Format f, uint32_t w, uint32_t h) {
+            layers::SwapchainCreateInfo ci;
+            ci.usage = u;
+            ci.format = f;
+            ci.width = w;
+            ci.height = h;
+            ci.arraySize = 2;
+            auto sc = c.createSwapchain(ci);
+            EXPECT_TRUE(sc.ok()) << (sc.ok() ? "" : sc.error().message);
+            return sc.ok() ? std::move(*sc) : nullptr;
+        };
+        wideColor = make(layers::Usage::Color, layers::Format::RGBA16F, WW, WH);
+        insetColor = make(layers::Usage::Color, layers::Format::RGBA16F, IW, IH);
+        if (depth) {
+            wideDepth = make(layers::Usage::Depth, layers::Format::R32F, WW, WH);
+            insetDepth = make(layers::Usage::Depth, layers::Format::R32F, IW, IH);
+        }
+        if (motion) {
+            wideMotion = make(layers::Usage::Motion, layers::Format::RG16F, WW, WH);
+            insetMotion = make(layers::Usage::Motion, layers::Format::RG16F, IW, IH);
+        }
+    }
+    // One frame: the views shifted by `shift` tangent units, `delta` of them since the last frame (the
+    // motion says so), insets on the gaze.
+    struct Frame {
+        std::array<QuadSources, 2> sources;
+        std::array<glm::vec4, 2> inset;
+        glm::vec3 gaze;
+    };
+    Frame make(float gx, float gy, float brightness = 1.0f, glm::vec2 shift = {0, 0}, glm::vec2 delta = {0, 0}) const {
+        Frame f;
+        f.gaze = glm::normalize(glm::vec3(gx, gy, -1.0f));
+        const glm::vec4 wide(-kTanX, kTanX, kTanY, -kTanY);
+        for (int e = 0; e < 2; ++e) {
+            f.inset[e] = insetTan(gx, gy);
+            const glm::vec4 s(shift.x, shift.x, shift.y, shift.y);
+            QuadSources& q = f.sources[e];
+            q.wideColor = render(WW, WH, wide + s, brightness, false);
+            q.insetColor = render(IW, IH, f.inset[e] + s, brightness);
+            if (wideDepth) q.wideDepth = depthOf(WW, WH, wide), q.insetDepth = depthOf(IW, IH, f.inset[e]);
+            if (wideMotion) {
+                // Previous position = current + mv: a view moved right (up) by delta shows what was delta
+                // to its right (below) a frame ago.
+                q.wideMotion = uniformMotion(WW, WH, delta.x * WW / (2 * kTanX), -delta.y * WH / (2 * kTanY));
+                q.insetMotion = uniformMotion(IW, IH, delta.x * IW / kInsetTan, -delta.y * IH / kInsetTan);
+            }
+        }
+        return f;
+    }
+    layers::FrameEndInfo submit(Compositor& c, uint64_t index, const Frame& f, Status* result = nullptr) {
+        auto put = [&](layers::Swapchain* sc, auto get) {
+            if (!sc) return;
+            auto index = sc->acquire();
+            ASSERT_TRUE(index.ok());
+            ASSERT_TRUE(sc->wait().ok());
+            for (uint32_t e = 0; e < 2; ++e) ASSERT_TRUE(sc->write(*index, e, get(f.sources[e]).bytes()).ok());
+            ASSERT_TRUE(sc->release().ok());
+        };
+        put(wideColor.get(), [](const QuadSources& q) -> const HostImage& { return q.wideColor; });
+        put(insetColor.get(), [](const QuadSources& q) -> const HostImage& { return q.insetColor; });
+        put(wideDepth.get(), [](const QuadSources& q) -> const HostImage& { return *q.wideDepth; });
+        put(insetDepth.get(), [](const QuadSources& q) -> const HostImage& { return *q.insetDepth; });
+        put(wideMotion.get(), [](const QuadSources& q) -> const HostImage& { return *q.wideMotion; });
+        put(insetMotion.get(), [](const QuadSources& q) -> const HostImage& { return *q.insetMotion; });
+        layers::FrameEndInfo fe;
+        fe.frameIndex = index;
+        fe.time_s = index / 90.0;
+        layers::ProjectionLayer layer;
+        for (uint32_t e = 0; e < 2; ++e) {
+            layers::ProjectionView v;
+            v.fov = outputFov();
+            v.color = {wideColor.get(), {0, 0, WW, WH}, e};
+            layers::InsetView in;
+            const glm::vec4 t = f.inset[e];
+            in.fov = fovOf(t.x, t.y, t.z, t.w);
+            in.color = {insetColor.get(), {0, 0, IW, IH}, e};
+            if (wideDepth) {
+                v.depth = layers::DepthInfo{{wideDepth.get(), {0, 0, WW, WH}, e}, 0.1f, 100.0f, false};
+                in.depth = layers::DepthInfo{{insetDepth.get(), {0, 0, IW, IH}, e}, 0.1f, 100.0f, false};
+            }
+            if (wideMotion) {
+                v.motion = layers::MotionInfo{{wideMotion.get(), {0, 0, WW, WH}, e}};
+                in.motion = layers::MotionInfo{{insetMotion.get(), {0, 0, IW, IH}, e}};
+            }
+            v.inset = in;
+            layer.views.push_back(v);
+            fe.gaze[e] = {f.gaze, true, 1.0f};
+        }
+        layer.outputWidth = W;
+        layer.outputHeight = H;
+        fe.layers.push_back(layer);
+        Status s = c.endFrame(fe);
+        if (result)
+            *result = s;
+        else
+            EXPECT_TRUE(s.ok()) << s.message();
+        return fe;
+    }
+    std::unique_ptr<layers::Swapchain> wideColor, insetColor, wideDepth, insetDepth, wideMotion, insetMotion;
+};
+
+std::unique_ptr<Compositor> compositor(Method m) {
+    CompositorConfig cfg;
+    cfg.method = m;
+    cfg.seed = 5;
+    auto c = Compositor::create(context(), cfg);
+    EXPECT_TRUE(c.ok());
+    return c.ok() ? std::move(*c) : nullptr;
+}
+
+// One frame on the GPU and on the reference from the GPU's history; outputs within one 8-bit step,
+// and for methods with history the stored reservoirs counted where they differ.
+struct Agreement {
+    int maxOutputDiff = 0;
+    uint64_t reservoirs = 0, differing = 0;
+};
+void stepAndCompare(Compositor& c, Reference& ref, const std::array<Reference::EyeInput, 2>& in, Agreement& a,
+                    const std::string& what) {
+    ref.step(c.lastParams(), in);
+    for (uint32_t e = 0; e < 2; ++e) {
+        auto out = c.readOutput(e);
+        ASSERT_TRUE(out.ok());
+        int reported = 0;
+        for (std::size_t i = 0; i < out->data.size(); ++i) {
+            const int d = std::abs(int(uint8_t(out->data[i])) - int(uint8_t(ref.output(e).data[i])));
+            a.maxOutputDiff = std::max(a.maxOutputDiff, d);
+            if (d > 1 && reported++ < 5)
+                ADD_FAILURE() << what << ": eye " << e << " pixel " << (i / 4) % W << "," << (i / 4) / W << " channel "
+                              << i % 4 << ": gpu " << int(uint8_t(out->data[i])) << " cpu "
+                              << int(uint8_t(ref.output(e).data[i]));
+        }
+        // Methods whose reservoirs hold exactly what the shared header computes: the retain pass's.
+        // (fov+taa and wrs-paper store exp, pow and division results, which Vulkan lets differ by a
+        // few ULP: their outputs are compared above.)
+        if (c.config().method != Method::Wrs) continue;
+        auto res = c.readReservoirs(e);
+        ASSERT_TRUE(res.ok());
+        for (std::size_t i = 0; i < res->size(); ++i) {
+            a.reservoirs++;
+            if ((*res)[i] != ref.reservoirs(e)[i]) {
+                if (a.differing < 6 && std::getenv("WRSFOV_DEBUG_SUBMITTED")) {
+                    const glm::uvec4 g = (*res)[i], r = ref.reservoirs(e)[i];
+                    std::printf("%s eye %u px %zu,%zu gpu %08x %08x %08x %08x cpu %08x %08x %08x %08x out %d\n", what.c_str(), e,
+                                i % W, i / W, g.x, g.y, g.z, g.w, r.x, r.y, r.z, r.w, ref.trace(e).empty() ? -1 : int(ref.trace(e)[i].outcome));
+                }
+                a.differing++;
+            }
+        }
+    }
+}
+
+std::array<Reference::EyeInput, 2> composed(const Compositor& c, const QuadApp::Frame& f) {
+    return {composeQuadViews(c.lastComposeParams(), 0, f.sources[0]),
+            composeQuadViews(c.lastComposeParams(), 1, f.sources[1])};
+}
+
+class Submitted : public GpuTest {};
+
+TEST_F(Submitted, QuadViewsMatchTheReferenceForEveryMethod) {
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs}) {
+        for (bool withDepthMotion : {false, true}) {
+            SCOPED_TRACE(std::string(toString(m)) + (withDepthMotion ? " with depth and motion" : ""));
+            auto c = compositor(m);
+            QuadApp app(*c, withDepthMotion, withDepthMotion);
+            Reference ref(c->config());
+            Agreement a;
+            // The gaze fixates, saccades and drifts; the scene pans a little when motion is given.
+            const glm::vec2 gazes[] = {{-0.3f, 0.1f}, {-0.3f, 0.1f}, {-0.29f, 0.1f}, {0.35f, -0.2f}, {0.36f, -0.2f}, {0.1f, 0.4f}};
+            for (uint64_t i = 0; i < 6; ++i) {
+                const glm::vec2 delta = withDepthMotion && i > 0 ? glm::vec2(0.004f, 0.002f) : glm::vec2(0.0f);
+                const glm::vec2 shift = withDepthMotion ? glm::vec2(0.004f, 0.002f) * float(i) : glm::vec2(0.0f);
+                const QuadApp::Frame f = app.make(gazes[i].x, gazes[i].y, 1.0f, shift, delta);
+                if (i > 0 && m != Method::Fov)
+                    for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *c->readReservoirs(e), *c->readTileHeld(e));
+                app.submit(*c, i + 1, f);
+                ASSERT_EQ(c->lastSubmitted(), layers::SubmittedFoveation::Quad);
+                ASSERT_EQ(c->width(), W);
+                stepAndCompare(*c, ref, composed(*c, f), a, "frame " + std::to_string(i + 1));
+            }
+            EXPECT_LE(a.maxOutputDiff, 1);
+            // The same decisions: every stored reservoir equal bit for bit on this device (the composed
+            // inputs are rounded to fp16 by hand on both sides, so no device rounding is involved).
+            EXPECT_EQ(a.differing, 0u) << "of " << a.reservoirs;
+        }
+    }
+}
+
+TEST_F(Submitted, EachPixelKeepsTheQualityItWasRenderedAt) {
+    auto c = compositor(Method::Wrs);
+    QuadApp app(*c, false, false);
+    const QuadApp::Frame f = app.make(0.0f, 0.0f);
+    app.submit(*c, 1, f);
+    const float qWide = (float(WW) / (2 * kTanX) / (W / (2 * kTanX))) * (float(WH) / (2 * kTanY) / (H / (2 * kTanY)));
+    EXPECT_NEAR(c->lastComposeParams().eye[0].wide_motion.w, 0.16f, 1e-6f);
+    EXPECT_NEAR(qWide, 0.16f, 1e-6f);
+    // The floor rule's quality is the wide view's.
+    EXPECT_FLOAT_EQ(c->lastParams().tuning.w, c->lastComposeParams().eye[0].wide_motion.w);
+    const auto in = composed(*c, f);
+    int inset = 0, wide = 0, blend = 0;
+    for (uint32_t e = 0; e < 2; ++e) {
+        auto res = c->readReservoirs(e);
+        ASSERT_TRUE(res.ok());
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                const std::size_t i = std::size_t(y) * W + x;
+                const float q = gpu::wrs_packed_quality((*res)[i]);
+                ASSERT_EQ(q, gpu::wrs_round_f16(in[e].quality[i])) << "eye " << e << " pixel " << x << "," << y;
+                // The inset spans output pixels 60..99 x 40..79; its blend band is its outer 8 pixels.
+                const bool core = x >= 68 && x < 92 && y >= 48 && y < 72;
+                const bool outside = x < 60 || x >= 100 || y < 40 || y >= 80;
+                if (core) {
+                    EXPECT_EQ(q, 1.0f) << x << "," << y;
+                    inset++;
+                } else if (outside) {
+                    EXPECT_EQ(q, gpu::wrs_round_f16(0.16f)) << x << "," << y;
+                    wide++;
+                } else {
+                    EXPECT_TRUE(q > gpu::wrs_round_f16(0.16f) && q < 1.0f) << q << " at " << x << "," << y;
+                    blend++;
+                }
+            }
+    }
+    EXPECT_EQ(inset, 2 * 24 * 24);
+    EXPECT_EQ(blend, 2 * (40 * 40 - 24 * 24));
+}
+
+// The method's point: the inset moves on, and `wrs` keeps showing the detail it rendered where it was,
+// while composition alone (`fov`) shows the wide view's resampled pixels there.
+TEST_F(Submitted, WrsKeepsTheInsetsDetailAfterTheInsetMovedOn) {
+    auto fov = compositor(Method::Fov), wrs = compositor(Method::Wrs);
+    QuadApp fovApp(*fov, true, false), wrsApp(*wrs, true, false);
+    const glm::vec2 a(-0.4f, 0.2f), b(0.4f, -0.2f);
+    uint64_t i = 1;
+    for (; i <= 10; ++i) fovApp.submit(*fov, i, fovApp.make(a.x, a.y)), wrsApp.submit(*wrs, i, wrsApp.make(a.x, a.y));
+    for (; i <= 15; ++i) fovApp.submit(*fov, i, fovApp.make(b.x, b.y)), wrsApp.submit(*wrs, i, wrsApp.make(b.x, b.y));
+    // The full-resolution render of the same frame, and the MSE of each over the core of inset A.
+    const HostImage full = render(W, H, {-kTanX, kTanX, kTanY, -kTanY});
+    auto mse = [&](Compositor& c) {
+        auto out = c.readOutput(0);
+        EXPECT_TRUE(out.ok());
+        double se = 0;
+        int n = 0;
+        const glm::vec4 t = insetTan(a.x, a.y);
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
+                if (tx < t.x + 0.1f || tx > t.y - 0.1f || ty > t.z - 0.1f || ty < t.w + 0.1f) continue;
+                const glm::u8vec4 ref = encodeOutput(glm::vec3(full.fetch(x, y)));
+                for (int k = 0; k < 3; ++k) {
+                    const double d = (int(uint8_t(out->data[(y * W + x) * 4 + k])) - int(ref[k])) / 255.0;
+                    se += d * d;
+                }
+                n += 3;
+            }
+        EXPECT_GT(n, 300);
+        return se / n;
+    };
+    const double mFov = mse(*fov), mWrs = mse(*wrs);
+    std::printf("inset A's core after the inset moved on: MSE fov %.6f, wrs %.6f\n", mFov, mWrs);
+    EXPECT_GT(mFov, 1e-3) << "the wide view alone must lose the pattern there";
+    EXPECT_LT(mWrs, 0.05 * mFov);
+}
+
+// Rate maps: a gaze-centred pattern (1x1 fovea, 2x2 and 4x4 rings) and, in one corner, every encoding
+// Vulkan leaves unused, each with its documented quality.
+TEST_F(Submitted, RateMapsMatchTheReferenceAndGiveEachPixelItsRate) {
+    constexpr uint32_t T = 8, MW = W / T, MH = H / T;  // 20 x 15 texels
+    for (Method m : {Method::Fov, Method::Wrs}) {
+        SCOPED_TRACE(std::string(toString(m)));
+        auto c = compositor(m);
+        layers::SwapchainCreateInfo ci;
+        ci.usage = layers::Usage::ShadingRate;
+        ci.format = layers::Format::R8UI;
+        ci.width = MW;
+        ci.height = MH;
+        ci.arraySize = 2;
+        auto map = c->createSwapchain(ci);
+        ASSERT_TRUE(map.ok()) << map.error().message;
+        StereoApp app(*c, W, H, layers::Format::RGBA16F, std::nullopt, std::nullopt);
+        Reference ref(c->config());
+        Agreement a;
+        for (uint64_t i = 1; i <= 4; ++i) {
+            const glm::vec2 g = i < 3 ? glm::vec2(-0.3f, 0.1f) : glm::vec2(0.3f, -0.1f);
+            // Rates around the gaze's texel; then the reserved values in the top-left corner.
+            HostImage rate = HostImage::make(layers::Format::R8UI, MW, MH);
+            const int gx = int((g.x + kTanX) / (2 * kTanX) * MW), gy = int((kTanY - g.y) / (2 * kTanY) * MH);
+            for (uint32_t y = 0; y < MH; ++y)
+                for (uint32_t x = 0; x < MW; ++x) {
+                    const int d = std::max(std::abs(int(x) - gx), std::abs(int(y) - gy));
+                    rate.store(x, y, glm::vec4(d <= 1 ? 0 : d <= 3 ? 5 : 10, 0, 0, 0));  // 1x1, 2x2, 4x4
+                }
+            const uint8_t reserved[] = {3, 12, 15, 0xf0, 0xf5, 0x0e};  // 1x8, 8x1, 8x8, 1x1 (high bits), 2x2, 8x4
+            for (uint32_t k = 0; k < 6; ++k) rate.store(k, 0, glm::vec4(reserved[k], 0, 0, 0));
+            // The colour as shading at those rates renders it: one sample per block, at the block's centre.
+            HostImage color = HostImage::make(layers::Format::RGBA16F, W, H);
+            for (uint32_t y = 0; y < H; ++y)
+                for (uint32_t x = 0; x < W; ++x) {
+                    const uint32_t v = uint32_t(rate.fetch(x / T, y / T).x);
+                    const uint32_t bw = 1u << std::min((v >> 2) & 3u, 2u), bh = 1u << std::min(v & 3u, 2u);
+                    const float cx = (x / bw * bw) + bw * 0.5f, cy = (y / bh * bh) + bh * 0.5f;
+                    color.store(x, y, scene(-kTanX + cx / W * 2 * kTanX, kTanY - cy / H * 2 * kTanY));
+                }
+            auto put = [&](layers::Swapchain& sc) {
+                auto index = sc.acquire();
+                ASSERT_TRUE(index.ok());
+                ASSERT_TRUE(sc.wait().ok());
+                for (uint32_t e = 0; e < 2; ++e) ASSERT_TRUE(sc.write(*index, e, rate.bytes()).ok());
+                ASSERT_TRUE(sc.release().ok());
+            };
+            put(**map);
+            std::array<EyeFrame, 2> eyes;
+            for (int e = 0; e < 2; ++e) eyes[e] = {color, std::nullopt, std::nullopt, outputFov(), {glm::normalize(glm::vec3(g, -1.0f)), true, 1.0f}};
+            app.write(eyes);
+            layers::FrameEndInfo fe = app.frameEnd(i, eyes);
+            for (uint32_t e = 0; e < 2; ++e) fe.layers[0].views[e].rateMap = layers::RateMapInfo{{map->get(), {0, 0, MW, MH}, e}, T, T};
+            if (i > 1 && m != Method::Fov)
+                for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *c->readReservoirs(e), *c->readTileHeld(e));
+            Status s = c->endFrame(fe);
+            ASSERT_TRUE(s.ok()) << s.message();
+            ASSERT_EQ(c->lastSubmitted(), layers::SubmittedFoveation::Rate);
+            std::array<Reference::EyeInput, 2> in = referenceInputs(eyes);
+            for (uint32_t e = 0; e < 2; ++e) in[e].quality = rateMapQualities(c->lastComposeParams(), e, rate);
+            // The documented values: 1x8 and 8x1 as 1x4 and 4x1, 8x8 as 4x4, bits 4..7 ignored.
+            const float expect[] = {0.25f, 0.25f, 0.0625f, 1.0f, 0.25f, 0.0625f};
+            for (uint32_t k = 0; k < 6; ++k) EXPECT_EQ(in[0].quality[k * T], expect[k]) << "rate " << int(reserved[k]);
+            EXPECT_EQ(c->lastParams().tuning.w, m == Method::Wrs ? gpu::WRS_RATE_FLOOR : 0.0f);
+            stepAndCompare(*c, ref, in, a, "frame " + std::to_string(i));
+            if (m == Method::Wrs && i == 1) {
+                auto res = c->readReservoirs(0);
+                ASSERT_TRUE(res.ok());
+                for (std::size_t p = 0; p < res->size(); ++p)
+                    ASSERT_EQ(gpu::wrs_packed_quality((*res)[p]), gpu::wrs_round_f16(in[0].quality[p])) << p;
+            }
+        }
+        EXPECT_LE(a.maxOutputDiff, 1);
+        EXPECT_EQ(a.differing, 0u) << "of " << a.reservoirs;
+    }
+}
+
+TEST_F(Submitted, NonFiniteTexelsNeverReachAReservoirOrAnOutput) {
+    auto c = compositor(Method::Wrs);
+    QuadApp app(*c, true, true);
+    Reference ref(c->config());
+    Agreement a;
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (uint64_t i = 1; i <= 3; ++i) {
+        QuadApp::Frame f = app.make(-0.2f, 0.0f);
+        for (int e = 0; e < 2; ++e) {
+            // A poisoned block in the inset (the wide view shows there instead), one in the wide view
+            // outside the inset (nothing valid: the pixel is invalid), NaN depth and infinite motion.
+            for (uint32_t y = 10; y < 20; ++y)
+                for (uint32_t x = 10; x < 20; ++x) f.sources[e].insetColor.store(x, y, glm::vec4(nan, inf, -inf, 1));
+            for (uint32_t y = 30; y < 36; ++y)
+                for (uint32_t x = 50; x < 56; ++x) f.sources[e].wideColor.store(x, y, glm::vec4(nan, 0, 0, 1));
+            f.sources[e].insetDepth->store(5, 5, glm::vec4(nan));
+            f.sources[e].wideMotion->store(3, 3, glm::vec4(inf, nan, 0, 0));
+        }
+        if (i > 1)
+            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *c->readReservoirs(e), *c->readTileHeld(e));
+        app.submit(*c, i, f);
+        stepAndCompare(*c, ref, composed(*c, f), a, "poisoned frame " + std::to_string(i));
+        for (uint32_t e = 0; e < 2; ++e) {
+            auto res = c->readReservoirs(e);
+            ASSERT_TRUE(res.ok());
+            for (const glm::uvec4& r : *res) {
+                const gpu::Tracked t = gpu::wrs_unpack_tracked(r);
+                ASSERT_TRUE(gpu::wrs_finite3(t.color) && gpu::wrs_finite(t.q) && gpu::wrs_finite(t.w_sum) &&
+                            gpu::wrs_finite(t.z));
+            }
+        }
+    }
+    EXPECT_LE(a.maxOutputDiff, 1);
+    EXPECT_EQ(a.differing, 0u);
+    // An inset with no valid texel leaves every pixel to the wide view, at the wide view's quality.
+    const Reference::EyeInput e0 = composeQuadViews(c->lastComposeParams(), 0, [&] {
+        QuadApp::Frame f = app.make(-0.2f, 0.0f);
+        for (uint32_t y = 0; y < IH; ++y)
+            for (uint32_t x = 0; x < IW; ++x) f.sources[0].insetColor.store(x, y, glm::vec4(nan, 0, 0, 1));
+        return f.sources[0];
+    }());
+    for (float q : e0.quality) EXPECT_FLOAT_EQ(q, c->lastComposeParams().eye[0].wide_motion.w);
+}
+
+TEST_F(Submitted, OraclesAndForeignSwapchainsAreRefusedAndChangeNothing) {
+    auto oracle = compositor(Method::Oracle);
+    QuadApp app(*oracle, false, false);
+    Status s;
+    app.submit(*oracle, 1, app.make(0, 0), &s);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().code, int(layers::SubmitError::InvalidSubmission));
+    EXPECT_NE(s.message().find("oracles"), std::string::npos) << s.message();
+    EXPECT_EQ(oracle->width(), 0u);  // nothing was composited
+    // An inset in a swapchain of another compositor.
+    auto wrs = compositor(Method::Wrs);
+    QuadApp own(*wrs, false, false);
+    std::swap(own.insetColor, app.insetColor);
+    own.submit(*wrs, 1, own.make(0, 0), &s);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().code, int(layers::SubmitError::ForeignSwapchain));
+    EXPECT_NE(s.message().find("left inset colour"), std::string::npos) << s.message();
+    std::swap(own.insetColor, app.insetColor);
+    own.submit(*wrs, 2, own.make(0, 0));
+    EXPECT_EQ(wrs->width(), W);
+}
+
+// Switching between full-resolution and quad frames resets history (the foveation changed), and the
+// traffic model counts the compose pass.
+TEST_F(Submitted, SwitchingInputKindsStartsHistoryAnew) {
+    auto c = compositor(Method::Wrs);
+    QuadApp app(*c, false, false);
+    app.submit(*c, 1, app.make(0, 0));
+    EXPECT_TRUE(c->stats().historyReset);
+    app.submit(*c, 2, app.make(0, 0));
+    EXPECT_FALSE(c->stats().historyReset);
+    StereoApp full(*c, W, H, layers::Format::RGBA16F, std::nullopt, std::nullopt);
+    std::array<EyeFrame, 2> eyes;
+    for (int e = 0; e < 2; ++e)
+        eyes[e] = {render(W, H, {-kTanX, kTanX, kTanY, -kTanY}), std::nullopt, std::nullopt, outputFov(), {glm::vec3(0, 0, -1), true, 1.0f}};
+    ASSERT_TRUE(full.submit(3, eyes).ok());
+    EXPECT_TRUE(c->stats().historyReset);
+    EXPECT_EQ(c->lastSubmitted(), layers::SubmittedFoveation::Full);
+    app.submit(*c, 4, app.make(0, 0));
+    EXPECT_TRUE(c->stats().historyReset);
+    const layers::FrameEndInfo fe = app.submit(*c, 5, app.make(0, 0));
+    const TrafficInputs in = trafficInputs(fe.layers[0]);
+    EXPECT_EQ(in.width, W);
+    EXPECT_EQ(in.colorBytes, 8u);
+    // Per output pixel: the wide colour (64x48 of 160x120) and the inset's (40x40), 8 B a texel.
+    EXPECT_NEAR(in.composeRead, (WW * WH + IW * IH) * 8.0 / (W * H), 1e-9);
+    EXPECT_EQ(in.composeWrite, 12.0);
+    CompositorConfig cfg = c->config();
+    cfg.foveation = FoveationMode::Submitted;
+    const Traffic t = traffic(cfg, in);
+    ASSERT_FALSE(t.passes.empty());
+    EXPECT_EQ(t.passes.front().pass, "compose");
+}
+
+}  // namespace
+}  // namespace wrsfov::test
