@@ -502,24 +502,6 @@ Status Compositor::init() {
         vkCmdClearColorImage(cmd, dummy_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &ib.subresourceRange);
     });
     if (!st) return st;
-    // The placeholder of a rate map (an integer image, as usampler2D needs).
-    vk::ImageCreateInfo uci;
-    uci.format = VK_FORMAT_R8_UINT;
-    uci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    auto dummyUint = ctx_.createImage(uci);
-    if (!dummyUint) return named("compositor placeholder image", dummyUint.error());
-    dummyUint_ = std::move(*dummyUint);
-    st = ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-        vk::layoutTransition(cmd, dummyUint_.handle(), VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
-                             VK_IMAGE_LAYOUT_GENERAL);
-        VkClearColorValue zero{};
-        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(cmd, dummyUint_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
-    });
-    if (!st) return st;
-    auto compose = ComposePass::create(ctx_, srgbTable_.handle());
-    if (!compose) return compose.error();
-    compose_ = std::move(*compose);
     cmd_ = ctx_.allocateCommandBuffer();
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VkFence fence;
@@ -648,7 +630,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     const uint64_t pyramidTexels =
         (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES +
         2ull * WRS_EYES * level4.x * level4.y;
-    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts, quality;
+    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts;
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
@@ -657,7 +639,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     for (const Alloc& a :
          {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"},
           Alloc{&reservoirs[0], pixels * 16, "reservoirs"}, Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
-          Alloc{&births[1], birth ? pixels * 16 : 16, "births"}, Alloc{&quality, pixels * 4, "rendered qualities"}}) {
+          Alloc{&births[1], birth ? pixels * 16 : 16, "births"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
         *a.buffer = std::move(*r);
@@ -715,7 +697,6 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     tiles_ = std::move(tiles);
     tileHeld_ = std::move(held);
     tileCounts_ = std::move(counts);
-    quality_ = std::move(quality);
     held_ = Held::Unknown;
     lastTiled_ = false;
     birthAllocated_ = birth;
@@ -739,7 +720,9 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         w[8] = vk::bufferWrite(sets_[set], kTiles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &ti);
         VkDescriptorBufferInfo hi{tileHeld_.handle(), 0, VK_WHOLE_SIZE};
         w[9] = vk::bufferWrite(sets_[set], kTileHeld, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &hi);
-        VkDescriptorBufferInfo qi{quality_.handle(), 0, VK_WHOLE_SIZE};
+        // The rendered qualities are read only by frames submitted foveated, which bind their own buffer
+        // (prepareSubmitted); until then any buffer keeps the set valid.
+        VkDescriptorBufferInfo qi{srgbTable_.handle(), 0, VK_WHOLE_SIZE};
         w[10] = vk::bufferWrite(sets_[set], kQuality, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &qi);
         vkUpdateDescriptorSets(ctx_.device(), 11, w, 0, nullptr);
     }
@@ -873,15 +856,9 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         }
     }
 
-    if (w != width_ || h != height_ || next.trackBirth != birthAllocated_) {
-        if (Status s = resize(w, h, next.trackBirth); !s)
-            return submitError(SubmitError::DeviceFailure,
-                               ctx_.deviceLost()
-                                   ? std::string(kDeviceLost)
-                                   : "resizing to " + std::to_string(w) + "x" + std::to_string(h) + ": " + s.message());
-    }
     // Quad views and rate maps come with their own foveation: the frame runs with mode Submitted, and
-    // the composed images and qualities are made first (a failed allocation refuses the frame).
+    // the composed images and qualities are made first, before anything else changes (a failed allocation
+    // refuses the frame).
     std::array<VkImageView, 4> srcColor{}, srcDepth{}, srcMotion{};
     std::array<VkImageView, 2> srcRate{};
     auto view = [&](const layers::SubImage& s) {
@@ -903,11 +880,20 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
             }
             if (v.rateMap) srcRate[eye] = view(v.rateMap->subImage);
         }
+        if (Status s = prepareSubmitted(w, h); !s)
+            return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
         const ComposePass::Sources sources{srcColor, srcDepth, srcMotion, srcRate};
         if (Status s = compose_->prepare(kind, composeParams_, sources, quality_.handle(), sampler_.get(),
                                          dummy_.layerView(0), dummyUint_.layerView(0));
             !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
+    }
+    if (w != width_ || h != height_ || next.trackBirth != birthAllocated_) {
+        if (Status s = resize(w, h, next.trackBirth); !s)
+            return submitError(SubmitError::DeviceFailure,
+                               ctx_.deviceLost()
+                                   ? std::string(kDeviceLost)
+                                   : "resizing to " + std::to_string(w) + "x" + std::to_string(h) + ": " + s.message());
     }
     if (configPending_) {
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
@@ -917,6 +903,12 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     }
     frame_ = next;
     submitted_ = kind;
+    if (kind != layers::SubmittedFoveation::Full)  // after any resize, which binds the placeholder
+        for (VkDescriptorSet set : sets_) {
+            VkDescriptorBufferInfo qi{quality_.handle(), 0, VK_WHOLE_SIZE};
+            VkWriteDescriptorSet wq = vk::bufferWrite(set, kQuality, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &qi);
+            vkUpdateDescriptorSets(ctx_.device(), 1, &wq, 0, nullptr);
+        }
     // A change between full and submitted frames is a change of foveation: history starts anew.
     if (frame_.foveation != lastFoveation_) historyValid_ = false;
     lastFoveation_ = frame_.foveation;
@@ -1096,6 +1088,40 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
 
 void Compositor::stamp(const FramePlan& plan, uint32_t i) {
     if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
+}
+
+Status Compositor::prepareSubmitted(uint32_t width, uint32_t height) {
+    // Made on the first frame submitted foveated, so that a compositor of full-resolution frames
+    // allocates and submits nothing more than before.
+    if (!compose_) {
+        auto compose = ComposePass::create(ctx_, srgbTable_.handle());
+        if (!compose) return compose.error();
+        compose_ = std::move(*compose);
+    }
+    if (!dummyUint_) {
+        // The placeholder of a rate map (an integer image, as usampler2D needs).
+        vk::ImageCreateInfo uci;
+        uci.format = VK_FORMAT_R8_UINT;
+        uci.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        auto img = ctx_.createImage(uci);
+        if (!img) return named("rate map placeholder", img.error());
+        Status st = ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+            vk::layoutTransition(cmd, img->handle(), VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED,
+                                 VK_IMAGE_LAYOUT_GENERAL);
+            VkClearColorValue zero{};
+            VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+            vkCmdClearColorImage(cmd, img->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        });
+        if (!st) return st;
+        dummyUint_ = std::move(*img);
+    }
+    const uint64_t bytes = uint64_t(width) * height * WRS_EYES * 4;
+    if (quality_.size() != bytes) {
+        auto q = ctx_.createBuffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+        if (!q) return named("rendered qualities", q.error());
+        quality_ = std::move(*q);
+    }
+    return {};
 }
 
 void Compositor::recordCompose(const FramePlan& plan) {

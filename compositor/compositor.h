@@ -443,6 +443,9 @@ private:
     void stamp(const FramePlan& plan, uint32_t i);
     /// Pass 0 for frames submitted foveated: quad views composed, qualities (ComposePass).
     void recordCompose(const FramePlan& plan);
+    /// The compose pass, the rate-map placeholder and the rendered qualities for an output of
+    /// width x height, made on the first frame submitted foveated (and the qualities again on a resize).
+    Status prepareSubmitted(uint32_t width, uint32_t height);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
     void recordHistoryStart(const FramePlan& plan);
     /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention). Its
