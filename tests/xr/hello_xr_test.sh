@@ -13,23 +13,21 @@ out="$3"
 rm -rf "$out"
 mkdir -p "$out"
 . "$(dirname "$0")/../cli_check.sh"
+. "$(dirname "$0")/hello_xr_stdin.sh"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 export XR_RUNTIME_JSON="$json"
 
 preload="${WRSFOV_XR_PRELOAD:-}"
 CLI_FIXED=1 cli_check runtime_list 0 "XR_EXT_eye_gaze_interaction" env LD_PRELOAD="$preload" openxr_runtime_list
 
-# hello_xr quits at a key press or when stdin ends. Its stdin is a fifo that this script holds open
-# and never writes, so only the runtime's frame limit (STOPPING, then EXITING) can end the run.
-mkfifo "$out/stdin"
-exec 3<>"$out/stdin"
+# Only the runtime's frame limit can end a run (hello_xr_stdin.sh).
 run_hello() {
-    env WRSFOV_XR_WIDTH=192 WRSFOV_XR_HEIGHT=192 WRSFOV_XR_FRAMES=300 WRSFOV_XR_RECORD="$out/seq" \
+    hello_xr_until_ended "$out/hello_xr.log" \
+        env WRSFOV_XR_WIDTH=192 WRSFOV_XR_HEIGHT=192 WRSFOV_XR_FRAMES=300 WRSFOV_XR_RECORD="$out/seq" \
         WRSFOV_VALIDATION=1 XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
-        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
 }
 CLI_FIXED=1 cli_check hello_xr 0 "session ended: 300 frames ended, 300 composited, 0 shown as submitted, 0 not composited" run_hello
-exec 3>&-
 log="$out/hello_xr.log"
 check() {  # check NAME COMMAND...: a shell condition on the hello_xr log
     name=$1
@@ -54,13 +52,12 @@ check gaze_rows test "$(wc -l < "$out/seq/gaze.csv")" -eq 301
 # A desktop window (under Xvfb) with the preview's overlays, gaze from the mouse: 60 frames, a
 # screenshot of the window, still 0 validation messages.
 run_window() {
-    env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=window \
+    hello_xr_until_ended "$out/hello_xr_window.log" \
+        env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=window \
         WRSFOV_XR_GAZE=mouse WRSFOV_XR_SCREENSHOT="$out/window.png" WRSFOV_VALIDATION=1 \
-        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
 }
-exec 3<>"$out/stdin"
 CLI_FIXED=1 cli_check hello_xr_window 0 "session ended: 60 frames ended, 60 composited" run_window
-exec 3>&-
 check window_opened grep -q "gaze mouse, window" "$out/hello_xr_window.log"
 check window_validation_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/hello_xr_window.log"
 check window_screenshot test "$(stat -c %s "$out/window.png" 2>/dev/null || echo 0)" -gt 2000
@@ -69,14 +66,13 @@ check window_screenshot test "$(stat -c %s "$out/window.png" 2>/dev/null || echo
 # the validation layer goes in through the loader (VK_INSTANCE_LAYERS) and reports to hello_xr's
 # debug-report callback, which prints ERROR:/WARNING: lines.
 run_v1() {
-    env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=headless \
+    hello_xr_until_ended "$out/hello_xr_vulkan1.log" \
+        env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=headless \
         VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
         XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
-        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan -vc Stereo < "$out/stdin"
+        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan -vc Stereo
 }
-exec 3<>"$out/stdin"
 CLI_FIXED=1 cli_check hello_xr_vulkan1 0 "session ended: 60 frames ended, 60 composited, 0 shown as submitted, 0 not composited" run_v1
-exec 3>&-
 check vulkan1_validation_active grep -q 'Inserted device layer "VK_LAYER_KHRONOS_validation"' "$out/hello_xr_vulkan1.log"
 check vulkan1_validation_clean sh -c "! grep -q -e 'ERROR:' -e 'WARNING:' '$out/hello_xr_vulkan1.log'"
 check vulkan1_openxr_validation_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/hello_xr_vulkan1.log'"

@@ -16,18 +16,19 @@ build="$5"
 rm -rf "$out"
 mkdir -p "$out"
 . "$(dirname "$0")/../cli_check.sh"
+. "$(dirname "$0")/hello_xr_stdin.sh"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 export XR_RUNTIME_JSON="$json"
 # XR_API_LAYER_PATH replaces the default search path: keep Debian's explicit layers (core validation).
 export XR_API_LAYER_PATH="$layers:/usr/share/openxr/1/api_layers/explicit.d"
 preload="${WRSFOV_XR_PRELOAD:-}"
-mkfifo "$out/stdin"
-run() {  # run NAME [VAR=VALUE...]: hello_xr for 60 frames, recorded into $out/NAME
+run() {  # run NAME [VAR=VALUE...]: hello_xr for 60 frames, recorded into $out/NAME (log $out/NAME.log)
     name=$1
     shift
-    env WRSFOV_XR_METHOD=off WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 \
+    hello_xr_until_ended "$out/$name.log" \
+        env WRSFOV_XR_METHOD=off WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 \
         WRSFOV_XR_RECORD="$out/$name" WRSFOV_XR_OUTPUT=headless WRSFOV_VALIDATION=1 "$@" \
-        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
+        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
 }
 check() {
     name=$1
@@ -35,7 +36,6 @@ check() {
     count=$((count + 1))
     if "$@"; then echo "ok   $name"; else echo "FAIL $name"; fails=$((fails + 1)); fi
 }
-exec 3<>"$out/stdin"
 CLI_FIXED=1 cli_check plain 0 "60 shown as submitted" run plain
 CLI_FIXED=1 cli_check layer 0 "session ended: 60 of 60 frames foveated" run layer \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation
@@ -47,7 +47,6 @@ CLI_FIXED=1 cli_check lost 0 "60 shown as submitted" run lost \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=lost:12
 CLI_FIXED=1 cli_check oom 0 "60 shown as submitted" run oom \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=alloc:1
-exec 3>&-
 check lost_disabled grep -q "disabled for this session: .*VK_ERROR_DEVICE_LOST\|disabled for this session: .*device" "$out/lost.log"
 check lost_some_foveated grep -Eq "session ended: ([1-9]|[1-5][0-9]) of 60 frames foveated" "$out/lost.log"
 # The layer's own work is finished before its fence and semaphore are reused or destroyed, after a
@@ -66,11 +65,9 @@ CLI_FIXED=1 cli_check frames 0 "PASSED" "$frames_test" "$out/plain" "$out/layer"
 
 CLI_FIXED=1 cli_check install 0 "Installing" cmake --install "$build" --prefix "$out/prefix"
 check installed_layer_manifest test -s "$out/prefix/share/openxr/1/api_layers/explicit.d/XrApiLayer_wrsfov_foveation.json"
-exec 3<>"$out/stdin"
-CLI_FIXED=1 cli_check installed 0 "session ended: 20 of 20 frames foveated" \
+CLI_FIXED=1 cli_check installed 0 "session ended: 20 of 20 frames foveated" hello_xr_until_ended "$out/installed.log" \
     env XR_RUNTIME_JSON="$out/prefix/share/openxr/1/openxr_wrsfov.json" \
     XR_API_LAYER_PATH="$out/prefix/share/openxr/1/api_layers/explicit.d" \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_XR_FRAMES=20 WRSFOV_XR_WIDTH=64 WRSFOV_XR_HEIGHT=64 \
-    WRSFOV_XR_OUTPUT=headless timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo < "$out/stdin"
-exec 3>&-
+    WRSFOV_XR_OUTPUT=headless timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
 cli_summary
