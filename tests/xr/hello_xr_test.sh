@@ -2,14 +2,16 @@
 # hello_xr (the Khronos sample client, -g Vulkan2 -vc Stereo) on the wrsfov runtime, headless, under
 # the Khronos Vulkan validation layer and the OpenXR core validation layer: it must run 300 frames,
 # exit cleanly when the runtime asks it to stop, leave 0 validation messages of either layer, and
-# record a 300-frame sequence that wrsfov-bench evaluates.
-# usage: hello_xr_test.sh RUNTIME_JSON WRSFOV_BENCH OUT_DIR
+# record a 300-frame sequence that wrsfov-bench evaluates. Every hello_xr run has EXIT_CHECK
+# (exit_stdio_check.c) preloaded: its exit may not wait for a stream another thread holds.
+# usage: hello_xr_test.sh RUNTIME_JSON WRSFOV_BENCH OUT_DIR EXIT_CHECK
 # WRSFOV_XR_PRELOAD (sanitizer builds): libraries to preload into the programs that load the runtime
 # (the sanitizer runtimes must come first in a program that was not built with them).
 set -u
 json="$1"
 bench="$2"
 out="$3"
+exit_check="$4"
 rm -rf "$out"
 mkdir -p "$out"
 . "$(dirname "$0")/../cli_check.sh"
@@ -19,13 +21,14 @@ export XR_RUNTIME_JSON="$json"
 
 preload="${WRSFOV_XR_PRELOAD:-}"
 CLI_FIXED=1 cli_check runtime_list 0 "XR_EXT_eye_gaze_interaction" env LD_PRELOAD="$preload" openxr_runtime_list
+hello_preload="${preload:+$preload:}$exit_check"
 
 # Only the runtime's frame limit can end a run (hello_xr_stdin.sh).
 run_hello() {
     hello_xr_until_ended "$out/hello_xr.log" \
         env WRSFOV_XR_WIDTH=192 WRSFOV_XR_HEIGHT=192 WRSFOV_XR_FRAMES=300 WRSFOV_XR_RECORD="$out/seq" \
         WRSFOV_VALIDATION=1 XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
-        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
+        timeout 300 env LD_PRELOAD="$hello_preload" hello_xr -g Vulkan2 -vc Stereo
 }
 CLI_FIXED=1 cli_check hello_xr 0 "session ended: 300 frames ended, 300 composited, 0 shown as submitted, 0 not composited" run_hello
 log="$out/hello_xr.log"
@@ -55,7 +58,7 @@ run_window() {
     hello_xr_until_ended "$out/hello_xr_window.log" \
         env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=window \
         WRSFOV_XR_GAZE=mouse WRSFOV_XR_SCREENSHOT="$out/window.png" WRSFOV_VALIDATION=1 \
-        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
+        timeout 300 xvfb-run -a -s "-screen 0 1280x1024x24" env LD_PRELOAD="$hello_preload" hello_xr -g Vulkan2 -vc Stereo
 }
 CLI_FIXED=1 cli_check hello_xr_window 0 "session ended: 60 frames ended, 60 composited" run_window
 check window_opened grep -q "gaze mouse, window" "$out/hello_xr_window.log"
@@ -70,7 +73,7 @@ run_v1() {
         env WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 WRSFOV_XR_OUTPUT=headless \
         VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
         XR_ENABLE_API_LAYERS=XR_APILAYER_LUNARG_core_validation \
-        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan -vc Stereo
+        timeout 300 env LD_PRELOAD="$hello_preload" hello_xr -g Vulkan -vc Stereo
 }
 CLI_FIXED=1 cli_check hello_xr_vulkan1 0 "session ended: 60 frames ended, 60 composited, 0 shown as submitted, 0 not composited" run_v1
 check vulkan1_validation_active grep -q 'Inserted device layer "VK_LAYER_KHRONOS_validation"' "$out/hello_xr_vulkan1.log"

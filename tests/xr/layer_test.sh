@@ -5,14 +5,16 @@
 # and with it disabled by its environment variable. The recordings are compared by
 # wrsfov_xr_layer_frames_tests.
 # Then the runtime and the layer installed into a scratch prefix (cmake --install) run hello_xr
-# from there.
-# usage: layer_test.sh RUNTIME_JSON LAYER_DIR FRAMES_TEST OUT_DIR BUILD_DIR
+# from there. Every hello_xr run has EXIT_CHECK (exit_stdio_check.c) preloaded: its exit may not
+# wait for a stream another thread holds.
+# usage: layer_test.sh RUNTIME_JSON LAYER_DIR FRAMES_TEST OUT_DIR BUILD_DIR EXIT_CHECK
 set -u
 json="$1"
 layers="$2"
 frames_test="$3"
 out="$4"
 build="$5"
+exit_check="$6"
 rm -rf "$out"
 mkdir -p "$out"
 . "$(dirname "$0")/../cli_check.sh"
@@ -22,13 +24,14 @@ export XR_RUNTIME_JSON="$json"
 # XR_API_LAYER_PATH replaces the default search path: keep Debian's explicit layers (core validation).
 export XR_API_LAYER_PATH="$layers:/usr/share/openxr/1/api_layers/explicit.d"
 preload="${WRSFOV_XR_PRELOAD:-}"
+hello_preload="${preload:+$preload:}$exit_check"
 run() {  # run NAME [VAR=VALUE...]: hello_xr for 60 frames, recorded into $out/NAME (log $out/NAME.log)
     name=$1
     shift
     hello_xr_until_ended "$out/$name.log" \
         env WRSFOV_XR_METHOD=off WRSFOV_XR_WIDTH=128 WRSFOV_XR_HEIGHT=128 WRSFOV_XR_FRAMES=60 \
         WRSFOV_XR_RECORD="$out/$name" WRSFOV_XR_OUTPUT=headless WRSFOV_VALIDATION=1 "$@" \
-        timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
+        timeout 300 env LD_PRELOAD="$hello_preload" hello_xr -g Vulkan2 -vc Stereo
 }
 check() {
     name=$1
@@ -69,5 +72,5 @@ CLI_FIXED=1 cli_check installed 0 "session ended: 20 of 20 frames foveated" hell
     env XR_RUNTIME_JSON="$out/prefix/share/openxr/1/openxr_wrsfov.json" \
     XR_API_LAYER_PATH="$out/prefix/share/openxr/1/api_layers/explicit.d" \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_XR_FRAMES=20 WRSFOV_XR_WIDTH=64 WRSFOV_XR_HEIGHT=64 \
-    WRSFOV_XR_OUTPUT=headless timeout 300 env LD_PRELOAD="$preload" hello_xr -g Vulkan2 -vc Stereo
+    WRSFOV_XR_OUTPUT=headless timeout 300 env LD_PRELOAD="$hello_preload" hello_xr -g Vulkan2 -vc Stereo
 cli_summary
