@@ -26,8 +26,10 @@ __attribute__((destructor)) static void checkStreamsAtExit(void) {
     for (int i = 0; i < 3; ++i) {
         if (!waitForLock(streams[i])) {
             // dprintf: stderr's own lock may be the one held.
-            dprintf(2, "exit_stdio_check: %s is still locked by another thread 10 s into exit(); glibc >= 2.39 "
-                       "would wait for it forever\n", names[i]);
+            dprintf(2,
+                    "exit_stdio_check: %s is still locked by another thread 10 s into exit(); glibc >= 2.39 "
+                    "would wait for it forever\n",
+                    names[i]);
             _exit(86);
         }
         if (streams[i] != stdin) fflush(streams[i]);  // what exit() would have written (lock known free)
