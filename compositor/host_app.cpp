@@ -1,6 +1,7 @@
 #include "compositor/host_app.h"
 
 #include <cmath>
+#include <vector>
 
 namespace wrsfov {
 
@@ -13,7 +14,7 @@ Result<std::unique_ptr<HostStereoApp>> HostStereoApp::create(Compositor& composi
         ci.width = o.width;
         ci.height = o.height;
         ci.arraySize = 2;
-        ci.imageCount = 2;
+        ci.imageCount = o.imageCount;
         return compositor.createSwapchain(ci);
     };
     auto c = make(layers::Usage::Color, o.color);
@@ -29,6 +30,24 @@ Result<std::unique_ptr<HostStereoApp>> HostStereoApp::create(Compositor& composi
         if (!m) return m.error();
         app->motion_ = std::move(*m);
     }
+    return app;
+}
+
+Result<std::unique_ptr<HostStereoApp>> HostStereoApp::share(Compositor& compositor, HostStereoApp& source) {
+    std::unique_ptr<HostStereoApp> app(new HostStereoApp(compositor, source.options_));
+    app->source_ = &source;
+    auto import = [&](layers::Swapchain* sc, std::unique_ptr<layers::Swapchain>& mine) -> Status {
+        if (!sc) return {};
+        std::vector<VkImage> images;
+        for (uint32_t i = 0; i < sc->info().imageCount; ++i) images.push_back(sc->image(i));
+        auto imported = compositor.importSwapchain(sc->info(), images);
+        if (!imported) return imported.error();
+        mine = std::move(*imported);
+        return {};
+    };
+    if (Status s = import(source.color_.get(), app->color_); !s) return s.error();
+    if (Status s = import(source.depth_.get(), app->depth_); !s) return s.error();
+    if (Status s = import(source.motion_.get(), app->motion_); !s) return s.error();
     return app;
 }
 
@@ -80,6 +99,21 @@ layers::FrameEndInfo HostStereoApp::frameEnd(uint64_t frameIndex, double time_s,
 
 Status HostStereoApp::submit(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes) {
     if (Status s = write(eyes); !s) return s;
+    return comp_.endFrame(frameEnd(frameIndex, time_s, eyes));
+}
+
+Status HostStereoApp::submitShared(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes) {
+    if (!source_)
+        return Error{static_cast<int>(layers::SwapchainError::CallOrder), "submitShared needs an app made by share()"};
+    auto mark = [](layers::Swapchain* mine, layers::Swapchain* theirs) -> Status {
+        if (!mine) return {};
+        if (theirs->lastReleased() < 0)
+            return Error{static_cast<int>(layers::SwapchainError::CallOrder), "the source has released no image yet"};
+        return mine->releasedElsewhere(uint32_t(theirs->lastReleased()));
+    };
+    if (Status s = mark(color_.get(), source_->color_.get()); !s) return s;
+    if (Status s = mark(depth_.get(), source_->depth_.get()); !s) return s;
+    if (Status s = mark(motion_.get(), source_->motion_.get()); !s) return s;
     return comp_.endFrame(frameEnd(frameIndex, time_s, eyes));
 }
 

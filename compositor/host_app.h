@@ -34,9 +34,17 @@ public:
         /// One view shown to both eyes (a monitor, a mono preview): only eye 0's images are written
         /// and both views reference them, which lets the compositor do the work once.
         bool monoView = false;
+        /// Images per swapchain: 1 is enough when every frame end waits for its work (Compositor::endFrame).
+        uint32_t imageCount = 2;
     };
     /// Creates the swapchains on `compositor`; fails with the swapchain error.
     static Result<std::unique_ptr<HostStereoApp>> create(Compositor& compositor, const Options& options);
+
+    /// An app that submits `source`'s images to another compositor on the same device, with no copy
+    /// and no upload: its swapchains import source's images, and submitShared() ends a frame with
+    /// what `source` last released. Several compositors fed this way read the very same inputs
+    /// (the benchmark's sweep keeps a scene's frames on the device so). `source` must outlive it.
+    static Result<std::unique_ptr<HostStereoApp>> share(Compositor& compositor, HostStereoApp& source);
 
     /// Writes both eyes' images (acquire, wait, write, release).
     Status write(const std::array<EyeSubmission, 2>& eyes);
@@ -44,6 +52,9 @@ public:
     layers::FrameEndInfo frameEnd(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes) const;
     /// write() then Compositor::endFrame().
     Status submit(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes);
+    /// For an app made by share(): Compositor::endFrame() with the images its source last released
+    /// (`eyes` gives the field of view and gaze only). Refused for an app not made by share().
+    Status submitShared(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes);
 
     layers::Swapchain& color() { return *color_; }
     layers::Swapchain* depth() { return depth_.get(); }
@@ -55,6 +66,7 @@ private:
     Compositor& comp_;
     Options options_;
     std::unique_ptr<layers::Swapchain> color_, depth_, motion_;
+    HostStereoApp* source_ = nullptr;  // share(): whose images these swapchains import
 };
 
 /// A typical HMD per-eye field of view (0 left, 1 right): asymmetric, the nasal side narrower than

@@ -208,6 +208,23 @@ std::string toString(const FoveaWorth& w);
 /// 0 when none is (or the sweep lacks the cells).
 float equalQualityFovea(const std::vector<CellResult>& results, SceneKind scene, FoveationMode mode);
 
+/// What runDeviceSweep did on the host.
+struct DeviceSweepStats {
+    int rendered = 0;   ///< frames the scene rendered on the device (atrium, dynamic)
+    int uploads = 0;    ///< frames uploaded from the host (other scenes): once per distinct frame
+    int submitted = 0;  ///< frame ends, all methods together
+};
+/// The scaling sweep's run (wrsfov-bench --scaling): the cells of `options` timed with the scene's
+/// frames kept on the device. The scene writes one set of input images per frame (the atrium renders
+/// into them on the device; another scene uploads a frame only when it differs from the one uploaded
+/// last, a still image once) and every method's compositor reads those very images through imported
+/// swapchains (HostStereoApp::share). Nothing is read back and there is no reference run: the quality
+/// fields and shadingFraction are NaN. Times (PassTimes medians over the counted frames), the copy
+/// kernels (CompositorConfig::measureCopy, every copyEvery-th counted frame), bytes and the retention
+/// shares are measured as runBench measures them, with the same synthetic gaze driving every frame.
+Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOptions& options,
+                                               DeviceSweepStats* stats = nullptr);
+
 /// One size of a scaling sweep (wrsfov-bench --scaling): its cells.
 struct ScalingStep {
     uint32_t width = 0, height = 0;

@@ -219,6 +219,27 @@ Reader<Size> size(uint32_t lo, uint32_t hi) {
             [](const Size& s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }, "WxH"};
 }
 
+Reader<Size> squareOrSize(uint32_t lo, uint32_t hi) {
+    const std::string what = "S or WxH with each side in " + std::to_string(lo) + ".." + std::to_string(hi);
+    const Reader<Size> pair = size(lo, hi);
+    return {[lo, hi, what, pair](std::string_view text, std::string& why) -> std::optional<Size> {
+                std::optional<Size> v;
+                if (text.find('x') != std::string_view::npos) {
+                    v = pair.read(text, why);
+                } else if (!text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos) {
+                    const auto s = parseWhole(text);
+                    if (s && *s >= lo && *s <= hi) v = Size{static_cast<uint32_t>(*s), static_cast<uint32_t>(*s)};
+                }
+                if (!v) why = "'" + std::string(text) + "' is not " + what;
+                return v;
+            },
+            [](const Size& s) {
+                return s.width == s.height ? std::to_string(s.width)
+                                           : std::to_string(s.width) + "x" + std::to_string(s.height);
+            },
+            "S|WxH"};
+}
+
 Reader<std::string> text(std::string what, std::string type) {
     return {[what](std::string_view t, std::string& why) -> std::optional<std::string> {
                 if (t.empty()) {

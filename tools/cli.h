@@ -76,6 +76,8 @@ struct Size {
     uint32_t width = 0, height = 0;
 };
 Reader<Size> size(uint32_t lo, uint32_t hi);
+/// A size given as "S" (square, S x S) or "WxH", each side in lo..hi.
+Reader<Size> squareOrSize(uint32_t lo, uint32_t hi);
 
 /// A non-empty text (a file or directory name); `what` is its noun: "'' is not a file name".
 Reader<std::string> text(std::string what, std::string type);

@@ -218,8 +218,9 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
     return run;
 }
 
-// --scaling: the sweep at each size, stale tracking off, and a scaling table over all of them.
-int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_t>& sizes, const std::string& out,
+// --scaling: the sweep at each size with the scene's frames kept on the device (runDeviceSweep: no
+// read-back, no metrics, stale tracking off), and a scaling table over all of them.
+int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<cli::Size>& sizes, const std::string& out,
                bool framesGiven, bool warmupGiven, bool scenesGiven, bool methodsGiven,
                const std::vector<std::string>& costTargets) {
     if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
@@ -232,28 +233,35 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<uint32_
     o.staleStats = false;
     o.qualityMetrics = false;  // this sweep is about time and bytes: no read-back, no error metrics
     std::vector<eval::ScalingStep> steps;
-    for (uint32_t size : sizes) {
+    for (const cli::Size& size : sizes) {
         eval::BenchOptions so = o;
-        so.width = so.height = size;
-        const std::string dir = out + "/" + std::to_string(size) + "x" + std::to_string(size);
+        so.width = size.width;
+        so.height = size.height;
+        const std::string name = std::to_string(size.width) + "x" + std::to_string(size.height);
+        const std::string dir = out + "/" + name;
         std::filesystem::create_directories(dir);
         so.cropDir = "";
-        std::printf("wrsfov-bench: scaling %ux%u per eye, %d frames per cell -> %s\n", size, size, so.frames, dir.c_str());
-        auto results = eval::runBench(ctx, so);
+        std::printf("wrsfov-bench: scaling %s per eye, %d frames per cell -> %s\n", name.c_str(), so.frames, dir.c_str());
+        const auto start = std::chrono::steady_clock::now();
+        eval::DeviceSweepStats stats;
+        auto results = eval::runDeviceSweep(ctx, so, &stats);
         if (!results) {
             std::fprintf(stderr, "wrsfov-bench: %s\n", results.error().message.c_str());
             return 1;
         }
+        std::printf("wrsfov-bench: %s done in %.1f s (%d frames rendered on the device, %d uploaded, %d frame ends)\n",
+                    name.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                    stats.rendered, stats.uploads, stats.submitted);
         if (Status s = eval::writeReport(*results, so, dir, ctx.deviceName()); !s) {
             std::fprintf(stderr, "wrsfov-bench: %s\n", s.message().c_str());
             return 1;
         }
-        steps.push_back({size, size, *results});
+        steps.push_back({size.width, size.height, *results});
     }
     CostModelRun cost;
     if (!costTargets.empty()) {
         std::vector<std::pair<uint32_t, uint32_t>> cellSizes;
-        for (uint32_t size : sizes) cellSizes.emplace_back(size, size);
+        for (const cli::Size& size : sizes) cellSizes.emplace_back(size.width, size.height);
         cost = runCostModel(o, costTargets, cellSizes, out, &ctx);
     }
     const int rc = printReport(eval::writeScalingReport(steps, o, out, ctx.deviceName(), cost.section),
@@ -277,7 +285,7 @@ int main(int argc, char** argv) {
     eval::BenchOptions o;
     std::string out = "out/bench";
     std::string writeDir;
-    std::vector<uint32_t> scaling;  // --scaling: square sizes per eye
+    std::vector<cli::Size> scaling;  // --scaling: sizes per eye
     cli::Size size{o.width, o.height};
     bool flicker = false, noJod = false;
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
@@ -294,7 +302,7 @@ int main(int argc, char** argv) {
     cli::setup(app);
     cli::option(app, "--out", out, cli::text("a directory name", "DIR"),
                 "Directory for the report: results.csv, table.md, error_vs_*.png, eta_*.png, crops_*.png; with "
-                "--scaling, scaling.md, scaling.csv, scaling.png and each size's report in DIR/SxS.");
+                "--scaling, scaling.md, scaling.csv, scaling.png and each size's report in DIR/WxH.");
     cli::listOption(app, "--scenes", o.scenes,
                 cli::list(cli::oneOf(named({eval::SceneKind::Text, eval::SceneKind::Atrium, eval::SceneKind::Dynamic,
                                             eval::SceneKind::Sequence, eval::SceneKind::Photo}))),
@@ -404,12 +412,14 @@ int main(int argc, char** argv) {
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");
-    cli::listOption(app, "--scaling", scaling, cli::list(cli::integer<uint32_t>(64, 4096)),
-                "Time and bytes at square sizes S per eye (pixels per side, each 64..4096, e.g. 512,1024,2048): "
-                "one scene, the first fovea and mode, no error metrics (nothing is read back); unless given, scene "
-                "atrium, methods fov,fov+taa,wrs, 20 frames with 5 warm-up. Writes scaling.md, scaling.csv, "
+    cli::listOption(app, "--scaling", scaling, cli::list(cli::squareOrSize(64, 4096)),
+                "Time and bytes at sizes per eye, each S (S x S) or WxH with sides in 64..4096 (e.g. "
+                "512,2048,1920x2160): one scene, the first fovea and mode, the scene's frames kept on the device "
+                "(the atrium rendered into the compositors' inputs, another scene uploaded once per distinct "
+                "frame), the passes and copy kernels timed, nothing read back and no error metrics; unless given, "
+                "scene atrium, methods fov,fov+taa,wrs, 20 frames with 5 warm-up. Writes scaling.md, scaling.csv, "
                 "scaling.png.")
-        ->type_name("S,...");
+        ->type_name("S|WxH,...");
     app.add_flag("--cost-model", costModel,
                  "A static cost estimate instead of a sweep (with --scaling: after it, into the same report): every "
                  "pipeline of the first scene, mode and fovea compiled for each --cost-targets device, and the "

@@ -296,6 +296,96 @@ TEST_F(Bench, WriteOutputsWritesWhatTheMetricsScored) {
     EXPECT_NEAR(sum / 2, wrs->jod, 1e-4);
 }
 
+// The scaling sweep's run keeps a scene's frames on the device: the atrium is rendered into the
+// compositors' inputs every frame and never uploaded, a still page is uploaded once, and every
+// method is timed against its copy kernels with no metric computed.
+TEST_F(Bench, DeviceSweepUploadsAStillImageOnceAndRendersTheAtriumInPlace) {
+    eval::BenchOptions o;
+    o.scenes = {eval::SceneKind::Text};
+    o.methods = {Method::Fov, Method::Wrs};
+    o.foveas = {5.0f};
+    o.modes = {FoveationMode::Mip};
+    o.width = 128;
+    o.height = 96;
+    o.frames = 6;
+    o.warmup = 2;
+    o.staleStats = false;
+    o.qualityMetrics = false;
+    eval::DeviceSweepStats stats;
+    auto r = eval::runDeviceSweep(context(), o, &stats);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(stats.uploads, 1);
+    EXPECT_EQ(stats.rendered, 0);
+    EXPECT_EQ(stats.submitted, 12);
+    ASSERT_EQ(r->size(), 2u);
+    for (const eval::CellResult& c : *r) {
+        EXPECT_TRUE(c.gpu.valid);
+        EXPECT_GT(c.gpu.total, 0.0);
+        EXPECT_GT(c.copyMs, 0.0);
+        EXPECT_GT(c.copyFloorMs, 0.0);
+        EXPECT_EQ(c.frames, 4);
+        EXPECT_TRUE(std::isnan(c.psnr));
+        EXPECT_GT(c.fovTotalMs, 0.0);
+    }
+    EXPECT_TRUE(std::isfinite((*r)[1].retainShare));
+
+    o.scenes = {eval::SceneKind::Atrium};
+    o.width = 96;
+    o.height = 128;
+    r = eval::runDeviceSweep(context(), o, &stats);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(stats.rendered, 6);
+    EXPECT_EQ(stats.uploads, 0);
+    EXPECT_EQ(stats.submitted, 12);
+    ASSERT_EQ(r->size(), 2u);
+    EXPECT_GT((*r)[1].gpu.total, 0.0);
+}
+
+// A compositor fed another app's images through HostStereoApp::share composites exactly what one
+// fed the same pixels by upload does, frame after frame (history included).
+TEST_F(Bench, SharedImagesCompositeAsUploadedOnes) {
+    CompositorConfig cc;
+    cc.method = Method::Wrs;
+    cc.foveation = FoveationMode::Mip;
+    auto uploaded = Compositor::create(context(), cc);
+    auto shared = Compositor::create(context(), cc);
+    auto owner = Compositor::create(context());
+    ASSERT_TRUE(uploaded.ok() && shared.ok() && owner.ok());
+    HostStereoApp::Options ao;
+    ao.width = 80;
+    ao.height = 64;
+    ao.depth = layers::Format::D32F;
+    auto upApp = HostStereoApp::create(**uploaded, ao);
+    ao.imageCount = 1;
+    auto source = HostStereoApp::create(**owner, ao);
+    ASSERT_TRUE(upApp.ok() && source.ok());
+    auto sharedApp = HostStereoApp::share(**shared, **source);
+    ASSERT_TRUE(sharedApp.ok()) << sharedApp.error().message;
+    std::array<EyeSubmission, 2> eyes;
+    EXPECT_FALSE((*upApp)->submitShared(1, 0.0, eyes).ok());  // not made by share()
+    uint32_t state = 12345;
+    for (int f = 0; f < 3; ++f) {
+        for (int e = 0; e < 2; ++e) {
+            eyes[e].color = HostImage::make(layers::Format::RGBA8_SRGB, ao.width, ao.height);
+            for (std::byte& b : eyes[e].color.data) b = std::byte((state = state * 1664525u + 1013904223u) >> 24);
+            eyes[e].depth = HostImage::make(layers::Format::D32F, ao.width, ao.height);
+            auto* z = reinterpret_cast<float*>(eyes[e].depth->data.data());
+            for (uint32_t i = 0; i < ao.width * ao.height; ++i) z[i] = 0.5f + 0.001f * float((i + f) % 7);
+            eyes[e].fov = hmdFov(e);
+            eyes[e].gaze = {glm::normalize(glm::vec3(0.05f * f, 0.0f, -1.0f)), true, 1.0f};
+        }
+        ASSERT_TRUE((*upApp)->submit(uint64_t(f + 1), f / 90.0, eyes).ok());
+        ASSERT_TRUE((*source)->write(eyes).ok());
+        ASSERT_TRUE((*sharedApp)->submitShared(uint64_t(f + 1), f / 90.0, eyes).ok());
+        for (uint32_t e = 0; e < 2; ++e) {
+            auto a = (*uploaded)->readOutput(e);
+            auto b = (*shared)->readOutput(e);
+            ASSERT_TRUE(a.ok() && b.ok());
+            EXPECT_TRUE(a->data == b->data) << "frame " << f << ", eye " << e;
+        }
+    }
+}
+
 TEST(BenchOptions, RefusesBadSweeps) {
     eval::BenchOptions o;
     o.frames = 5;

@@ -27,8 +27,8 @@ done
 check bench_warmup_negative 2 "--warmup: '-1' is not an integer in 0..100000" "$bench" --warmup -1
 check bench_frames_not_above_warmup 2 "--frames must exceed --warmup" "$bench" --frames 5 --warmup 5
 check bench_heavy_every_zero 2 "--heavy-every: '0' is not an integer in 1..100000" "$bench" --heavy-every 0
-for v in 10 5000 big -512 512,x; do
-    check "bench_scaling_'$v'" 2 "--scaling: '${v#512,}' is not an integer in 64..4096" "$bench" --scaling "$v"
+for v in 10 5000 big -512 512,x 64x 1920x 1920x2160x2 0x0 32x64 64x5000 2.5 512,1920x10; do
+    check "bench_scaling_'$v'" 2 "--scaling: '${v#512,}' is not S or WxH with each side in 64..4096" "$bench" --scaling "$v"
 done
 check "bench_scaling_''" 2 "--scaling needs at least one size" "$bench" --scaling ""
 for v in -1 4294967296 seven ""; do
