@@ -1,99 +1,247 @@
 #!/usr/bin/env bash
-# The speed kit for a machine with a GPU (docs/speed.md "On a GPU"): builds wrsfov-bench, then writes
-# one directory with
-#   speed/   the speed sweep at steady state: HMD stereo atrium (lateral, depth and motion), fov,
-#            fov+taa, wrs-paper and wrs at 512^2 and 1024^2 per eye, times taken over frames 300-329
-#            (3.3 s of the cell's gaze first, so the area the gaze visited is a user's), the share of
-#            tiles that ran retention beside each time (scaling.md, scaling.csv)
-#   dense/   fov and wrs with --dense-retention at the same sizes: what sparse retention saves
-#   cost/    the cost model for this GPU (its compiler's statistics where its driver gives them) and
-#            for RADV's null devices, gfx1100 and vangogh, to set the prediction beside the measurement
-#   tests/   with WRSFOV_GPU_TESTS, the GPU tests against the CPU reference on this device, in shards
-#            over the cores, once as they run in CI and once with WRSFOV_HARDWARE_HALF=0
-#   README.md  the device, the commands and where each table is
+# The check for a machine with a GPU (docs/speed.md "On a GPU"), made to fit in about five minutes:
+# every stage runs under `timeout` within one budget, so a stage that hangs is reported as a timeout
+# and the next one runs. In order:
+#   speed/    the sweep at steady state, scene frames kept on the device (wrsfov-bench --scaling): HMD
+#             stereo atrium (lateral, depth and motion), fov and wrs at 512^2, 1024^2, 2048^2 and
+#             1920x2160 per eye, times over frames 300-329 after 3.3 s of the cell's gaze, beside the
+#             copy kernels moving the same bytes (scaling.md, scaling.csv)
+#   tests/    with WRSFOV_GPU_TESTS, the GPU tests against the CPU reference on this device, in shards
+#             over the cores, as they run in CI
+#   xr/       hello_xr (-g Vulkan2 -vc Stereo) on the wrsfov OpenXR runtime, headless, synthetic gaze,
+#             2x1832x1920, method wrs and method fov: exit code and the runtime's composition time per
+#             frame (its "session ended" line); a client that hangs at exit is reported as a timeout
+#   then, while the budget lasts: the tests again with WRSFOV_HARDWARE_HALF=0 (tests/), fov and wrs
+#   with --dense-retention (dense/), and the cost model on this device and RADV's null devices (cost/)
+#   summary.md  one table: sweep cells (ms, x copy, wrs - fov), tests passed/failed, hello_xr
+#               exit codes and composition times; README.md: the device, the commands, the tables
 # Usage: tools/gpu-bench.sh [OUT_DIR]   (default out/gpu-bench)
-#   WRSFOV_GPU_BENCH_SIZES (default 512,1024; 2048 adds about 6 minutes: the sweep is bound by the
-#   host, which uploads every method's images each frame), WRSFOV_GPU_BENCH_FRAMES (default 330; the
-#   last 30 are timed), WRSFOV_GPU_BENCH_METHODS (default fov,fov+taa,wrs-paper,wrs).
+#   WRSFOV_GPU_BENCH_BUDGET_S (default 300): seconds for all stages together.
+#   WRSFOV_GPU_BENCH_SIZES (default 512,1024,2048,1920x2160; S or WxH), WRSFOV_GPU_BENCH_FRAMES
+#   (default 330; the last 30 are timed), WRSFOV_GPU_BENCH_METHODS (default fov,wrs).
+#   WRSFOV_GPU_BENCH_XR_SIZE (default 1832x1920), WRSFOV_GPU_BENCH_XR_FRAMES (default 300).
+#   WRSFOV_GPU_BENCH_DRY=1: a dry run sized for a CPU renderer (Mesa lavapipe): sizes 128,96x160,
+#   40 frames, hello_xr at 192x192 for 60 frames, a few GPU tests (GTEST_FILTER given wins).
 #   WRSFOV_BENCH=PATH runs that wrsfov-bench instead of building one, WRSFOV_GPU_TESTS=PATH runs that
-#   wrsfov_gpu_tests (tools/gpu-kit.sh carries both to a machine that cannot build).
-#   On a CPU renderer (Mesa lavapipe) it runs, says so, and its times are a CPU's.
-set -euo pipefail
-cd "$(dirname "$0")/.."
+#   wrsfov_gpu_tests, WRSFOV_XR_RUNTIME_JSON=PATH uses that runtime manifest (default: the build's),
+#   WRSFOV_HELLO_XR=PATH that hello_xr (default: hello_xr on the PATH); tools/gpu-kit.sh carries all
+#   four to a machine that cannot build.
+set -uo pipefail
+cd "$(dirname "$0")/.." || exit 1
 out="${1:-out/gpu-bench}"
-sizes="${WRSFOV_GPU_BENCH_SIZES:-512,1024}"
-frames="${WRSFOV_GPU_BENCH_FRAMES:-330}"
-methods="${WRSFOV_GPU_BENCH_METHODS:-fov,fov+taa,wrs-paper,wrs}"
+dry="${WRSFOV_GPU_BENCH_DRY:-0}"
+if [ "$dry" = 1 ]; then
+  sizes="${WRSFOV_GPU_BENCH_SIZES:-128,96x160}"
+  frames="${WRSFOV_GPU_BENCH_FRAMES:-40}"
+  xr_size="${WRSFOV_GPU_BENCH_XR_SIZE:-192x192}"
+  xr_frames="${WRSFOV_GPU_BENCH_XR_FRAMES:-60}"
+  export GTEST_FILTER="${GTEST_FILTER:-HardwareHalf.*:Import.*:Tiles.MonoViewsClassifyOneEye}"
+else
+  sizes="${WRSFOV_GPU_BENCH_SIZES:-512,1024,2048,1920x2160}"
+  frames="${WRSFOV_GPU_BENCH_FRAMES:-330}"
+  xr_size="${WRSFOV_GPU_BENCH_XR_SIZE:-1832x1920}"
+  xr_frames="${WRSFOV_GPU_BENCH_XR_FRAMES:-300}"
+fi
+methods="${WRSFOV_GPU_BENCH_METHODS:-fov,wrs}"
+budget="${WRSFOV_GPU_BENCH_BUDGET_S:-300}"
 warmup=$((frames > 30 ? frames - 30 : frames / 2))
 if [ -n "${WRSFOV_BENCH:-}" ]; then
   bench="$WRSFOV_BENCH"
 else
-  WRSFOV_BUILD_TARGETS=wrsfov-bench bash tools/setup.sh build
+  WRSFOV_BUILD_TARGETS="wrsfov-bench wrsfov_xr" bash tools/setup.sh build || exit 1
   bench=./build/tools/wrsfov-bench
 fi
+xr_json="${WRSFOV_XR_RUNTIME_JSON:-$PWD/build/runtime/wrsfov_xr.json}"
+hello="${WRSFOV_HELLO_XR:-$(command -v hello_xr || true)}"
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 rm -rf "$out"
 mkdir -p "$out"
+case "$out" in /*) ;; *) out="$PWD/$out" ;; esac
 start=$(date +%s)
+deadline=$((start + budget))
+rows=""  # the summary's rows, Markdown
 
-echo "== 1/4: speed sweep at steady state ($sizes per eye, frames $warmup-$((frames - 1)) timed)"
-"$bench" --scaling "$sizes" --frames "$frames" --warmup "$warmup" --methods "$methods" \
-  --out "$out/speed" | tee "$out/speed.log" | grep --line-buffered -E '^\[|^wrsfov-bench'
-device=$(sed -n 's/.*Measured on \*\*\([^*]*\)\*\*.*/\1/p' "$out/speed/scaling.md" | head -1)
+# stage_timeout CAP: seconds a stage may take (at most CAP, at most what is left of the budget);
+# 0 when too little is left to start it.
+stage_timeout() {
+  local left=$((deadline - $(date +%s)))
+  [ "$left" -gt "$1" ] && left=$1
+  [ "$left" -lt 10 ] && left=0
+  echo "$left"
+}
+# status_of RC: how a stage ended.
+status_of() {
+  case "$1" in
+    0) echo "exit 0" ;;
+    124 | 137) echo "timeout" ;;
+    *) echo "exit $1" ;;
+  esac
+}
+
+echo "== 1: sweep at steady state ($sizes per eye, $methods, frames $warmup-$((frames - 1)) timed)"
+t=$(stage_timeout 120)
+sweep_rc=-1
+if [ "$t" -gt 0 ]; then
+  s0=$(date +%s)
+  timeout -k 5 "$t" "$bench" --scaling "$sizes" --frames "$frames" --warmup "$warmup" --methods "$methods" \
+    --out "$out/speed" >"$out/speed.log" 2>&1
+  sweep_rc=$?
+  grep -E '^\[|^wrsfov-bench' "$out/speed.log"
+  echo "   $(status_of $sweep_rc) in $(($(date +%s) - s0)) s"
+fi
+device=$(sed -n 's/.*Measured on \*\*\([^*]*\)\*\*.*/\1/p' "$out/speed/scaling.md" 2>/dev/null | head -1)
 [ -n "$device" ] || device="unknown"
 case "$device" in
   *llvmpipe*|*lavapipe*|*SwiftShader*) echo "== note: $device renders on the CPU: these are a CPU's times" ;;
 esac
-
-echo "== 2/4: fov and wrs with every tile retaining (--dense-retention)"
-"$bench" --scaling "$sizes" --frames "$frames" --warmup "$warmup" --methods fov,wrs --dense-retention \
-  --out "$out/dense" | tee "$out/dense.log" | grep --line-buffered -E '^\[|^wrsfov-bench'
-
-echo "== 3/4: cost model on this device and on RADV's null devices"
-# A real device's name without the driver's parenthesised suffix ("AMD Radeon RX 7900 XTX (RADV NAVI31)").
-short=$(printf '%s' "$device" | sed 's/ (.*//')
-"$bench" --cost-model --cost-targets "device:$short,gfx1100,vangogh" --out "$out/cost" | tee "$out/cost.log" \
-  | grep --line-buffered -E '^\||^wrsfov-bench' || true
-
-tests_summary=""
-if [ -n "${WRSFOV_GPU_TESTS:-}" ]; then
-  echo "== 4/4: GPU tests against the CPU reference, $(nproc) shards, with the device's fp16 conversion and without"
-  mkdir -p "$out/tests"
-  for half in default 0; do
-    shards=$(nproc)
-    for ((i = 0; i < shards; i++)); do
-      ( if [ "$half" = 0 ]; then export WRSFOV_HARDWARE_HALF=0; fi
-        GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i "$WRSFOV_GPU_TESTS" >"$out/tests/half-$half.$i.log" 2>&1 ) &
-    done
-    wait || true
-    ok=$(cat "$out/tests/half-$half".*.log | grep -c '^\[       OK \]' || true)
-    failed=$(cat "$out/tests/half-$half".*.log | grep -E '^\[  FAILED  \] [A-Za-z].*\(' | sed 's/, where GetParam.*//; s/ (.*//; s/^\[  FAILED  \] //' | sort -u || true)
-    what=$([ "$half" = 0 ] && echo "WRSFOV_HARDWARE_HALF=0 (hand fp16 conversion)" || echo "as in CI (the device's fp16 conversion where the probe passes)")
-    line="$what: $ok passed, $(printf '%s' "$failed" | grep -c . || true) failed${failed:+: $(echo $failed)}"
-    echo "$line"
-    tests_summary+="- $line"$'\n'
-  done
+if [ -f "$out/speed/scaling.csv" ]; then
+  # width,height,scene,method,mode,megapixels,total_ms,copy_ms,copy_floor_ms,B/px,floor B/px,x fov,x copy,...
+  rows+=$(awk -F, -v st="$(status_of $sweep_rc)" 'NR > 1 {
+      size = $1 "×" $2; key[NR] = size; m[NR] = $4; ms[NR] = $7; cp[NR] = $13
+      if ($4 == "fov") fov[size] = $7
+    }
+    END {
+      for (i = 2; i <= NR; ++i) {
+        d = (m[i] != "fov" && key[i] in fov) ? sprintf("%+.3f", ms[i] - fov[key[i]]) : ""
+        printf "| sweep | %s | %s | %.3f | %.2f | %s | %s |\n", key[i], m[i], ms[i], cp[i], d, st
+      }
+    }' "$out/speed/scaling.csv")$'\n'
+else
+  rows+="| sweep | $sizes | $methods | | | | $(status_of $sweep_rc) (no scaling.csv; speed.log) |"$'\n'
 fi
 
+# run_tests NAME [VAR=VALUE]: the GPU tests in shards over the cores; adds a summary row.
+run_tests() {
+  local name=$1 env_set=${2:-} shards cap t0
+  shards=$(nproc)
+  cap=90
+  local t
+  t=$(stage_timeout "$cap")
+  local what
+  what=$([ "$name" = ci ] && echo "GPU tests, as in CI" || echo "GPU tests, $env_set")
+  if [ "$t" -eq 0 ]; then
+    rows+="| $what | | | | | | skipped: budget spent |"$'\n'
+    return
+  fi
+  t0=$(date +%s)
+  for ((i = 0; i < shards; i++)); do
+    ( [ -n "$env_set" ] && export "${env_set?}"
+      GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i timeout -k 5 "$t" "$WRSFOV_GPU_TESTS" \
+        >"$out/tests/$name.$i.log" 2>&1 ) &
+  done
+  local timedout=0
+  for job in $(jobs -p); do
+    wait "$job"
+    case $? in 124 | 137) timedout=$((timedout + 1)) ;; esac
+  done
+  local ok failed nfailed
+  ok=$(cat "$out/tests/$name".*.log | grep -c '^\[       OK \]' || true)
+  failed=$(cat "$out/tests/$name".*.log | grep -E '^\[  FAILED  \] [A-Za-z].*\(' |
+    sed 's/, where GetParam.*//; s/ (.*//; s/^\[  FAILED  \] //' | sort -u || true)
+  nfailed=$(printf '%s' "$failed" | grep -c . || true)
+  local line="$ok passed, $nfailed failed${failed:+: $(echo $failed)}"
+  [ "$timedout" -gt 0 ] && line+="; $timedout of $shards shards timed out after $t s"
+  echo "   $what: $line ($(($(date +%s) - t0)) s)"
+  rows+="| $what | | | | | | $line |"$'\n'
+}
+
+if [ -n "${WRSFOV_GPU_TESTS:-}" ]; then
+  echo "== 2: GPU tests against the CPU reference, $(nproc) shards${GTEST_FILTER:+, filter $GTEST_FILTER}"
+  mkdir -p "$out/tests"
+  run_tests ci
+fi
+
+echo "== 3: hello_xr on the wrsfov runtime, ${xr_size} per eye, $xr_frames frames, wrs and fov"
+mkdir -p "$out/xr"
+xr_w=${xr_size%x*}
+xr_h=${xr_size#*x}
+for m in wrs fov; do
+  if [ -z "$hello" ] || [ ! -f "$xr_json" ]; then
+    rows+="| hello_xr | ${xr_w}×${xr_h} | $m | | | | skipped: no hello_xr or runtime manifest |"$'\n'
+    continue
+  fi
+  t=$(stage_timeout 40)
+  if [ "$t" -eq 0 ]; then
+    rows+="| hello_xr | ${xr_w}×${xr_h} | $m | | | | skipped: budget spent |"$'\n'
+    continue
+  fi
+  log="$out/xr/hello_xr_$m.log"
+  # hello_xr quits when stdin ends: a fifo held open and never written, so only the runtime's frame
+  # limit ends the session.
+  rm -f "$out/xr/stdin"
+  mkfifo "$out/xr/stdin"
+  exec 3<>"$out/xr/stdin"
+  t0=$(date +%s)
+  env XR_RUNTIME_JSON="$xr_json" WRSFOV_XR_WIDTH="$xr_w" WRSFOV_XR_HEIGHT="$xr_h" WRSFOV_XR_METHOD="$m" \
+    WRSFOV_XR_OUTPUT=headless WRSFOV_XR_GAZE=generator WRSFOV_XR_GAZE_MODE=scene WRSFOV_XR_FRAMES="$xr_frames" \
+    timeout -k 5 "$t" "$hello" -g Vulkan2 -vc Stereo <"$out/xr/stdin" >"$log" 2>&1
+  rc=$?
+  exec 3>&-
+  ended=$(grep -o 'session ended: [0-9]* frames ended, [0-9]* composited' "$log" | head -1 | sed 's/session ended: //')
+  ms=$(sed -n 's/.*; compositor \([0-9.]*\) ms per frame from xrEndFrame to completion.*/\1/p' "$log" | head -1)
+  [ -n "$ms" ] && ms=$(printf '%.3f' "$ms")
+  st=$(status_of $rc)
+  [ "$st" = timeout ] && st="timeout after $t s"
+  echo "   $m: $st, ${ended:-no session end logged}, composition ${ms:-?} ms per frame ($(($(date +%s) - t0)) s)"
+  rows+="| hello_xr | ${xr_w}×${xr_h} | $m | ${ms:-n/a} | | | $st; ${ended:-no session end logged} |"$'\n'
+done
+
+if [ -n "${WRSFOV_GPU_TESTS:-}" ]; then
+  echo "== 4: GPU tests with the hand fp16 conversion (WRSFOV_HARDWARE_HALF=0)"
+  run_tests half0 WRSFOV_HARDWARE_HALF=0
+fi
+
+echo "== 5: fov and wrs with every tile retaining (--dense-retention)"
+t=$(stage_timeout 60)
+if [ "$t" -gt 0 ]; then
+  timeout -k 5 "$t" "$bench" --scaling "$sizes" --frames "$frames" --warmup "$warmup" --methods fov,wrs \
+    --dense-retention --out "$out/dense" >"$out/dense.log" 2>&1
+  echo "   $(status_of $?)"
+else
+  echo "   skipped: budget spent"
+fi
+
+echo "== 6: cost model on this device and on RADV's null devices"
+# A real device's name without the driver's parenthesised suffix ("AMD Radeon RX 7900 XTX (RADV NAVI31)").
+short=$(printf '%s' "$device" | sed 's/ (.*//')
+t=$(stage_timeout 60)
+if [ "$t" -gt 0 ]; then
+  timeout -k 5 "$t" "$bench" --cost-model --cost-targets "device:$short,gfx1100,vangogh" --out "$out/cost" \
+    >"$out/cost.log" 2>&1
+  echo "   $(status_of $?)"
+else
+  echo "   skipped: budget spent"
+fi
+
+took=$(($(date +%s) - start))
+{
+  echo "# wrsfov GPU check on $device"
+  echo
+  echo "$(date -u +%Y-%m-%d), $took s of a $budget s budget, commit ${WRSFOV_COMMIT:-$(git rev-parse --short HEAD 2>/dev/null || echo unknown)}$([ "$dry" = 1 ] && echo ", dry run (WRSFOV_GPU_BENCH_DRY=1)")."
+  echo "Sweep: \`wrsfov-bench --scaling $sizes --frames $frames --warmup $warmup --methods $methods\`, atrium, HMD"
+  echo "stereo, fovea 5°, mip; ms per frame for both eyes (medians of the timed frames), ×copy against a copy"
+  echo "kernel moving the method's bytes in the same run. hello_xr: composition time per frame from xrEndFrame to"
+  echo "completion, as the runtime logs it at session end."
+  echo
+  echo "| check | size per eye | method | ms | ×copy | wrs − fov ms | result |"
+  echo "|---|---|---|---|---|---|---|"
+  printf '%s' "$rows"
+} >"$out/summary.md"
 {
   echo "# wrsfov on $device"
   echo
-  echo "$(date -u +%Y-%m-%d), $(($(date +%s) - start)) s, commit ${WRSFOV_COMMIT:-$(git rev-parse --short HEAD 2>/dev/null || echo unknown)}."
+  echo "$(date -u +%Y-%m-%d), $took s, commit ${WRSFOV_COMMIT:-$(git rev-parse --short HEAD 2>/dev/null || echo unknown)}."
   echo
+  echo "- [summary](summary.md)"
   echo "- [speed sweep at steady state](speed/scaling.md): \`wrsfov-bench --scaling $sizes --frames $frames --warmup $warmup --methods $methods\`"
   echo "- [dense retention](dense/scaling.md): the same with \`--methods fov,wrs --dense-retention\`"
   echo "- [cost model](cost/cost_model.md): \`wrsfov-bench --cost-model --cost-targets device:$short,gfx1100,vangogh\`"
-  echo
-  sed -n '/^| size per eye/,/^$/p' "$out/speed/scaling.md"
-  echo
-  sed -n '/^| size per eye/,/^$/p' "$out/dense/scaling.md"
-  echo
-  [ -f "$out/cost/cost_model.md" ] && sed -n '/^## Totals/,/^## [^T]/p' "$out/cost/cost_model.md" | sed '$d'
-  if [ -n "$tests_summary" ]; then
-    echo
-    echo "GPU tests (tests/): "
-    printf '%s' "$tests_summary"
-  fi
-} > "$out/README.md"
-cat "$out/README.md"
-echo "== kit output in $out"
+  echo "- hello_xr logs: xr/"
+  for f in "$out/speed/scaling.md" "$out/dense/scaling.md"; do
+    [ -f "$f" ] && { echo; sed -n '/^| size per eye/,/^$/p' "$f"; }
+  done
+  [ -f "$out/cost/cost_model.md" ] && { echo; sed -n '/^## Totals/,/^## [^T]/p' "$out/cost/cost_model.md" | sed '$d'; }
+} >"$out/README.md"
+echo
+cat "$out/summary.md"
+echo "== GPU check output in $out ($took s)"
