@@ -978,7 +978,8 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
         auto source = HostStereoApp::create(**owner, appOpt);
         if (!source) return source.error();
         auto texel = [](std::optional<layers::Format> f) { return f ? uint32_t(layers::bytesPerTexel(*f)) : 0u; };
-        const TrafficInputs trafficIn{o.width, o.height, texel(appOpt.color), texel(appOpt.depth), texel(appOpt.motion)};
+        const TrafficInputs trafficIn{o.width, o.height, texel(appOpt.color), texel(appOpt.depth),
+                                      texel(appOpt.motion)};
         // The host images last uploaded: a frame equal to them is not uploaded again (a still image once).
         std::array<EyeSubmission, 2> uploaded;
         bool anyUploaded = false;
@@ -1039,7 +1040,8 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
                             idx[i] = *a;
                             if (Status s = sc[i]->wait(); !s) return s.error();
                         }
-                        Status s = renderer->render(t, f == 0 ? t : prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
+                        Status s =
+                            renderer->render(t, f == 0 ? t : prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
                         for (int i = 0; i < 3; ++i) (void)sc[i]->release();
                         if (!s) return s.error();
                         ++st.rendered;

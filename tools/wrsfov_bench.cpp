@@ -241,7 +241,8 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<cli::Si
         const std::string dir = out + "/" + name;
         std::filesystem::create_directories(dir);
         so.cropDir = "";
-        std::printf("wrsfov-bench: scaling %s per eye, %d frames per cell -> %s\n", name.c_str(), so.frames, dir.c_str());
+        std::printf("wrsfov-bench: scaling %s per eye, %d frames per cell -> %s\n", name.c_str(), so.frames,
+                    dir.c_str());
         const auto start = std::chrono::steady_clock::now();
         eval::DeviceSweepStats stats;
         auto results = eval::runDeviceSweep(ctx, so, &stats);
