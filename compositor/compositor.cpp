@@ -94,7 +94,8 @@ enum Binding : uint32_t {
     kSrgbTable = 12,
     kTiles = 13,
     kTileHeld = 14,
-    kQuality = 15
+    kQuality = 15,
+    kReference = 16
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 // Timestamps: the frame's start, after compose (and classify), pyramid, foveate, wrs/taa/retain; then
@@ -128,7 +129,7 @@ void listsBarrier(VkCommandBuffer cb) {
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Every image a view reads, with its name for messages (nullptr where the view has none).
-std::array<std::pair<const layers::SubImage*, const char*>, 7> subImagesOf(const layers::ProjectionView& v) {
+std::array<std::pair<const layers::SubImage*, const char*>, 8> subImagesOf(const layers::ProjectionView& v) {
     const layers::InsetView* in = v.inset ? &*v.inset : nullptr;
     return {{{&v.color, "colour"},
              {v.depth ? &v.depth->subImage : nullptr, "depth"},
@@ -136,7 +137,8 @@ std::array<std::pair<const layers::SubImage*, const char*>, 7> subImagesOf(const
              {in ? &in->color : nullptr, "inset colour"},
              {in && in->depth ? &in->depth->subImage : nullptr, "inset depth"},
              {in && in->motion ? &in->motion->subImage : nullptr, "inset motion"},
-             {v.rateMap ? &v.rateMap->subImage : nullptr, "rate map"}}};
+             {v.rateMap ? &v.rateMap->subImage : nullptr, "rate map"},
+             {v.reference ? &*v.reference : nullptr, "reference"}}};
 }
 
 Status checkConfig(const CompositorConfig& c) {
@@ -353,6 +355,11 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                 ? glm::radians(config.motionReachDeg) * std::abs(pxPerRad)
                                 : std::numeric_limits<float>::infinity();
         e.motion_scale = glm::vec4(1.0f, 1.0f, 1.0f, reach);
+        if (v.reference) {
+            const bool refSrgb = v.reference->swapchain->info().format == layers::Format::RGBA8_SRGB;
+            e.ref_rect = glm::uvec4(v.reference->rect.x, v.reference->rect.y,
+                                    refSrgb ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR, v.reference->arrayIndex);
+        }
         if (v.motion && composed) {
             e.motion_rect = glm::uvec4(0u, 0u, 0u, uint32_t(i));
         } else if (v.motion) {
@@ -414,7 +421,7 @@ Status Compositor::init() {
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
          binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
-         binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo)});
+         binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -423,7 +430,7 @@ Status Compositor::init() {
 
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
-                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 24},
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 32},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 42},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -815,10 +822,11 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
                                                                       " swapchain was not created by this compositor");
         }
     const layers::SubmittedFoveation kind = layers::submittedFoveation(layer);
-    if (kind != layers::SubmittedFoveation::Full && isOracle((configPending_ ? pending_ : config_).method))
+    if (kind != layers::SubmittedFoveation::Full && isOracle((configPending_ ? pending_ : config_).method) &&
+        !(layer.views[0].reference && layer.views[1].reference))
         return submitError(SubmitError::InvalidSubmission,
                            "the oracles compare with the full-resolution image, which quad views and rate maps do not "
-                           "carry; submit full-resolution frames to evaluate them");
+                           "carry: give each view its reference (ProjectionView::reference) to evaluate them");
     // Buffers of a new size first (copy kernel, then the passes'): a failed allocation refuses the
     // frame before any state (size, history, configuration) has changed.
     const glm::uvec2 outSize = layers::outputSize(layer);
@@ -978,10 +986,17 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
                       std::memcmp(&params_.eye[0], &params_.eye[1], sizeof(gpu::EyeParams)) == 0;
     const uint32_t eyes = mono ? 1u : uint32_t(WRS_EYES);
     stats_.monoViews = mono;
-    VkWriteDescriptorSet wr[3];
+    // The oracles' full-resolution reference of a frame submitted foveated (a placeholder otherwise).
+    VkDescriptorImageInfo ri[2];
+    for (int eye = 0; eye < 2; ++eye) {
+        const layers::ProjectionView& v = layer.views[eye];
+        ri[eye] = {sampler_.get(), v.reference ? view(*v.reference) : dummy_.layerView(0), VK_IMAGE_LAYOUT_GENERAL};
+    }
+    VkWriteDescriptorSet wr[4];
     for (uint32_t k = 0; k < 3; ++k)
         wr[k] = vk::imageWrite(set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
-    vkUpdateDescriptorSets(ctx_.device(), 3, wr, 0, nullptr);
+    wr[3] = vk::imageWrite(set, kReference, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ri, 2);
+    vkUpdateDescriptorSets(ctx_.device(), 4, wr, 0, nullptr);
 
     VkCommandBuffer cb = record ? submission.commandBuffer : cmd_;
     if (!record) {

@@ -412,7 +412,16 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     Trace& t = trace_[eye][idx];
                     Tracked hd = h;
                     if (wrs_rule_is_oracle(rule)) hd.color = h_shown;
-                    Tracked r = wrs_retain(rule, has_history, hd, d, c, vec3(ref), rnd, t.outcome, t.margin);
+                    // The oracles of a frame submitted foveated compare with its full-resolution reference.
+                    vec3 truth = vec3(ref);
+                    if (wrs_rule_is_oracle(rule) && mode == WRS_FOV_SUBMITTED && in.reference) {
+                        const vec4 rt = in.reference->fetch(x, y);
+                        vec3 rc = vec3(rt);
+                        if (ep.ref_rect.z == WRS_INPUT_SRGB) rc = wrs_srgb8_to_linear3(rc);
+                        bool rv;
+                        truth = wrs_sanitize_color(rc, rv);
+                    }
+                    Tracked r = wrs_retain(rule, has_history, hd, d, c, truth, rnd, t.outcome, t.margin);
                     if (t.outcome == WRS_OUT_KEPT) r.color = h.color;
                     if (!wrs_rule_is_oracle(rule) && t.outcome == WRS_OUT_KEPT)
                         h_shown = wrs_kept_shown(h_shown, c.lo, c.hi, wrs_mode_simulated(mode) && uint(lv.x) == 0u);

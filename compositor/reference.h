@@ -26,6 +26,8 @@ public:
         /// what the compose pass makes of the submission (composeQuadViews, rateMapQualities). Empty
         /// for a full-resolution frame.
         std::vector<float> quality;
+        /// Submitted foveation, the oracles: the full-resolution reference (ProjectionView::reference).
+        std::optional<HostImage> reference;
     };
     /// What the combine decided at one pixel, and how close it was.
     struct Trace {

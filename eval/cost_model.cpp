@@ -601,17 +601,17 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         d.device = VK_NULL_HANDLE;
         return skip("vkCreateDevice failed (" + std::string(vk::resultString(r)) + ")");
     }
-    // The compositor's descriptor set layout (Compositor::init): bindings 0-15 but 5, the three image
+    // The compositor's descriptor set layout (Compositor::init): bindings 0-16 but 5, the four image
     // bindings per eye, 16 bytes of push constants (gpu::LevelPush).
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t b = 0; b <= 15; ++b) {
+    for (uint32_t b = 0; b <= 16; ++b) {
         if (b == 5) continue;
+        const bool image = (b >= 1 && b <= 3) || b == 16;
         VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         if (b == 0) type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        if (b >= 1 && b <= 3) type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        if (image) type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         if (b == 9) type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-        bindings.push_back(
-            {b, type, (b >= 1 && b <= 3) ? uint32_t(WRS_EYES) : 1u, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
+        bindings.push_back({b, type, image ? uint32_t(WRS_EYES) : 1u, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
     }
     VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     sl.bindingCount = uint32_t(bindings.size());

@@ -225,6 +225,14 @@ Status FrameValidator::validate(const FrameEndInfo& frame) const {
         }
         if (v.rateMap)
             if (Status s = checkRateMap(*v.rateMap, v.color.rect, eye); !s) return s;
+        if (v.reference) {
+            if (Status s = checkSubImage(*v.reference, Usage::Color, eye + " reference"); !s) return s;
+            const glm::uvec2 out = outputSize(layer);
+            if (v.reference->rect.width != out.x || v.reference->rect.height != out.y)
+                return err(SubmitError::SizeMismatch, eye + " reference is " +
+                                                          sizeText(v.reference->rect.width, v.reference->rect.height) +
+                                                          ", the output " + sizeText(out.x, out.y));
+        }
     }
     const ProjectionView& l = layer.views[0];
     const ProjectionView& r = layer.views[1];

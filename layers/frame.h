@@ -90,6 +90,10 @@ struct ProjectionView {
     /// Submitted foveation, at most one of the two, on both views or neither.
     std::optional<InsetView> inset;
     std::optional<RateMapInfo> rateMap;
+    /// Evaluation only: the frame as a full-resolution render would have shown it (colour, at the output
+    /// size), for the oracles, which compare with it; they refuse frames submitted foveated without it.
+    /// Not read by any other method.
+    std::optional<SubImage> reference;
 };
 
 /// Exactly two views: index 0 is the left eye, 1 the right eye.

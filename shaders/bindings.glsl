@@ -43,6 +43,9 @@ layout(std430, set = 0, binding = 14) buffer TileHeld { uint tile_held[]; };
 // Submitted foveation (FOV_MODE WRS_FOV_SUBMITTED): each pixel's rendered quality, written by the
 // compose pass (compose.comp), eye-major like the reservoirs.
 layout(std430, set = 0, binding = 15) readonly buffer Quality { float submitted_quality[]; };
+// Evaluation only: the full-resolution reference of a frame submitted foveated, which the oracles
+// compare with (EyeParams::ref_rect; a placeholder otherwise).
+layout(set = 0, binding = 16) uniform sampler2D referenceIn[2];
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
@@ -113,6 +116,16 @@ vec4 load_color(uint eye, uvec2 p) {
     c = wrs_sanitize_color(c, valid);
     valid = wrs_input_valid(valid, ep.color_rect.z, t.a);
     return vec4(c, valid ? 1.0 : 0.0);
+}
+// The full-resolution reference at pixel p (submitted foveation, the oracles only), decoded as load_color.
+vec3 load_reference(uint eye, uvec2 p) {
+    EyeParams ep = frame.eye[eye];
+    vec3 c = texelFetch(referenceIn[eye], ivec2(p + ep.ref_rect.xy), 0).rgb;
+    if (ep.ref_rect.z == WRS_INPUT_SRGB)
+        c = vec3(WRS_SRGB_TABLE[wrs_srgb8_code(c.r)], WRS_SRGB_TABLE[wrs_srgb8_code(c.g)],
+                 WRS_SRGB_TABLE[wrs_srgb8_code(c.b)]);
+    bool valid;
+    return wrs_sanitize_color(c, valid);
 }
 // Linear view depth at pixel p (only where the view has depth).
 float load_depth(uint eye, uvec2 p) {

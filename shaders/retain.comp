@@ -123,7 +123,10 @@ float retain_pixel(uint eye, uvec2 p) {
     float margin;
     Tracked hd = h;
     if (wrs_rule_is_oracle(RULE)) hd.color = h_shown;
-    Tracked r = wrs_retain(RULE, has_history, hd, d, c, ref.rgb, rnd, outcome, margin);
+    // The oracles compare with the unfoveated colour: the submitted one, or for a frame submitted
+    // foveated the full-resolution reference that came with it.
+    vec3 truth = wrs_rule_is_oracle(RULE) && FOV_MODE == WRS_FOV_SUBMITTED ? load_reference(eye, p) : ref.rgb;
+    Tracked r = wrs_retain(RULE, has_history, hd, d, c, truth, rnd, outcome, margin);
     if (outcome == WRS_OUT_KEPT) r.color = h.color;  // the sample itself is stored; only the display differs
     // A gap between unevenly drifted kept samples (wrs_track_gap): the nearest kept sample within a
     // pixel is shown where the rule keeps a sharper sample (wrs_gap_shows); the candidate is stored.

@@ -19,6 +19,8 @@ struct EyeParams {
                         // w: the motion reach in pixels (wrs_within_reach; +inf: no limit)
     vec4 tile;          // the classification's view constants (wrs_tile_geometry): xy: a pixel's width
                         // and height on the image plane (tangent units); z: rho (degrees); w: pad
+    uvec4 ref_rect;     // evaluation only (the oracles with submitted foveation): x, y offset of the
+                        // full-resolution reference in its image; z: its encoding (WRS_INPUT_*); w: layer
 };
 
 struct FrameParams {
@@ -47,8 +49,8 @@ struct LevelPush {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::EyeParams) == 128);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 128 + 32 + 16 * WRS_LEVELS + 16);
+static_assert(sizeof(wrsfov::gpu::EyeParams) == 144);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 144 + 32 + 16 * WRS_LEVELS + 16);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 

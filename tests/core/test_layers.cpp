@@ -380,6 +380,10 @@ TEST_F(QuadValidation, EveryRefusalNamesEyeFieldAndValue) {
     frame.layers[0].outputWidth = 20000;
     frame.layers[0].outputHeight = 200;
     expectRefused(SubmitError::InvalidInset, {"20000x200", "larger"});
+    // The oracles' reference must cover the output.
+    frame = quad(11);
+    view(0).reference = SubImage{color.get(), {0, 0, W, H}, 0};
+    expectRefused(SubmitError::SizeMismatch, {"left reference is 64x48", "the output"});
     // A full-resolution frame may name its own size only.
     frame = valid(11);
     frame.layers[0].outputWidth = 128;
