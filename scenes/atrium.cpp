@@ -303,7 +303,8 @@ VkImageView AtriumRenderer::view(VkImage image, VkFormat format, VkImageAspectFl
     return v;
 }
 
-VkFramebuffer AtriumRenderer::framebuffer(VkImageView color, VkImageView motion, VkImageView depth) {
+VkFramebuffer AtriumRenderer::framebuffer(VkImageView color, VkImageView motion, VkImageView depth, uint32_t width,
+                                          uint32_t height) {
     auto key = std::make_tuple(color, motion, depth);
     if (auto it = framebuffers_.find(key); it != framebuffers_.end()) return it->second;
     VkImageView att[3] = {color, motion, depth};
@@ -311,8 +312,8 @@ VkFramebuffer AtriumRenderer::framebuffer(VkImageView color, VkImageView motion,
     fci.renderPass = renderPass_;
     fci.attachmentCount = 3;
     fci.pAttachments = att;
-    fci.width = options_.width;
-    fci.height = options_.height;
+    fci.width = width;
+    fci.height = height;
     fci.layers = 1;
     VkFramebuffer fb;
     VK_CHECK(vkCreateFramebuffer(ctx_.device(), &fci, nullptr, &fb));
@@ -324,14 +325,26 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
                               layers::Swapchain& depth, uint32_t depthIndex, layers::Swapchain& motion,
                               uint32_t motionIndex) {
     const auto &ci = color.info(), &di = depth.info(), &mi = motion.info();
+    for (const auto* i : {&ci, &di, &mi})
+        if (i->width != options_.width || i->height != options_.height)
+            return err("atrium: swapchains must be " + std::to_string(options_.width) + "x" +
+                       std::to_string(options_.height) + " with 2 array layers");
+    return renderViews(t, prevT, {atriumFov(options_, 0), atriumFov(options_, 1)}, color, colorIndex, depth, depthIndex,
+                       motion, motionIndex);
+}
+
+Status AtriumRenderer::renderViews(double t, double prevT, const std::array<layers::Fov, 2>& fovs,
+                                   layers::Swapchain& color, uint32_t colorIndex, layers::Swapchain& depth,
+                                   uint32_t depthIndex, layers::Swapchain& motion, uint32_t motionIndex) {
+    const auto &ci = color.info(), &di = depth.info(), &mi = motion.info();
     if (ci.usage != layers::Usage::Color || di.usage != layers::Usage::Depth || mi.usage != layers::Usage::Motion)
         return err("atrium: needs a colour, a depth and a motion swapchain");
     if (di.format != layers::Format::D32F || mi.format != layers::Format::RGBA16F)
         return err("atrium: renders depth into D32F and motion into RGBA16F swapchains");
+    const uint32_t width = ci.width, height = ci.height;
     for (const auto* i : {&ci, &di, &mi})
-        if (i->width != options_.width || i->height != options_.height || i->arraySize < 2)
-            return err("atrium: swapchains must be " + std::to_string(options_.width) + "x" +
-                       std::to_string(options_.height) + " with 2 array layers");
+        if (i->width != width || i->height != height || i->arraySize < 2)
+            return err("atrium: the colour, depth and motion swapchains must be of one size with 2 array layers");
     VkFormat cf = layers::toVkFormat(ci.format);
     VkDevice dev = ctx_.device();
     if (!renderPass_ || cf != colorFormat_) {
@@ -441,9 +454,9 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
         pipeline_ = vk::Pipeline(dev, p);
     }
 
-    const float W = float(options_.width), H = float(options_.height);
+    const float W = float(width), H = float(height);
     for (int e = 0; e < 2; ++e) {
-        glm::mat4 proj = projection(atriumFov(options_, e), options_.nearZ, options_.farZ, options_.reversedZ);
+        glm::mat4 proj = projection(fovs[e], options_.nearZ, options_.farZ, options_.reversedZ);
         gpu::AtriumCamera cam{};
         cam.view = atriumView(options_, e, t);
         cam.prev_view = atriumView(options_, e, prevT);
@@ -467,14 +480,14 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
             clear[2].depthStencil = {options_.reversedZ ? 0.0f : 1.0f, 0};
             VkRenderPassBeginInfo rb{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
             rb.renderPass = renderPass_;
-            rb.framebuffer = framebuffer(cv, mv, dv);
-            rb.renderArea = {{0, 0}, {options_.width, options_.height}};
+            rb.framebuffer = framebuffer(cv, mv, dv, width, height);
+            rb.renderArea = {{0, 0}, {width, height}};
             rb.clearValueCount = 3;
             rb.pClearValues = clear;
             vkCmdBeginRenderPass(cb, &rb, VK_SUBPASS_CONTENTS_INLINE);
             vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
             VkViewport viewport{0, 0, W, H, 0.0f, 1.0f};
-            VkRect2D scissor{{0, 0}, {options_.width, options_.height}};
+            VkRect2D scissor{{0, 0}, {width, height}};
             vkCmdSetViewport(cb, 0, 1, &viewport);
             vkCmdSetScissor(cb, 0, 1, &scissor);
             vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelineLayout_.get(), 0, 1, &sets_[e], 0,

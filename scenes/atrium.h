@@ -88,13 +88,21 @@ public:
     Status render(double t, double prevT, layers::Swapchain& color, uint32_t colorIndex, layers::Swapchain& depth,
                   uint32_t depthIndex, layers::Swapchain& motion, uint32_t motionIndex);
 
+    /// The same scene at time t through other views: eye e seen through `fovs[e]` (same eye pose) at the
+    /// swapchains' size, e.g. a quad view's wide view at a low density or its inset around the gaze.
+    /// Materials are filtered over each pixel's footprint at that size (AtriumOptions::materialSamples),
+    /// as a renderer with mip-mapped textures does at that density; motion in that image's pixels.
+    Status renderViews(double t, double prevT, const std::array<layers::Fov, 2>& fovs, layers::Swapchain& color,
+                       uint32_t colorIndex, layers::Swapchain& depth, uint32_t depthIndex, layers::Swapchain& motion,
+                       uint32_t motionIndex);
+
     const AtriumOptions& options() const { return options_; }
 
 private:
     explicit AtriumRenderer(vk::Context& ctx, const AtriumOptions& o) : ctx_(ctx), options_(o) {}
     Status init();
     VkImageView view(VkImage image, VkFormat format, VkImageAspectFlags aspect, uint32_t layer);
-    VkFramebuffer framebuffer(VkImageView color, VkImageView motion, VkImageView depth);
+    VkFramebuffer framebuffer(VkImageView color, VkImageView motion, VkImageView depth, uint32_t width, uint32_t height);
 
     struct Vertex {
         glm::vec3 pos;

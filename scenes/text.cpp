@@ -101,31 +101,40 @@ TextScene::TextScene(const TextOptions& o) : options_(o) {
         }
     }
 
-    // Per eye: rays through 2x2 subsamples of each pixel meet the plane z = -distance.
-    cv::Mat lin;
-    page.convertTo(lin, CV_32FC3, 1.0 / 255.0);
-    for (int y = 0; y < lin.rows; ++y) {
-        auto* p = lin.ptr<cv::Vec3f>(y);
-        for (int x = 0; x < lin.cols; ++x)
+    // The page in linear colour, which every view of the scene samples.
+    page.convertTo(page_, CV_32FC3, 1.0 / 255.0);
+    for (int y = 0; y < page_.rows; ++y) {
+        auto* p = page_.ptr<cv::Vec3f>(y);
+        for (int x = 0; x < page_.cols; ++x)
             for (int c = 0; c < 3; ++c) p[x][c] = gpu::wrs_srgb_to_linear(p[x][c]);
     }
+    ppt_ = ppt;
+    renderViews({textFov(o, 0), textFov(o, 1)}, o.width, o.height, color_, depth_);
+}
+
+void TextScene::renderViews(const std::array<layers::Fov, 2>& fovs, uint32_t width, uint32_t height,
+                            std::array<HostImage, 2>& color, std::array<HostImage, 2>& depth) const {
+    // Per eye: rays through 2x2 subsamples of each pixel meet the plane z = -distance.
+    const TextOptions& o = options_;
+    const cv::Mat& lin = page_;
+    const double ppt = ppt_;
     const float d = o.distance;
     const float n = o.nearZ, far = o.farZ;
     const float depthValue = far / (far - n) - far * n / ((far - n) * d);
     for (int eye = 0; eye < 2; ++eye) {
-        const layers::Fov fov = textFov(o, eye);
+        const layers::Fov fov = fovs[eye];
         const float eyeX = o.monitor ? 0.0f : (eye == 0 ? -0.5f : 0.5f) * o.ipd;
         const float tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight);
         const float tu = std::tan(fov.angleUp), td = std::tan(fov.angleDown);
-        color_[eye] = HostImage::make(layers::Format::RGBA8_SRGB, o.width, o.height);
-        depth_[eye] = HostImage::make(layers::Format::R32F, o.width, o.height);
-        for (uint32_t y = 0; y < o.height; ++y)
-            for (uint32_t x = 0; x < o.width; ++x) {
+        color[eye] = HostImage::make(layers::Format::RGBA8_SRGB, width, height);
+        depth[eye] = HostImage::make(layers::Format::R32F, width, height);
+        for (uint32_t y = 0; y < height; ++y)
+            for (uint32_t x = 0; x < width; ++x) {
                 cv::Vec3f acc(0, 0, 0);
                 for (int s = 0; s < 4; ++s) {
                     float sx = float(x) + 0.25f + 0.5f * float(s & 1), sy = float(y) + 0.25f + 0.5f * float(s >> 1);
-                    float tx = tl + sx / float(o.width) * (tr - tl);
-                    float ty = tu - sy / float(o.height) * (tu - td);
+                    float tx = tl + sx / float(width) * (tr - tl);
+                    float ty = tu - sy / float(height) * (tu - td);
                     double X = tx + eyeX / d, Y = ty;  // plane point in cyclopean tangent units
                     float u = float((X + kTanX) * ppt - 0.5), v = float((kTanY - Y) * ppt - 0.5);
                     cv::Vec3f c(0.93f, 0.93f, 0.93f);
@@ -140,8 +149,8 @@ TextScene::TextScene(const TextOptions& o) : options_(o) {
                 }
                 // page is BGR; the swapchain is RGBA
                 glm::vec3 rgb(acc[2], acc[1], acc[0]);
-                color_[eye].store(x, y, glm::vec4(gpu::wrs_linear_to_srgb3(rgb), 1.0f));
-                depth_[eye].store(x, y, glm::vec4(depthValue));
+                color[eye].store(x, y, glm::vec4(gpu::wrs_linear_to_srgb3(rgb), 1.0f));
+                depth[eye].store(x, y, glm::vec4(depthValue));
             }
     }
 }

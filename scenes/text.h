@@ -50,10 +50,18 @@ public:
     const TextOptions& options() const { return options_; }
     /// True when the FreeType font was found; otherwise Hershey glyphs were used.
     bool usedFreeType() const { return freetype_; }
+    /// The same page through other views (same eye positions), each eye `fovs[eye]` at width x height:
+    /// e.g. a quad view's wide view at a low density or its inset around the gaze. The renderer is the
+    /// same at any size (2x2 samples per pixel of a page texture made for TextOptions' density), so a
+    /// sparser view aliases as a renderer at that density would.
+    void renderViews(const std::array<layers::Fov, 2>& fovs, uint32_t width, uint32_t height,
+                     std::array<HostImage, 2>& color, std::array<HostImage, 2>& depth) const;
 
 private:
     TextOptions options_;
     std::array<HostImage, 2> color_, depth_;
+    cv::Mat page_;      // linear RGB (BGR order), CV_32FC3
+    double ppt_ = 0.0;  // page texels per tangent unit
     bool freetype_ = false;
 };
 
