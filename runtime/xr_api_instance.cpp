@@ -5,6 +5,7 @@
 
 #include <openxr/openxr_reflection.h>
 
+#include "runtime/xr_inset.h"
 #include "runtime/xr_objects.h"
 #include "runtime/xr_verify.h"
 
@@ -41,7 +42,26 @@ constexpr ExtensionInfo kExtensions[] = {
     {XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME, 5},
     {XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME, 1},
     {XR_FB_SPACE_WARP_EXTENSION_NAME, 1},
+    {XR_VARJO_QUAD_VIEWS_EXTENSION_NAME, XR_VARJO_quad_views_SPEC_VERSION},
+    {XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME, XR_VARJO_foveated_rendering_SPEC_VERSION},
 };
+
+bool isQuadViewExtension(const char* name) {
+    return std::strcmp(name, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME) == 0 ||
+           std::strcmp(name, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME) == 0;
+}
+
+/// The extensions offered: all of kExtensions, less the quad views' where the configuration
+/// (`quad_views = 0`) withdraws them. A configuration that does not load offers them all (xrCreateInstance
+/// then fails, naming the bad value).
+std::vector<ExtensionInfo> offeredExtensions() {
+    auto config = loadRuntimeConfig();
+    const bool quad = !config || config->quadViews;
+    std::vector<ExtensionInfo> out;
+    for (const auto& e : kExtensions)
+        if (quad || !isQuadViewExtension(e.name)) out.push_back(e);
+    return out;
+}
 
 }  // namespace
 
@@ -50,15 +70,16 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateInstanceExtensionProperties(const char
                                                                       XrExtensionProperties* properties) {
     if (layerName && *layerName) return XR_ERROR_API_LAYER_NOT_PRESENT;
     if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
-    const uint32_t n = uint32_t(std::size(kExtensions));
+    const std::vector<ExtensionInfo> offered = offeredExtensions();
+    const uint32_t n = uint32_t(offered.size());
     *countOutput = n;
     if (capacity == 0) return XR_SUCCESS;
     if (capacity < n) return XR_ERROR_SIZE_INSUFFICIENT;
     if (!properties) return XR_ERROR_VALIDATION_FAILURE;
     for (uint32_t i = 0; i < n; ++i) {
         if (properties[i].type != XR_TYPE_EXTENSION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
-        std::snprintf(properties[i].extensionName, XR_MAX_EXTENSION_NAME_SIZE, "%s", kExtensions[i].name);
-        properties[i].extensionVersion = kExtensions[i].version;
+        std::snprintf(properties[i].extensionName, XR_MAX_EXTENSION_NAME_SIZE, "%s", offered[i].name);
+        properties[i].extensionVersion = offered[i].version;
     }
     return XR_SUCCESS;
 }
@@ -83,18 +104,18 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateInstance(const XrInstanceCreateInfo* info
     for (uint32_t i = 0; i < info->enabledApiLayerCount; ++i)
         if (!info->enabledApiLayerNames[i]) return XR_ERROR_VALIDATION_FAILURE;
     auto inst = std::make_unique<Instance>();
+    auto config = loadRuntimeConfig();
+    if (!config) {
+        logLine("configuration: " + config.error().message);
+        return XR_ERROR_INITIALIZATION_FAILED;
+    }
     for (uint32_t i = 0; i < info->enabledExtensionCount; ++i) {
         const char* e = info->enabledExtensionNames ? info->enabledExtensionNames[i] : nullptr;
         if (!e) return XR_ERROR_VALIDATION_FAILURE;
         bool known = false;
         for (const auto& k : kExtensions) known = known || std::strcmp(k.name, e) == 0;
-        if (!known) return XR_ERROR_EXTENSION_NOT_PRESENT;
+        if (!known || (!config->quadViews && isQuadViewExtension(e))) return XR_ERROR_EXTENSION_NOT_PRESENT;
         inst->extensions.insert(e);
-    }
-    auto config = loadRuntimeConfig();
-    if (!config) {
-        logLine("configuration: " + config.error().message);
-        return XR_ERROR_INITIALIZATION_FAILED;
     }
     inst->config = *config;
     inst->applicationName = info->applicationInfo.applicationName;
@@ -186,19 +207,20 @@ XrResult enumString(XrInstance h, Enum value, char* buffer, std::size_t size, co
 #define WRSFOV_ENUM_CASE(name, value) \
     case name:                        \
         return #name;
-const char* resultName(XrResult r) {
-    switch (r) {
-        XR_LIST_ENUM_XrResult(WRSFOV_ENUM_CASE) default : return nullptr;
-    }
-}
 const char* structureName(XrStructureType t) {
     switch (t) {
         XR_LIST_ENUM_XrStructureType(WRSFOV_ENUM_CASE) default : return nullptr;
     }
 }
-#undef WRSFOV_ENUM_CASE
 
 }  // namespace
+
+const char* resultName(XrResult r) {
+    switch (r) {
+        XR_LIST_ENUM_XrResult(WRSFOV_ENUM_CASE) default : return nullptr;
+    }
+}
+#undef WRSFOV_ENUM_CASE
 
 XRAPI_ATTR XrResult XRAPI_CALL xrResultToString(XrInstance h, XrResult value, char buffer[XR_MAX_RESULT_STRING_SIZE]) {
     return enumString(h, value, buffer, XR_MAX_RESULT_STRING_SIZE, &resultName,
@@ -244,6 +266,13 @@ XRAPI_ATTR XrResult XRAPI_CALL xrGetSystemProperties(XrInstance h, XrSystemId id
             // The compositor reads motion at the colour's size.
             sw->recommendedMotionVectorImageRectWidth = inst->config.width;
             sw->recommendedMotionVectorImageRectHeight = inst->config.height;
+        } else if (n->type == XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO) {
+            // Rendering gaze is there whenever the runtime has a gaze source (it may still be invalid at
+            // times: a blink, a dropout; XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO says when).
+            reinterpret_cast<XrSystemFoveatedRenderingPropertiesVARJO*>(n)->supportsFoveatedRendering =
+                inst->enabled(XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME) && inst->config.gaze != GazeKind::None
+                    ? XR_TRUE
+                    : XR_FALSE;
         }
     }
     return XR_SUCCESS;
@@ -253,26 +282,33 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateEnvironmentBlendModes(XrInstance h, Xr
                                                                 XrViewConfigurationType type, uint32_t capacity,
                                                                 uint32_t* countOutput, XrEnvironmentBlendMode* modes) {
     std::lock_guard lock(stateMutex(h));
-    if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
-    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
+    Instance* inst = getInstance(h);
+    if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
+    if (XrResult r = checkViewConfiguration(*inst, type); r != XR_SUCCESS) return r;
     return fillArray<XrEnvironmentBlendMode>(capacity, countOutput, modes, {XR_ENVIRONMENT_BLEND_MODE_OPAQUE});
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurations(XrInstance h, XrSystemId id, uint32_t capacity,
                                                              uint32_t* countOutput, XrViewConfigurationType* types) {
     std::lock_guard lock(stateMutex(h));
-    if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
-    return fillArray<XrViewConfigurationType>(capacity, countOutput, types,
-                                              {XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO});
+    Instance* inst = getInstance(h);
+    if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
+    // In order of preference: an application that enabled quad views gets them first.
+    std::vector<XrViewConfigurationType> offered;
+    if (inst->enabled(XR_VARJO_QUAD_VIEWS_EXTENSION_NAME))
+        offered.push_back(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO);
+    offered.push_back(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO);
+    return fillArray<XrViewConfigurationType>(capacity, countOutput, types, offered);
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL xrGetViewConfigurationProperties(XrInstance h, XrSystemId id,
                                                                 XrViewConfigurationType type,
                                                                 XrViewConfigurationProperties* props) {
     std::lock_guard lock(stateMutex(h));
-    if (XrResult r = checkSystem(getInstance(h), id); r != XR_SUCCESS) return r;
+    Instance* inst = getInstance(h);
+    if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
     if (!props || props->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES) return XR_ERROR_VALIDATION_FAILURE;
-    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
+    if (XrResult r = checkViewConfiguration(*inst, type); r != XR_SUCCESS) return r;
     props->viewConfigurationType = type;
     props->fovMutable = XR_FALSE;
     return XR_SUCCESS;
@@ -285,16 +321,24 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateViewConfigurationViews(XrInstance h, X
     std::lock_guard lock(stateMutex(h));
     Instance* inst = getInstance(h);
     if (XrResult r = checkSystem(inst, id); r != XR_SUCCESS) return r;
-    if (XrResult r = checkViewConfiguration(type); r != XR_SUCCESS) return r;
+    if (XrResult r = checkViewConfiguration(*inst, type); r != XR_SUCCESS) return r;
     if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
-    *countOutput = 2;
+    const uint32_t n = viewCount(type);
+    *countOutput = n;
     if (capacity == 0) return XR_SUCCESS;
-    if (capacity < 2) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (capacity < n) return XR_ERROR_SIZE_INSUFFICIENT;
     if (!views) return XR_ERROR_VALIDATION_FAILURE;
-    for (int i = 0; i < 2; ++i) {
+    for (uint32_t i = 0; i < n; ++i)
         if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
-        views[i].recommendedImageRectWidth = inst->config.width;
-        views[i].recommendedImageRectHeight = inst->config.height;
+    // Quad views: 0, 1 the wide views, 2, 3 the insets. An XrFoveatedViewConfigurationViewVARJO chained
+    // asks for the foveated inset's size: the inset keeps its size wherever the gaze puts it, so the
+    // answer is the same with the chain or without it.
+    const QuadViewSizes quad = quadViewSizes(inst->config);
+    for (uint32_t i = 0; i < n; ++i) {
+        glm::uvec2 size(inst->config.width, inst->config.height);
+        if (n == 4) size = i < 2 ? quad.wide : quad.inset;
+        views[i].recommendedImageRectWidth = size.x;
+        views[i].recommendedImageRectHeight = size.y;
         views[i].maxImageRectWidth = 8192;
         views[i].maxImageRectHeight = 8192;
         views[i].recommendedSwapchainSampleCount = 1;

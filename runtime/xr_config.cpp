@@ -43,7 +43,7 @@ std::string_view trim(std::string_view s) {
 constexpr const char* kKeys[] = {"method", "fovea", "foveation", "width", "height", "fov", "ipd",
                                  "display_hz", "pace", "frames", "record", "head", "gaze", "gaze_mode",
                                  "gaze_seed", "gaze_file", "vergence_distance", "validation", "verbose",
-                                 "output", "screenshot"};
+                                 "output", "screenshot", "quad_views", "inset_deg"};
 
 }  // namespace
 
@@ -139,6 +139,14 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
         else return bad(key, v, "auto, window or headless");
     } else if (key == "screenshot") {
         c.screenshot = std::string(v);
+    } else if (key == "quad_views") {
+        auto b = boolean(v);
+        if (!b) return bad(key, v, "0 or 1");
+        c.quadViews = *b;
+    } else if (key == "inset_deg") {
+        auto d = num(5, 120);
+        if (!d) return bad(key, v, range(5, 120) + " (the inset's size across in degrees)");
+        c.insetDeg = float(*d);
     } else if (key == "validation" || key == "verbose") {
         auto b = boolean(v);
         if (!b) return bad(key, v, "0 or 1");

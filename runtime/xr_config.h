@@ -39,7 +39,11 @@ enum class Output : uint8_t {
 struct RuntimeConfig {
     CompositorConfig compositor;          ///< method, fovea, foveation (keys `method`, `fovea`, `foveation`)
     bool compose = true;                  ///< method = off: frames are shown and recorded as submitted
-    uint32_t width = 1024, height = 1024;  ///< recommended per-eye image size
+    uint32_t width = 1024, height = 1024;  ///< the display's per-eye size (the stereo views' recommended size)
+    /// XR_VARJO_quad_views and XR_VARJO_foveated_rendering offered (key `quad_views`): the wide views at
+    /// 1 / 2.5 of the display's density, an inset of `insetDeg` across at the display's density.
+    bool quadViews = true;
+    float insetDeg = 30.0f;  ///< the inset's angular size across, both axes (key `inset_deg`)
     /// Per-eye field of view: the HMD's asymmetric 92° x 93° (hmdFov) unless `fov` gives a symmetric
     /// square one in degrees.
     layers::Fov fov[2];

@@ -132,6 +132,7 @@ struct Session final : Object {
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
     bool running = false;
     bool stopRequested = false;  // by the application or after `frames`
+    XrViewConfigurationType viewConfiguration = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;  // xrBeginSession's
 
     // Under gpuMutex.
     std::mutex gpuMutex;
@@ -334,17 +335,26 @@ bool boundToEyeGaze(const Session& s, const Action* action);
 XrResult checkSubaction(const Action& a, XrPath subaction);
 bool sessionFocused(const Session& s);
 
-/// Primary stereo is the one view configuration; primary mono, the other one OpenXR 1.0 defines, is
-/// VIEW_CONFIGURATION_TYPE_UNSUPPORTED. Any other value is not a valid enum for the application: the
-/// extensions that define more (XR_VARJO_quad_views, XR_MSFT_first_person_observer) are not offered,
-/// so it cannot have enabled them, and OpenXR 1.1's stereo with foveated inset (the quad views' value)
-/// is not 1.0: VALIDATION_FAILURE, as the conformance suite prefers for a value whose extension is
-/// not enabled.
-inline XrResult checkViewConfiguration(XrViewConfigurationType t) {
+/// Primary stereo, and primary quad (XR_VARJO_quad_views) where the instance enabled that extension,
+/// are the view configurations; primary mono, the other one OpenXR 1.0 defines, is
+/// VIEW_CONFIGURATION_TYPE_UNSUPPORTED. Any other value is not a valid enum for the application: an
+/// extension's that it did not enable (quad views without XR_VARJO_quad_views, the first-person
+/// observer, which is not offered), and OpenXR 1.1's stereo with foveated inset (the quad views'
+/// value) is not 1.0: VALIDATION_FAILURE, as the conformance suite prefers for a value whose extension
+/// is not enabled.
+inline XrResult checkViewConfiguration(const Instance& inst, XrViewConfigurationType t) {
     if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_SUCCESS;
+    if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO && inst.enabled(XR_VARJO_QUAD_VIEWS_EXTENSION_NAME))
+        return XR_SUCCESS;
     if (t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_MONO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
     return XR_ERROR_VALIDATION_FAILURE;
 }
+/// The number of views of a view configuration checkViewConfiguration accepts.
+inline uint32_t viewCount(XrViewConfigurationType t) {
+    return t == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO ? 4 : 2;
+}
+/// The name the specification gives a result, or nullptr for a value our headers do not know.
+const char* resultName(XrResult r);
 
 // Two-call idiom: capacity 0 asks for the count.
 template <typename T>

@@ -11,6 +11,8 @@
 #include <glm/gtx/quaternion.hpp>
 
 #include "compositor/host_app.h"
+#include "compositor/input.h"
+#include "compositor/reference.h"
 #include "compositor/swapchain_vk.h"
 #include "gaze/frame_gaze.h"
 #include "preview/gaze_input.h"
@@ -18,6 +20,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include "runtime/xr_frame.h"
+#include "runtime/xr_inset.h"
 #include "runtime/xr_objects.h"
 #include "runtime/xr_verify.h"
 
@@ -26,7 +29,6 @@ namespace wrsfov::xr {
 namespace {
 
 constexpr float kStandingHeight = 1.6f;  // LOCAL's origin above STAGE's (scenes::HeadPose)
-constexpr uint32_t kMaxLayers = 16;
 constexpr uint32_t kMaxSize = 8192;
 
 /// With the session's frameMutex held.
@@ -126,6 +128,16 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::Pro
     return g;
 }
 
+/// The gaze xrLocateViews puts the insets on: frameGaze's without depth (the frame is not rendered
+/// yet), or with the mouse the last frame's (the window is xrEndFrame's).
+std::array<layers::EyeGaze, 2> locateGaze(Session& s, XrTime t) {
+    if (s.instance->config.gaze == GazeKind::Mouse) {
+        std::lock_guard lock(s.gazeMutex);
+        return s.lastGaze;
+    }
+    return frameGaze(s, t, layers::ProjectionView{});
+}
+
 }  // namespace
 
 bool boundToEyeGaze(const Session& s, const Action* a) {
@@ -188,6 +200,15 @@ bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gazeOut) {
         case XR_REFERENCE_SPACE_TYPE_LOCAL:
             out = Pose{glm::quat(1, 0, 0, 0), {0, kStandingHeight, 0}} * space.poseInSpace;
             return true;
+        case XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO: {
+            // The rendering gaze: between the eyes, looking along the cyclopean gaze; straight ahead
+            // while the gaze is invalid (xrLocateSpace then clears the orientation's tracked bit).
+            const GazeState g = gazeAt(s, time);
+            if (gazeOut) *gazeOut = g;
+            out = headAt(s, time) * Pose{g.valid ? lookRotation(g.dir) : glm::quat(1, 0, 0, 0), glm::vec3(0.0f)} *
+                  space.poseInSpace;
+            return true;
+        }
         default:
             out = space.poseInSpace;  // STAGE: the world frame
             return true;
@@ -420,9 +441,11 @@ XRAPI_ATTR XrResult XRAPI_CALL xrBeginSession(XrSession h, const XrSessionBeginI
     if (!info || info->type != XR_TYPE_SESSION_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
     std::lock_guard frame(s->frameMutex);
     if (s->running) return XR_ERROR_SESSION_RUNNING;
-    if (XrResult r = checkViewConfiguration(info->primaryViewConfigurationType); r != XR_SUCCESS) return r;
+    if (XrResult r = checkViewConfiguration(*s->instance, info->primaryViewConfigurationType); r != XR_SUCCESS)
+        return r;
     if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
     s->running = true;
+    s->viewConfiguration = info->primaryViewConfigurationType;
     s->nextDisplayTime = 0;
     s->lastDisplayTime = 0;
     s->waited = 0;
@@ -463,14 +486,20 @@ XRAPI_ATTR XrResult XRAPI_CALL xrRequestExitSession(XrSession h) {
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateReferenceSpaces(XrSession h, uint32_t capacity, uint32_t* countOutput,
                                                           XrReferenceSpaceType* spaces) {
     std::lock_guard lock(stateMutex(h));
-    if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
-    return fillArray<XrReferenceSpaceType>(
-        capacity, countOutput, spaces,
-        {XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL, XR_REFERENCE_SPACE_TYPE_STAGE});
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
+    std::vector<XrReferenceSpaceType> types = {XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL,
+                                               XR_REFERENCE_SPACE_TYPE_STAGE};
+    if (s->instance->enabled(XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME))
+        types.push_back(XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO);
+    return fillArray<XrReferenceSpaceType>(capacity, countOutput, spaces, types);
 }
 
-XrResult checkReferenceType(XrReferenceSpaceType t) {
+XrResult checkReferenceType(const Session& s, XrReferenceSpaceType t) {
     if (t == XR_REFERENCE_SPACE_TYPE_VIEW || t == XR_REFERENCE_SPACE_TYPE_LOCAL || t == XR_REFERENCE_SPACE_TYPE_STAGE)
+        return XR_SUCCESS;
+    if (t == XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO &&
+        s.instance->enabled(XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME))
         return XR_SUCCESS;
     return t > 0 && t < XR_REFERENCE_SPACE_TYPE_MAX_ENUM ? XR_ERROR_REFERENCE_SPACE_UNSUPPORTED
                                                          : XR_ERROR_VALIDATION_FAILURE;
@@ -493,7 +522,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrRefer
     // (XR_REFERENCE_SPACE_TYPE_MAX_ENUM), cannot be created: REFERENCE_SPACE_UNSUPPORTED, as the
     // specification words it for this call (xrGetReferenceSpaceBoundsRect calls a made-up value a
     // validation failure).
-    if (checkReferenceType(info->referenceSpaceType) != XR_SUCCESS) return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
+    if (checkReferenceType(*s, info->referenceSpaceType) != XR_SUCCESS) return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
     if (!isValidPose(info->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
     auto sp = std::make_unique<Space>();
     sp->session = s;
@@ -506,9 +535,10 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateReferenceSpace(XrSession h, const XrRefer
 XRAPI_ATTR XrResult XRAPI_CALL xrGetReferenceSpaceBoundsRect(XrSession h, XrReferenceSpaceType type,
                                                              XrExtent2Df* bounds) {
     std::lock_guard lock(stateMutex(h));
-    if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
+    Session* s = getSession(h);
+    if (!s) return XR_ERROR_HANDLE_INVALID;
     if (!bounds) return XR_ERROR_VALIDATION_FAILURE;
-    if (XrResult r = checkReferenceType(type); r != XR_SUCCESS) return r;
+    if (XrResult r = checkReferenceType(*s, type); r != XR_SUCCESS) return r;
     if (type == XR_REFERENCE_SPACE_TYPE_STAGE) {
         *bounds = {4.0f, 4.0f};  // a 4 m x 4 m play area around the stage origin
         return XR_SUCCESS;
@@ -545,14 +575,21 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateSpace(XrSpace spaceH, XrSpace baseH, XrTi
     if (!location || location->type != XR_TYPE_SPACE_LOCATION) return XR_ERROR_VALIDATION_FAILURE;
     if (time <= 0) return XR_ERROR_TIME_INVALID;
     Pose a, b;
-    GazeState gaze;
-    const bool ok = spacePose(*space, time, a, &gaze) && spacePose(*base, time, b);
+    GazeState gaze, baseGaze;
+    const bool ok = spacePose(*space, time, a, &gaze) && spacePose(*base, time, b, &baseGaze);
     location->locationFlags = 0;
     location->pose = toXr(Pose{});
     if (ok) {
         location->pose = toXr(inverse(b) * a);
         location->locationFlags = XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
                                   XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT;
+        // XR_VARJO_foveated_rendering: the combined-eye space's orientation is tracked only while the
+        // rendering gaze is valid.
+        auto untracked = [](const Space& sp, const GazeState& g) {
+            return !sp.isAction && sp.reference == XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO && !g.valid;
+        };
+        if (untracked(*space, gaze) || untracked(*base, baseGaze))
+            location->locationFlags &= ~XrSpaceLocationFlags(XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT);
     }
     for (auto* n = static_cast<XrBaseOutStructure*>(location->next); n; n = n->next) {
         if (n->type == XR_TYPE_SPACE_VELOCITY) {
@@ -865,107 +902,6 @@ XRAPI_ATTR XrResult XRAPI_CALL xrBeginFrame(XrSession h, const XrFrameBeginInfo*
 
 namespace {
 
-/// A sub-image reference of the frame end: handle, released image, array index, rectangle.
-XrResult checkSubImage(Session* s, const XrSwapchainSubImage& sub, Swapchain** out) {
-    Swapchain* sc = getSwapchain(sub.swapchain);
-    if (!sc || sc->session != s) return XR_ERROR_HANDLE_INVALID;
-    {
-        std::lock_guard lock(sc->mutex);
-        if (sc->images->lastReleased() < 0) return XR_ERROR_LAYER_INVALID;  // nothing released yet
-    }
-    if (sub.imageArrayIndex >= sc->info.arraySize) return XR_ERROR_VALIDATION_FAILURE;
-    const XrRect2Di& r = sub.imageRect;
-    if (r.offset.x < 0 || r.offset.y < 0 || r.extent.width <= 0 || r.extent.height <= 0 ||
-        int64_t(r.offset.x) + r.extent.width > int64_t(sc->info.width) ||
-        int64_t(r.offset.y) + r.extent.height > int64_t(sc->info.height))
-        return XR_ERROR_SWAPCHAIN_RECT_INVALID;
-    if (out) *out = sc;
-    return XR_SUCCESS;
-}
-
-bool validFov(const XrFovf& f) {
-    const float lim = 1.5707963f;
-    for (float a : {f.angleLeft, f.angleRight, f.angleUp, f.angleDown})
-        if (!std::isfinite(a) || std::abs(a) >= lim) return false;
-    return f.angleLeft < f.angleRight && f.angleDown < f.angleUp;
-}
-
-XrResult checkDepthInfo(Session* s, const XrCompositionLayerDepthInfoKHR& d) {
-    if (XrResult r = checkSubImage(s, d.subImage, nullptr); r != XR_SUCCESS) return r;
-    if (!(d.minDepth >= 0.0f && d.minDepth < d.maxDepth && d.maxDepth <= 1.0f)) return XR_ERROR_VALIDATION_FAILURE;
-    auto ok = [](float z) { return z > 0.0f && !std::isnan(z); };  // +inf allowed
-    if (!ok(d.nearZ) || !ok(d.farZ) || d.nearZ == d.farZ) return XR_ERROR_VALIDATION_FAILURE;
-    return XR_SUCCESS;
-}
-
-XrResult checkSpaceWarp(Session* s, const XrCompositionLayerSpaceWarpInfoFB& w) {
-    // XR_COMPOSITION_LAYER_SPACE_WARP_INFO_FRAME_SKIP_BIT_FB (0x1) of later headers; 1.0.20 has no bits yet.
-    constexpr XrCompositionLayerSpaceWarpInfoFlagsFB kFrameSkip = 0x1;
-    if (w.layerFlags & ~kFrameSkip)
-        return XR_ERROR_VALIDATION_FAILURE;
-    if (XrResult r = checkSubImage(s, w.motionVectorSubImage, nullptr); r != XR_SUCCESS) return r;
-    if (XrResult r = checkSubImage(s, w.depthSubImage, nullptr); r != XR_SUCCESS) return r;
-    if (!isValidPose(spaceWarpDeltaPose(w.appSpaceDeltaPose))) return XR_ERROR_POSE_INVALID;
-    if (!(w.minDepth >= 0.0f && w.minDepth < w.maxDepth && w.maxDepth <= 1.0f)) return XR_ERROR_VALIDATION_FAILURE;
-    auto ok = [](float z) { return z > 0.0f && !std::isnan(z); };
-    if (!ok(w.nearZ) || !ok(w.farZ) || w.nearZ == w.farZ) return XR_ERROR_VALIDATION_FAILURE;
-    return XR_SUCCESS;
-}
-
-/// Everything the specification requires of a frame end, before anything is composited.
-XrResult validateFrameEnd(Session* s, const XrFrameEndInfo* info) {
-    if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
-    if (info->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
-        return info->environmentBlendMode >= XR_ENVIRONMENT_BLEND_MODE_OPAQUE &&
-                       info->environmentBlendMode <= XR_ENVIRONMENT_BLEND_MODE_ALPHA_BLEND
-                   ? XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED
-                   : XR_ERROR_VALIDATION_FAILURE;
-    if (info->layerCount > kMaxLayers) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
-    if (info->layerCount > 0 && !info->layers) return XR_ERROR_VALIDATION_FAILURE;
-    const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
-    const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
-    for (uint32_t i = 0; i < info->layerCount; ++i) {
-        const XrCompositionLayerBaseHeader* l = info->layers[i];
-        if (!l) return XR_ERROR_LAYER_INVALID;
-        const XrCompositionLayerFlags known = XR_COMPOSITION_LAYER_CORRECT_CHROMATIC_ABERRATION_BIT |
-                                              XR_COMPOSITION_LAYER_BLEND_TEXTURE_SOURCE_ALPHA_BIT |
-                                              XR_COMPOSITION_LAYER_UNPREMULTIPLIED_ALPHA_BIT;
-        if (l->layerFlags & ~known) return XR_ERROR_VALIDATION_FAILURE;
-        Space* sp = getSpace(l->space);
-        if (!sp || sp->session != s) return XR_ERROR_HANDLE_INVALID;
-        if (l->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
-            auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(l);
-            if (p->viewCount != 2 || !p->views) return XR_ERROR_VALIDATION_FAILURE;
-            for (uint32_t v = 0; v < 2; ++v) {
-                const XrCompositionLayerProjectionView& view = p->views[v];
-                if (view.type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
-                if (!isValidPose(view.pose)) return XR_ERROR_POSE_INVALID;
-                if (!validFov(view.fov)) return XR_ERROR_VALIDATION_FAILURE;
-                if (XrResult r = checkSubImage(s, view.subImage, nullptr); r != XR_SUCCESS) return r;
-                if (auto* d = findNext(view.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); d && depthExt)
-                    if (XrResult r = checkDepthInfo(s, *reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(d));
-                        r != XR_SUCCESS)
-                        return r;
-                if (auto* w = findNext(view.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); w && warpExt)
-                    if (XrResult r = checkSpaceWarp(s, *reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(w));
-                        r != XR_SUCCESS)
-                        return r;
-            }
-        } else if (l->type == XR_TYPE_COMPOSITION_LAYER_QUAD) {
-            auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(l);
-            // A quad of size {0, 0} (or of zero width or height) is valid and covers nothing.
-            if (q->eyeVisibility > XR_EYE_VISIBILITY_RIGHT || !std::isfinite(q->size.width) ||
-                !std::isfinite(q->size.height) || q->size.width < 0.0f || q->size.height < 0.0f)
-                return XR_ERROR_VALIDATION_FAILURE;
-            if (!isValidPose(q->pose)) return XR_ERROR_POSE_INVALID;
-            if (XrResult r = checkSubImage(s, q->subImage, nullptr); r != XR_SUCCESS) return r;
-        } else {
-            return XR_ERROR_LAYER_INVALID;  // cube, cylinder, equirect: not supported
-        }
-    }
-    return XR_SUCCESS;
-}
-
 /// Reads one submitted sub-image back (for recording).
 Result<HostImage> readSubImage(const layers::SubImage& sub) {
     auto* sc = sub.swapchain;
@@ -989,7 +925,45 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f, bool withOutput) {
     };
     const layers::ProjectionLayer& layer = f.layers[0];
     std::array<EyeSubmission, 2> eyes;
-    for (int e = 0; e < 2; ++e) {
+    const bool quad = layers::submittedFoveation(layer) == layers::SubmittedFoveation::Quad;
+    std::array<std::optional<std::pair<HostImage, HostImage>>, 2> views;  // quad views: wide, inset (sRGB)
+    for (int e = 0; e < 2 && quad; ++e) {
+        // Quad views: the sequence's colour, depth and motion are what the four views compose to at the
+        // output's size (the compose pass's CPU reference); the views themselves go beside them.
+        const layers::ProjectionView& v = layer.views[e];
+        QuadSources q;
+        auto read = [&](const layers::SubImage& sub, HostImage& out) {
+            auto img = readSubImage(sub);
+            if (!img) {
+                stop(img.error().message);
+                return false;
+            }
+            out = std::move(*img);
+            return true;
+        };
+        if (!read(v.color, q.wideColor) || !read(v.inset->color, q.insetColor)) return;
+        if (v.depth) {
+            q.wideDepth.emplace();
+            q.insetDepth.emplace();
+            if (!read(v.depth->subImage, *q.wideDepth) || !read(v.inset->depth->subImage, *q.insetDepth)) return;
+        }
+        if (v.motion) {
+            q.wideMotion.emplace();
+            q.insetMotion.emplace();
+            if (!read(v.motion->subImage, *q.wideMotion) || !read(v.inset->motion->subImage, *q.insetMotion)) return;
+        }
+        if (q.wideColor.format == layers::Format::RGBA8_SRGB && q.insetColor.format == layers::Format::RGBA8_SRGB)
+            views[e] = {q.wideColor, q.insetColor};
+        const gpu::ComposeParams params =
+            makeComposeParams(layer, layers::outputSize(layer), c.compositor.insetBlendPx);
+        Reference::EyeInput in = composeQuadViews(params, uint32_t(e), q);
+        eyes[e].color = std::move(in.color);
+        eyes[e].depth = std::move(in.depth);
+        eyes[e].motion = std::move(in.motion);
+        eyes[e].fov = v.fov;
+        eyes[e].gaze = f.gaze[e];
+    }
+    for (int e = 0; e < 2 && !quad; ++e) {
         const layers::ProjectionView& v = layer.views[e];
         auto color = readSubImage(v.color);
         if (!color) return stop(color.error().message);
@@ -1032,6 +1006,12 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f, bool withOutput) {
     }
     const uint32_t index = s->recorder->written();
     if (Status st = s->recorder->writeFrame(index, eyes); !st) return stop(st.message());
+    for (int e = 0; e < 2; ++e)
+        if (views[e])
+            for (const auto& [img, name] :
+                 {std::pair{&views[e]->first, "wide.png"}, std::pair{&views[e]->second, "inset.png"}})
+                if (Status st = writePng(*img, c.record + "/" + eval::frameFileName(index, e, name)); !st)
+                    return stop(st.message());
     for (int e = 0; e < 2 && withOutput; ++e) {
         auto out = s->compositor->readOutput(uint32_t(e));
         if (!out) return stop(out.error().message);
@@ -1125,19 +1105,17 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
     layers::FrameEndInfo f;
     f.frameIndex = frameIndex;
     f.time_s = s->instance->seconds(plan.displayTime);
-    layers::ProjectionLayer layer;
-    for (uint32_t v = 0; v < 2; ++v) {
-        const XrCompositionLayerProjectionView& xv = proj->views[v];
+    auto sub = [](const XrSwapchainSubImage& x) {
+        layers::SubImage si;
+        si.swapchain = getSwapchain(x.swapchain)->images.get();
+        si.rect = {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
+                   uint32_t(x.imageRect.extent.height)};
+        si.arrayIndex = x.imageArrayIndex;
+        return si;
+    };
+    auto viewOf = [&](const XrCompositionLayerProjectionView& xv) {
         layers::ProjectionView pv;
         pv.fov = {xv.fov.angleLeft, xv.fov.angleRight, xv.fov.angleUp, xv.fov.angleDown};
-        auto sub = [](const XrSwapchainSubImage& x) {
-            layers::SubImage si;
-            si.swapchain = getSwapchain(x.swapchain)->images.get();
-            si.rect = {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
-                       uint32_t(x.imageRect.extent.height)};
-            si.arrayIndex = x.imageArrayIndex;
-            return si;
-        };
         pv.color = sub(xv.subImage);
         auto depthOf = [&](const XrSwapchainSubImage& d, float minDepth, float maxDepth, float nearZ, float farZ) {
             std::optional<layers::DepthInfo> di = depthInfo(minDepth, maxDepth, nearZ, farZ);
@@ -1162,7 +1140,50 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
             if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
             locomotion = locomotion || movesLayerSpace(w->appSpaceDeltaPose);
         }
-        layer.views.push_back(pv);
+        return pv;
+    };
+    layers::ProjectionLayer layer;
+    if (proj->viewCount == 4) {
+        // Quad views: views 0, 1 the wide views, 2, 3 their insets, composed at the display's size (or
+        // the wide views' where an application renders them larger).
+        std::array<layers::ProjectionView, 4> v;
+        for (uint32_t i = 0; i < 4; ++i) v[i] = viewOf(proj->views[i]);
+        // Depth (and motion) is used where all four views have it with one range per eye; else it is
+        // not used, and the frame is composited without it.
+        auto sameDepth = [](const layers::ProjectionView& a, const layers::ProjectionView& b) {
+            return a.depth->nearZ == b.depth->nearZ && a.depth->farZ == b.depth->farZ &&
+                   a.depth->reversedZ == b.depth->reversedZ;
+        };
+        const bool depth = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); }) &&
+                           sameDepth(v[0], v[2]) && sameDepth(v[1], v[3]);
+        const bool motion = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
+        const bool anyDepth = std::any_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); });
+        const bool anyMotion = std::any_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
+        if (((anyDepth && !depth) || (anyMotion && !motion)) && s->refusalsLogged.insert(-4).second)
+            logLine(
+                "quad views: depth or motion not given for all four views (or depth ranges that differ "
+                "between a wide view and its inset) are not used");
+        for (uint32_t e = 0; e < 2; ++e) {
+            layers::ProjectionView pv = v[e];
+            layers::InsetView in;
+            in.fov = v[e + 2].fov;
+            in.color = v[e + 2].color;
+            if (depth)
+                in.depth = v[e + 2].depth;
+            else
+                pv.depth.reset();
+            if (motion)
+                in.motion = v[e + 2].motion;
+            else
+                pv.motion.reset();
+            pv.inset = in;
+            layer.views.push_back(pv);
+        }
+        const RuntimeConfig& c = s->instance->config;
+        layer.outputWidth = std::max(c.width, layer.views[0].color.rect.width);
+        layer.outputHeight = std::max(c.height, layer.views[0].color.rect.height);
+    } else {
+        for (uint32_t v = 0; v < 2; ++v) layer.views.push_back(viewOf(proj->views[v]));
     }
     f.layers.push_back(std::move(layer));
     const auto gaze = frameGaze(*s, plan.displayTime, f.layers[0].views[0]);
@@ -1255,7 +1276,10 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* inf
         if (!s->begun) return XR_ERROR_CALL_ORDER_INVALID;
         displayTime = s->frameDisplayTime;
     }
-    if (XrResult r = validateFrameEnd(s, info); r != XR_SUCCESS) return r;
+    if (Refusal r = checkFrameEnd(s, info)) {
+        logLine("xrEndFrame: " + describe(r));
+        return r.result;
+    }
     const FramePlan plan = planFrame(s, info, displayTime);
 
     std::lock_guard gpu(s->gpuMutex);
@@ -1299,15 +1323,16 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession h, const XrViewLocateInfo
     if (!info || info->type != XR_TYPE_VIEW_LOCATE_INFO || !viewState || viewState->type != XR_TYPE_VIEW_STATE ||
         !countOutput)
         return XR_ERROR_VALIDATION_FAILURE;
-    if (XrResult r = checkViewConfiguration(info->viewConfigurationType); r != XR_SUCCESS) return r;
+    if (XrResult r = checkViewConfiguration(*s->instance, info->viewConfigurationType); r != XR_SUCCESS) return r;
     if (info->displayTime <= 0) return XR_ERROR_TIME_INVALID;
     Space* base = getSpace(info->space);
     if (!base || base->session != s) return XR_ERROR_HANDLE_INVALID;
-    *countOutput = 2;
+    const uint32_t n = viewCount(info->viewConfigurationType);
+    *countOutput = n;
     if (capacity == 0) return XR_SUCCESS;
-    if (capacity < 2) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (capacity < n) return XR_ERROR_SIZE_INSUFFICIENT;
     if (!views) return XR_ERROR_VALIDATION_FAILURE;
-    for (uint32_t i = 0; i < 2; ++i)
+    for (uint32_t i = 0; i < n; ++i)
         if (views[i].type != XR_TYPE_VIEW) return XR_ERROR_VALIDATION_FAILURE;
     Pose b;
     const bool located = spacePose(*base, info->displayTime, b);
@@ -1315,9 +1340,26 @@ XRAPI_ATTR XrResult XRAPI_CALL xrLocateViews(XrSession h, const XrViewLocateInfo
                                               XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT
                                         : 0;
     const RuntimeConfig& c = s->instance->config;
-    for (int e = 0; e < 2; ++e) {
-        views[e].pose = toXr(located ? inverse(b) * eyeAt(*s, info->displayTime, e) : Pose{});
-        views[e].fov = {c.fov[e].angleLeft, c.fov[e].angleRight, c.fov[e].angleUp, c.fov[e].angleDown};
+    for (uint32_t i = 0; i < n; ++i) {
+        const int e = int(i % 2);  // quad views: 2 and 3 are the insets of eyes 0 and 1, at their poses
+        views[i].pose = toXr(located ? inverse(b) * eyeAt(*s, info->displayTime, e) : Pose{});
+        views[i].fov = {c.fov[e].angleLeft, c.fov[e].angleRight, c.fov[e].angleUp, c.fov[e].angleDown};
+    }
+    if (n == 4) {
+        // The insets: on each eye's gaze at the display time when the application asks for foveated
+        // views (XrViewLocateFoveatedRenderingVARJO) and the gaze is valid, else centred.
+        auto* fr = reinterpret_cast<const XrViewLocateFoveatedRenderingVARJO*>(
+            findNext(info->next, XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO));
+        const bool foveated =
+            fr && fr->foveatedRenderingActive && s->instance->enabled(XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME);
+        std::array<layers::EyeGaze, 2> gaze{};
+        if (foveated) gaze = locateGaze(*s, info->displayTime);
+        for (int e = 0; e < 2; ++e) {
+            std::optional<glm::vec3> dir;
+            if (gaze[e].valid) dir = gaze[e].dir;
+            const layers::Fov f = insetFov(c.fov[e], c.insetDeg, dir);
+            views[2 + e].fov = {f.angleLeft, f.angleRight, f.angleUp, f.angleDown};
+        }
     }
     return XR_SUCCESS;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 
 #include "runtime/xr_objects.h"
 
@@ -35,5 +36,22 @@ bool wellFormedPath(const char* s);
 /// Action and action-set names: NAME_INVALID when empty, PATH_FORMAT_INVALID when not one well-formed
 /// path component (lower case, digits, '-', '_', '.'; terminated within the array).
 XrResult checkName(const char* s, std::size_t max);
+
+/// A refused call: the specification's result, and the field and value that were wrong, e.g.
+/// `(frameEndInfo->layers[0]->views[2].fov.angleLeft == -0.95) is outside views[0]'s -0.87`.
+struct Refusal {
+    XrResult result = XR_SUCCESS;
+    std::string message;
+    explicit operator bool() const { return result != XR_SUCCESS; }
+};
+/// "XR_ERROR_VALIDATION_FAILURE: <message>", for the log.
+std::string describe(const Refusal& r);
+
+/// Everything the specification requires of a frame end, before anything is composited: display
+/// time, blend mode, layer count, each layer's type, flags and space, projection views (as many as
+/// the session's view configuration has; for quad views each inset inside its wide view with the same
+/// pose), poses, fields of view, sub-images (a released image, array index, rectangle), depth and
+/// space-warp infos, quad sizes.
+Refusal checkFrameEnd(Session* s, const XrFrameEndInfo* info);
 
 }  // namespace wrsfov::xr

@@ -2,11 +2,14 @@
 // and where it came from (tests run without a GPU).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 
+#include "compositor/host_app.h"
 #include "runtime/xr_config.h"
+#include "runtime/xr_inset.h"
 
 namespace wrsfov::xr {
 namespace {
@@ -130,6 +133,75 @@ TEST(XrConfig, EveryBadValueNamesItsKeyAndSource) {
     c = loadRuntimeConfig(noFile.fn());
     ASSERT_FALSE(c);
     EXPECT_NE(c.error().message.find("gaze_file"), std::string::npos);
+}
+
+// Quad views: on by default, withdrawn by quad_views = 0; the inset's size in degrees checked.
+TEST(XrConfig, QuadViewKeys) {
+    Env env;
+    auto c = loadRuntimeConfig(env.fn());
+    ASSERT_TRUE(c) << c.error().message;
+    EXPECT_TRUE(c->quadViews);
+    EXPECT_FLOAT_EQ(c->insetDeg, 30.0f);
+    env.vars["WRSFOV_XR_QUAD_VIEWS"] = "0";
+    env.vars["WRSFOV_XR_INSET_DEG"] = "20";
+    c = loadRuntimeConfig(env.fn());
+    ASSERT_TRUE(c) << c.error().message;
+    EXPECT_FALSE(c->quadViews);
+    EXPECT_FLOAT_EQ(c->insetDeg, 20.0f);
+    env.vars["WRSFOV_XR_INSET_DEG"] = "4";
+    c = loadRuntimeConfig(env.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("WRSFOV_XR_INSET_DEG: 'inset_deg' = '4'"), std::string::npos) << c.error().message;
+    env.vars["WRSFOV_XR_INSET_DEG"] = "30";
+    env.vars["WRSFOV_XR_QUAD_VIEWS"] = "maybe";
+    c = loadRuntimeConfig(env.fn());
+    ASSERT_FALSE(c);
+    EXPECT_NE(c.error().message.find("'quad_views' = 'maybe': expected 0 or 1"), std::string::npos)
+        << c.error().message;
+}
+
+// The recommended sizes at the default 1024 x 1024 display over the HMD's 92 x 93 degrees: wide views
+// at 1 / 2.5 of its density, a 30-degree inset at its density.
+TEST(XrInset, RecommendedSizes) {
+    RuntimeConfig c;
+    c.fov[0] = hmdFov(0);
+    c.fov[1] = hmdFov(1);
+    const QuadViewSizes s = quadViewSizes(c);
+    EXPECT_EQ(s.wide, glm::uvec2(410, 410));
+    // 2 tan 15 deg = 0.5359 tangent units at 1024 / (tan 42 + tan 50) = 489.4 (across) and
+    // 1024 / (tan 45 + tan 48) = 485.2 (down) pixels per unit.
+    EXPECT_EQ(s.inset, glm::uvec2(262, 260));
+    // Pixels per frame: both eyes' four views against stereo at the display's density.
+    const double quad = 2.0 * (s.wide.x * s.wide.y + s.inset.x * s.inset.y), stereo = 2.0 * 1024 * 1024;
+    EXPECT_NEAR(quad / stereo, 0.2253, 1e-3);
+}
+
+// The inset follows the gaze, stays inside its view at the edges, keeps its extent in tangent units
+// (so its density), and is centred on the view (the compositor's fallback) without a gaze.
+TEST(XrInset, PlacedOnTheGazeInsideTheView) {
+    const layers::Fov view = hmdFov(0);
+    const float tl = std::tan(view.angleLeft), tr = std::tan(view.angleRight), tu = std::tan(view.angleUp),
+                td = std::tan(view.angleDown);
+    const float h = std::tan(15.0f * 3.14159265f / 180.0f);
+    auto check = [&](const layers::Fov& f, glm::vec2 centre) {
+        EXPECT_GE(f.angleLeft, view.angleLeft);
+        EXPECT_LE(f.angleRight, view.angleRight);
+        EXPECT_LE(f.angleUp, view.angleUp);
+        EXPECT_GE(f.angleDown, view.angleDown);
+        EXPECT_NEAR(std::tan(f.angleRight) - std::tan(f.angleLeft), 2 * h, 1e-5);
+        EXPECT_NEAR(std::tan(f.angleUp) - std::tan(f.angleDown), 2 * h, 1e-5);
+        EXPECT_NEAR(0.5f * (std::tan(f.angleRight) + std::tan(f.angleLeft)), centre.x, 1e-5);
+        EXPECT_NEAR(0.5f * (std::tan(f.angleUp) + std::tan(f.angleDown)), centre.y, 1e-5);
+    };
+    check(insetFov(view, 30.0f, std::nullopt), {0.5f * (tl + tr), 0.5f * (tu + td)});
+    check(insetFov(view, 30.0f, glm::vec3(0.1f, -0.2f, -1.0f)), {0.1f, -0.2f});
+    // Far right and up: shifted back inside, touching the edges.
+    check(insetFov(view, 30.0f, glm::normalize(glm::vec3(3.0f, 2.0f, -1.0f))), {tr - h, tu - h});
+    // Behind the eye: centred.
+    check(insetFov(view, 30.0f, glm::vec3(0.0f, 0.0f, 1.0f)), {0.5f * (tl + tr), 0.5f * (tu + td)});
+    // An inset wider than the view is the view.
+    const layers::Fov all = insetFov(view, 120.0f, glm::vec3(0.3f, 0.0f, -1.0f));
+    EXPECT_NEAR(std::tan(all.angleRight) - std::tan(all.angleLeft), tr - tl, 1e-5);
 }
 
 }  // namespace
