@@ -248,9 +248,9 @@ void Client::writeSwapchain(Swapchain& sc, uint32_t texelBytes, VkImageAspectFla
     XR_OK(xrReleaseSwapchainImage(sc.handle, nullptr));
 }
 
-XrResult Client::begin() {
+XrResult Client::begin(XrViewConfigurationType type) {
     XrSessionBeginInfo bi{XR_TYPE_SESSION_BEGIN_INFO};
-    bi.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    bi.primaryViewConfigurationType = type;
     return xrBeginSession(session, &bi);
 }
 
@@ -294,6 +294,34 @@ void StereoLayer::build(Client& c, XrTime time, const Swapchain& color, const Sw
     layer = {XR_TYPE_COMPOSITION_LAYER_PROJECTION};
     layer.space = c.local;
     layer.viewCount = 2;
+    layer.views = views;
+}
+
+void QuadLayer::build(XrSpace space, const XrView (&located)[4], const Swapchain& wide, const Swapchain& inset,
+                      const Swapchain* wideDepth, const Swapchain* insetDepth) {
+    for (uint32_t v = 0; v < 4; ++v) {
+        const Swapchain& sc = v < 2 ? wide : inset;
+        const Swapchain* dsc = v < 2 ? wideDepth : insetDepth;
+        views[v] = {XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW};
+        views[v].pose = located[v].pose;
+        views[v].fov = located[v].fov;
+        views[v].subImage.swapchain = sc.handle;
+        views[v].subImage.imageRect = {{0, 0}, {int32_t(sc.width), int32_t(sc.height)}};
+        views[v].subImage.imageArrayIndex = v % 2;
+        if (dsc) {
+            depth[v] = {XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR};
+            depth[v].subImage = views[v].subImage;
+            depth[v].subImage.swapchain = dsc->handle;
+            depth[v].minDepth = 0.0f;
+            depth[v].maxDepth = 1.0f;
+            depth[v].nearZ = 0.1f;
+            depth[v].farZ = 100.0f;
+            views[v].next = &depth[v];
+        }
+    }
+    layer = {XR_TYPE_COMPOSITION_LAYER_PROJECTION};
+    layer.space = space;
+    layer.viewCount = 4;
     layer.views = views;
 }
 

@@ -62,7 +62,7 @@ public:
                         const std::function<std::vector<uint8_t>(uint32_t layer)>& fill);
     /// Begins the session (after READY) and runs wait/begin/end with the layers `layers(frameState)`
     /// gives, `frames` times. Returns the first failing xrEndFrame result, XR_SUCCESS otherwise.
-    XrResult begin();
+    XrResult begin(XrViewConfigurationType type = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO);
     XrResult frame(const std::function<XrResult(const XrFrameState&)>& submit);
 
 private:
@@ -80,6 +80,26 @@ struct StereoLayer {
     /// `colorRight` for the right eye); depth chained when `depthSc` is given.
     void build(Client& c, XrTime time, const Swapchain& color, const Swapchain* colorRight = nullptr,
                const Swapchain* depthSc = nullptr);
+    const XrCompositionLayerBaseHeader* header() const {
+        return reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer);
+    }
+};
+
+/// Quad views (XR_VARJO_quad_views): views 0, 1 the wide views, 2, 3 the insets, each at the pose and
+/// field of view xrLocateViews gave; colour (and depth, when given) from array swapchains, layer = eye,
+/// whole images.
+struct QuadLayer {
+    XrCompositionLayerProjection layer{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
+    XrCompositionLayerProjectionView views[4] = {{XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW},
+                                                 {XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW},
+                                                 {XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW},
+                                                 {XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW}};
+    XrCompositionLayerDepthInfoKHR depth[4] = {{XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR},
+                                               {XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR},
+                                               {XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR},
+                                               {XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR}};
+    void build(XrSpace space, const XrView (&located)[4], const Swapchain& wide, const Swapchain& inset,
+               const Swapchain* wideDepth = nullptr, const Swapchain* insetDepth = nullptr);
     const XrCompositionLayerBaseHeader* header() const {
         return reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer);
     }

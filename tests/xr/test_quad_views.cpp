@@ -1,0 +1,380 @@
+// Quad views on the runtime (XR_VARJO_quad_views, XR_VARJO_foveated_rendering) through the loader: the
+// view configuration and its recommended sizes, insets that follow the gaze, 300 frames rendered with a
+// gaze-following inset whose composed output equals the library's composition of the same frames (a
+// second Compositor fed the same images and the gaze the runtime recorded), and every refusal class.
+// Environment (tests/xr/CMakeLists.txt): XR_RUNTIME_JSON, WRSFOV_XR_PACE=free.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <unistd.h>
+
+#include <glm/gtc/quaternion.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "compositor/compositor.h"
+#include "compositor/host_app.h"
+#include "eval/sequence.h"
+#include "runtime/xr_config.h"
+#include "runtime/xr_inset.h"
+#include "tests/xr/xr_client.h"
+
+namespace wrsfov::xrtest {
+namespace {
+
+const std::vector<const char*> kQuadExtensions = {
+    XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME,
+    XR_VARJO_QUAD_VIEWS_EXTENSION_NAME, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME};
+constexpr int64_t kSrgb = VK_FORMAT_R8G8B8A8_SRGB;
+constexpr XrSwapchainUsageFlags kColorUsage =
+    XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+constexpr XrSwapchainUsageFlags kDepthUsage =
+    XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+
+// Sets environment variables for the scope (the runtime reads them at xrCreateInstance), restoring them.
+struct ScopedEnv {
+    std::vector<std::pair<std::string, std::optional<std::string>>> saved;
+    ScopedEnv(std::initializer_list<std::pair<const char*, const char*>> vars) {
+        for (const auto& [k, v] : vars) {
+            const char* old = std::getenv(k);
+            saved.emplace_back(k, old ? std::optional<std::string>(old) : std::nullopt);
+            if (v) setenv(k, v, 1);
+            else unsetenv(k);
+        }
+    }
+    ~ScopedEnv() {
+        for (const auto& [k, v] : saved)
+            if (v) setenv(k.c_str(), v->c_str(), 1);
+            else unsetenv(k.c_str());
+    }
+};
+
+struct TempDir {
+    std::string path;
+    explicit TempDir(const std::string& name)
+        : path(std::string(::testing::TempDir()) + name + "_" + std::to_string(::getpid())) {
+        std::filesystem::remove_all(path);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+};
+
+glm::vec4 tangents(const XrFovf& f) {
+    return {std::tan(f.angleLeft), std::tan(f.angleRight), std::tan(f.angleUp), std::tan(f.angleDown)};
+}
+
+// The scene in an eye's tangent space at frame `f`: a fine pattern (a few display pixels per period,
+// which the wide views cannot carry) drifting slowly over a ramp; sRGB bytes.
+std::vector<uint8_t> render(uint32_t w, uint32_t h, const XrFovf& fov, int f) {
+    const glm::vec4 t = tangents(fov);
+    std::vector<uint8_t> out(size_t(w) * h * 4);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float tx = t.x + (x + 0.5f) / w * (t.y - t.x), ty = t.z - (y + 0.5f) / h * (t.z - t.w);
+            const float u = tx * 80.0f + 0.05f * f, v = ty * 80.0f;
+            const float c = 0.5f + 0.35f * std::sin(u * 1.9f) * std::sin(v * 1.6f) + 0.1f * std::sin(tx * 3.0f);
+            uint8_t* p = &out[(size_t(y) * w + x) * 4];
+            p[0] = uint8_t(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f);
+            p[1] = uint8_t(std::clamp(1.0f - c, 0.0f, 1.0f) * 200.0f + 0.5f);
+            p[2] = uint8_t(std::clamp(0.5f + 0.5f * ty, 0.0f, 1.0f) * 255.0f + 0.5f);
+            p[3] = 255;
+        }
+    return out;
+}
+
+// Depth in [0, 1] (near 0.1, far 100): two planes split at tx = 0, so the vergence lands on either.
+std::vector<uint8_t> depthImage(uint32_t w, uint32_t h, const XrFovf& fov) {
+    const glm::vec4 t = tangents(fov);
+    std::vector<uint8_t> out(size_t(w) * h * 4);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float tx = t.x + (x + 0.5f) / w * (t.y - t.x);
+            const float d = tx < 0.0f ? 0.95f : 0.98f;
+            std::memcpy(&out[(size_t(y) * w + x) * 4], &d, 4);
+        }
+    return out;
+}
+
+XrSpace referenceSpace(Client& c, XrReferenceSpaceType type, XrResult* result = nullptr) {
+    XrReferenceSpaceCreateInfo ci{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    ci.referenceSpaceType = type;
+    ci.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace s = XR_NULL_HANDLE;
+    XrResult r = xrCreateReferenceSpace(c.session, &ci, &s);
+    if (result) *result = r;
+    else EXPECT_EQ(r, XR_SUCCESS);
+    return s;
+}
+
+XrResult locate(Client& c, XrTime t, bool foveated, XrView (&views)[4], XrViewState* state = nullptr) {
+    XrViewLocateFoveatedRenderingVARJO fr{XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO};
+    fr.foveatedRenderingActive = foveated ? XR_TRUE : XR_FALSE;
+    XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO, &fr};
+    li.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO;
+    li.displayTime = t;
+    li.space = c.local;
+    XrViewState vs{XR_TYPE_VIEW_STATE};
+    for (auto& v : views) v = {XR_TYPE_VIEW};
+    uint32_t n = 0;
+    XrResult r = xrLocateViews(c.session, &li, state ? state : &vs, 4, &n, views);
+    if (r == XR_SUCCESS) EXPECT_EQ(n, 4u);
+    return r;
+}
+
+layers::Fov toFov(const XrFovf& f) { return {f.angleLeft, f.angleRight, f.angleUp, f.angleDown}; }
+
+void expectFovNear(const XrFovf& got, const layers::Fov& want, float tol, const std::string& what) {
+    EXPECT_NEAR(got.angleLeft, want.angleLeft, tol) << what;
+    EXPECT_NEAR(got.angleRight, want.angleRight, tol) << what;
+    EXPECT_NEAR(got.angleUp, want.angleUp, tol) << what;
+    EXPECT_NEAR(got.angleDown, want.angleDown, tol) << what;
+}
+
+// The view configuration, its sizes (with and without XrFoveatedViewConfigurationViewVARJO), the
+// system's foveated-rendering property, and the combined-eye space listed.
+TEST(XrQuadViews, ViewConfigurationAndRecommendedSizes) {
+    ScopedEnv env{{"WRSFOV_XR_WIDTH", "1024"}, {"WRSFOV_XR_HEIGHT", "1024"}};
+    auto c = Client::create(kQuadExtensions);
+    ASSERT_TRUE(c);
+    XrSystemFoveatedRenderingPropertiesVARJO fr{XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO};
+    XrSystemProperties props{XR_TYPE_SYSTEM_PROPERTIES, &fr};
+    ASSERT_EQ(xrGetSystemProperties(c->instance, c->system, &props), XR_SUCCESS);
+    EXPECT_EQ(fr.supportsFoveatedRendering, XR_TRUE);
+    XrViewConfigurationType types[4];
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateViewConfigurations(c->instance, c->system, 4, &n, types), XR_SUCCESS);
+    ASSERT_EQ(n, 2u);
+    EXPECT_EQ(types[0], XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO);
+    EXPECT_EQ(types[1], XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO);
+    for (bool chained : {false, true}) {
+        XrFoveatedViewConfigurationViewVARJO fv[4];
+        XrViewConfigurationView v[4];
+        for (int i = 0; i < 4; ++i) {
+            fv[i] = {XR_TYPE_FOVEATED_VIEW_CONFIGURATION_VIEW_VARJO, nullptr, XR_TRUE};
+            v[i] = {XR_TYPE_VIEW_CONFIGURATION_VIEW, chained ? &fv[i] : nullptr};
+        }
+        ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system,
+                                                    XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO, 0, &n, nullptr),
+                  XR_SUCCESS);
+        ASSERT_EQ(n, 4u);
+        ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system,
+                                                    XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO, 4, &n, v),
+                  XR_SUCCESS);
+        // 1024 / 2.5 = 409.6; 30 degrees at 1024 px over tan 42 + tan 50 (across), tan 45 + tan 48 (down).
+        for (int i = 0; i < 2; ++i) {
+            EXPECT_EQ(v[i].recommendedImageRectWidth, 410u);
+            EXPECT_EQ(v[i].recommendedImageRectHeight, 410u);
+            EXPECT_EQ(v[2 + i].recommendedImageRectWidth, 262u);
+            EXPECT_EQ(v[2 + i].recommendedImageRectHeight, 260u);
+        }
+        const double quad = 2.0 * (410 * 410 + 262 * 260), stereo = 2.0 * 1024 * 1024;
+        std::printf("[quad views] per frame: %.0f pixels against %.0f stereo at the display's density (%.1f %%)\n",
+                    quad, stereo, 100.0 * quad / stereo);
+    }
+    XrViewConfigurationView sv[2] = {{XR_TYPE_VIEW_CONFIGURATION_VIEW}, {XR_TYPE_VIEW_CONFIGURATION_VIEW}};
+    ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
+                                                2, &n, sv),
+              XR_SUCCESS);
+    EXPECT_EQ(sv[0].recommendedImageRectWidth, 1024u);
+    XrViewConfigurationProperties vp{XR_TYPE_VIEW_CONFIGURATION_PROPERTIES};
+    EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO,
+                                               &vp),
+              XR_SUCCESS);
+    EXPECT_EQ(vp.viewConfigurationType, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO);
+    XrEnvironmentBlendMode mode;
+    EXPECT_EQ(xrEnumerateEnvironmentBlendModes(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO,
+                                               1, &n, &mode),
+              XR_SUCCESS);
+    XrReferenceSpaceType spaces[8];
+    ASSERT_EQ(xrEnumerateReferenceSpaces(c->session, 8, &n, spaces), XR_SUCCESS);
+    EXPECT_NE(std::find(spaces, spaces + n, XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO), spaces + n);
+}
+
+// 300 frames of quad views with the inset on the gaze, under whatever validation the environment turns
+// on. Each frame: the combined-eye space says whether the gaze is valid, xrLocateViews puts the insets
+// there (checked against the gaze the space gives), the four views are rendered and submitted with
+// depth. Then the runtime's recorded output of every frame is compared with a second Compositor's,
+// fed the same images, fields of view and the gaze the runtime recorded.
+TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
+    const TempDir rec("wrsfov_xr_quad_rec");
+    constexpr uint32_t kDisplay = 160;
+    ScopedEnv env{{"WRSFOV_XR_WIDTH", "160"},
+                  {"WRSFOV_XR_HEIGHT", "160"},
+                  {"WRSFOV_XR_RECORD", rec.path.c_str()},
+                  {"WRSFOV_XR_OUTPUT", "headless"}};
+    auto config = xr::loadRuntimeConfig();
+    ASSERT_TRUE(config) << config.error().message;
+    auto c = Client::create(kQuadExtensions);
+    ASSERT_TRUE(c);
+    const xr::QuadViewSizes sizes = xr::quadViewSizes(*config);
+    EXPECT_EQ(sizes.wide, glm::uvec2(64, 64));
+    Swapchain wide, inset, wideDepth, insetDepth;
+    ASSERT_EQ(c->createSwapchain(kSrgb, sizes.wide.x, sizes.wide.y, 2, kColorUsage, wide), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(kSrgb, sizes.inset.x, sizes.inset.y, 2, kColorUsage, inset), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, sizes.wide.x, sizes.wide.y, 2, kDepthUsage, wideDepth),
+              XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, sizes.inset.x, sizes.inset.y, 2, kDepthUsage, insetDepth),
+              XR_SUCCESS);
+    const XrSpace eyes = referenceSpace(*c, XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO);
+    const XrSpace view = referenceSpace(*c, XR_REFERENCE_SPACE_TYPE_VIEW);
+    ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+
+    struct Submitted {
+        std::array<std::vector<uint8_t>, 4> color, depth;  // wide L, R, inset L, R
+        std::array<XrFovf, 4> fov;
+    };
+    constexpr int kFrames = 300;
+    std::vector<Submitted> frames;
+    int tracked = 0, shifted = 0, edge = 0;
+    for (int f = 0; f < kFrames; ++f) {
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            XrSpaceLocation gazeLoc{XR_TYPE_SPACE_LOCATION};
+            EXPECT_EQ(xrLocateSpace(eyes, view, fs.predictedDisplayTime, &gazeLoc), XR_SUCCESS);
+            const bool valid = gazeLoc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT;
+            tracked += valid;
+            XrView v[4];
+            EXPECT_EQ(locate(*c, fs.predictedDisplayTime, valid, v), XR_SUCCESS);
+            for (int e = 0; e < 2; ++e) {
+                const std::string what = "frame " + std::to_string(f) + " eye " + std::to_string(e);
+                EXPECT_EQ(std::memcmp(&v[e].pose, &v[e + 2].pose, sizeof(XrPosef)), 0) << what;
+                // The inset where the eye looks: the combined gaze verged at 1.5 m (no depth yet when the
+                // views are located), shifted inside the view.
+                std::optional<glm::vec3> dir;
+                if (valid) {
+                    const XrQuaternionf& q = gazeLoc.pose.orientation;
+                    const glm::vec3 g = glm::quat(q.w, q.x, q.y, q.z) * glm::vec3(0, 0, -1);
+                    const glm::vec3 eyePos((e == 0 ? -0.5f : 0.5f) * config->ipd_m, 0, 0);
+                    dir = glm::normalize(g * config->vergenceDistance_m - eyePos);
+                }
+                const layers::Fov want = xr::insetFov(toFov(v[e].fov), config->insetDeg, dir);
+                expectFovNear(v[e + 2].fov, want, 2e-3f, what);
+                const layers::Fov centred = xr::insetFov(toFov(v[e].fov), config->insetDeg, std::nullopt);
+                shifted += std::abs(v[e + 2].fov.angleLeft - centred.angleLeft) > 0.01f;
+                edge += v[e + 2].fov.angleLeft <= v[e].fov.angleLeft + 1e-6f ||
+                        v[e + 2].fov.angleRight >= v[e].fov.angleRight - 1e-6f;
+            }
+            Submitted s;
+            for (int i = 0; i < 4; ++i) {
+                const glm::uvec2 size = i < 2 ? sizes.wide : sizes.inset;
+                s.fov[i] = v[i].fov;
+                s.color[i] = render(size.x, size.y, v[i].fov, f);
+                s.depth[i] = depthImage(size.x, size.y, v[i].fov);
+            }
+            c->writeSwapchain(wide, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t l) { return s.color[l]; });
+            c->writeSwapchain(inset, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t l) { return s.color[2 + l]; });
+            c->writeSwapchain(wideDepth, 4, VK_IMAGE_ASPECT_DEPTH_BIT, [&](uint32_t l) { return s.depth[l]; });
+            c->writeSwapchain(insetDepth, 4, VK_IMAGE_ASPECT_DEPTH_BIT, [&](uint32_t l) { return s.depth[2 + l]; });
+            frames.push_back(std::move(s));
+            QuadLayer ql;
+            ql.build(c->local, v, wide, inset, &wideDepth, &insetDepth);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS)
+            << "frame " << f;
+    }
+    c.reset();  // destroying the session closes the recording
+    std::printf("[quad views] %d of %d frames with a valid gaze; insets off the centre in %d of %d, at the view's "
+                "edge in %d\n",
+                tracked, kFrames, shifted, 2 * kFrames, edge);
+    EXPECT_GT(tracked, kFrames / 2);
+    EXPECT_GT(shifted, kFrames / 2) << "the insets do not follow the gaze";
+
+    auto opened = eval::SequenceReader::open(rec.path);
+    ASSERT_TRUE(opened) << opened.error().message;
+    const auto& reader = *opened;
+    ASSERT_EQ(reader->info().frameCount, uint32_t(kFrames));
+    EXPECT_EQ(reader->info().width, kDisplay);
+    ASSERT_TRUE(std::filesystem::exists(rec.path + "/" + eval::frameFileName(0, 1, "inset.png")));
+
+    // The library: a compositor of the runtime's configuration on a device of our own.
+    auto ctx = vk::Context::create();
+    ASSERT_TRUE(ctx) << ctx.error().message;
+    auto comp = Compositor::create(**ctx, config->compositor);
+    ASSERT_TRUE(comp) << comp.error().message;
+    auto make = [&](layers::Usage u, layers::Format fmt, glm::uvec2 size) {
+        layers::SwapchainCreateInfo ci;
+        ci.usage = u;
+        ci.format = fmt;
+        ci.width = size.x;
+        ci.height = size.y;
+        ci.arraySize = 2;
+        auto sc = (*comp)->createSwapchain(ci);
+        EXPECT_TRUE(sc) << (sc ? "" : sc.error().message);
+        return sc ? std::move(*sc) : nullptr;
+    };
+    auto lw = make(layers::Usage::Color, layers::Format::RGBA8_SRGB, sizes.wide);
+    auto li = make(layers::Usage::Color, layers::Format::RGBA8_SRGB, sizes.inset);
+    auto lwd = make(layers::Usage::Depth, layers::Format::D32F, sizes.wide);
+    auto lid = make(layers::Usage::Depth, layers::Format::D32F, sizes.inset);
+    ASSERT_TRUE(lw && li && lwd && lid);
+    uint64_t differing = 0, pixels = 0;
+    int maxDiff = 0;
+    for (int f = 0; f < kFrames; ++f) {
+        const Submitted& s = frames[f];
+        auto put = [&](layers::Swapchain& sc, int first, const std::array<std::vector<uint8_t>, 4>& imgs) {
+            auto index = sc.acquire();
+            ASSERT_TRUE(index);
+            ASSERT_TRUE(sc.wait());
+            for (uint32_t e = 0; e < 2; ++e) ASSERT_TRUE(sc.write(*index, e, std::as_bytes(std::span(imgs[first + e]))));
+            ASSERT_TRUE(sc.release());
+        };
+        put(*lw, 0, s.color);
+        put(*li, 2, s.color);
+        put(*lwd, 0, s.depth);
+        put(*lid, 2, s.depth);
+        layers::FrameEndInfo fe;
+        fe.frameIndex = uint64_t(f) + 1;  // the runtime numbers the session's frames from 1
+        fe.time_s = f / 90.0;
+        layers::ProjectionLayer layer;
+        for (uint32_t e = 0; e < 2; ++e) {
+            layers::ProjectionView pv;
+            pv.fov = toFov(s.fov[e]);
+            pv.color = {lw.get(), {0, 0, sizes.wide.x, sizes.wide.y}, e};
+            pv.depth = layers::DepthInfo{{lwd.get(), {0, 0, sizes.wide.x, sizes.wide.y}, e}, 0.1f, 100.0f, false};
+            layers::InsetView in;
+            in.fov = toFov(s.fov[2 + e]);
+            in.color = {li.get(), {0, 0, sizes.inset.x, sizes.inset.y}, e};
+            in.depth = layers::DepthInfo{{lid.get(), {0, 0, sizes.inset.x, sizes.inset.y}, e}, 0.1f, 100.0f, false};
+            pv.inset = in;
+            layer.views.push_back(pv);
+            fe.gaze[e] = reader->gaze(uint32_t(f))[e];
+        }
+        layer.outputWidth = layer.outputHeight = kDisplay;
+        fe.layers.push_back(layer);
+        Status st = (*comp)->endFrame(fe);
+        ASSERT_TRUE(st) << "frame " << f << ": " << st.message();
+        for (uint32_t e = 0; e < 2; ++e) {
+            auto out = (*comp)->readOutput(e);
+            ASSERT_TRUE(out);
+            cv::Mat got = cv::imread(rec.path + "/" + eval::frameFileName(uint32_t(f), int(e), "output.png"));
+            ASSERT_EQ(uint32_t(got.cols), out->width);
+            ASSERT_EQ(uint32_t(got.rows), out->height);
+            for (uint32_t y = 0; y < out->height; ++y)
+                for (uint32_t x = 0; x < out->width; ++x) {
+                    const auto* o = reinterpret_cast<const uint8_t*>(&out->data[(size_t(y) * out->width + x) * 4]);
+                    const cv::Vec3b r = got.at<cv::Vec3b>(int(y), int(x));  // BGR
+                    int d = 0;
+                    for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(o[k]) - int(r[2 - k])));
+                    differing += d != 0;
+                    maxDiff = std::max(maxDiff, d);
+                    ++pixels;
+                }
+        }
+    }
+    std::printf("[quad views] runtime output against the library's: %llu of %llu pixels differ, max %d / 255\n",
+                (unsigned long long)differing, (unsigned long long)pixels, maxDiff);
+    EXPECT_EQ(differing, 0u);
+    EXPECT_EQ((*ctx)->validationErrors() + (*ctx)->validationWarnings(), 0u);
+}
+
+}  // namespace
+}  // namespace wrsfov::xrtest
