@@ -104,6 +104,77 @@ TEST(XrFrameTiming, SimpleLoop) {
     t.report("simple loop");
 }
 
+// The simple loop with quad views (XR_VARJO_quad_views): wide views and insets at the recommended sizes,
+// the insets on the gaze (XrViewLocateFoveatedRenderingVARJO); the runtime composes them at the display's
+// size (its session-end line gives the compositor's time per frame, to set beside the stereo loop's).
+TEST(XrFrameTiming, QuadViewsLoop) {
+    auto c = Client::create({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME,
+                             XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME});
+    ASSERT_TRUE(c);
+    XrViewConfigurationView cv[4];
+    for (auto& v : cv) v = {XR_TYPE_VIEW_CONFIGURATION_VIEW};
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO,
+                                                4, &n, cv),
+              XR_SUCCESS);
+    Swapchain sc[2];  // wide, inset; layer = eye
+    for (int i = 0; i < 2; ++i) {
+        const uint32_t w = cv[2 * i].recommendedImageRectWidth, h = cv[2 * i].recommendedImageRectHeight;
+        ASSERT_EQ(
+            c->createSwapchain(VK_FORMAT_R8G8B8A8_SRGB, w, h, 2,
+                               XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT, sc[i]),
+            XR_SUCCESS);
+        std::vector<uint8_t> texels(size_t(w) * h * 4);
+        for (size_t k = 0; k < texels.size(); ++k) texels[k] = uint8_t((k * 37) ^ (k >> 7));
+        c->writeSwapchain(sc[i], 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t) { return texels; });
+    }
+    ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+    const int warmup = 30, frames = frameCount();
+    Totals t;
+    Clock::time_point loopStart;
+    for (int i = 0; i < warmup + frames; ++i) {
+        if (i == warmup) loopStart = Clock::now();
+        const bool measured = i >= warmup;
+        XrFrameState fs{XR_TYPE_FRAME_STATE};
+        auto t0 = Clock::now();
+        ASSERT_EQ(xrWaitFrame(c->session, nullptr, &fs), XR_SUCCESS);
+        auto t1 = Clock::now();
+        ASSERT_EQ(xrBeginFrame(c->session, nullptr), XR_SUCCESS);
+        auto t2 = Clock::now();
+        XrViewLocateFoveatedRenderingVARJO fr{XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO, nullptr, XR_TRUE};
+        XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO, &fr};
+        li.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO;
+        li.displayTime = fs.predictedDisplayTime;
+        li.space = c->local;
+        XrViewState vs{XR_TYPE_VIEW_STATE};
+        XrView v[4];
+        for (auto& x : v) x = {XR_TYPE_VIEW};
+        ASSERT_EQ(xrLocateViews(c->session, &li, &vs, 4, &n, v), XR_SUCCESS);
+        for (auto& s : sc) {
+            uint32_t index = 0;
+            ASSERT_EQ(xrAcquireSwapchainImage(s.handle, nullptr, &index), XR_SUCCESS);
+            XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+            wi.timeout = XR_INFINITE_DURATION;
+            ASSERT_EQ(xrWaitSwapchainImage(s.handle, &wi), XR_SUCCESS);
+            ASSERT_EQ(xrReleaseSwapchainImage(s.handle, nullptr), XR_SUCCESS);
+        }
+        auto t3 = Clock::now();
+        QuadLayer ql;
+        ql.build(c->local, v, sc[0], sc[1]);
+        std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+        XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+        ASSERT_EQ(xrEndFrame(c->session, &fe), XR_SUCCESS);
+        auto t4 = Clock::now();
+        if (measured) {
+            t.wait += t1 - t0, t.begin += t2 - t1, t.end += t4 - t3;
+            t.period = fs.predictedDisplayPeriod;
+        }
+    }
+    t.loop = Clock::now() - loopStart;
+    t.frames = frames;
+    t.report("quad views loop");
+}
+
 // The CTS's Timed_Pipelined_Frame_Submission: xrWaitFrame on one thread, which then spends 90 % of
 // the period ("simulation"); xrBeginFrame, 70 % of the period ("rendering") and xrEndFrame on another.
 // Here the two threads sleep rather than spin (the CTS spins), so that on a CPU device the passes get

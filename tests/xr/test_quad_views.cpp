@@ -4,22 +4,23 @@
 // second Compositor fed the same images and the gaze the runtime recorded), and every refusal class.
 // Environment (tests/xr/CMakeLists.txt): XR_RUNTIME_JSON, WRSFOV_XR_PACE=free.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <glm/gtc/quaternion.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <span>
 #include <string>
-#include <unistd.h>
-
-#include <glm/gtc/quaternion.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "compositor/compositor.h"
 #include "compositor/host_app.h"
 #include "eval/sequence.h"
+#include "gaze/gaze_file.h"
 #include "runtime/xr_config.h"
 #include "runtime/xr_inset.h"
 #include "tests/xr/xr_client.h"
@@ -43,14 +44,18 @@ struct ScopedEnv {
         for (const auto& [k, v] : vars) {
             const char* old = std::getenv(k);
             saved.emplace_back(k, old ? std::optional<std::string>(old) : std::nullopt);
-            if (v) setenv(k, v, 1);
-            else unsetenv(k);
+            if (v)
+                setenv(k, v, 1);
+            else
+                unsetenv(k);
         }
     }
     ~ScopedEnv() {
         for (const auto& [k, v] : saved)
-            if (v) setenv(k.c_str(), v->c_str(), 1);
-            else unsetenv(k.c_str());
+            if (v)
+                setenv(k.c_str(), v->c_str(), 1);
+            else
+                unsetenv(k.c_str());
     }
 };
 
@@ -108,8 +113,10 @@ XrSpace referenceSpace(Client& c, XrReferenceSpaceType type, XrResult* result = 
     ci.poseInReferenceSpace.orientation.w = 1.0f;
     XrSpace s = XR_NULL_HANDLE;
     XrResult r = xrCreateReferenceSpace(c.session, &ci, &s);
-    if (result) *result = r;
-    else EXPECT_EQ(r, XR_SUCCESS);
+    if (result)
+        *result = r;
+    else
+        EXPECT_EQ(r, XR_SUCCESS);
     return s;
 }
 
@@ -179,18 +186,18 @@ TEST(XrQuadViews, ViewConfigurationAndRecommendedSizes) {
                     quad, stereo, 100.0 * quad / stereo);
     }
     XrViewConfigurationView sv[2] = {{XR_TYPE_VIEW_CONFIGURATION_VIEW}, {XR_TYPE_VIEW_CONFIGURATION_VIEW}};
-    ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
-                                                2, &n, sv),
-              XR_SUCCESS);
+    ASSERT_EQ(
+        xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 2, &n, sv),
+        XR_SUCCESS);
     EXPECT_EQ(sv[0].recommendedImageRectWidth, 1024u);
     XrViewConfigurationProperties vp{XR_TYPE_VIEW_CONFIGURATION_PROPERTIES};
-    EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO,
-                                               &vp),
-              XR_SUCCESS);
+    EXPECT_EQ(
+        xrGetViewConfigurationProperties(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO, &vp),
+        XR_SUCCESS);
     EXPECT_EQ(vp.viewConfigurationType, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO);
     XrEnvironmentBlendMode mode;
-    EXPECT_EQ(xrEnumerateEnvironmentBlendModes(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO,
-                                               1, &n, &mode),
+    EXPECT_EQ(xrEnumerateEnvironmentBlendModes(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO, 1,
+                                               &n, &mode),
               XR_SUCCESS);
     XrReferenceSpaceType spaces[8];
     ASSERT_EQ(xrEnumerateReferenceSpaces(c->session, 8, &n, spaces), XR_SUCCESS);
@@ -282,9 +289,10 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
             << "frame " << f;
     }
     c.reset();  // destroying the session closes the recording
-    std::printf("[quad views] %d of %d frames with a valid gaze; insets off the centre in %d of %d, at the view's "
-                "edge in %d\n",
-                tracked, kFrames, shifted, 2 * kFrames, edge);
+    std::printf(
+        "[quad views] %d of %d frames with a valid gaze; insets off the centre in %d of %d, at the view's "
+        "edge in %d\n",
+        tracked, kFrames, shifted, 2 * kFrames, edge);
     EXPECT_GT(tracked, kFrames / 2);
     EXPECT_GT(shifted, kFrames / 2) << "the insets do not follow the gaze";
 
@@ -324,7 +332,8 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
             auto index = sc.acquire();
             ASSERT_TRUE(index);
             ASSERT_TRUE(sc.wait());
-            for (uint32_t e = 0; e < 2; ++e) ASSERT_TRUE(sc.write(*index, e, std::as_bytes(std::span(imgs[first + e]))));
+            for (uint32_t e = 0; e < 2; ++e)
+                ASSERT_TRUE(sc.write(*index, e, std::as_bytes(std::span(imgs[first + e]))));
             ASSERT_TRUE(sc.release());
         };
         put(*lw, 0, s.color);
@@ -374,6 +383,257 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
                 (unsigned long long)differing, (unsigned long long)pixels, maxDiff);
     EXPECT_EQ(differing, 0u);
     EXPECT_EQ((*ctx)->validationErrors() + (*ctx)->validationWarnings(), 0u);
+}
+
+// A quad-view session with whole-image swapchains written once: colour for the wide views and the
+// insets (layer = eye), depth for both.
+struct QuadSession {
+    std::unique_ptr<Client> c;
+    Swapchain wide, inset, wideDepth, insetDepth;
+    glm::uvec2 wideSize{0, 0}, insetSize{0, 0};
+    void open(XrViewConfigurationType type = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO) {
+        c = Client::create(kQuadExtensions);
+        ASSERT_TRUE(c);
+        XrViewConfigurationView v[4];
+        for (auto& x : v) x = {XR_TYPE_VIEW_CONFIGURATION_VIEW};
+        uint32_t n = 0;
+        ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system,
+                                                    XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO, 4, &n, v),
+                  XR_SUCCESS);
+        wideSize = {v[0].recommendedImageRectWidth, v[0].recommendedImageRectHeight};
+        insetSize = {v[2].recommendedImageRectWidth, v[2].recommendedImageRectHeight};
+        ASSERT_EQ(c->createSwapchain(kSrgb, wideSize.x, wideSize.y, 2, kColorUsage, wide), XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(kSrgb, insetSize.x, insetSize.y, 2, kColorUsage, inset), XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, wideSize.x, wideSize.y, 2, kDepthUsage, wideDepth),
+                  XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, insetSize.x, insetSize.y, 2, kDepthUsage, insetDepth),
+                  XR_SUCCESS);
+        const XrFovf fov{-0.5f, 0.5f, 0.5f, -0.5f};
+        c->writeSwapchain(wide, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                          [&](uint32_t) { return render(wideSize.x, wideSize.y, fov, 0); });
+        c->writeSwapchain(inset, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                          [&](uint32_t) { return render(insetSize.x, insetSize.y, fov, 0); });
+        c->writeSwapchain(wideDepth, 4, VK_IMAGE_ASPECT_DEPTH_BIT,
+                          [&](uint32_t) { return depthImage(wideSize.x, wideSize.y, fov); });
+        c->writeSwapchain(insetDepth, 4, VK_IMAGE_ASPECT_DEPTH_BIT,
+                          [&](uint32_t) { return depthImage(insetSize.x, insetSize.y, fov); });
+        ASSERT_EQ(c->begin(type), XR_SUCCESS);
+    }
+    /// One frame: the layer built from the located quad views, spoilt by `spoil`, ended; the result of
+    /// that xrEndFrame, and what the runtime wrote to stderr meanwhile. A refused frame stays open: a
+    /// good frame end then closes it (`goodAfter`: its result).
+    XrResult frame(const std::function<void(QuadLayer&)>& spoil, std::string* log = nullptr,
+                   XrResult* goodAfter = nullptr) {
+        XrResult spoilt = XR_SUCCESS;
+        XrResult r = c->frame([&](const XrFrameState& fs) {
+            XrView v[4];
+            EXPECT_EQ(locate(*c, fs.predictedDisplayTime, true, v), XR_SUCCESS);
+            QuadLayer ql;
+            ql.build(c->local, v, wide, inset, &wideDepth, &insetDepth);
+            spoil(ql);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            ::testing::internal::CaptureStderr();
+            spoilt = xrEndFrame(c->session, &fe);
+            const std::string err = ::testing::internal::GetCapturedStderr();
+            if (log) *log = err;
+            if (spoilt == XR_SUCCESS) return XR_SUCCESS;
+            QuadLayer good;
+            good.build(c->local, v, wide, inset, &wideDepth, &insetDepth);
+            std::vector<const XrCompositionLayerBaseHeader*> gl{good.header()};
+            XrFrameEndInfo gf = frameEnd(fs.predictedDisplayTime, gl);
+            return xrEndFrame(c->session, &gf);
+        });
+        if (goodAfter) *goodAfter = r;
+        return r == XR_SUCCESS ? spoilt : r;
+    }
+};
+
+// Every refusal class of a quad-view frame end, with the specification's XrResult and a log line naming
+// the field and its value; each refused frame changes nothing (a good frame end follows it).
+TEST(XrQuadViews, FrameEndRefusalsNameTheField) {
+    QuadSession q;
+    q.open();
+    if (::testing::Test::HasFatalFailure()) return;
+    ASSERT_EQ(q.frame([](QuadLayer&) {}), XR_SUCCESS);
+    struct Case {
+        const char* what;
+        std::function<void(QuadLayer&)> spoil;
+        XrResult want;
+        const char* field;  // in the runtime's log line
+    };
+    const float nan = std::nanf("");
+    const std::vector<Case> cases = {
+        {"two views in a quad session", [](QuadLayer& l) { l.layer.viewCount = 2; }, XR_ERROR_VALIDATION_FAILURE,
+         "(frameEndInfo->layers[0]->viewCount == 2) is not the 4 views"},
+        {"left inset beyond its view's left edge",
+         [](QuadLayer& l) { l.views[2].fov.angleLeft = l.views[0].fov.angleLeft - 0.01f; }, XR_ERROR_VALIDATION_FAILURE,
+         "views[2].fov.angleLeft == "},
+        {"right inset above its view", [](QuadLayer& l) { l.views[3].fov.angleUp = l.views[1].fov.angleUp + 0.05f; },
+         XR_ERROR_VALIDATION_FAILURE, "views[3].fov.angleUp == "},
+        {"right inset moved 1 cm", [](QuadLayer& l) { l.views[3].pose.position.x += 0.01f; }, XR_ERROR_POSE_INVALID,
+         "views[3].pose == "},
+        {"left inset turned 5 degrees",
+         [](QuadLayer& l) {
+             const glm::quat q = glm::angleAxis(0.0873f, glm::vec3(0, 1, 0));
+             l.views[2].pose.orientation = {q.x, q.y, q.z, q.w};
+         },
+         XR_ERROR_POSE_INVALID, "views[2].pose == "},
+        {"inset pose not a unit quaternion", [](QuadLayer& l) { l.views[2].pose.orientation.w = 2.0f; },
+         XR_ERROR_POSE_INVALID, "views[2].pose == "},
+        {"inset NaN angle", [=](QuadLayer& l) { l.views[2].fov.angleRight = nan; }, XR_ERROR_VALIDATION_FAILURE,
+         "views[2].fov.angleRight == nan"},
+        {"inset rectangle beyond its image", [](QuadLayer& l) { l.views[3].subImage.imageRect.extent.width += 1; },
+         XR_ERROR_SWAPCHAIN_RECT_INVALID, "views[3].subImage.imageRect == "},
+        {"inset array index", [](QuadLayer& l) { l.views[3].subImage.imageArrayIndex = 2; },
+         XR_ERROR_VALIDATION_FAILURE, "views[3].subImage.imageArrayIndex == 2"},
+        {"inset view type", [](QuadLayer& l) { l.views[2].type = XR_TYPE_VIEW; }, XR_ERROR_VALIDATION_FAILURE,
+         "views[2].type == "},
+        {"inset depth range", [](QuadLayer& l) { l.depth[3].minDepth = 1.0f; }, XR_ERROR_VALIDATION_FAILURE,
+         "views[3].next<XrCompositionLayerDepthInfoKHR>.minDepth == 1"},
+        {"inset depth near == far", [](QuadLayer& l) { l.depth[2].farZ = l.depth[2].nearZ; },
+         XR_ERROR_VALIDATION_FAILURE, "views[2].next<XrCompositionLayerDepthInfoKHR>.nearZ == 0.1, farZ == 0.1"},
+    };
+    for (const Case& k : cases) {
+        std::string log;
+        XrResult good = XR_ERROR_RUNTIME_FAILURE;
+        EXPECT_EQ(q.frame(k.spoil, &log, &good), k.want) << k.what;
+        EXPECT_EQ(good, XR_SUCCESS) << "good frame after: " << k.what;
+        EXPECT_NE(log.find(k.field), std::string::npos) << k.what << ": " << log;
+    }
+    // Depth on the wide views only: not refused (the specification lets any view go without), composited
+    // without depth.
+    EXPECT_EQ(q.frame([](QuadLayer& l) { l.views[2].next = l.views[3].next = nullptr; }), XR_SUCCESS);
+    q.c.reset();
+
+    // Four views in a stereo session.
+    QuadSession s;
+    s.open(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO);
+    if (::testing::Test::HasFatalFailure()) return;
+    std::string log;
+    EXPECT_EQ(s.frame([](QuadLayer&) {}, &log), XR_ERROR_VALIDATION_FAILURE);
+    EXPECT_NE(log.find("(frameEndInfo->layers[0]->viewCount == 4) is not the 2 views of the session's view "
+                       "configuration XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO"),
+              std::string::npos)
+        << log;
+}
+
+// Without the extensions enabled, quad views and the combined-eye space do not exist for the application;
+// with quad_views = 0 the runtime does not offer them at all.
+TEST(XrQuadViews, OnlyWhereEnabledAndOffered) {
+    {
+        auto c = Client::create({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME});
+        ASSERT_TRUE(c);
+        const XrViewConfigurationType quad = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO;
+        uint32_t n = 0;
+        XrViewConfigurationType types[4];
+        ASSERT_EQ(xrEnumerateViewConfigurations(c->instance, c->system, 4, &n, types), XR_SUCCESS);
+        EXPECT_EQ(n, 1u);
+        EXPECT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, quad, 0, &n, nullptr),
+                  XR_ERROR_VALIDATION_FAILURE);
+        XrViewConfigurationProperties vp{XR_TYPE_VIEW_CONFIGURATION_PROPERTIES};
+        EXPECT_EQ(xrGetViewConfigurationProperties(c->instance, c->system, quad, &vp), XR_ERROR_VALIDATION_FAILURE);
+        XrResult r;
+        referenceSpace(*c, XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO, &r);
+        EXPECT_EQ(r, XR_ERROR_REFERENCE_SPACE_UNSUPPORTED);
+        EXPECT_EQ(c->begin(quad), XR_ERROR_VALIDATION_FAILURE);
+        ASSERT_EQ(c->begin(), XR_SUCCESS);
+        XrView v[4];
+        EXPECT_EQ(locate(*c, 1000, true, v), XR_ERROR_VALIDATION_FAILURE);
+    }
+    {
+        // Quad views without foveated rendering: the insets stay centred even when asked to follow.
+        auto c = Client::create({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME});
+        ASSERT_TRUE(c);
+        XrResult r;
+        referenceSpace(*c, XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO, &r);
+        EXPECT_EQ(r, XR_ERROR_REFERENCE_SPACE_UNSUPPORTED);
+        ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+        XrView v[4];
+        ASSERT_EQ(locate(*c, 1000000000, true, v), XR_SUCCESS);
+        auto config = xr::loadRuntimeConfig();
+        ASSERT_TRUE(config);
+        for (int e = 0; e < 2; ++e)
+            expectFovNear(v[2 + e].fov, xr::insetFov(toFov(v[e].fov), config->insetDeg, std::nullopt), 1e-6f,
+                          "centred inset");
+    }
+    ScopedEnv env{{"WRSFOV_XR_QUAD_VIEWS", "0"}};
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateInstanceExtensionProperties(nullptr, 0, &n, nullptr), XR_SUCCESS);
+    std::vector<XrExtensionProperties> props(n, {XR_TYPE_EXTENSION_PROPERTIES});
+    ASSERT_EQ(xrEnumerateInstanceExtensionProperties(nullptr, n, &n, props.data()), XR_SUCCESS);
+    for (const auto& p : props) {
+        EXPECT_STRNE(p.extensionName, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME);
+        EXPECT_STRNE(p.extensionName, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME);
+    }
+    const char* ext[] = {XR_VARJO_QUAD_VIEWS_EXTENSION_NAME};
+    XrInstanceCreateInfo ici{XR_TYPE_INSTANCE_CREATE_INFO};
+    std::snprintf(ici.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "wrsfov-xr-quad-off");
+    ici.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
+    ici.enabledExtensionCount = 1;
+    ici.enabledExtensionNames = ext;
+    XrInstance inst = XR_NULL_HANDLE;
+    EXPECT_EQ(xrCreateInstance(&ici, &inst), XR_ERROR_EXTENSION_NOT_PRESENT);
+    if (inst) xrDestroyInstance(inst);
+}
+
+// A gaze far up and to the right (a gaze file): each inset is shifted back inside its view, touching its
+// edges, and keeps its size; once the file's gaze turns invalid the combined-eye space is no longer
+// tracked and the insets are centred.
+TEST(XrQuadViews, InsetStaysInsideTheViewAndCentresWithoutGaze) {
+    const TempDir dir("wrsfov_xr_quad_gaze");
+    std::filesystem::create_directories(dir.path);
+    std::vector<gaze::GazeSample> samples;
+    for (int i = 0; i <= 200; ++i) {
+        gaze::GazeSample g;
+        g.t_s = i * 0.01;
+        for (auto& e : g.eye) e = {glm::normalize(glm::vec3(1.5f, 0.9f, -1.0f)), i * 0.01 < 0.3, 1.0f};
+        samples.push_back(g);
+    }
+    const std::string file = dir.path + "/gaze.csv";
+    ASSERT_TRUE(gaze::write_gaze_csv(file, samples, false));
+    ScopedEnv env{{"WRSFOV_XR_GAZE", "file"}, {"WRSFOV_XR_GAZE_FILE", file.c_str()}};
+    QuadSession q;
+    q.open();
+    if (::testing::Test::HasFatalFailure()) return;
+    const XrSpace eyes = referenceSpace(*q.c, XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO);
+    auto config = xr::loadRuntimeConfig();
+    ASSERT_TRUE(config);
+    int atEdge = 0, centred = 0;
+    for (int f = 0; f < 60; ++f) {
+        ASSERT_EQ(q.c->frame([&](const XrFrameState& fs) {
+            XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
+            EXPECT_EQ(xrLocateSpace(eyes, q.c->local, fs.predictedDisplayTime, &loc), XR_SUCCESS);
+            const bool tracked = loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT;
+            EXPECT_TRUE(loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT);
+            XrView v[4];
+            EXPECT_EQ(locate(*q.c, fs.predictedDisplayTime, true, v), XR_SUCCESS);
+            for (int e = 0; e < 2; ++e) {
+                const XrFovf& w = v[e].fov;
+                const XrFovf& in = v[2 + e].fov;
+                if (tracked) {
+                    EXPECT_NEAR(in.angleRight, w.angleRight, 1e-6f) << "frame " << f;
+                    EXPECT_NEAR(in.angleUp, w.angleUp, 1e-6f) << "frame " << f;
+                    ++atEdge;
+                } else {
+                    expectFovNear(in, xr::insetFov(toFov(w), config->insetDeg, std::nullopt), 1e-6f, "centred");
+                    ++centred;
+                }
+                // The same extent in tangent units wherever it is: the display's density.
+                const float h = std::tan(0.5f * config->insetDeg * 3.14159265f / 180.0f);
+                EXPECT_NEAR(std::tan(in.angleRight) - std::tan(in.angleLeft), 2 * h, 1e-4f);
+                EXPECT_NEAR(std::tan(in.angleUp) - std::tan(in.angleDown), 2 * h, 1e-4f);
+            }
+            QuadLayer ql;
+            ql.build(q.c->local, v, q.wide, q.inset, &q.wideDepth, &q.insetDepth);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(q.c->session, &fe);
+        }),
+                  XR_SUCCESS);
+    }
+    EXPECT_GT(atEdge, 20);
+    EXPECT_GT(centred, 20);
 }
 
 }  // namespace
