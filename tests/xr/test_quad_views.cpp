@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
@@ -634,6 +635,93 @@ TEST(XrQuadViews, InsetStaysInsideTheViewAndCentresWithoutGaze) {
     }
     EXPECT_GT(atEdge, 20);
     EXPECT_GT(centred, 20);
+}
+
+// XR_FB_space_warp on all four views: each view's motion is in its own NDC, so one scene motion gives
+// the wide views and the insets different texels; composed, both are the same motion in output pixels
+// (recorded in pixels: previous = current + mv).
+TEST(XrQuadViews, SpaceWarpMotionOfEachViewInOutputPixels) {
+    const TempDir rec("wrsfov_xr_quad_warp");
+    ScopedEnv env{{"WRSFOV_XR_WIDTH", "160"}, {"WRSFOV_XR_HEIGHT", "160"}, {"WRSFOV_XR_RECORD", rec.path.c_str()}};
+    auto c = Client::create({XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_FB_SPACE_WARP_EXTENSION_NAME,
+                             XR_VARJO_QUAD_VIEWS_EXTENSION_NAME, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME});
+    ASSERT_TRUE(c);
+    auto config = xr::loadRuntimeConfig();
+    ASSERT_TRUE(config);
+    const xr::QuadViewSizes sizes = xr::quadViewSizes(*config);
+    Swapchain color[2], motion[2], depth[2];  // wide, inset; layer = eye
+    const glm::uvec2 size[2] = {sizes.wide, sizes.inset};
+    for (int i = 0; i < 2; ++i) {
+        ASSERT_EQ(c->createSwapchain(kSrgb, size[i].x, size[i].y, 2, kColorUsage, color[i]), XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(VK_FORMAT_R16G16B16A16_SFLOAT, size[i].x, size[i].y, 2, kColorUsage, motion[i]),
+                  XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, size[i].x, size[i].y, 2, kDepthUsage, depth[i]), XR_SUCCESS);
+    }
+    ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+    // The scene moved right by 0.01 tangent units since the last frame: in a view spanning s tangent
+    // units across that is 2 * 0.01 / s of NDC (current - previous).
+    constexpr float kShift = 0.01f;
+    for (int f = 0; f < 3; ++f) {
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            XrView v[4];
+            EXPECT_EQ(locate(*c, fs.predictedDisplayTime, true, v), XR_SUCCESS);
+            XrCompositionLayerSpaceWarpInfoFB warp[4];
+            QuadLayer ql;
+            ql.build(c->local, v, color[0], color[1]);
+            for (int i = 0; i < 2; ++i) {
+                const glm::uvec2 sz = size[i];
+                c->writeSwapchain(color[i], 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                                  [&](uint32_t e) { return render(sz.x, sz.y, v[2 * i + e].fov, f); });
+                c->writeSwapchain(depth[i], 4, VK_IMAGE_ASPECT_DEPTH_BIT,
+                                  [&](uint32_t e) { return depthImage(sz.x, sz.y, v[2 * i + e].fov); });
+                c->writeSwapchain(motion[i], 8, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t e) {
+                    const glm::vec4 t = tangents(v[2 * i + e].fov);
+                    const uint16_t texel[4] = {glm::packHalf1x16(2.0f * kShift / (t.y - t.x)), 0, 0, 0};
+                    std::vector<uint8_t> mv(size_t(sz.x) * sz.y * 8);
+                    for (size_t k = 0; k < size_t(sz.x) * sz.y; ++k) std::memcpy(&mv[k * 8], texel, 8);
+                    return mv;
+                });
+            }
+            for (uint32_t i = 0; i < 4; ++i) {
+                const Swapchain& m = motion[i / 2];
+                warp[i] = {XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB};
+                warp[i].motionVectorSubImage = {m.handle, {{0, 0}, {int32_t(m.width), int32_t(m.height)}}, i % 2};
+                warp[i].depthSubImage = {depth[i / 2].handle, warp[i].motionVectorSubImage.imageRect, i % 2};
+                warp[i].appSpaceDeltaPose.orientation.w = 1.0f;
+                warp[i].minDepth = 0.0f;
+                warp[i].maxDepth = 1.0f;
+                warp[i].nearZ = 0.1f;
+                warp[i].farZ = 100.0f;
+                ql.views[i].next = &warp[i];
+            }
+            std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS);
+    }
+    c.reset();
+    auto opened = eval::SequenceReader::open(rec.path);
+    ASSERT_TRUE(opened) << opened.error().message;
+    ASSERT_TRUE((*opened)->info().motion.has_value());
+    auto last = (*opened)->frame(2);
+    ASSERT_TRUE(last) << last.error().message;
+    for (int e = 0; e < 2; ++e) {
+        const XrFovf fov{config->fov[e].angleLeft, config->fov[e].angleRight, config->fov[e].angleUp,
+                         config->fov[e].angleDown};
+        const glm::vec4 t = tangents(fov);
+        const float want = -kShift * 160.0f / (t.y - t.x);  // output pixels to the previous position
+        ASSERT_TRUE(last->eyes[e].motion.has_value());
+        const HostImage& m = *last->eyes[e].motion;
+        float lo = 1e9f, hi = -1e9f;
+        for (uint32_t y = 0; y < m.height; ++y)
+            for (uint32_t x = 0; x < m.width; ++x) {
+                lo = std::min(lo, m.fetch(x, y).x);
+                hi = std::max(hi, m.fetch(x, y).x);
+            }
+        EXPECT_NEAR(lo, want, 0.01f) << "eye " << e;
+        EXPECT_NEAR(hi, want, 0.01f) << "eye " << e;
+    }
 }
 
 }  // namespace
