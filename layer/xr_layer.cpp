@@ -20,8 +20,9 @@
 #include <cstring>
 #include <map>
 #include <memory>
-#include <optional>
 #include <mutex>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,8 @@
 #include <openxr/openxr_platform.h>
 
 #include <glm/gtc/quaternion.hpp>
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/quaternion.hpp>
 
 #include "compositor/compositor.h"
 #include "gaze/frame_gaze.h"
@@ -38,6 +41,7 @@
 #include "runtime/loader_negotiation.h"
 #include "runtime/xr_config.h"
 #include "runtime/xr_frame.h"
+#include "runtime/xr_inset.h"
 
 #define WRSFOV_LAYER_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -85,6 +89,14 @@ struct Next {
     PFN_xrCreateReferenceSpace createReferenceSpace = nullptr;
     PFN_xrLocateSpace locateSpace = nullptr;
     PFN_xrDestroySpace destroySpace = nullptr;
+    // Quad views offered by the layer (XR_VARJO_quad_views on a stereo runtime).
+    PFN_xrEnumerateViewConfigurations enumerateViewConfigurations = nullptr;
+    PFN_xrGetViewConfigurationProperties getViewConfigurationProperties = nullptr;
+    PFN_xrEnumerateViewConfigurationViews enumerateViewConfigurationViews = nullptr;
+    PFN_xrEnumerateEnvironmentBlendModes enumerateEnvironmentBlendModes = nullptr;
+    PFN_xrBeginSession beginSession = nullptr;
+    PFN_xrLocateViews locateViews = nullptr;
+    PFN_xrEnumerateReferenceSpaces enumerateReferenceSpaces = nullptr;
 };
 
 struct InstanceState {
@@ -105,6 +117,11 @@ struct InstanceState {
 
     /// The layer's eye gaze must not show through to the application.
     bool hideEyes() const { return eyeGaze && (!appEyeGaze || !appSuggestedEyes); }
+    // XR_VARJO_quad_views (and XR_VARJO_foveated_rendering) enabled by the application on a runtime
+    // without them: the layer offers the quad view configuration over the runtime's stereo one and
+    // composes the four views into stereo. False where the runtime has them (the layer stays out of
+    // the way) or the application did not ask.
+    bool quadViews = false, foveatedRendering = false;
 };
 
 struct SwapchainState {
@@ -117,6 +134,7 @@ struct SwapchainState {
 
 struct SessionState {
     XrInstance instance = XR_NULL_HANDLE;
+    XrSystemId system = XR_NULL_SYSTEM_ID;
     std::unique_ptr<vk::Context> ctx;
     std::unique_ptr<Compositor> comp;
     std::unique_ptr<gaze::GazeSource> source;
@@ -147,6 +165,10 @@ struct SessionState {
     bool statsPending = false;  // the last submitted frame's GPU times are not yet counted
     XrTime epoch = 0;
     std::map<int, bool> logged;
+    // Quad views the layer offers (InstanceState::quadViews): the session began with them, and the
+    // runtime's stereo views' recommended size, the size the four views are composed at.
+    bool quad = false;
+    uint32_t displayWidth = 0, displayHeight = 0;
 };
 
 std::mutex g_mutex;
@@ -154,6 +176,19 @@ std::map<XrInstance, InstanceState> g_instances;
 std::map<XrSession, SessionState> g_sessions;
 std::map<XrSwapchain, SwapchainState> g_swapchains;
 std::map<XrActionSet, XrInstance> g_actionSets;  // the application's, for the checks of xrCreateAction
+// XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO spaces the layer offers: a VIEW space of the runtime's
+// (at the identity) standing in for each, turned to the gaze and then by the application's pose in
+// xrLocateSpace.
+struct CombinedEye {
+    XrSession session = XR_NULL_HANDLE;
+    XrPosef pose{};  // poseInReferenceSpace
+};
+std::map<XrSpace, CombinedEye> g_combinedEye;
+
+bool isQuadExtension(const char* e) {
+    return std::strcmp(e, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME) == 0 ||
+           std::strcmp(e, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME) == 0;
+}
 
 template <typename F>
 void load(PFN_xrGetInstanceProcAddr gipa, XrInstance inst, const char* name, F& fn) {
@@ -245,23 +280,41 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     }
     // Enable the runtime's eye-gaze interaction when the application did not: asked for, and asked
     // again without it when the runtime does not have it (a layer cannot list the runtime's
-    // extensions through the layers below it).
-    std::vector<const char*> exts(info->enabledExtensionNames, info->enabledExtensionNames + info->enabledExtensionCount);
-    bool eyeGaze = false;
-    for (const char* e : exts) eyeGaze = eyeGaze || std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0;
-    const bool appEyeGaze = eyeGaze;
+    // extensions through the layers below it). Quad views the same way: where the runtime refuses
+    // them, the layer offers them itself and asks again without them.
+    const std::vector<const char*> appExts(info->enabledExtensionNames,
+                                           info->enabledExtensionNames + info->enabledExtensionCount);
+    bool appEyeGaze = false, appQuad = false, appFoveated = false;
+    for (const char* e : appExts) {
+        appEyeGaze = appEyeGaze || std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0;
+        appQuad = appQuad || std::strcmp(e, XR_VARJO_QUAD_VIEWS_EXTENSION_NAME) == 0;
+        appFoveated = appFoveated || std::strcmp(e, XR_VARJO_FOVEATED_RENDERING_EXTENSION_NAME) == 0;
+    }
     XrApiLayerCreateInfo down = *layerInfo;
     down.nextInfo = mine->next;
     XrResult r = XR_ERROR_EXTENSION_NOT_PRESENT;
-    if (!eyeGaze) {
-        exts.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
-        XrInstanceCreateInfo ci = *info;
-        ci.enabledExtensionCount = uint32_t(exts.size());
-        ci.enabledExtensionNames = exts.data();
-        r = mine->nextCreateApiLayerInstance(&ci, &down, instance);
-        eyeGaze = XR_SUCCEEDED(r);
+    bool eyeGaze = false, emulateQuad = false;
+    for (const bool withQuad : {true, false}) {
+        // Offered by the layer only where the application asked and the configuration lets it.
+        if (!withQuad && ((!appQuad && !appFoveated) || !config->quadViews)) break;
+        for (const bool withGaze : {true, false}) {
+            if (withGaze && appEyeGaze) continue;  // the application's own list has it
+            std::vector<const char*> exts;
+            for (const char* e : appExts)
+                if (withQuad || !isQuadExtension(e)) exts.push_back(e);
+            if (withGaze) exts.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+            XrInstanceCreateInfo ci = *info;
+            ci.enabledExtensionCount = uint32_t(exts.size());
+            ci.enabledExtensionNames = exts.data();
+            r = mine->nextCreateApiLayerInstance(&ci, &down, instance);
+            if (r != XR_ERROR_EXTENSION_NOT_PRESENT) {
+                eyeGaze = XR_SUCCEEDED(r) && (withGaze || appEyeGaze);
+                emulateQuad = XR_SUCCEEDED(r) && !withQuad;
+                break;
+            }
+        }
+        if (r != XR_ERROR_EXTENSION_NOT_PRESENT) break;
     }
-    if (r == XR_ERROR_EXTENSION_NOT_PRESENT) r = mine->nextCreateApiLayerInstance(info, &down, instance);
     if (XR_FAILED(r)) return r;
 
     std::lock_guard lock(g_mutex);
@@ -269,6 +322,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     st.config = *config;
     st.eyeGaze = eyeGaze;
     st.appEyeGaze = appEyeGaze;
+    st.quadViews = emulateQuad && appQuad;
+    st.foveatedRendering = emulateQuad && appQuad && appFoveated;
     Next& n = st.next;
     n.getInstanceProcAddr = mine->nextGetInstanceProcAddr;
     auto gipa = n.getInstanceProcAddr;
@@ -297,6 +352,13 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     load(gipa, *instance, "xrCreateReferenceSpace", n.createReferenceSpace);
     load(gipa, *instance, "xrLocateSpace", n.locateSpace);
     load(gipa, *instance, "xrDestroySpace", n.destroySpace);
+    load(gipa, *instance, "xrEnumerateViewConfigurations", n.enumerateViewConfigurations);
+    load(gipa, *instance, "xrGetViewConfigurationProperties", n.getViewConfigurationProperties);
+    load(gipa, *instance, "xrEnumerateViewConfigurationViews", n.enumerateViewConfigurationViews);
+    load(gipa, *instance, "xrEnumerateEnvironmentBlendModes", n.enumerateEnvironmentBlendModes);
+    load(gipa, *instance, "xrBeginSession", n.beginSession);
+    load(gipa, *instance, "xrLocateViews", n.locateViews);
+    load(gipa, *instance, "xrEnumerateReferenceSpaces", n.enumerateReferenceSpaces);
     if (st.eyeGaze) {
         // The layer's own action set: one pose action bound to the eye gaze.
         XrActionSetCreateInfo asci{XR_TYPE_ACTION_SET_CREATE_INFO};
@@ -328,7 +390,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateApiLayerInstance(const XrInstanceCreat
     }
     logLine(std::string("on: method ") + std::string(toString(config->compositor.method)) + ", fovea " +
             std::to_string(config->compositor.foveaDeg) + " deg, gaze from " +
-            (st.eyeGaze ? "the runtime's eye tracking" : "the configured source"));
+            (st.eyeGaze ? "the runtime's eye tracking" : "the configured source") +
+            (st.quadViews ? "; quad views offered over the runtime's stereo views" : ""));
     return r;
 }
 
@@ -348,6 +411,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroyInstance(XrInstance instance) {
             }
             for (auto sc = g_swapchains.begin(); sc != g_swapchains.end();)
                 sc = sc->second.session == s->first ? g_swapchains.erase(sc) : std::next(sc);
+            for (auto sp = g_combinedEye.begin(); sp != g_combinedEye.end();)
+                sp = sp->second.session == s->first ? g_combinedEye.erase(sp) : std::next(sp);
             s = g_sessions.erase(s);  // compositor before context (member order)
         }
         for (auto a = g_actionSets.begin(); a != g_actionSets.end();)
@@ -393,6 +458,13 @@ XRAPI_ATTR XrResult XRAPI_CALL layerGetSystemProperties(XrInstance instance, XrS
         for (auto* n = static_cast<XrBaseOutStructure*>(properties->next); n; n = n->next)
             if (n->type == XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT)
                 reinterpret_cast<XrSystemEyeGazeInteractionPropertiesEXT*>(n)->supportsEyeGazeInteraction = XR_FALSE;
+    // Foveated rendering the layer offers: there is a rendering gaze where the runtime has eye tracking
+    // or a source is configured.
+    if (XR_SUCCEEDED(r) && st.foveatedRendering && properties)
+        for (auto* n = static_cast<XrBaseOutStructure*>(properties->next); n; n = n->next)
+            if (n->type == XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO)
+                reinterpret_cast<XrSystemFoveatedRenderingPropertiesVARJO*>(n)->supportsFoveatedRendering =
+                    st.eyeGaze || st.config.gaze != xr::GazeKind::None ? XR_TRUE : XR_FALSE;
     return r;
 }
 
@@ -488,6 +560,7 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSession(XrInstance instance, const XrS
     if (XR_FAILED(r)) return r;
     SessionState& s = g_sessions[*session];
     s.instance = instance;
+    s.system = info ? info->systemId : XR_NULL_SYSTEM_ID;
     auto* binding = info ? reinterpret_cast<const XrGraphicsBindingVulkanKHR*>(
                                findNext(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR))
                          : nullptr;
@@ -553,6 +626,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySession(XrSession session) {
     if (s.gazeSpace) n.destroySpace(s.gazeSpace);
     for (auto sc = g_swapchains.begin(); sc != g_swapchains.end();)
         sc = sc->second.session == session ? g_swapchains.erase(sc) : std::next(sc);
+    for (auto sp = g_combinedEye.begin(); sp != g_combinedEye.end();)
+        sp = sp->second.session == session ? g_combinedEye.erase(sp) : std::next(sp);
     s.comp.reset();
     if (s.copyCb) s.ctx->freeCommandBuffer(s.copyCb);
     s.copied.reset();
@@ -750,19 +825,20 @@ bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w,
     return true;
 }
 
-/// Per-eye gaze: the runtime's eye gaze located in each view (the direction of the cyclopean gaze in
-/// that eye's space), else the configured source; invalid gives the compositor's fallback.
-std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, const XrCompositionLayerProjection& proj,
+/// Per-eye gaze for views at `poses` in `space`: the runtime's eye gaze located there (the direction
+/// of the cyclopean gaze in each eye's space), else the configured source; invalid gives the
+/// compositor's fallback.
+std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, XrSpace space, const XrPosef (&poses)[2],
                                        XrTime time) {
     std::array<layers::EyeGaze, 2> g{};
     if (s.gazeSpace && s.gazeAttached) {
         XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
-        if (n.locateSpace(s.gazeSpace, proj.space, time, &loc) == XR_SUCCESS &&
+        if (n.locateSpace(s.gazeSpace, space, time, &loc) == XR_SUCCESS &&
             (loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT)) {
             const XrQuaternionf q = loc.pose.orientation;
             const glm::vec3 dir = glm::quat(q.w, q.x, q.y, q.z) * glm::vec3(0, 0, -1);  // in the layer's space
             for (int e = 0; e < 2; ++e) {
-                const XrQuaternionf v = proj.views[e].pose.orientation;
+                const XrQuaternionf v = poses[e].orientation;
                 g[e].dir = glm::conjugate(glm::quat(v.w, v.x, v.y, v.z)) * dir;
                 g[e].valid = true;
                 g[e].confidence = 1.0f;
@@ -772,6 +848,316 @@ std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, const XrC
     }
     if (!s.epoch) s.epoch = time;
     return gaze::frame_gaze(s.source.get(), double(time - s.epoch) * 1e-9);
+}
+
+std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, const XrCompositionLayerProjection& proj,
+                                       XrTime time) {
+    const XrPosef poses[2] = {proj.views[0].pose, proj.views[1].pose};
+    return eyeGaze(s, n, proj.space, poses, time);
+}
+
+// ---- Quad views on a runtime without them ------------------------------------------------------
+// XR_VARJO_quad_views and XR_VARJO_foveated_rendering, where the application enabled them and the
+// runtime refused them (InstanceState::quadViews): the quad configuration over the runtime's stereo
+// one, its four views from the runtime's two and the gaze, the combined-eye space from a VIEW space
+// and the gaze, and at xrEndFrame the four views composed into the layer's stereo swapchain.
+
+constexpr XrViewConfigurationType kQuad = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO;
+constexpr XrViewConfigurationType kStereo = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+
+/// The runtime's stereo views (their recommended size is the size the four views are composed at).
+XrResult stereoViews(const Next& n, XrInstance instance, XrSystemId system, XrViewConfigurationView (&v)[2]) {
+    v[0] = v[1] = {XR_TYPE_VIEW_CONFIGURATION_VIEW};
+    uint32_t count = 0;
+    return n.enumerateViewConfigurationViews(instance, system, kStereo, 2, &count, v);
+}
+
+/// The quad views' recommended sizes over stereo views of `size`: the wide views at 1/2.5 of their
+/// density, the inset of inset_deg across at it. The runtime's field of view is known only once a
+/// session locates its views: the density is taken over 90 degrees.
+xr::QuadViewSizes quadSizes(const RuntimeConfig& config, uint32_t width, uint32_t height) {
+    RuntimeConfig c = config;
+    c.width = width;
+    c.height = height;
+    c.fov[0] = c.fov[1] = layers::Fov{};  // +-45 degrees
+    return xr::quadViewSizes(c);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateViewConfigurations(XrInstance instance, XrSystemId system,
+                                                                uint32_t capacity, uint32_t* countOutput,
+                                                                XrViewConfigurationType* types) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = it->second;
+    if (!st.quadViews) return st.next.enumerateViewConfigurations(instance, system, capacity, countOutput, types);
+    uint32_t n = 0;
+    if (XrResult r = st.next.enumerateViewConfigurations(instance, system, 0, &n, nullptr); XR_FAILED(r)) return r;
+    std::vector<XrViewConfigurationType> all(n);
+    if (XrResult r = st.next.enumerateViewConfigurations(instance, system, n, &n, all.data()); XR_FAILED(r)) return r;
+    all.insert(all.begin(), kQuad);  // first: the application asked for quad views
+    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    *countOutput = uint32_t(all.size());
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < all.size()) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!types) return XR_ERROR_VALIDATION_FAILURE;
+    std::copy(all.begin(), all.end(), types);
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerGetViewConfigurationProperties(XrInstance instance, XrSystemId system,
+                                                                   XrViewConfigurationType type,
+                                                                   XrViewConfigurationProperties* properties) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = it->second;
+    if (!st.quadViews || type != kQuad)
+        return st.next.getViewConfigurationProperties(instance, system, type, properties);
+    XrResult r = st.next.getViewConfigurationProperties(instance, system, kStereo, properties);
+    if (XR_SUCCEEDED(r)) properties->viewConfigurationType = kQuad;
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateViewConfigurationViews(XrInstance instance, XrSystemId system,
+                                                                    XrViewConfigurationType type, uint32_t capacity,
+                                                                    uint32_t* countOutput,
+                                                                    XrViewConfigurationView* views) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = it->second;
+    if (!st.quadViews || type != kQuad)
+        return st.next.enumerateViewConfigurationViews(instance, system, type, capacity, countOutput, views);
+    XrViewConfigurationView sv[2];
+    if (XrResult r = stereoViews(st.next, instance, system, sv); XR_FAILED(r)) return r;
+    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    *countOutput = 4;
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < 4) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!views) return XR_ERROR_VALIDATION_FAILURE;
+    for (uint32_t i = 0; i < 4; ++i)
+        if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+    const xr::QuadViewSizes q = quadSizes(st.config, sv[0].recommendedImageRectWidth, sv[0].recommendedImageRectHeight);
+    for (uint32_t i = 0; i < 4; ++i) {
+        const glm::uvec2 size = i < 2 ? q.wide : q.inset;
+        void* next = views[i].next;  // XrFoveatedViewConfigurationViewVARJO: the same size either way
+        views[i] = sv[i % 2];
+        views[i].next = next;
+        views[i].recommendedImageRectWidth = std::min(size.x, sv[i % 2].maxImageRectWidth);
+        views[i].recommendedImageRectHeight = std::min(size.y, sv[i % 2].maxImageRectHeight);
+    }
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateEnvironmentBlendModes(XrInstance instance, XrSystemId system,
+                                                                   XrViewConfigurationType type, uint32_t capacity,
+                                                                   uint32_t* countOutput,
+                                                                   XrEnvironmentBlendMode* modes) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_instances.find(instance);
+    if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = it->second;
+    if (st.quadViews && type == kQuad) type = kStereo;
+    return st.next.enumerateEnvironmentBlendModes(instance, system, type, capacity, countOutput, modes);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerBeginSession(XrSession session, const XrSessionBeginInfo* info) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    SessionState& s = it->second;
+    const InstanceState& st = g_instances.at(s.instance);
+    if (!st.quadViews || !info || info->type != XR_TYPE_SESSION_BEGIN_INFO ||
+        info->primaryViewConfigurationType != kQuad)
+        return st.next.beginSession(session, info);
+    XrViewConfigurationView sv[2];
+    if (XrResult r = stereoViews(st.next, s.instance, s.system, sv); XR_FAILED(r)) return r;
+    XrSessionBeginInfo b = *info;
+    b.primaryViewConfigurationType = kStereo;
+    XrResult r = st.next.beginSession(session, &b);
+    if (XR_SUCCEEDED(r)) {
+        s.quad = true;
+        s.displayWidth = sv[0].recommendedImageRectWidth;
+        s.displayHeight = sv[0].recommendedImageRectHeight;
+    }
+    return r;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerLocateViews(XrSession session, const XrViewLocateInfo* info, XrViewState* viewState,
+                                                uint32_t capacity, uint32_t* countOutput, XrView* views) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    SessionState& s = it->second;
+    const InstanceState& st = g_instances.at(s.instance);
+    if (!st.quadViews || !info || info->type != XR_TYPE_VIEW_LOCATE_INFO || info->viewConfigurationType != kQuad)
+        return st.next.locateViews(session, info, viewState, capacity, countOutput, views);
+    // The runtime's stereo views; the foveated-rendering request is the layer's, not the runtime's.
+    XrViewLocateInfo li = *info;
+    li.next = nullptr;
+    li.viewConfigurationType = kStereo;
+    uint32_t n = 0;
+    if (XrResult r = st.next.locateViews(session, &li, viewState, 0, &n, nullptr); XR_FAILED(r)) return r;
+    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    *countOutput = 4;
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < 4) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!views) return XR_ERROR_VALIDATION_FAILURE;
+    for (uint32_t i = 0; i < 4; ++i)
+        if (views[i].type != XR_TYPE_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+    XrView sv[2] = {{XR_TYPE_VIEW}, {XR_TYPE_VIEW}};
+    if (XrResult r = st.next.locateViews(session, &li, viewState, 2, &n, sv); XR_FAILED(r)) return r;
+    auto* fr = reinterpret_cast<const XrViewLocateFoveatedRenderingVARJO*>(
+        findNext(info->next, XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO));
+    std::array<layers::EyeGaze, 2> gaze{};
+    if (st.foveatedRendering && fr && fr->foveatedRenderingActive) {
+        const XrPosef poses[2] = {sv[0].pose, sv[1].pose};
+        gaze = eyeGaze(s, st.next, info->space, poses, info->displayTime);
+    }
+    for (uint32_t i = 0; i < 4; ++i) {
+        const XrView& v = sv[i % 2];
+        views[i].pose = v.pose;  // an inset at its eye's pose
+        views[i].fov = v.fov;
+        if (i < 2) continue;
+        std::optional<glm::vec3> dir;
+        if (gaze[i - 2].valid) dir = gaze[i - 2].dir;
+        const layers::Fov f =
+            xr::insetFov({v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown}, st.config.insetDeg, dir);
+        views[i].fov = {f.angleLeft, f.angleRight, f.angleUp, f.angleDown};
+    }
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateReferenceSpaces(XrSession session, uint32_t capacity,
+                                                             uint32_t* countOutput, XrReferenceSpaceType* spaces) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = g_instances.at(it->second.instance);
+    if (!st.foveatedRendering) return st.next.enumerateReferenceSpaces(session, capacity, countOutput, spaces);
+    uint32_t n = 0;
+    if (XrResult r = st.next.enumerateReferenceSpaces(session, 0, &n, nullptr); XR_FAILED(r)) return r;
+    std::vector<XrReferenceSpaceType> all(n);
+    if (XrResult r = st.next.enumerateReferenceSpaces(session, n, &n, all.data()); XR_FAILED(r)) return r;
+    all.push_back(XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO);
+    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    *countOutput = uint32_t(all.size());
+    if (capacity == 0) return XR_SUCCESS;
+    if (capacity < all.size()) return XR_ERROR_SIZE_INSUFFICIENT;
+    if (!spaces) return XR_ERROR_VALIDATION_FAILURE;
+    std::copy(all.begin(), all.end(), spaces);
+    return XR_SUCCESS;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerCreateReferenceSpace(XrSession session, const XrReferenceSpaceCreateInfo* info,
+                                                         XrSpace* space) {
+    std::lock_guard lock(g_mutex);
+    auto it = g_sessions.find(session);
+    if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    const InstanceState& st = g_instances.at(it->second.instance);
+    if (!st.foveatedRendering || !info || info->type != XR_TYPE_REFERENCE_SPACE_CREATE_INFO ||
+        info->referenceSpaceType != XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO)
+        return st.next.createReferenceSpace(session, info, space);
+    const XrPosef& pose = info->poseInReferenceSpace;
+    const float v[7] = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w,
+                        pose.position.x,    pose.position.y,    pose.position.z};
+    for (float x : v)
+        if (!std::isfinite(x)) return XR_ERROR_POSE_INVALID;
+    if (std::abs(std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]) - 1.0f) > 1e-3f)
+        return XR_ERROR_POSE_INVALID;
+    XrReferenceSpaceCreateInfo ci = *info;
+    ci.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    ci.poseInReferenceSpace = {{0, 0, 0, 1}, {0, 0, 0}};  // the layer applies the application's pose
+    XrResult r = st.next.createReferenceSpace(session, &ci, space);
+    if (XR_SUCCEEDED(r)) g_combinedEye[*space] = {session, info->poseInReferenceSpace};
+    return r;
+}
+
+/// The next link of an instance that offers the combined-eye space, for the calls on spaces (a space
+/// does not name its instance; the next link's functions are the same for every instance of a
+/// process). The layer intercepts them only for such instances.
+const Next& anyNext() {
+    static const Next none;
+    for (const auto& [h, st] : g_instances)
+        if (st.foveatedRendering) return st.next;
+    return none;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerDestroySpace(XrSpace space) {
+    PFN_xrDestroySpace next = nullptr;
+    {
+        std::lock_guard lock(g_mutex);
+        auto sp = g_combinedEye.find(space);
+        if (sp != g_combinedEye.end()) {
+            auto s = g_sessions.find(sp->second.session);
+            if (s != g_sessions.end()) next = g_instances.at(s->second.instance).next.destroySpace;
+            g_combinedEye.erase(sp);
+        }
+        if (!next) next = anyNext().destroySpace;
+    }
+    return next ? next(space) : XR_ERROR_HANDLE_INVALID;
+}
+
+/// The rendering gaze of a combined-eye space's session at `time`: its orientation in the VIEW space
+/// (the cyclopean gaze, looking along -Z), or nullopt while the gaze is invalid.
+std::optional<glm::quat> renderingGaze(SessionState& s, const Next& n, XrSpace view, XrTime time) {
+    const XrPosef identity{{0, 0, 0, 1}, {0, 0, 0}};
+    const XrPosef poses[2] = {identity, identity};
+    const std::array<layers::EyeGaze, 2> g = eyeGaze(s, n, view, poses, time);
+    glm::vec3 sum(0.0f);
+    for (const auto& e : g)
+        if (e.valid && std::isfinite(e.dir.x) && std::isfinite(e.dir.y) && std::isfinite(e.dir.z) &&
+            glm::length(e.dir) > 0.0f)
+            sum += glm::normalize(e.dir);
+    if (!(glm::length(sum) > 0.0f)) return std::nullopt;
+    return glm::rotation(glm::vec3(0, 0, -1), glm::normalize(sum));
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL layerLocateSpace(XrSpace space, XrSpace base, XrTime time, XrSpaceLocation* location) {
+    std::lock_guard lock(g_mutex);
+    auto a = g_combinedEye.find(space), b = g_combinedEye.find(base);
+    const CombinedEye* ce = a != g_combinedEye.end() ? &a->second : b != g_combinedEye.end() ? &b->second : nullptr;
+    if (!ce)
+        return anyNext().locateSpace ? anyNext().locateSpace(space, base, time, location) : XR_ERROR_HANDLE_INVALID;
+    auto sit = g_sessions.find(ce->session);
+    if (sit == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
+    SessionState& s = sit->second;
+    const Next& n = g_instances.at(s.instance).next;
+    XrResult r = n.locateSpace(space, base, time, location);
+    if (XR_FAILED(r) || !location || !(location->locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT)) return r;
+    auto toQuat = [](const XrQuaternionf& q) { return glm::quat(q.w, q.x, q.y, q.z); };
+    auto toVec = [](const XrVector3f& v) { return glm::vec3(v.x, v.y, v.z); };
+    // A combined-eye space's frame in its VIEW stand-in: the gaze's rotation, then the application's pose.
+    bool tracked = true;
+    auto frameOf = [&](const CombinedEye& c, XrSpace view, glm::quat& q, glm::vec3& p) {
+        const std::optional<glm::quat> g = renderingGaze(s, n, view, time);
+        tracked = tracked && g.has_value();
+        const glm::quat gq = g ? *g : glm::quat(1, 0, 0, 0);
+        q = gq * toQuat(c.pose.orientation);
+        p = gq * toVec(c.pose.position);
+    };
+    glm::quat q = toQuat(location->pose.orientation);
+    glm::vec3 p = toVec(location->pose.position);
+    if (a != g_combinedEye.end()) {  // pose = located * frame
+        glm::quat fq;
+        glm::vec3 fp;
+        frameOf(a->second, space, fq, fp);
+        p = p + q * fp;
+        q = q * fq;
+    }
+    if (b != g_combinedEye.end()) {  // pose = inverse(frame) * located
+        glm::quat fq;
+        glm::vec3 fp;
+        frameOf(b->second, base, fq, fp);
+        const glm::quat inv = glm::conjugate(fq);
+        p = inv * (p - fp);
+        q = inv * q;
+    }
+    q = glm::normalize(q);
+    location->pose = {{q.x, q.y, q.z, q.w}, {p.x, p.y, p.z}};
+    if (!tracked) location->locationFlags &= ~XrSpaceLocationFlags(XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT);
+    return r;
 }
 
 /// Composites the projection layer and copies the output into the layer's swapchain; false when the
@@ -784,15 +1170,16 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
         s.logged[code] = true;
         return false;
     };
-    if (proj.viewCount != 2 || !proj.views) return once(1, "not a stereo projection layer");
+    const bool quad = s.quad && proj.viewCount == 4 && proj.views;
+    if (!quad && (proj.viewCount != 2 || !proj.views)) return once(1, "not a stereo projection layer");
     layers::FrameEndInfo fe;
     fe.frameIndex = s.frames;
     fe.time_s = double(info.displayTime) * 1e-9;
     layers::ProjectionLayer layer;
-    for (uint32_t e = 0; e < 2; ++e) {
-        const XrCompositionLayerProjectionView& v = proj.views[e];
+    // One view of the application's: its colour, depth and motion where the compositor reads them.
+    auto viewOf = [&](const XrCompositionLayerProjectionView& v) -> std::optional<layers::ProjectionView> {
         auto it = g_swapchains.find(v.subImage.swapchain);
-        if (it == g_swapchains.end() || !it->second.imported) return once(2, "a view's swapchain is not one the compositor reads");
+        if (it == g_swapchains.end() || !it->second.imported) return std::nullopt;
         layers::ProjectionView pv;
         pv.fov = {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown};
         pv.color = {it->second.imported.get(),
@@ -829,7 +1216,46 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
             if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
             if (movesLayerSpace(w->appSpaceDeltaPose)) s.comp->resetHistory();
         }
-        layer.views.push_back(pv);
+        return pv;
+    };
+    if (quad) {
+        // Quad views: each wide view with its inset, composed at the runtime's stereo size. Depth and
+        // motion where all four views have them (one depth range per eye), as the runtime does.
+        std::array<layers::ProjectionView, 4> v;
+        for (uint32_t i = 0; i < 4; ++i) {
+            auto pv = viewOf(proj.views[i]);
+            if (!pv) return once(2, "a view's swapchain is not one the compositor reads");
+            v[i] = *pv;
+        }
+        auto sameDepth = [](const layers::ProjectionView& a, const layers::ProjectionView& b) {
+            return a.depth->nearZ == b.depth->nearZ && a.depth->farZ == b.depth->farZ &&
+                   a.depth->reversedZ == b.depth->reversedZ;
+        };
+        const bool depth = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); }) &&
+                           sameDepth(v[0], v[2]) && sameDepth(v[1], v[3]);
+        const bool motion = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
+        for (uint32_t e = 0; e < 2; ++e) {
+            layers::ProjectionView pv = v[e];
+            layers::InsetView in{v[e + 2].fov, v[e + 2].color, std::nullopt, std::nullopt};
+            if (depth)
+                in.depth = v[e + 2].depth;
+            else
+                pv.depth.reset();
+            if (motion)
+                in.motion = v[e + 2].motion;
+            else
+                pv.motion.reset();
+            pv.inset = in;
+            layer.views.push_back(pv);
+        }
+        layer.outputWidth = std::max(s.displayWidth, layer.views[0].color.rect.width);
+        layer.outputHeight = std::max(s.displayHeight, layer.views[0].color.rect.height);
+    } else {
+        for (uint32_t e = 0; e < 2; ++e) {
+            auto pv = viewOf(proj.views[e]);
+            if (!pv) return once(2, "a view's swapchain is not one the compositor reads");
+            layer.views.push_back(*pv);
+        }
     }
     fe.layers.push_back(layer);
     const auto g = eyeGaze(s, n, proj, info.displayTime);
@@ -929,9 +1355,30 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
         views[e].subImage.swapchain = s.out;
         views[e].subImage.imageRect = {{0, 0}, {int32_t(w), int32_t(h)}};
         views[e].subImage.imageArrayIndex = e;
+        if (quad) views[e].next = nullptr;  // the wide views' depth is not the output's size
     }
+    patched.viewCount = 2;
     patched.views = views.data();
     return true;
+}
+
+/// A frame end the layer does not composite, down the chain. In a session with the quad views the
+/// layer offers, each four-view projection layer goes down as its two wide views (the runtime's
+/// session is stereo): the application's frame is still shown, at the wide views' density.
+XrResult endDown(const SessionState& s, const Next& n, XrSession session, const XrFrameEndInfo* info) {
+    if (!s.quad || !info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers) return n.endFrame(session, info);
+    std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
+    std::vector<XrCompositionLayerProjection> wide;
+    wide.reserve(layers.size());
+    for (auto& l : layers)
+        if (l && l->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+            wide.push_back(*reinterpret_cast<const XrCompositionLayerProjection*>(l));
+            if (wide.back().viewCount == 4) wide.back().viewCount = 2;
+            l = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&wide.back());
+        }
+    XrFrameEndInfo fe = *info;
+    fe.layers = layers.data();
+    return n.endFrame(session, &fe);
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEndInfo* info) {
@@ -941,7 +1388,21 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
     SessionState& s = it->second;
     const Next& n = g_instances.at(s.instance).next;
     if (info && info->type == XR_TYPE_FRAME_END_INFO) ++s.frames;
-    if (s.disabled || !info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers) return n.endFrame(session, info);
+    // Quad views the layer offers: a projection layer has the configuration's four views (the runtime
+    // below would count them against its stereo configuration).
+    if (s.quad && info && info->type == XR_TYPE_FRAME_END_INFO && info->layers)
+        for (uint32_t i = 0; i < info->layerCount; ++i)
+            if (info->layers[i] && info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
+                const auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[i]);
+                if (p->viewCount != 4) {
+                    logLine("xrEndFrame: XR_ERROR_VALIDATION_FAILURE: (frameEndInfo->layers[" + std::to_string(i) +
+                            "]->viewCount == " + std::to_string(p->viewCount) +
+                            ") is not the 4 views of XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO");
+                    return XR_ERROR_VALIDATION_FAILURE;
+                }
+            }
+    if (s.disabled || !info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers)
+        return endDown(s, n, session, info);
     uint32_t projIndex = info->layerCount;
     for (uint32_t i = 0; i < info->layerCount; ++i)
         if (info->layers[i] && info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
@@ -953,14 +1414,14 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
     std::array<XrCompositionLayerProjectionView, 2> views{};
     const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[projIndex]);
     const auto t0 = std::chrono::steady_clock::now();
-    if (!process(s, n, session, *info, proj, patched, views)) return n.endFrame(session, info);
+    if (!process(s, n, session, *info, proj, patched, views)) return endDown(s, n, session, info);
     s.endFrameMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ++s.processed;
     std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
     layers[projIndex] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&patched);
     XrFrameEndInfo fe = *info;
     fe.layers = layers.data();
-    return n.endFrame(session, &fe);
+    return endDown(s, n, session, &fe);
 }
 
 // ---- Dispatch ---------------------------------------------------------------------------------
@@ -992,28 +1453,53 @@ const Entry kEntries[] = {
     WRSFOV_ENTRY(xrReleaseSwapchainImage, layerReleaseSwapchainImage),
     WRSFOV_ENTRY(xrEndFrame, layerEndFrame),
 };
+// Quad views on a runtime without them: intercepted only for an instance where the layer offers them
+// (InstanceState::quadViews; the spaces' calls for foveatedRendering).
+const Entry kQuadEntries[] = {
+    WRSFOV_ENTRY(xrEnumerateViewConfigurations, layerEnumerateViewConfigurations),
+    WRSFOV_ENTRY(xrGetViewConfigurationProperties, layerGetViewConfigurationProperties),
+    WRSFOV_ENTRY(xrEnumerateViewConfigurationViews, layerEnumerateViewConfigurationViews),
+    WRSFOV_ENTRY(xrEnumerateEnvironmentBlendModes, layerEnumerateEnvironmentBlendModes),
+    WRSFOV_ENTRY(xrBeginSession, layerBeginSession),
+    WRSFOV_ENTRY(xrLocateViews, layerLocateViews),
+};
+const Entry kFoveatedEntries[] = {
+    WRSFOV_ENTRY(xrEnumerateReferenceSpaces, layerEnumerateReferenceSpaces),
+    WRSFOV_ENTRY(xrCreateReferenceSpace, layerCreateReferenceSpace),
+    WRSFOV_ENTRY(xrLocateSpace, layerLocateSpace),
+    WRSFOV_ENTRY(xrDestroySpace, layerDestroySpace),
+};
 #undef WRSFOV_ENTRY
 
 XRAPI_ATTR XrResult XRAPI_CALL layerGetInstanceProcAddr(XrInstance instance, const char* name,
                                                         PFN_xrVoidFunction* function) {
     if (!name || !function) return XR_ERROR_VALIDATION_FAILURE;
     PFN_xrGetInstanceProcAddr next = nullptr;
-    bool passThrough = false;
+    bool passThrough = false, quad = false, foveated = false;
     {
         std::lock_guard lock(g_mutex);
         auto it = g_instances.find(instance);
         if (it == g_instances.end()) return XR_ERROR_HANDLE_INVALID;
         next = it->second.next.getInstanceProcAddr;
         passThrough = it->second.passThrough;
+        quad = it->second.quadViews;
+        foveated = it->second.foveatedRendering;
     }
     if (passThrough && std::strcmp(name, "xrDestroyInstance") != 0) return next(instance, name, function);
-    for (const Entry& e : kEntries)
-        if (std::strcmp(e.name, name) == 0) {
-            XrResult r = next(instance, name, function);  // unsupported below: unsupported here too
-            if (XR_FAILED(r)) return r;
-            *function = e.fn;
-            return XR_SUCCESS;
-        }
+    auto find = [&](std::span<const Entry> entries) -> const Entry* {
+        for (const Entry& e : entries)
+            if (std::strcmp(e.name, name) == 0) return &e;
+        return nullptr;
+    };
+    const Entry* e = find(kEntries);
+    if (!e && quad) e = find(kQuadEntries);
+    if (!e && foveated) e = find(kFoveatedEntries);
+    if (e) {
+        XrResult r = next(instance, name, function);  // unsupported below: unsupported here too
+        if (XR_FAILED(r)) return r;
+        *function = e->fn;
+        return XR_SUCCESS;
+    }
     return next(instance, name, function);
 }
 

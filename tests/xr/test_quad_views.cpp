@@ -72,6 +72,12 @@ struct TempDir {
     }
 };
 
+// The API layer XR_APILAYER_WRSFOV_foveation is enabled (the ctest entries through the layer).
+bool throughLayer() {
+    const char* layers = std::getenv("XR_ENABLE_API_LAYERS");
+    return layers && std::strstr(layers, "XR_APILAYER_WRSFOV_foveation");
+}
+
 glm::vec4 tangents(const XrFovf& f) {
     return {std::tan(f.angleLeft), std::tan(f.angleRight), std::tan(f.angleUp), std::tan(f.angleDown)};
 }
@@ -558,6 +564,9 @@ TEST(XrQuadViews, OnlyWhereEnabledAndOffered) {
             expectFovNear(v[2 + e].fov, xr::insetFov(toFov(v[e].fov), config->insetDeg, std::nullopt), 1e-6f,
                           "centred inset");
     }
+    // The runtime with quad_views = 0. Through the API layer the layer offers them instead
+    // (OfferedByTheLayerOnAStereoRuntime).
+    if (throughLayer()) return;
     ScopedEnv env{{"WRSFOV_XR_QUAD_VIEWS", "0"}};
     uint32_t n = 0;
     ASSERT_EQ(xrEnumerateInstanceExtensionProperties(nullptr, 0, &n, nullptr), XR_SUCCESS);
@@ -722,6 +731,212 @@ TEST(XrQuadViews, SpaceWarpMotionOfEachViewInOutputPixels) {
         EXPECT_NEAR(lo, want, 0.01f) << "eye " << e;
         EXPECT_NEAR(hi, want, 0.01f) << "eye " << e;
     }
+}
+
+// The API layer (XR_APILAYER_WRSFOV_foveation) offering quad views on a runtime without them (the
+// ctest entry xr_quad_through_layer: WRSFOV_XR_QUAD_VIEWS=0, the runtime showing and recording what
+// it receives, WRSFOV_XR_METHOD=off). First the layer's answers: the quad configuration over the
+// runtime's stereo one, its sizes, the combined-eye space, insets on the layer's gaze. Then, with the
+// layer's gaze off (a deterministic centred inset and fallback fovea), 60 frames whose stereo frames
+// as the runtime received them equal a Compositor of the layer's configuration fed the same four views.
+TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
+    const char* quadOff = std::getenv("WRSFOV_XR_QUAD_VIEWS");
+    if (!throughLayer() || !quadOff || std::string(quadOff) != "0")
+        GTEST_SKIP() << "runs through the API layer on a runtime without quad views (xr_quad_through_layer)";
+    constexpr uint32_t kDisplay = 160;
+    {
+        ScopedEnv env{{"WRSFOV_XR_WIDTH", "160"}, {"WRSFOV_XR_HEIGHT", "160"}};
+        auto c = Client::create(kQuadExtensions);
+        ASSERT_TRUE(c);
+        XrViewConfigurationType types[4];
+        uint32_t n = 0;
+        ASSERT_EQ(xrEnumerateViewConfigurations(c->instance, c->system, 4, &n, types), XR_SUCCESS);
+        ASSERT_EQ(n, 2u);
+        EXPECT_EQ(types[0], XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO);
+        XrViewConfigurationView v[4];
+        for (auto& x : v) x = {XR_TYPE_VIEW_CONFIGURATION_VIEW};
+        ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system,
+                                                    XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO, 4, &n, v),
+                  XR_SUCCESS);
+        ASSERT_EQ(n, 4u);
+        EXPECT_EQ(v[0].recommendedImageRectWidth, 64u);  // 160 / 2.5
+        EXPECT_EQ(v[2].recommendedImageRectWidth, 43u);  // 2 tan 15 deg over 90 degrees at 160 px
+        XrSystemFoveatedRenderingPropertiesVARJO fr{XR_TYPE_SYSTEM_FOVEATED_RENDERING_PROPERTIES_VARJO};
+        XrSystemProperties props{XR_TYPE_SYSTEM_PROPERTIES, &fr};
+        ASSERT_EQ(xrGetSystemProperties(c->instance, c->system, &props), XR_SUCCESS);
+        EXPECT_EQ(fr.supportsFoveatedRendering, XR_TRUE);
+        const XrSpace eyes = referenceSpace(*c, XR_REFERENCE_SPACE_TYPE_COMBINED_EYE_VARJO);
+        const XrSpace view = referenceSpace(*c, XR_REFERENCE_SPACE_TYPE_VIEW);
+        Swapchain wide, inset;
+        ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 2, kColorUsage, wide), XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(kSrgb, 43, 43, 2, kColorUsage, inset), XR_SUCCESS);
+        ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+        int tracked = 0, shifted = 0;
+        for (int f = 0; f < 30; ++f) {
+            ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+                XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
+                EXPECT_EQ(xrLocateSpace(eyes, view, fs.predictedDisplayTime, &loc), XR_SUCCESS);
+                const bool valid = loc.locationFlags & XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT;
+                tracked += valid;
+                XrView lv[4];
+                EXPECT_EQ(locate(*c, fs.predictedDisplayTime, valid, lv), XR_SUCCESS);
+                for (int e = 0; e < 2; ++e) {
+                    EXPECT_EQ(std::memcmp(&lv[e].pose, &lv[e + 2].pose, sizeof(XrPosef)), 0);
+                    EXPECT_GE(lv[e + 2].fov.angleLeft, lv[e].fov.angleLeft);
+                    EXPECT_LE(lv[e + 2].fov.angleRight, lv[e].fov.angleRight);
+                    EXPECT_LE(lv[e + 2].fov.angleUp, lv[e].fov.angleUp);
+                    EXPECT_GE(lv[e + 2].fov.angleDown, lv[e].fov.angleDown);
+                    if (valid) {
+                        // On the rendering gaze: the combined-eye direction, in the inset's centre.
+                        const XrQuaternionf& q = loc.pose.orientation;
+                        const glm::vec3 g = glm::quat(q.w, q.x, q.y, q.z) * glm::vec3(0, 0, -1);
+                        const glm::vec4 t = tangents(lv[e + 2].fov);
+                        EXPECT_NEAR(0.5f * (t.x + t.y), g.x / -g.z, 2e-3f) << "frame " << f;
+                        EXPECT_NEAR(0.5f * (t.z + t.w), g.y / -g.z, 2e-3f) << "frame " << f;
+                    }
+                    const layers::Fov centred = xr::insetFov(toFov(lv[e].fov), 30.0f, std::nullopt);
+                    shifted += std::abs(lv[e + 2].fov.angleLeft - centred.angleLeft) > 0.01f;
+                }
+                c->writeSwapchain(wide, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                                  [&](uint32_t e) { return render(64, 64, lv[e].fov, f); });
+                c->writeSwapchain(inset, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                                  [&](uint32_t e) { return render(43, 43, lv[2 + e].fov, f); });
+                QuadLayer ql;
+                ql.build(c->local, lv, wide, inset);
+                std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+                XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+                return xrEndFrame(c->session, &fe);
+            }),
+                      XR_SUCCESS);
+        }
+        EXPECT_GT(tracked, 15);
+        EXPECT_GT(shifted, 15) << "the layer's insets do not follow its gaze";
+        // Two views in the quad session the layer offers: refused, as the runtime would.
+        XrResult r = c->frame([&](const XrFrameState& fs) {
+            XrView lv[4];
+            EXPECT_EQ(locate(*c, fs.predictedDisplayTime, false, lv), XR_SUCCESS);
+            QuadLayer ql;
+            ql.build(c->local, lv, wide, inset);
+            ql.layer.viewCount = 2;
+            std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            EXPECT_EQ(xrEndFrame(c->session, &fe), XR_ERROR_VALIDATION_FAILURE);
+            ql.layer.viewCount = 4;
+            return xrEndFrame(c->session, &fe);
+        });
+        EXPECT_EQ(r, XR_SUCCESS);
+    }
+
+    // The composition, bit for bit: the layer's gaze off, so the inset is centred and the fovea the
+    // compositor's fallback, both known here.
+    const TempDir rec("wrsfov_xr_quad_layer_rec");
+    ScopedEnv env{{"WRSFOV_XR_WIDTH", "160"},
+                  {"WRSFOV_XR_HEIGHT", "160"},
+                  {"WRSFOV_XR_RECORD", rec.path.c_str()},
+                  {"WRSFOV_LAYER_GAZE", "none"}};
+    auto layerConfig = xr::loadConfig("WRSFOV_LAYER_");
+    ASSERT_TRUE(layerConfig) << layerConfig.error().message;
+    auto c = Client::create(kQuadExtensions);
+    ASSERT_TRUE(c);
+    Swapchain wide, inset;
+    ASSERT_EQ(c->createSwapchain(kSrgb, 64, 64, 2, kColorUsage, wide), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(kSrgb, 43, 43, 2, kColorUsage, inset), XR_SUCCESS);
+    ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+    struct Submitted {
+        std::array<std::vector<uint8_t>, 4> color;
+        std::array<XrFovf, 4> fov;
+    };
+    std::vector<Submitted> frames;
+    constexpr int kFrames = 60;
+    for (int f = 0; f < kFrames; ++f) {
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            XrView lv[4];
+            EXPECT_EQ(locate(*c, fs.predictedDisplayTime, true, lv), XR_SUCCESS);
+            Submitted s;
+            for (int i = 0; i < 4; ++i) {
+                s.fov[i] = lv[i].fov;
+                s.color[i] = i < 2 ? render(64, 64, lv[i].fov, f) : render(43, 43, lv[i].fov, f);
+            }
+            c->writeSwapchain(wide, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t e) { return s.color[e]; });
+            c->writeSwapchain(inset, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t e) { return s.color[2 + e]; });
+            frames.push_back(std::move(s));
+            QuadLayer ql;
+            ql.build(c->local, lv, wide, inset);
+            std::vector<const XrCompositionLayerBaseHeader*> ls{ql.header()};
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS);
+    }
+    c.reset();
+    auto opened = eval::SequenceReader::open(rec.path);
+    ASSERT_TRUE(opened) << opened.error().message;
+    const auto& reader = *opened;
+    ASSERT_EQ(reader->info().frameCount, uint32_t(kFrames));
+    ASSERT_EQ(reader->info().width, kDisplay);  // stereo at the runtime's size
+
+    auto ctx = vk::Context::create();
+    ASSERT_TRUE(ctx) << ctx.error().message;
+    auto comp = Compositor::create(**ctx, layerConfig->compositor);
+    ASSERT_TRUE(comp) << comp.error().message;
+    auto make = [&](uint32_t size) {
+        layers::SwapchainCreateInfo ci;
+        ci.format = layers::Format::RGBA8_SRGB;
+        ci.width = ci.height = size;
+        ci.arraySize = 2;
+        auto sc = (*comp)->createSwapchain(ci);
+        EXPECT_TRUE(sc);
+        return sc ? std::move(*sc) : nullptr;
+    };
+    auto lw = make(64), li = make(43);
+    ASSERT_TRUE(lw && li);
+    uint64_t differing = 0, pixels = 0;
+    for (int f = 0; f < kFrames; ++f) {
+        const Submitted& s = frames[f];
+        for (auto [sc, first] : {std::pair{lw.get(), 0}, std::pair{li.get(), 2}}) {
+            auto index = sc->acquire();
+            ASSERT_TRUE(index);
+            ASSERT_TRUE(sc->wait());
+            for (uint32_t e = 0; e < 2; ++e)
+                ASSERT_TRUE(sc->write(*index, e, std::as_bytes(std::span(s.color[first + e]))));
+            ASSERT_TRUE(sc->release());
+        }
+        layers::FrameEndInfo fe;
+        fe.frameIndex = uint64_t(f) + 1;
+        fe.time_s = f / 90.0;
+        layers::ProjectionLayer layer;
+        for (uint32_t e = 0; e < 2; ++e) {
+            layers::ProjectionView pv;
+            pv.fov = toFov(s.fov[e]);
+            pv.color = {lw.get(), {0, 0, 64, 64}, e};
+            layers::InsetView in;
+            in.fov = toFov(s.fov[2 + e]);
+            in.color = {li.get(), {0, 0, 43, 43}, e};
+            pv.inset = in;
+            layer.views.push_back(pv);
+        }
+        layer.outputWidth = layer.outputHeight = kDisplay;
+        fe.layers.push_back(layer);
+        Status st = (*comp)->endFrame(fe);
+        ASSERT_TRUE(st) << st.message();
+        auto got = reader->frame(uint32_t(f));
+        ASSERT_TRUE(got) << got.error().message;
+        for (uint32_t e = 0; e < 2; ++e) {
+            auto out = (*comp)->readOutput(e);
+            ASSERT_TRUE(out);
+            const HostImage& r = got->eyes[e].color;
+            ASSERT_EQ(r.data.size(), out->data.size());
+            for (std::size_t i = 0; i < out->data.size(); i += 4) {
+                differing += std::memcmp(&out->data[i], &r.data[i], 3) != 0;
+                ++pixels;
+            }
+        }
+    }
+    std::printf(
+        "[quad views] through the layer: the runtime's received frames against the library's: %llu of %llu "
+        "pixels differ\n",
+        (unsigned long long)differing, (unsigned long long)pixels);
+    EXPECT_EQ(differing, 0u);
 }
 
 }  // namespace
