@@ -146,6 +146,9 @@ struct CellResult {
     std::array<double, kEccBands.size() - 1> bandMse{}, bandShare{};
 };
 
+/// The atrium's options (AtriumOptions) for `scene` (atrium or dynamic) in a sweep with `options`.
+scenes::AtriumOptions atriumOptions(const BenchOptions& options, SceneKind scene);
+
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);
 

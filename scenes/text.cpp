@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
@@ -124,6 +125,12 @@ void TextScene::renderViews(const std::array<layers::Fov, 2>& fovs, uint32_t wid
     for (int eye = 0; eye < 2; ++eye) {
         const layers::Fov fov = fovs[eye];
         const float eyeX = o.monitor ? 0.0f : (eye == 0 ? -0.5f : 0.5f) * o.ipd;
+        // Monitor mode: one view seen by both eyes, rendered once.
+        if (eye == 1 && o.monitor && std::memcmp(&fovs[0], &fovs[1], sizeof(layers::Fov)) == 0) {
+            color[1] = color[0];
+            depth[1] = depth[0];
+            break;
+        }
         const float tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight);
         const float tu = std::tan(fov.angleUp), td = std::tan(fov.angleDown);
         color[eye] = HostImage::make(layers::Format::RGBA8_SRGB, width, height);

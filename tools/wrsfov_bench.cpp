@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "eval/bench.h"
+#include "eval/saving.h"
 #include "eval/flicker.h"
 #include "eval/cost_model.h"
 #include "eval/sequence.h"
@@ -292,6 +293,8 @@ int main(int argc, char** argv) {
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
     bool steadyFloor = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
+    bool saving = false, noRate = false;
+    eval::SavingOptions savingOptions;
 
     CLI::App app{
         "Run time against error: sweeps scenes x methods x fovea sizes x foveation modes with synthetic gaze, "
@@ -443,6 +446,22 @@ int main(int argc, char** argv) {
                  "Where wrs's output changes more than fov's from frame to frame (the temporal instability's "
                  "pixels, split by what wrs showed: its candidate or a kept sample by quality, and state changes), "
                  "for the first scene, mode and fovea: flicker.md, flicker.csv and flicker.png in --out.");
+    app.add_flag("--saving", saving,
+                 "What rendering foveated saves (docs/metrics.md, \"Rendering saved\"): the first scene (atrium or text) "
+                 "rendered at full resolution, as quad views with an inset on the gaze (--inset-degs, wide views at "
+                 "--wide-scale of the display's density) and at gaze-centred shading rates, each composed with fov, wrs "
+                 "and the oracle (--methods, unless given), against the full-resolution render: pixels rendered, render "
+                 "and composition time, JOD, near-gaze PSNR, eta. Writes saving.csv, saving.md and saving.png in --out.");
+    cli::listOption(app, "--inset-degs", savingOptions.insetDegs, cli::list(cli::number<float>(0, 170, cli::Ends::OpenLow)),
+                "--saving: inset sizes across in degrees (quad views), and the 1x1 region's diameter (rate maps).")
+        ->type_name("DEG,...")
+        ->default_str("5,10,15,20,30");
+    cli::option(app, "--wide-scale", savingOptions.wideScale, cli::number<float>(0, 1, cli::Ends::OpenLow),
+                "--saving: the wide views' pixel density relative to the display's (default 0.4, i.e. 1/2.5).");
+    app.add_flag("--no-rate", noRate, "--saving: quad views only, no shading-rate rows.");
+    cli::listOption(app, "--rate-degs", savingOptions.rateDegs, cli::list(cli::number<float>(0, 170, cli::Ends::OpenLow)),
+                "--saving: the shading-rate rows' 1x1-region diameters in degrees (default: --inset-degs).")
+        ->type_name("DEG,...");
     cli::option(app, "--write-sequence", writeDir, cli::text("a directory name", "DIR"),
                 "Write one scene (frames, depth, motion, the sweep's gaze) as a sequence directory and exit; "
                 "give the scene with --scenes NAME.");
@@ -495,9 +514,9 @@ int main(int argc, char** argv) {
     if (o.scenes.empty() || o.methods.empty() || o.foveas.empty() || o.modes.empty())
         return cli::usageError(app, "scenes, methods, fovea sizes and modes must not be empty");
     if (writeDir.empty() && o.frames <= o.warmup) return cli::usageError(app, "--frames must exceed --warmup");
-    // --write-sequence and --flicker: one Vulkan context, progress lines on stdout.
+    // --write-sequence, --flicker and --saving: one Vulkan context, progress lines on stdout.
     std::unique_ptr<vk::Context> toolCtx;
-    if (!writeDir.empty() || flicker) {
+    if (!writeDir.empty() || flicker || saving) {
         auto ctx = vk::Context::create();
         if (!ctx) {
             std::fprintf(stderr, "wrsfov-bench: %s\n", ctx.error().message.c_str());
@@ -518,6 +537,22 @@ int main(int argc, char** argv) {
         }
         std::printf("wrsfov-bench: sequence in %s (sequence.json, NNNNNN_{L,R}_*, gaze.csv)\n", writeDir.c_str());
         return 0;
+    }
+    if (saving) {
+        if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
+        if (!methodsGiven) o.methods = {Method::Fov, Method::Wrs, Method::Oracle};
+        savingOptions.bench = o;
+        savingOptions.methods = o.methods;
+        savingOptions.rate = !noRate;
+        std::printf("wrsfov-bench: rendering saved, %s, %ux%u per eye, %d frames -> %s\n",
+                    std::string(eval::toString(o.scenes[0])).c_str(), o.width, o.height, o.frames, out.c_str());
+        auto rows = eval::runSaving(*toolCtx, o.scenes[0], savingOptions);
+        if (!rows) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", rows.error().message.c_str());
+            return 1;
+        }
+        return printReport(eval::writeSavingReport(*rows, savingOptions, out, toolCtx->deviceName()), out + "/saving.md",
+                           "rendering saved in " + out + " (saving.md, saving.csv, saving.png)");
     }
     if (flicker) {
         auto r = eval::analyseFlicker(*toolCtx, o, out);

@@ -1,0 +1,701 @@
+#include "eval/saving.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <cstring>
+#include <tuple>
+
+#include <opencv2/imgcodecs.hpp>
+#include <cstdio>
+
+#include "compositor/host_app.h"
+#include "eval/chart.h"
+#include "eval/metrics.h"
+#include "scenes/atrium.h"
+#include "scenes/text.h"
+
+namespace wrsfov::eval {
+
+std::string_view toString(SavingInput input) {
+    switch (input) {
+    case SavingInput::Full: return "full";
+    case SavingInput::Quad: return "quad";
+    case SavingInput::Rate: return "rate";
+    }
+    return "?";
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Error savingError(const std::string& msg) { return Error{1, "saving: " + msg}; }
+
+glm::vec4 tangents(const layers::Fov& f) {
+    return {std::tan(f.angleLeft), std::tan(f.angleRight), std::tan(f.angleUp), std::tan(f.angleDown)};
+}
+layers::Fov fovOfTangents(glm::dvec4 t) {
+    return {float(std::atan(t.x)), float(std::atan(t.y)), float(std::atan(t.z)), float(std::atan(t.w))};
+}
+
+// The inset of a quad view: w x h pixels at the display's density (`density`, pixels per tangent unit),
+// about `deg` across at the view's centre, centred on the gaze's tangent point (the view's centre
+// without a valid gaze), shifted to stay inside the wide view, and placed on whole display pixels, so
+// that its pixels are the display's (a compositor resamples it without blurring it).
+glm::dvec4 insetTangents(const layers::Fov& wide, const layers::EyeGaze& g, uint32_t w_px, uint32_t h_px,
+                         glm::dvec2 density) {
+    const glm::dvec4 w = glm::dvec4(tangents(wide));
+    const double halfX = 0.5 * w_px / density.x, halfY = 0.5 * h_px / density.y;
+    double cx = 0.5 * (w.x + w.y), cy = 0.5 * (w.z + w.w);
+    const double len = glm::length(glm::dvec3(g.dir));
+    if (g.valid && std::isfinite(len) && len > 1e-6 && g.dir.z < -1e-6f) cx = g.dir.x / -g.dir.z, cy = g.dir.y / -g.dir.z;
+    auto place = [](double c, double h, double lo, double hi) {
+        if (2 * h >= hi - lo) return std::pair(lo, hi);
+        c = std::clamp(c, lo + h, hi - h);
+        return std::pair(c - h, c + h);
+    };
+    auto [l, r] = place(cx, halfX, w.x, w.y);
+    auto [d, u] = place(cy, halfY, w.w, w.z);
+    // On the display's pixel grid: the left and top edges on whole pixels, the extent exactly w x h.
+    l = w.x + std::round((l - w.x) * density.x) / density.x;
+    u = w.z - std::round((w.z - u) * density.y) / density.y;
+    r = std::min(l + w_px / density.x, w.y);
+    d = std::max(u - h_px / density.y, w.w);
+    return {l, r, u, d};
+}
+
+// Pixels of a view spanning `span` tangent units at `density` pixels per tangent unit (at least 1).
+uint32_t pixelsOver(double span, double density) { return uint32_t(std::max(1.0, std::round(span * density))); }
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+// Both eyes' images of one view kind as an application renders them (depth always; motion for the atrium).
+struct Views {
+    std::array<HostImage, 2> color, depth;
+    std::array<std::optional<HostImage>, 2> motion;
+};
+
+// A swapchain of two layers (layer = eye) on a compositor.
+std::unique_ptr<layers::Swapchain> swapchain(Compositor& c, layers::Usage usage, layers::Format format, uint32_t w,
+                                             uint32_t h, Status& status) {
+    layers::SwapchainCreateInfo ci;
+    ci.usage = usage;
+    ci.format = format;
+    ci.width = w;
+    ci.height = h;
+    ci.arraySize = 2;
+    auto sc = c.createSwapchain(ci);
+    if (!sc) {
+        if (status) status = sc.error();
+        return nullptr;
+    }
+    return std::move(*sc);
+}
+// Writes both layers of the next image (acquire, wait, write, release).
+Status put(layers::Swapchain& sc, const HostImage& left, const HostImage& right) {
+    auto index = sc.acquire();
+    if (!index) return index.error();
+    if (Status s = sc.wait(); !s) return s;
+    Status s = sc.write(*index, 0, left.bytes());
+    if (s) s = sc.write(*index, 1, right.bytes());
+    Status r = sc.release();
+    return s ? r : s;
+}
+
+// The atrium rendered through any views into an owner compositor's swapchains and read back.
+class AtriumViews {
+public:
+    static Result<std::unique_ptr<AtriumViews>> create(vk::Context& ctx, const scenes::AtriumOptions& o) {
+        std::unique_ptr<AtriumViews> a(new AtriumViews());
+        auto owner = Compositor::create(ctx);
+        if (!owner) return owner.error();
+        a->owner_ = std::move(*owner);
+        auto r = scenes::AtriumRenderer::create(ctx, o);
+        if (!r) return r.error();
+        a->renderer_ = std::move(*r);
+        return a;
+    }
+    // Both eyes through `fovs` at w x h; `ms` gets the render's time (submission to completion).
+    Status render(double t, double prevT, const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, Views& out,
+                  double* ms) {
+        auto it = apps_.find({w, h});
+        if (it == apps_.end()) {
+            HostStereoApp::Options ao;
+            ao.width = w;
+            ao.height = h;
+            ao.color = layers::Format::RGBA8_SRGB;
+            ao.depth = layers::Format::D32F;
+            ao.motion = layers::Format::RGBA16F;
+            auto app = HostStereoApp::create(*owner_, ao);
+            if (!app) return app.error();
+            it = apps_.emplace(std::pair(w, h), std::move(*app)).first;
+        }
+        HostStereoApp& app = *it->second;
+        layers::Swapchain* sc[3] = {&app.color(), app.depth(), app.motion()};
+        uint32_t idx[3];
+        for (int i = 0; i < 3; ++i) {
+            auto a = sc[i]->acquire();
+            if (!a) return a.error();
+            idx[i] = *a;
+            if (Status s = sc[i]->wait(); !s) return s;
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        Status s = renderer_->renderViews(t, prevT, fovs, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
+        if (ms) *ms = msSince(t0);
+        const layers::Format fmt[3] = {layers::Format::RGBA8_SRGB, layers::Format::D32F, layers::Format::RGBA16F};
+        for (uint32_t e = 0; e < 2 && s; ++e) {
+            HostImage* dst[3] = {&out.color[e], &out.depth[e], &out.motion[e].emplace()};
+            for (int i = 0; i < 3 && s; ++i) {
+                auto bytes = sc[i]->read(idx[i], e);
+                if (!bytes) {
+                    s = bytes.error();
+                    break;
+                }
+                *dst[i] = HostImage::make(fmt[i], w, h);
+                dst[i]->data = std::move(*bytes);
+            }
+        }
+        for (int i = 0; i < 3; ++i) (void)sc[i]->release();
+        return s;
+    }
+
+private:
+    AtriumViews() = default;
+    std::unique_ptr<Compositor> owner_;
+    std::unique_ptr<scenes::AtriumRenderer> renderer_;
+    std::map<std::pair<uint32_t, uint32_t>, std::unique_ptr<HostStereoApp>> apps_;
+};
+
+// One composition of the study: an input at an inset size, composed with one method.
+struct Run {
+    SavingInput input = SavingInput::Full;
+    Method method = Method::Fov;
+    float insetDeg = 0.0f;
+    uint32_t insetW = 0, insetH = 0;
+    std::unique_ptr<Compositor> comp;
+    std::unique_ptr<layers::Swapchain> color, depth, motion, insetColor, insetDepth, insetMotion, rateMap, reference;
+    std::vector<double> composeMs;
+    std::array<std::unique_ptr<JodMetric>, 2> jod;
+    double mseSum = 0, nearMseSum = 0;
+    int scored = 0;
+    double pixelSum = 0;  // over the frames: pixels (or shaded samples) rendered
+    int frames = 0;
+};
+
+double mseFromPsnr(double p) { return std::isinf(p) ? 0.0 : std::pow(10.0, -p / 10.0); }
+double psnrFromMse(double m) { return m <= 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(1.0 / m); }
+
+// VK_KHR_fragment_shading_rate values of the study's rates: 1x1, 2x2, 4x4.
+constexpr uint8_t kRate1x1 = 0, kRate2x2 = 5, kRate4x4 = 10;
+
+// A gaze-centred rate map: 1x1 within deg / 2 of the gaze, 2x2 out to deg, 4x4 beyond (texel centres).
+HostImage rateMapFor(const layers::Fov& fov, uint32_t W, uint32_t H, uint32_t T, const layers::EyeGaze& g, float deg) {
+    const uint32_t mw = (W + T - 1) / T, mh = (H + T - 1) / T;
+    HostImage map = HostImage::make(layers::Format::R8UI, mw, mh);
+    glm::vec3 gaze = g.dir;
+    const glm::vec4 t = tangents(fov);
+    if (!(g.valid && glm::length(gaze) > 1e-6f)) gaze = glm::vec3(0.5f * (t.x + t.y), 0.5f * (t.z + t.w), -1.0f);
+    gaze = glm::normalize(gaze);
+    for (uint32_t y = 0; y < mh; ++y)
+        for (uint32_t x = 0; x < mw; ++x) {
+            const float cx = std::min(float(x * T) + 0.5f * T, float(W)), cy = std::min(float(y * T) + 0.5f * T, float(H));
+            const glm::vec3 ray = pixelDirection(fov, W, H, cx - 0.5f, cy - 0.5f);
+            const double e = std::acos(std::clamp(double(glm::dot(ray, gaze)), -1.0, 1.0)) * 180.0 / kPi;
+            map.store(x, y, glm::vec4(e < 0.5 * deg ? kRate1x1 : e < deg ? kRate2x2 : kRate4x4, 0, 0, 0));
+        }
+    return map;
+}
+
+}  // namespace
+
+Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, const SavingOptions& so) {
+    if (scene != SceneKind::Atrium && scene != SceneKind::Text)
+        return savingError("the study renders the atrium or the text page, not scene " + std::string(toString(scene)));
+    if (so.insetDegs.empty()) return savingError("no inset sizes");
+    for (float d : so.insetDegs)
+        if (!(d > 0.0f && d < 170.0f)) return savingError("inset sizes must be in (0°, 170°)");
+    if (!(so.wideScale > 0.0f && so.wideScale <= 1.0f)) return savingError("the wide views' density must be in (0, 1]");
+    if (so.rateTexel < 4 || so.rateTexel > 64 || (so.rateTexel & (so.rateTexel - 1)))
+        return savingError("the rate-map texel must be a power of two from 4 to 64");
+    if (so.methods.empty()) return savingError("no methods");
+    const BenchOptions& o = so.bench;
+    if (o.frames < 1 || o.warmup < 0 || o.warmup >= o.frames) return savingError("needs 0 <= warmup < frames");
+    const uint32_t W = o.width, H = o.height;
+    const int evalEyes = o.monitor ? 1 : 2;  // monitor mode: one view, shown to both eyes
+    const int jodFrames = std::clamp(o.jodFrames > 0 ? o.jodFrames : o.frames - o.warmup, 1, o.frames - o.warmup);
+    const int firstScored = o.frames - jodFrames;
+
+    std::unique_ptr<AtriumViews> atriumViews;
+    std::unique_ptr<scenes::TextScene> text;
+    if (scene == SceneKind::Atrium) {
+        auto a = AtriumViews::create(ctx, atriumOptions(o, scene));
+        if (!a) return a.error();
+        atriumViews = std::move(*a);
+    } else {
+        scenes::TextOptions to;
+        to.width = W;
+        to.height = H;
+        to.seed = o.seed;
+        to.monitor = o.monitor;
+        text = std::make_unique<scenes::TextScene>(to);
+    }
+    // The scene through any views; the text page is static, so its views depend on the views alone.
+    std::map<std::tuple<float, float, float, float, uint32_t, uint32_t>, Views> textCache;
+    auto render = [&](const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, double t, double prevT,
+                      Views& out, double* ms) -> Status {
+        if (ms) *ms = std::numeric_limits<double>::quiet_NaN();
+        if (atriumViews) return atriumViews->render(t, prevT, fovs, w, h, out, ms);
+        const auto key = std::make_tuple(fovs[0].angleLeft, fovs[0].angleUp, fovs[1].angleLeft, fovs[1].angleUp, w, h);
+        if (auto it = textCache.find(key); it != textCache.end()) {
+            out = it->second;
+            return {};
+        }
+        text->renderViews(fovs, w, h, out.color, out.depth);
+        if (textCache.size() > 64) textCache.clear();  // the insets move with the gaze: keep a few
+        textCache.emplace(key, out);
+        return {};
+    };
+
+    std::vector<Run> runs;
+    std::array<layers::Fov, 2> fullFov{};
+    glm::dvec2 density{0, 0};
+    uint32_t wideW = 0, wideH = 0;
+    std::vector<double> fullRenderMs, wideRenderMs;
+    std::map<float, std::vector<double>> insetRenderMs;
+    HostStereoApp::Options app;
+    double prevT = 0;
+
+    auto setUp = [&](const SceneFrameInfo& info, const std::array<EyeSubmission, 2>& eyes) -> Status {
+        app = info.app;
+        for (int e = 0; e < 2; ++e) fullFov[e] = eyes[e].fov;
+        const glm::vec4 t0 = tangents(fullFov[0]);
+        density = {W / (double(t0.y) - t0.x), H / (double(t0.z) - t0.w)};
+        wideW = std::max(1u, uint32_t(std::lround(W * double(so.wideScale))));
+        wideH = std::max(1u, uint32_t(std::lround(H * double(so.wideScale))));
+        const bool hasDepth = eyes[0].depth.has_value(), hasMotion = eyes[0].motion.has_value();
+        const layers::Format depthFmt = hasDepth ? eyes[0].depth->format : layers::Format::R32F;
+        auto add = [&](SavingInput in, Method m, float deg) -> Status {
+            Run r;
+            r.input = in;
+            r.method = m;
+            r.insetDeg = deg;
+            CompositorConfig cfg;
+            cfg.method = m;
+            cfg.foveation = FoveationMode::None;  // the full-resolution row: composed as submitted
+            cfg.seed = o.seed;
+            auto c = Compositor::create(ctx, cfg);
+            if (!c) return c.error();
+            r.comp = std::move(*c);
+            Status st;
+            Compositor& comp = *r.comp;
+            const bool quad = in == SavingInput::Quad;
+            const uint32_t cw = quad ? wideW : W, ch = quad ? wideH : H;
+            r.color = swapchain(comp, layers::Usage::Color, layers::Format::RGBA8_SRGB, cw, ch, st);
+            if (hasDepth) r.depth = swapchain(comp, layers::Usage::Depth, depthFmt, cw, ch, st);
+            if (hasMotion) r.motion = swapchain(comp, layers::Usage::Motion, layers::Format::RGBA16F, cw, ch, st);
+            if (quad) {
+                const double span = 2.0 * std::tan(0.5 * deg * kPi / 180.0);
+                r.insetW = std::min(pixelsOver(span, density.x), W);
+                r.insetH = std::min(pixelsOver(span, density.y), H);
+                r.insetColor = swapchain(comp, layers::Usage::Color, layers::Format::RGBA8_SRGB, r.insetW, r.insetH, st);
+                if (hasDepth) r.insetDepth = swapchain(comp, layers::Usage::Depth, depthFmt, r.insetW, r.insetH, st);
+                if (hasMotion)
+                    r.insetMotion = swapchain(comp, layers::Usage::Motion, layers::Format::RGBA16F, r.insetW, r.insetH, st);
+            } else if (in == SavingInput::Rate) {
+                const uint32_t T = so.rateTexel;
+                r.rateMap = swapchain(comp, layers::Usage::ShadingRate, layers::Format::R8UI, (W + T - 1) / T,
+                                      (H + T - 1) / T, st);
+            }
+            if (in != SavingInput::Full && isOracle(m))
+                r.reference = swapchain(comp, layers::Usage::Color, layers::Format::RGBA8_SRGB, W, H, st);
+            if (!st) return st;
+            for (int e = 0; e < evalEyes; ++e) {
+                auto j = makeJodMetric(ctx, jodOptions(o, scene, W, H, tangents(fullFov[e]), info.fps));
+                if (!j) return j.error();
+                r.jod[e] = std::move(*j);
+            }
+            runs.push_back(std::move(r));
+            return {};
+        };
+        if (Status s = add(SavingInput::Full, Method::Fov, 0.0f); !s) return s;
+        for (float deg : so.insetDegs)
+            for (Method m : so.methods)
+                if (Status s = add(SavingInput::Quad, m, deg); !s) return s;
+        if (so.rate)
+            for (float deg : so.rateDegs.empty() ? so.insetDegs : so.rateDegs)
+                for (Method m : so.methods)
+                    if (m == Method::Fov || m == Method::Wrs)
+                        if (Status s = add(SavingInput::Rate, m, deg); !s) return s;
+        return {};
+    };
+
+    auto visit = [&](const SceneFrameInfo& info, int f, double t, std::array<EyeSubmission, 2>& eyes) -> Status {
+        if (runs.empty())
+            if (Status s = setUp(info, eyes); !s) return s;
+        const double pt = f == 0 ? t : prevT;
+        prevT = t;
+        const bool scored = f >= firstScored;
+        // What the application renders this frame: the full-resolution views (the scene's own frame;
+        // rendered again on the scored frames only to time them), the wide views, each inset on the gaze,
+        // and for the shading rates the views at half and a quarter of the resolution (a 2x2 or 4x4 block's
+        // one sample is the centre of the block, as a pixel of those views is).
+        if (scored && atriumViews) {
+            Views scratch;
+            double ms = 0;
+            if (Status s = render(fullFov, W, H, t, pt, scratch, &ms); !s) return s;
+            fullRenderMs.push_back(ms);
+        }
+        Views wide, half, quarter;
+        double ms = 0;
+        if (Status s = render(fullFov, wideW, wideH, t, pt, wide, &ms); !s) return s;
+        if (scored) wideRenderMs.push_back(ms);
+        if (so.rate) {
+            if (Status s = render(fullFov, (W + 1) / 2, (H + 1) / 2, t, pt, half, nullptr); !s) return s;
+            if (Status s = render(fullFov, (W + 3) / 4, (H + 3) / 4, t, pt, quarter, nullptr); !s) return s;
+        }
+        std::map<float, std::pair<Views, std::array<glm::dvec4, 2>>> insets;
+        struct Rated {
+            std::array<HostImage, 2> maps, colour;
+            double samples = 0;  // shaded samples of the views the application renders
+        };
+        std::map<float, Rated> rates;
+        std::array<cv::Mat, 2> reference;
+        for (Run& r : runs) {
+            layers::FrameEndInfo fe;
+            fe.frameIndex = uint64_t(f) + 1;
+            fe.time_s = t;
+            layers::ProjectionLayer layer;
+            Status s;
+            std::array<layers::Fov, 2> insetFov{};
+            if (r.input == SavingInput::Full) {
+                s = put(*r.color, eyes[0].color, eyes[1].color);
+                if (s && r.depth) s = put(*r.depth, *eyes[0].depth, *eyes[1].depth);
+                if (s && r.motion) s = put(*r.motion, *eyes[0].motion, *eyes[1].motion);
+            } else if (r.input == SavingInput::Quad) {
+                auto it = insets.find(r.insetDeg);
+                if (it == insets.end()) {
+                    std::array<glm::dvec4, 2> tan;
+                    for (int e = 0; e < 2; ++e) tan[e] = insetTangents(fullFov[e], eyes[e].gaze, r.insetW, r.insetH, density);
+                    Views v;
+                    double ims = 0;
+                    if (Status rs = render({fovOfTangents(tan[0]), fovOfTangents(tan[1])}, r.insetW, r.insetH, t, pt, v,
+                                           &ims);
+                        !rs)
+                        return rs;
+                    if (scored) insetRenderMs[r.insetDeg].push_back(ims);
+                    it = insets.emplace(r.insetDeg, std::pair(std::move(v), tan)).first;
+                }
+                const Views& in = it->second.first;
+                for (int e = 0; e < 2; ++e) insetFov[e] = fovOfTangents(it->second.second[e]);
+                s = put(*r.color, wide.color[0], wide.color[1]);
+                if (s) s = put(*r.insetColor, in.color[0], in.color[1]);
+                if (s && r.depth) s = put(*r.depth, wide.depth[0], wide.depth[1]);
+                if (s && r.insetDepth) s = put(*r.insetDepth, in.depth[0], in.depth[1]);
+                if (s && r.motion) s = put(*r.motion, *wide.motion[0], *wide.motion[1]);
+                if (s && r.insetMotion) s = put(*r.insetMotion, *in.motion[0], *in.motion[1]);
+                r.pixelSum += evalEyes * (double(wideW) * wideH + double(r.insetW) * r.insetH);
+            } else {
+                auto it = rates.find(r.insetDeg);
+                if (it == rates.end()) {
+                    Rated rated;
+                    std::array<HostImage, 2>&maps = rated.maps, &colour = rated.colour;
+                    double& samples = rated.samples;
+                    for (int e = 0; e < 2; ++e) {
+                        maps[e] = rateMapFor(fullFov[e], W, H, so.rateTexel, eyes[e].gaze, r.insetDeg);
+                        colour[e] = HostImage::make(layers::Format::RGBA8_SRGB, W, H);
+                        const std::size_t tb = colour[e].texelBytes();
+                        for (uint32_t y = 0; y < H; ++y)
+                            for (uint32_t x = 0; x < W; ++x) {
+                                const uint8_t v = uint8_t(maps[e].data[(y / so.rateTexel) * maps[e].width + x / so.rateTexel]);
+                                const HostImage& src = v == kRate1x1 ? eyes[e].color : v == kRate2x2 ? half.color[e] : quarter.color[e];
+                                const uint32_t k = v == kRate1x1 ? 1 : v == kRate2x2 ? 2 : 4;
+                                std::memcpy(colour[e].data.data() + (std::size_t(y) * W + x) * tb,
+                                            src.data.data() + (std::size_t(y / k) * src.width + x / k) * tb, tb);
+                                if (e < evalEyes) samples += 1.0 / double(k * k);
+                            }
+                    }
+                    it = rates.emplace(r.insetDeg, std::move(rated)).first;
+                }
+                r.pixelSum += it->second.samples;
+                s = put(*r.rateMap, it->second.maps[0], it->second.maps[1]);
+                if (s) s = put(*r.color, it->second.colour[0], it->second.colour[1]);
+                if (s && r.depth) s = put(*r.depth, *eyes[0].depth, *eyes[1].depth);
+                if (s && r.motion) s = put(*r.motion, *eyes[0].motion, *eyes[1].motion);
+            }
+            if (s && r.reference) s = put(*r.reference, eyes[0].color, eyes[1].color);
+            if (!s) return s;
+            const uint32_t cw = r.input == SavingInput::Quad ? wideW : W, ch = r.input == SavingInput::Quad ? wideH : H;
+            for (uint32_t e = 0; e < 2; ++e) {
+                layers::ProjectionView v;
+                v.fov = fullFov[e];
+                v.color = {r.color.get(), {0, 0, cw, ch}, e};
+                if (r.depth) v.depth = layers::DepthInfo{{r.depth.get(), {0, 0, cw, ch}, e}, app.nearZ, app.farZ, app.reversedZ};
+                if (r.motion) v.motion = layers::MotionInfo{{r.motion.get(), {0, 0, cw, ch}, e}};
+                if (r.input == SavingInput::Quad) {
+                    layers::InsetView in;
+                    in.fov = insetFov[e];
+                    in.color = {r.insetColor.get(), {0, 0, r.insetW, r.insetH}, e};
+                    if (r.insetDepth)
+                        in.depth = layers::DepthInfo{{r.insetDepth.get(), {0, 0, r.insetW, r.insetH}, e}, app.nearZ,
+                                                     app.farZ, app.reversedZ};
+                    if (r.insetMotion) in.motion = layers::MotionInfo{{r.insetMotion.get(), {0, 0, r.insetW, r.insetH}, e}};
+                    v.inset = in;
+                }
+                if (r.rateMap) {
+                    const uint32_t T = so.rateTexel;
+                    v.rateMap = layers::RateMapInfo{{r.rateMap.get(), {0, 0, (W + T - 1) / T, (H + T - 1) / T}, e}, T, T};
+                }
+                if (r.reference) v.reference = layers::SubImage{r.reference.get(), {0, 0, W, H}, e};
+                layer.views.push_back(v);
+                fe.gaze[e] = eyes[e].gaze;
+            }
+            if (r.input == SavingInput::Quad) layer.outputWidth = W, layer.outputHeight = H;
+            fe.layers.push_back(std::move(layer));
+            if (Status es = r.comp->endFrame(fe); !es)
+                return savingError(std::string(toString(r.input)) + " " + std::string(toString(r.method)) + " at " +
+                                   std::to_string(r.insetDeg) + "°, frame " + std::to_string(f) + ": " + es.message());
+            r.frames++;
+            if (r.input == SavingInput::Full) r.pixelSum += evalEyes * double(W) * H;
+            if (f >= o.warmup) r.composeMs.push_back(r.comp->stats().gpu.total);
+            if (!scored) continue;
+            for (int e = 0; e < evalEyes; ++e) {
+                auto out = r.comp->readOutput(uint32_t(e));
+                if (!out) return out.error();
+                const cv::Mat test = toMat(*out);
+                // The reference: the full-resolution frame as the first run (composed as submitted) shows it.
+                if (r.input == SavingInput::Full) reference[e] = test;
+                const gpu::EyeParams& ep = r.comp->lastParams().eye[e];
+                r.mseSum += meanSquaredError(reference[e], test);
+                r.nearMseSum += mseFromPsnr(nearGazePsnr(reference[e], test, eccentricityMap(W, H, ep)));
+                if (Status js = r.jod[e]->push(test, reference[e], gazePixelF(ep, W, H)); !js) return js;
+            }
+            r.scored++;
+        }
+        if (o.progress && ((f + 1) % 30 == 0 || f + 1 == o.frames))
+            o.progress("saving " + std::string(toString(scene)) + ": frame " + std::to_string(f + 1) + "/" +
+                       std::to_string(o.frames) + ", " + std::to_string(runs.size()) + " compositions");
+        return {};
+    };
+    if (Status s = forEachSceneFrame(ctx, scene, o, visit); !s) return s.error();
+
+    std::vector<SavingRow> rows;
+    for (Run& r : runs) {
+        SavingRow row;
+        row.scene = scene;
+        row.input = r.input;
+        row.method = r.method;
+        row.insetDeg = r.insetDeg;
+        row.pixelsRendered = r.frames ? r.pixelSum / r.frames : 0.0;
+        row.composeMs = median(r.composeMs);
+        if (atriumViews && r.input == SavingInput::Full) row.renderMs = median(fullRenderMs);
+        if (atriumViews && r.input == SavingInput::Quad) row.renderMs = median(wideRenderMs) + median(insetRenderMs[r.insetDeg]);
+        const double n = double(std::max(1, r.scored * evalEyes));
+        row.mse = r.mseSum / n;
+        row.nearGazePsnr = psnrFromMse(r.nearMseSum / n);
+        double jod = 0;
+        for (int e = 0; e < evalEyes; ++e) {
+            auto j = r.jod[e]->jod();
+            if (!j) return j.error();
+            jod += *j;
+        }
+        row.jod = jod / evalEyes;
+        rows.push_back(row);
+    }
+    // Retention efficiency against the oracle of the same input and inset.
+    for (SavingRow& row : rows) {
+        const SavingRow *fov = nullptr, *oracle = nullptr;
+        for (const SavingRow& x : rows)
+            if (x.input == row.input && x.insetDeg == row.insetDeg) {
+                if (x.method == Method::Fov) fov = &x;
+                if (x.method == Method::Oracle) oracle = &x;
+            }
+        if (fov && oracle && fov->mse - oracle->mse > 0.01 * fov->mse)
+            row.eta = (fov->mse - row.mse) / (fov->mse - oracle->mse);
+    }
+    return rows;
+}
+
+FoveaWorth insetForJod(const std::vector<SavingRow>& rows, SceneKind scene, Method method, double targetJod) {
+    std::vector<std::pair<double, double>> curve;
+    for (const SavingRow& r : rows)
+        if (r.scene == scene && r.input == SavingInput::Quad && r.method == method) curve.push_back({r.insetDeg, r.jod});
+    return foveaWorth(std::move(curve), targetJod);
+}
+
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+    if (!std::isfinite(v)) return std::isinf(v) && v > 0 ? "∞" : "n/a";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+// Pixels and render time of quad views at an inset of `deg` (between the study's sizes): the pixels
+// grow as a + b tan^2(deg / 2) (the inset's square), fitted through the smallest and the largest inset;
+// the render time linearly in the pixels between the two insets around `deg`.
+struct QuadCost {
+    double pixels = std::numeric_limits<double>::quiet_NaN(), renderMs = std::numeric_limits<double>::quiet_NaN();
+};
+QuadCost quadCost(const std::vector<const SavingRow*>& quad, double deg) {
+    QuadCost c;
+    if (quad.size() < 2 || !std::isfinite(deg)) return c;
+    auto t2 = [](double d) { const double t = std::tan(0.5 * d * kPi / 180.0); return t * t; };
+    const SavingRow &lo = *quad.front(), &hi = *quad.back();
+    const double b = (hi.pixelsRendered - lo.pixelsRendered) / (t2(hi.insetDeg) - t2(lo.insetDeg));
+    c.pixels = lo.pixelsRendered + b * (t2(deg) - t2(lo.insetDeg));
+    for (std::size_t i = 1; i < quad.size(); ++i)
+        if (deg <= quad[i]->insetDeg || i + 1 == quad.size()) {
+            const SavingRow &a = *quad[i - 1], &z = *quad[i];
+            const double f = (c.pixels - a.pixelsRendered) / (z.pixelsRendered - a.pixelsRendered);
+            c.renderMs = a.renderMs + (z.renderMs - a.renderMs) * f;
+            break;
+        }
+    return c;
+}
+
+}  // namespace
+
+Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions& so, const std::string& dir,
+                         const std::string& deviceName, std::string* headline) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (rows.empty()) return savingError("no rows to report");
+    const SceneKind scene = rows.front().scene;
+    const BenchOptions& o = so.bench;
+    {
+        std::ofstream csv(dir + "/saving.csv");
+        if (!csv) return savingError("cannot write " + dir + "/saving.csv");
+        csv << "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr\n";
+        csv << std::setprecision(6);
+        for (const SavingRow& r : rows)
+            csv << toString(r.scene) << ',' << toString(r.input) << ',' << toString(r.method) << ',' << r.insetDeg << ','
+                << std::llround(r.pixelsRendered) << ',' << r.renderMs << ',' << r.composeMs << ',' << r.jod << ','
+                << r.nearGazePsnr << '\n';
+    }
+    const SavingRow* full = nullptr;
+    for (const SavingRow& r : rows)
+        if (r.input == SavingInput::Full) full = &r;
+    auto quadOf = [&](Method m) {
+        std::vector<const SavingRow*> q;
+        for (const SavingRow& r : rows)
+            if (r.input == SavingInput::Quad && r.method == m) q.push_back(&r);
+        std::sort(q.begin(), q.end(), [](auto* a, auto* b) { return a->insetDeg < b->insetDeg; });
+        return q;
+    };
+    auto row = [&](SavingInput in, Method m, float deg) -> const SavingRow* {
+        for (const SavingRow& r : rows)
+            if (r.input == in && r.method == m && r.insetDeg == deg) return &r;
+        return nullptr;
+    };
+    const bool cpu = deviceName.find("llvmpipe") != std::string::npos || deviceName.find("lavapipe") != std::string::npos;
+    const bool hasRender = full && std::isfinite(full->renderMs);
+
+    // The headline: the inset with WRS (and the oracle's) that matches composition alone at 30° and 20°.
+    std::ostringstream head;
+    const std::vector<const SavingRow*> quadWrs = quadOf(Method::Wrs);
+    for (float target : {30.0f, 20.0f}) {
+        const SavingRow* base = row(SavingInput::Quad, Method::Fov, target);
+        if (!base) continue;
+        const FoveaWorth wrs = insetForJod(rows, scene, Method::Wrs, base->jod);
+        const FoveaWorth oracle = insetForJod(rows, scene, Method::Oracle, base->jod);
+        head << "- **" << toString(scene) << ", quad views: `wrs` matches composition alone at a " << target << "° inset ("
+             << fmt("%.2f", base->jod) << " JOD) with an inset of " << toString(wrs) << "** (the oracle: "
+             << toString(oracle) << ").";
+        const QuadCost c = quadCost(quadWrs, wrs.deg);
+        if (wrs.bound == FoveaWorth::Bound::Exact || wrs.bound == FoveaWorth::Bound::AtMost) {
+            head << " Pixels rendered per frame: " << fmt("%.3f", c.pixels / 1e6) << " M against "
+                 << fmt("%.3f", base->pixelsRendered / 1e6) << " M at " << target << "° ("
+                 << fmt("%.1f", 100.0 * (1.0 - c.pixels / base->pixelsRendered)) << " % fewer) and "
+                 << fmt("%.3f", full ? full->pixelsRendered / 1e6 : NAN) << " M at full resolution ("
+                 << fmt("%.1f", full ? 100.0 * (1.0 - c.pixels / full->pixelsRendered) : NAN) << " % fewer)";
+            if (hasRender && std::isfinite(c.renderMs))
+                head << "; render time " << fmt("%.2f", c.renderMs) << " ms against " << fmt("%.2f", base->renderMs)
+                     << " ms (×" << fmt("%.2f", c.renderMs / base->renderMs) << ") and " << fmt("%.2f", full->renderMs)
+                     << " ms at full resolution (×" << fmt("%.2f", c.renderMs / full->renderMs) << ")"
+                     << (cpu ? ", on the CPU renderer (ratios)" : "");
+            head << ".";
+        } else {
+            head << " No inset of the study reaches it with `wrs`.";
+        }
+        head << "\n";
+    }
+    if (headline) *headline = head.str();
+
+    std::ofstream md(dir + "/saving.md");
+    if (!md) return savingError("cannot write " + dir + "/saving.md");
+    md << "# Rendering saved: " << toString(scene) << "\n\n";
+    md << "The scene rendered as an application would submit it — at full resolution, as quad views (wide views at "
+       << fmt("%.2f", so.wideScale) << " of the display's pixel density, an inset on the gaze at the display's density), "
+       << "and at gaze-centred shading rates (1×1 within half the inset size of the gaze, 2×2 out to the inset size, "
+       << "4×4 beyond, " << so.rateTexel << "-pixel rate texels) — composed without (`fov`) and with retention (`wrs`), "
+       << "with the oracle as the bound of any retention rule, against the full-resolution render. "
+       << o.width << "×" << o.height << (o.monitor ? " (monitor mode, one view)" : " per eye (HMD stereo)") << ", "
+       << o.frames << " frames of synthetic gaze; JOD (FovVideoVDP, foveated), near-gaze PSNR (within 10°) and η over "
+       << "the last " << std::max(1, o.jodFrames) << " frames; times are medians per frame after " << o.warmup
+       << " frames of warm-up. Device: " << deviceName
+       << (cpu ? " (a CPU: its times are the CPU's work, worth reading as ratios only)" : "") << ". Command: `wrsfov-bench --saving`"
+       << " (docs/metrics.md, \"Rendering saved\").\n\n";
+    md << "## Headline\n\n" << head.str() << "\n";
+    md << "Goal: on the atrium at 12 px/deg or more, the inset `wrs` needs to match 30° without it is at most 10° (a "
+          "ninth of the inset's pixels).\n\n";
+    md << "## Every composition\n\n";
+    md << "| input | method | inset | pixels rendered (M) | × full | render ms | × full | compose ms | JOD | "
+          "near-gaze PSNR (dB) | η |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const SavingRow& r : rows) {
+        md << "| " << toString(r.input) << " | " << toString(r.method) << " | "
+           << (r.input == SavingInput::Full ? std::string("–") : fmt("%.1f°", r.insetDeg)) << " | "
+           << fmt("%.3f", r.pixelsRendered / 1e6) << " | " << fmt("%.3f", full ? r.pixelsRendered / full->pixelsRendered : NAN)
+           << " | " << fmt("%.2f", r.renderMs) << " | " << fmt("%.2f", full ? r.renderMs / full->renderMs : NAN) << " | "
+           << fmt("%.2f", r.composeMs) << " | " << fmt("%.2f", r.jod) << " | " << fmt("%.2f", r.nearGazePsnr) << " | "
+           << fmt("%.2f", r.eta) << " |\n";
+    }
+    md << "\nColumns: pixels rendered per frame by the application (both eyes; quad: wide + inset; rate: shaded "
+          "samples, one per block); render ms: the application's rendering per frame ("
+       << (hasRender ? "the atrium's raster on this device; rate maps: n/a, as this device has no variable-rate shading and the "
+                       "study emulates it by rendering at half and a quarter of the resolution"
+                     : "n/a: the page is rendered on the CPU, and its cost is its pixels")
+       << "); compose ms: the compositor's time per frame (PassTimes::total, with the compose pass); JOD and near-gaze "
+          "PSNR against the full-resolution render; η: (MSE_fov − MSE) / (MSE_fov − MSE_oracle) for the same input and "
+          "inset (n/a where the oracle removes less than 1 % of fov's MSE).\n";
+
+    // JOD against the cost, one curve per method: render time where the scene has it, else pixels.
+    std::vector<Series> series;
+    for (Method m : so.methods) {
+        for (SavingInput in : {SavingInput::Quad, SavingInput::Rate}) {
+            Series sr;
+            sr.name = std::string(toString(m)) + (in == SavingInput::Rate ? " (rate)" : "");
+            sr.colour = methodColour(m);
+            if (in == SavingInput::Rate) sr.colour *= 0.6;
+            sr.line = true;
+            for (const SavingRow& r : rows)
+                if (r.input == in && r.method == m) {
+                    sr.points.push_back({hasRender && in == SavingInput::Quad ? r.renderMs : r.pixelsRendered / 1e6, r.jod});
+                    sr.labels.push_back(fmt("%.0f°", r.insetDeg));
+                }
+            if (!sr.points.empty() && !(hasRender && in == SavingInput::Rate)) series.push_back(sr);
+        }
+    }
+    if (full) series.push_back({"full resolution", {0, 0, 0}, {{hasRender ? full->renderMs : full->pixelsRendered / 1e6, full->jod}}, {}, false});
+    const std::string title = std::string(toString(scene)) + ": FovVideoVDP JOD against the rendering it costs";
+    cv::imwrite(dir + "/saving.png",
+                chart(title, hasRender ? "render ms per frame (both eyes)" : "megapixels rendered per frame", "JOD", series));
+    return {};
+}
+
+}  // namespace wrsfov::eval

@@ -1,0 +1,75 @@
+// What rendering foveated saves, end to end (wrsfov-bench --saving, docs/metrics.md "Rendering saved"):
+// a scene rendered as an application would submit it, at full resolution, as quad views (a wide view at
+// a low density and an inset on the gaze at the display's density) and at gaze-centred shading rates,
+// each composed without and with WRS and scored against the full-resolution render: pixels rendered,
+// render and composition time, FovVideoVDP JOD, near-gaze PSNR and retention efficiency.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "compositor/compositor.h"
+#include "eval/bench.h"
+
+namespace wrsfov::eval {
+
+/// How the frames were rendered: full resolution, quad views, or at shading rates.
+enum class SavingInput : uint8_t { Full, Quad, Rate };
+/// "full", "quad", "rate".
+std::string_view toString(SavingInput input);
+
+struct SavingOptions {
+    /// The scene's frames and gaze as the sweep makes them: scene size per eye (the display), frames,
+    /// warm-up, seed, monitor mode or the HMD field of view, camera path, JOD frames, progress.
+    BenchOptions bench;
+    /// Quad views: the inset's size across, degrees. Rate maps: the diameter of the 1x1 region around the
+    /// gaze (a 2x2 ring out to twice it, 4x4 beyond).
+    std::vector<float> insetDegs{5.0f, 10.0f, 15.0f, 20.0f, 30.0f};
+    /// The wide views' pixel density relative to the display's (the OpenXR specification's Varjo example:
+    /// 14 px/deg against 35, 1 / 2.5).
+    float wideScale = 0.4f;
+    /// Composed with each of these (fov: composition alone; the oracle bounds any retention rule).
+    std::vector<Method> methods{Method::Fov, Method::Wrs, Method::Oracle};
+    /// Shading-rate rows too (fov and wrs only), at these 1x1-region diameters (empty: insetDegs).
+    bool rate = true;
+    std::vector<float> rateDegs;
+    /// Pixels per rate-map texel (VK_KHR_fragment_shading_rate's attachment texel size).
+    uint32_t rateTexel = 16;
+};
+
+struct SavingRow {
+    SceneKind scene = SceneKind::Atrium;
+    SavingInput input = SavingInput::Full;
+    Method method = Method::Fov;
+    float insetDeg = 0.0f;       ///< 0 for the full-resolution row
+    double pixelsRendered = 0;   ///< per frame, both eyes: pixels (quad: wide + inset) or shaded samples (rate)
+    /// Median per frame of the application's rendering of both eyes (GPU scenes; NaN for a scene rendered
+    /// on the CPU or emulated: the text page, shading rates on a device without them).
+    double renderMs = std::numeric_limits<double>::quiet_NaN();
+    double composeMs = 0;  ///< median compositor time per frame, both eyes (PassTimes::total)
+    /// Over the JOD frames: FovVideoVDP JOD and near-gaze PSNR against the full-resolution render, MSE
+    /// (sRGB, 0..1), and the retention efficiency against the oracle of the same input and inset,
+    /// (MSE_fov - MSE) / (MSE_fov - MSE_oracle) (NaN without both or where the oracle removes < 1 %).
+    double jod = std::numeric_limits<double>::quiet_NaN();
+    double nearGazePsnr = std::numeric_limits<double>::quiet_NaN();
+    double mse = std::numeric_limits<double>::quiet_NaN();
+    double eta = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Runs the study on one scene (text or atrium). Fails with a message when a scene, compositor or frame
+/// cannot be made.
+Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, const SavingOptions& options);
+
+/// The inset a method needs to match a target JOD: the smallest inset (interpolated between the study's)
+/// at which `method`'s quad-view JOD reaches `targetJod` (FoveaWorth semantics).
+FoveaWorth insetForJod(const std::vector<SavingRow>& rows, SceneKind scene, Method method, double targetJod);
+
+/// Writes saving.csv, saving.md and saving.png (JOD against render time, or against pixels where the
+/// scene has no render time, one curve per method) into `dir`; `headline` (optional) gets the study's
+/// headline in one paragraph of Markdown.
+Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions& options, const std::string& dir,
+                         const std::string& deviceName, std::string* headline = nullptr);
+
+}  // namespace wrsfov::eval
