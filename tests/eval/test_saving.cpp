@@ -1,0 +1,104 @@
+// The rendering-saved study (eval/saving.h) on a small atrium: what each row counts (pixels of the wide
+// views and insets, shaded samples under the rate pattern), that the full-resolution row is the
+// reference, that the oracle bounds every method of its input and inset, and the report's files.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "../core/gpu_rig.h"
+#include "eval/saving.h"
+
+namespace wrsfov::test {
+namespace {
+
+class Saving : public GpuTest {};
+
+TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 128;
+    o.height = 128;
+    o.hmdFovDeg = 40.0f;  // 3.2 px/deg: small, but the inset and wide views differ as at any density
+    o.frames = 16;
+    o.warmup = 4;
+    o.jodFrames = 6;
+    o.path = scenes::CameraPath::Lateral;
+    so.insetDegs = {10.0f, 20.0f};
+    so.rateDegs = {10.0f};
+    so.methods = {Method::Fov, Method::Wrs, Method::Oracle};
+    auto rows = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    ASSERT_EQ(rows->size(), 1u + 2u * 3u + 1u * 2u);
+
+    const eval::SavingRow& full = rows->front();
+    EXPECT_EQ(full.input, eval::SavingInput::Full);
+    EXPECT_EQ(full.pixelsRendered, 2.0 * 128 * 128);
+    EXPECT_GT(full.jod, 9.9) << "the full-resolution row is the reference itself";
+    EXPECT_TRUE(std::isinf(full.nearGazePsnr));
+    EXPECT_GT(full.renderMs, 0.0);
+    // Quad views: 51x51 wide views (0.4 of 128) and an inset of 2 tan(deg / 2) tangent units at the
+    // display's 128 / (2 tan 20°) pixels per tangent unit, both eyes.
+    const double density = 128.0 / (2.0 * std::tan(20.0 * M_PI / 180.0));
+    for (const eval::SavingRow& r : *rows) {
+        if (r.input == eval::SavingInput::Quad) {
+            const double inset = std::round(2.0 * std::tan(0.5 * r.insetDeg * M_PI / 180.0) * density);
+            EXPECT_EQ(r.pixelsRendered, 2.0 * (51.0 * 51.0 + inset * inset)) << r.insetDeg;
+            EXPECT_GT(r.renderMs, 0.0);
+            EXPECT_LT(r.pixelsRendered, full.pixelsRendered);
+        }
+        if (r.input == eval::SavingInput::Rate) {
+            // Between a 4x4 rate everywhere and full rate: the 1x1 region and its 2x2 ring around the gaze.
+            EXPECT_GT(r.pixelsRendered, full.pixelsRendered / 16.0);
+            EXPECT_LT(r.pixelsRendered, full.pixelsRendered / 2.0);
+            EXPECT_TRUE(std::isnan(r.renderMs)) << "no variable-rate shading on this device: no render time";
+        }
+        EXPECT_TRUE(std::isfinite(r.jod) && r.jod <= full.jod + 1e-9);
+        EXPECT_GT(r.composeMs, 0.0);
+        // The oracle keeps whichever sample is nearer the reference: no method of its input and inset has
+        // a lower MSE.
+        for (const eval::SavingRow& x : *rows)
+            if (x.input == r.input && x.insetDeg == r.insetDeg && x.method == Method::Oracle)
+                EXPECT_LE(x.mse, r.mse * (1.0 + 1e-9)) << toString(r.method) << " at " << r.insetDeg;
+    }
+    // Larger insets render more pixels.
+    EXPECT_LT((*rows)[1].pixelsRendered, (*rows)[4].pixelsRendered);
+
+    const std::string dir = std::filesystem::temp_directory_path() / "wrsfov_saving_test";
+    std::string headline;
+    Status s = eval::writeSavingReport(*rows, so, dir, context().deviceName(), &headline);
+    ASSERT_TRUE(s.ok()) << s.message();
+    std::ifstream csv(dir + "/saving.csv");
+    std::string header, line;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr");
+    int n = 0;
+    while (std::getline(csv, line)) n++;
+    EXPECT_EQ(n, int(rows->size()));
+    EXPECT_GT(std::filesystem::file_size(dir + "/saving.png"), 5000u);
+    EXPECT_NE(headline.find("matches composition alone at a 20° inset"), std::string::npos) << headline;
+}
+
+TEST_F(Saving, BadOptionsAreRefusedWithAMessage) {
+    eval::SavingOptions so;
+    so.bench.width = so.bench.height = 64;
+    so.bench.frames = 4;
+    so.bench.warmup = 1;
+    auto photo = eval::runSaving(context(), eval::SceneKind::Photo, so);
+    ASSERT_FALSE(photo.ok());
+    EXPECT_NE(photo.error().message.find("atrium or the text page"), std::string::npos);
+    so.insetDegs = {0.0f};
+    auto zero = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_FALSE(zero.ok());
+    EXPECT_NE(zero.error().message.find("inset sizes"), std::string::npos);
+    so.insetDegs = {10.0f};
+    so.rateTexel = 12;
+    auto texel = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_FALSE(texel.ok());
+    EXPECT_NE(texel.error().message.find("power of two"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace wrsfov::test
