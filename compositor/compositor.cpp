@@ -339,11 +339,13 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
             e.gaze = glm::vec4(glm::normalize(c), config.fallbackFoveaDeg * 0.5f);
         }
         bool srgb = v.color.swapchain->info().format == layers::Format::RGBA8_SRGB;
-        e.color_rect = composed ? glm::uvec4(0u, 0u, gpu::WRS_INPUT_COMPOSED, uint32_t(i))
+        // (The layer fields are informative: each eye's image layer is bound as a view of its own; a
+        // composed frame's say 0, so that two identical submitted views give identical parameters.)
+        e.color_rect = composed ? glm::uvec4(0u, 0u, gpu::WRS_INPUT_COMPOSED, 0u)
                                 : glm::uvec4(v.color.rect.x, v.color.rect.y,
                                              srgb ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR, v.color.arrayIndex);
         if (v.depth) {
-            e.depth_rect = composed ? glm::uvec4(0u, 0u, v.depth->reversedZ ? 1u : 0u, uint32_t(i))
+            e.depth_rect = composed ? glm::uvec4(0u, 0u, v.depth->reversedZ ? 1u : 0u, 0u)
                                     : glm::uvec4(v.depth->subImage.rect.x, v.depth->subImage.rect.y,
                                                  v.depth->reversedZ ? 1u : 0u, v.depth->subImage.arrayIndex);
             e.depth_range = glm::vec4(v.depth->nearZ, v.depth->farZ, 0.0f, 0.0f);
@@ -361,7 +363,7 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                     refSrgb ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR, v.reference->arrayIndex);
         }
         if (v.motion && composed) {
-            e.motion_rect = glm::uvec4(0u, 0u, 0u, uint32_t(i));
+            e.motion_rect = glm::uvec4(0u, 0u, 0u, 0u);
         } else if (v.motion) {
             e.motion_rect =
                 glm::uvec4(v.motion->subImage.rect.x, v.motion->subImage.rect.y, 0u, v.motion->subImage.arrayIndex);
@@ -978,11 +980,20 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // finds the history it would have had.
     // Not for the rules that draw random numbers (wrs-paper, wrs with the reservoir rule): their
     // hash includes the eye, so two identical views legitimately select differently.
-    // Not for submitted foveation either: the composed images differ between the eyes whatever was submitted.
+    // A frame submitted foveated is mono where both views read the same images (wide views, insets, rate
+    // maps, references) with the same parameters: the compose pass then runs for the left eye only too.
     const bool eyeRandom = frame_.method == Method::WrsPaper ||
                            (frame_.method == Method::Wrs && frame_.equalQuality == EqualQuality::Reservoir);
-    const bool mono = !eyeRandom && kind == layers::SubmittedFoveation::Full && ii[0].imageView == ii[1].imageView && ii[2].imageView == ii[3].imageView &&
-                      ii[4].imageView == ii[5].imageView &&
+    const bool sameInputs =
+        kind == layers::SubmittedFoveation::Full
+            ? ii[0].imageView == ii[1].imageView && ii[2].imageView == ii[3].imageView &&
+                  ii[4].imageView == ii[5].imageView
+            : srcColor[0] == srcColor[1] && srcColor[2] == srcColor[3] && srcDepth[0] == srcDepth[1] &&
+                  srcDepth[2] == srcDepth[3] && srcMotion[0] == srcMotion[1] && srcMotion[2] == srcMotion[3] &&
+                  srcRate[0] == srcRate[1] &&
+                  std::memcmp(&composeParams_.eye[0], &composeParams_.eye[1], sizeof(gpu::ComposeEye)) == 0;
+    const auto refView = [&](int eye) { return layer.views[eye].reference ? view(*layer.views[eye].reference) : VK_NULL_HANDLE; };
+    const bool mono = !eyeRandom && sameInputs && refView(0) == refView(1) &&
                       std::memcmp(&params_.eye[0], &params_.eye[1], sizeof(gpu::EyeParams)) == 0;
     const uint32_t eyes = mono ? 1u : uint32_t(WRS_EYES);
     stats_.monoViews = mono;

@@ -439,7 +439,9 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             if (s && r.reference) s = put(*r.reference, eyes[0].color, eyes[1].color);
             if (!s) return s;
             const uint32_t cw = r.input == SavingInput::Quad ? wideW : W, ch = r.input == SavingInput::Quad ? wideH : H;
-            for (uint32_t e = 0; e < 2; ++e) {
+            for (uint32_t eye = 0; eye < 2; ++eye) {
+                // Monitor mode: one view as both eyes, so the compositor works once (FrameStats::monoViews).
+                const uint32_t e = o.monitor ? 0u : eye;
                 layers::ProjectionView v;
                 v.fov = fullFov[e];
                 v.color = {r.color.get(), {0, 0, cw, ch}, e};
@@ -461,7 +463,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
                 }
                 if (r.reference) v.reference = layers::SubImage{r.reference.get(), {0, 0, W, H}, e};
                 layer.views.push_back(v);
-                fe.gaze[e] = eyes[e].gaze;
+                fe.gaze[eye] = eyes[e].gaze;
             }
             if (r.input == SavingInput::Quad) layer.outputWidth = W, layer.outputHeight = H;
             fe.layers.push_back(std::move(layer));

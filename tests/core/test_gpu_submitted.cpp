@@ -126,7 +126,9 @@ public:
         }
         return f;
     }
-    layers::FrameEndInfo submit(Compositor& c, uint64_t index, const Frame& f, Status* result = nullptr) {
+    // monoLayer: both views read layer 0 (one view shown to both eyes).
+    layers::FrameEndInfo submit(Compositor& c, uint64_t index, const Frame& f, Status* result = nullptr,
+                                bool monoLayer = false) {
         auto put = [&](layers::Swapchain* sc, auto get) {
             if (!sc) return;
             auto index = sc->acquire();
@@ -146,7 +148,8 @@ public:
         fe.frameIndex = index;
         fe.time_s = index / 90.0;
         layers::ProjectionLayer layer;
-        for (uint32_t e = 0; e < 2; ++e) {
+        for (uint32_t eye = 0; eye < 2; ++eye) {
+            const uint32_t e = monoLayer ? 0u : eye;
             layers::ProjectionView v;
             v.fov = outputFov();
             v.color = {wideColor.get(), {0, 0, WW, WH}, e};
@@ -165,7 +168,7 @@ public:
             v.inset = in;
             if (referenceColor) v.reference = layers::SubImage{referenceColor.get(), {0, 0, W, H}, e};
             layer.views.push_back(v);
-            fe.gaze[e] = {f.gaze, true, 1.0f};
+            fe.gaze[eye] = {f.gaze, true, 1.0f};
         }
         layer.outputWidth = W;
         layer.outputHeight = H;
@@ -519,6 +522,24 @@ TEST_F(Submitted, OraclesAndForeignSwapchainsAreRefusedAndChangeNothing) {
     std::swap(own.insetColor, app.insetColor);
     own.submit(*wrs, 2, own.make(0, 0));
     EXPECT_EQ(wrs->width(), W);
+}
+
+// Both views reading the same images with the same parameters (a monitor's one view as both eyes) run
+// once, compose pass included, and give what two separate views of the same images give.
+TEST_F(Submitted, IdenticalQuadViewsRunOnceAndMatchStereo) {
+    auto once = compositor(Method::Wrs), twice = compositor(Method::Wrs);
+    QuadApp appOnce(*once, true, true), appTwice(*twice, true, true);
+    for (uint64_t i = 1; i <= 4; ++i) {
+        const glm::vec2 delta = i > 1 ? glm::vec2(0.004f, 0.0f) : glm::vec2(0.0f);
+        QuadApp::Frame f = appOnce.make(-0.2f + 0.1f * i, 0.1f, 1.0f, delta * float(i), delta);
+        f.sources[1] = f.sources[0];  // the same images in both layers
+        f.inset[1] = f.inset[0];
+        layers::FrameEndInfo fe = appTwice.submit(*twice, i, f);
+        EXPECT_FALSE(twice->stats().monoViews);
+        appOnce.submit(*once, i, f, nullptr, /*monoLayer=*/true);
+        EXPECT_TRUE(once->stats().monoViews) << "frame " << i;
+        expectSameOutputs(*once, *twice, "frame " + std::to_string(i));
+    }
 }
 
 // Switching between full-resolution and quad frames resets history (the foveation changed), and the
