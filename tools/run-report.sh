@@ -16,6 +16,14 @@
 #   out/report/steady/   fov and wrs at 512^2 per eye at steady state: timed over frames 300-329, after
 #                        3.3 s of gaze, so the area the gaze visited (where wrs runs retention) is a
 #                        user's (the sweep above times frames 5-19)
+#   out/report/saving/   what rendering foveated saves (wrsfov-bench --saving): the atrium at the HMD
+#                        cell's density (12.6 px/deg, 504x504 over 40x40 degrees) and the text page at the
+#                        monitor's, each rendered at full resolution, as quad views (wide views at 0.4 of
+#                        the density, insets of 5-30 degrees on the gaze) and at gaze-centred shading rates
+#                        (atrium), composed with fov, wrs and the oracle: pixels, render and composition
+#                        time, JOD, near-gaze PSNR, eta, and the inset wrs needs to match fov's at 30 and 20
+#                        degrees (saving.md, saving.csv, saving.png). Short runs (0.5-0.7 s of gaze), to
+#                        keep the job's time; --frames 300 gives the full measure
 # The two cells also report FovVideoVDP JOD per method and the fovea each method at 5 degrees is worth
 # (the fov fovea of equal JOD, and of equal near-gaze PSNR; fov swept over 5-15 degrees), both over the
 # last 30 frames of the cell (fovea_worth.csv, table.md).
@@ -41,18 +49,24 @@ common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
 # take the job well past its time on this machine (docs/metrics.md, "In the benchmark").
 jod_frames=30
 worth=(--jod-frames "$jod_frames" --fovea-worth 7.5,10,12.5,15)
-echo "== 1/4: monitor mode, text, 1024x768"
+echo "== 1/6: monitor mode, text, 1024x768"
 "$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
   "${worth[@]}" --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 2/4: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
+echo "== 2/6: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" "${worth[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 3/4: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
+echo "== 3/6: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
 "$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --cost-model --out out/report/speed \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 4/4: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
+echo "== 4/6: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
 "$bench" --scaling 512 --frames 330 --warmup 300 --methods fov,wrs --out out/report/steady \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
+echo "== 5/6: rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
+"$bench" --saving --scenes atrium --hmd-fov 40 --size 504x504 --path lateral --frames 60 --warmup 10 --jod-frames 30 \
+  --inset-degs 5,10,20,30 --rate-degs 10,20 --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
+echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
+"$bench" --saving --scenes text --monitor --size 1024x768 --frames 45 --warmup 5 --jod-frames 30 \
+  --inset-degs 5,10,20,30 --no-rate --out out/report/saving/text | grep --line-buffered -E '^saving|^wrsfov-bench'
 {
   echo "# wrsfov report"
   echo
@@ -63,6 +77,14 @@ echo "== 4/4: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 3
   echo "- [speed: time and bytes at 512^2, 1024^2, 2048^2 per eye](speed/scaling.md)"
   echo "- [cost model: the same passes on gfx1100 and vangogh, static estimate](speed/cost_model.md)"
   echo "- [speed at steady state: fov and wrs at 512^2 per eye after 3.3 s of gaze](steady/scaling.md)"
+  echo "- [rendering saved: quad views and shading rates, atrium at 12.6 px/deg](saving/atrium/saving.md) and"
+  echo "  [text at the monitor's density](saving/text/saving.md)"
+  echo
+  echo "## rendering saved"
+  echo
+  for s in atrium text; do
+    sed -n '/^## Headline/,/^Goal/p' "out/report/saving/$s/saving.md" | sed '1d;$d'
+  done
   echo
   for cell in monitor hmd; do
     echo "## $cell"
@@ -87,4 +109,4 @@ echo "== 4/4: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 3
   sed -n '/^| size per eye/,/^$/p' out/report/steady/scaling.md
 } > out/report/index.md
 cat out/report/index.md
-echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/, speed/, steady/)"
+echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/, speed/, steady/, saving/)"
