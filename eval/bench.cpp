@@ -1580,8 +1580,14 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                 Series st{std::string(toString(m)), methodColour(m)}, sf{std::string(toString(m)), methodColour(m)};
                 Series se{std::string(toString(m)), methodColour(m)}, sj{std::string(toString(m)), methodColour(m)};
                 sf.line = true;
+                // Near-gaze PSNR against fovea size: with a fovea-worth sweep, fov's whole curve (5-15°) and
+                // every method's point, all over the JOD frames the sweep is scored on (jodNearPsnr).
+                const bool worthCurve = std::any_of(results.begin(), results.end(), [&](const CellResult& c) {
+                    return c.scene == scene && c.mode == mode && c.worthSweep;
+                });
                 for (const auto& c : results) {
                     if (c.scene != scene || c.method != m || c.mode != mode) continue;
+                    if (worthCurve && std::isfinite(c.jodNearPsnr)) sf.points.push_back({c.foveaDeg, c.jodNearPsnr});
                     // JOD against time: the sweep's fov points too (fov's whole curve).
                     if (!std::isnan(c.jod)) {
                         sj.points.push_back({c.gpu.total, c.jod});
@@ -1591,11 +1597,12 @@ Status writeReport(const std::vector<CellResult>& results, const BenchOptions& o
                     if (c.worthSweep) continue;
                     st.points.push_back({c.gpu.total, c.nearPsnr});
                     st.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
-                    sf.points.push_back({c.foveaDeg, c.nearPsnr});
+                    if (!worthCurve) sf.points.push_back({c.foveaDeg, c.nearPsnr});
                     se.points.push_back({c.eta, c.etaNear});
                     se.labels.push_back(fmt(c.foveaDeg, 1) + " deg");
                 }
                 vsTime.push_back(st);
+                std::sort(sf.points.begin(), sf.points.end(), [](auto a, auto b) { return a.x < b.x; });
                 vsFovea.push_back(sf);
                 eta.push_back(se);
                 jodTime.push_back(sj);

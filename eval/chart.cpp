@@ -19,7 +19,11 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
                 x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
             }
     if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
-    const double px = std::max(1e-9, (x1 - x0) * 0.08), py = std::max(1e-9, (y1 - y0) * 0.1);
+    // A range of one value (one fovea, one time) gets a margin of its own size, not of a rounding error.
+    auto margin = [](double lo, double hi, double share) {
+        return hi - lo > 1e-9 * std::max(1.0, std::fabs(hi)) ? (hi - lo) * share : std::max(0.5, 0.05 * std::fabs(hi));
+    };
+    const double px = margin(x0, x1, 0.08), py = margin(y0, y1, 0.1);
     x0 -= px, x1 += px, y0 -= py, y1 += py;
     auto map = [&](cv::Point2d p) {
         return cv::Point(int(L + (p.x - x0) / (x1 - x0) * (W - L - R)), int(H - B - (p.y - y0) / (y1 - y0) * (H - T - B)));
