@@ -688,7 +688,7 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
             for (const SavingRow& r : rows)
                 if (r.input == in && r.method == m) {
                     sr.points.push_back({hasRender && in == SavingInput::Quad ? r.renderMs : r.pixelsRendered / 1e6, r.jod});
-                    sr.labels.push_back(fmt("%.0f°", r.insetDeg));
+                    sr.labels.push_back(fmt("%.0f deg", r.insetDeg));
                 }
             if (!sr.points.empty() && !(hasRender && in == SavingInput::Rate)) series.push_back(sr);
         }
