@@ -238,6 +238,23 @@ else
   echo "   skipped: budget spent"
 fi
 
+echo "== 7: rendering saved (--saving): the atrium at full resolution, as quad views and at shading rates"
+# The main job's cell (docs/metrics.md, "Rendering saved") on this device: its render times are this GPU's.
+if [ "$dry" = 1 ]; then saving=(--size 128x128 --frames 16 --warmup 4 --jod-frames 6 --inset-degs 10,20 --rate-degs 10)
+else saving=(--size 504x504 --frames 90 --warmup 10 --jod-frames 10 --inset-degs 5,10,20,30 --rate-degs 10,20); fi
+t=$(stage_timeout 120)
+if [ "$t" -gt 0 ]; then
+  timeout -k 5 "$t" "$bench" --saving --scenes atrium --hmd-fov 40 --path lateral "${saving[@]}" --out "$out/saving" \
+    >"$out/saving.log" 2>&1
+  st=$(status_of $?)
+  echo "   $st"
+  head=$(sed -n '/^## Headline/,/^Goal/p' "$out/saving/saving.md" 2>/dev/null | grep '^- ' | head -1 | sed 's/|/\\|/g')
+  rows+="| rendering saved (atrium) | ${saving[1]} | fov, wrs, oracle | | | | $st; ${head:-no headline} |"$'\n'
+else
+  echo "   skipped: budget spent"
+  rows+="| rendering saved (atrium) | | | | | | skipped: budget spent |"$'\n'
+fi
+
 took=$(($(date +%s) - start))
 {
   echo "# wrsfov GPU check on $device"
