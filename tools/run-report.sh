@@ -63,7 +63,7 @@ echo "== 4/6: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 3
   | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 5/6: rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
 "$bench" --saving --scenes atrium --hmd-fov 40 --size 504x504 --path lateral --frames 60 --warmup 10 --jod-frames 30 \
-  --inset-degs 5,10,20,30 --rate-degs 10,20 --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
+  --inset-degs 5,10,20,30 --rate-degs 20 --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
 echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
 "$bench" --saving --scenes text --monitor --size 1024x768 --frames 45 --warmup 5 --jod-frames 30 \
   --inset-degs 5,10,20,30 --no-rate --out out/report/saving/text | grep --line-buffered -E '^saving|^wrsfov-bench'
