@@ -1151,6 +1151,7 @@ Status Compositor::prepareSubmitted(uint32_t width, uint32_t height) {
 }
 
 void Compositor::recordCompose(const FramePlan& plan) {
+    if (submitted_ == layers::SubmittedFoveation::Full) return;  // compose_ exists from the first such frame on
     compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes);
 }
 
