@@ -1227,29 +1227,7 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
             if (!pv) return once(2, "a view's swapchain is not one the compositor reads");
             v[i] = *pv;
         }
-        auto sameDepth = [](const layers::ProjectionView& a, const layers::ProjectionView& b) {
-            return a.depth->nearZ == b.depth->nearZ && a.depth->farZ == b.depth->farZ &&
-                   a.depth->reversedZ == b.depth->reversedZ;
-        };
-        const bool depth = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); }) &&
-                           sameDepth(v[0], v[2]) && sameDepth(v[1], v[3]);
-        const bool motion = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
-        for (uint32_t e = 0; e < 2; ++e) {
-            layers::ProjectionView pv = v[e];
-            layers::InsetView in{v[e + 2].fov, v[e + 2].color, std::nullopt, std::nullopt};
-            if (depth)
-                in.depth = v[e + 2].depth;
-            else
-                pv.depth.reset();
-            if (motion)
-                in.motion = v[e + 2].motion;
-            else
-                pv.motion.reset();
-            pv.inset = in;
-            layer.views.push_back(pv);
-        }
-        layer.outputWidth = std::max(s.displayWidth, layer.views[0].color.rect.width);
-        layer.outputHeight = std::max(s.displayHeight, layer.views[0].color.rect.height);
+        layer = layers::quadLayer(v, s.displayWidth, s.displayHeight);
     } else {
         for (uint32_t e = 0; e < 2; ++e) {
             auto pv = viewOf(proj.views[e]);

@@ -177,6 +177,37 @@ constexpr uint32_t kMaxOutput = 16384;
 
 }  // namespace
 
+ProjectionLayer quadLayer(const std::array<ProjectionView, 4>& v, uint32_t outWidth, uint32_t outHeight,
+                          bool* dropped) {
+    auto sameDepth = [](const ProjectionView& a, const ProjectionView& b) {
+        return a.depth->nearZ == b.depth->nearZ && a.depth->farZ == b.depth->farZ && a.depth->reversedZ == b.depth->reversedZ;
+    };
+    const bool depth = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); }) &&
+                       sameDepth(v[0], v[2]) && sameDepth(v[1], v[3]);
+    const bool motion = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
+    const bool anyDepth = std::any_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); });
+    const bool anyMotion = std::any_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
+    if (dropped) *dropped = (anyDepth && !depth) || (anyMotion && !motion);
+    ProjectionLayer layer;
+    for (uint32_t e = 0; e < 2; ++e) {
+        ProjectionView pv = v[e];
+        InsetView in{v[e + 2].fov, v[e + 2].color, std::nullopt, std::nullopt};
+        if (depth)
+            in.depth = v[e + 2].depth;
+        else
+            pv.depth.reset();
+        if (motion)
+            in.motion = v[e + 2].motion;
+        else
+            pv.motion.reset();
+        pv.inset = in;
+        layer.views.push_back(pv);
+    }
+    layer.outputWidth = std::max(outWidth, layer.views[0].color.rect.width);
+    layer.outputHeight = std::max(outHeight, layer.views[0].color.rect.height);
+    return layer;
+}
+
 SubmittedFoveation submittedFoveation(const ProjectionLayer& layer) {
     if (layer.views.empty()) return SubmittedFoveation::Full;
     if (layer.views[0].inset) return SubmittedFoveation::Quad;

@@ -3,6 +3,7 @@
 // XrCompositionLayerProjection, XrCompositionLayerDepthInfoKHR and XrFrameEndInfo.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -104,6 +105,13 @@ struct ProjectionLayer {
     /// views' colour size.
     uint32_t outputWidth = 0, outputHeight = 0;
 };
+
+/// A quad-view projection layer from four views as OpenXR's PRIMARY_QUAD_VARJO configuration orders
+/// them (0, 1 the wide views, 2, 3 their insets), composed at `outWidth` x `outHeight` or the wide views'
+/// size where that is larger. Depth (and motion) is kept where all four views have it (and each inset's
+/// depth range is its wide view's), else dropped from all; `dropped` (optional) says whether any was.
+ProjectionLayer quadLayer(const std::array<ProjectionView, 4>& views, uint32_t outWidth, uint32_t outHeight,
+                          bool* dropped = nullptr);
 
 /// How a frame was foveated before it was submitted.
 enum class SubmittedFoveation : uint8_t { Full, Quad, Rate };

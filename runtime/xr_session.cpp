@@ -1150,38 +1150,13 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
         for (uint32_t i = 0; i < 4; ++i) v[i] = viewOf(proj->views[i]);
         // Depth (and motion) is used where all four views have it with one range per eye; else it is
         // not used, and the frame is composited without it.
-        auto sameDepth = [](const layers::ProjectionView& a, const layers::ProjectionView& b) {
-            return a.depth->nearZ == b.depth->nearZ && a.depth->farZ == b.depth->farZ &&
-                   a.depth->reversedZ == b.depth->reversedZ;
-        };
-        const bool depth = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); }) &&
-                           sameDepth(v[0], v[2]) && sameDepth(v[1], v[3]);
-        const bool motion = std::all_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
-        const bool anyDepth = std::any_of(v.begin(), v.end(), [](const auto& x) { return x.depth.has_value(); });
-        const bool anyMotion = std::any_of(v.begin(), v.end(), [](const auto& x) { return x.motion.has_value(); });
-        if (((anyDepth && !depth) || (anyMotion && !motion)) && s->refusalsLogged.insert(-4).second)
+        const RuntimeConfig& c = s->instance->config;
+        bool dropped = false;
+        layer = layers::quadLayer(v, c.width, c.height, &dropped);
+        if (dropped && s->refusalsLogged.insert(-4).second)
             logLine(
                 "quad views: depth or motion not given for all four views (or depth ranges that differ "
                 "between a wide view and its inset) are not used");
-        for (uint32_t e = 0; e < 2; ++e) {
-            layers::ProjectionView pv = v[e];
-            layers::InsetView in;
-            in.fov = v[e + 2].fov;
-            in.color = v[e + 2].color;
-            if (depth)
-                in.depth = v[e + 2].depth;
-            else
-                pv.depth.reset();
-            if (motion)
-                in.motion = v[e + 2].motion;
-            else
-                pv.motion.reset();
-            pv.inset = in;
-            layer.views.push_back(pv);
-        }
-        const RuntimeConfig& c = s->instance->config;
-        layer.outputWidth = std::max(c.width, layer.views[0].color.rect.width);
-        layer.outputHeight = std::max(c.height, layer.views[0].color.rect.height);
     } else {
         for (uint32_t v = 0; v < 2; ++v) layer.views.push_back(viewOf(proj->views[v]));
     }
