@@ -547,20 +547,36 @@ inline std::uint32_t wrs_device_f32_to_f16(float f) {
 }
 inline uint wrs_device_pack_half2x16(vec2 v) { return wrs_device_f32_to_f16(v.x) | (wrs_device_f32_to_f16(v.y) << 16u); }
 #endif
-// fp16 for storage: wrs_f32_to_f16, or on a device whose own conversion gives the same bits on every
-// value the probe tries (Compositor::hardwareHalf), that conversion: a shader that includes this header
-// defines WRS_HARDWARE_HALF as its specialisation constant. Both round to nearest even; the hand one
-// costs ~20 instructions a value, which made the pyramid pass arithmetic-bound on a GPU.
-// In C++ the modelled device's choice (device_rounding.h).
+// fp16 for storage, rounded to nearest even on every device. Where the compositor lets the passes use
+// the device's own conversion (Compositor::hardwareHalf: a shader that includes this header defines
+// WRS_HARDWARE_HALF as its specialisation constant; in C++ the modelled device's choice), the value is
+// first put on fp16's grid by hand (wrs_f16_grid: four integer operations against ~20 for
+// wrs_f32_to_f16, which made the pyramid pass arithmetic-bound on a GPU) and the device converts a
+// value fp16 holds exactly, which every conformant conversion returns as it is (spirvenv-correctly-
+// rounded): the direction a conversion of an inexact value may round to, or a compiler's folding of
+// pack and unpack into the computation of the value, never reaches a stored bit. Zeros, fp16
+// denormals (which a device may flush), overflow and non-finite values take the hand conversion.
+WRS_FN float wrs_f16_grid(float f) {
+    uint b = floatBitsToUint(f);
+    return uintBitsToFloat((b + 0xfffu + ((b >> 13u) & 1u)) & 0xffffe000u);
+}
+// |f| rounds to a normal fp16 value: [2^-14, 65520).
+WRS_FN bool wrs_f16_normal(float f) {
+    uint ax = floatBitsToUint(f) & 0x7fffffffu;
+    return ax >= 0x38800000u && ax < 0x477ff000u;
+}
 #if defined(__cplusplus) && !defined(WRS_HARDWARE_HALF)
 #define WRS_HARDWARE_HALF WRS_HARDWARE_HALF_MODEL
 #endif
 #ifdef WRS_HARDWARE_HALF
 WRS_FN uint wrs_store_f16(float f) {
-    return WRS_HARDWARE_HALF ? (wrs_device_pack_half2x16(vec2(f, 0.0f)) & 0xffffu) : wrs_f32_to_f16(f);
+    if (WRS_HARDWARE_HALF && wrs_f16_normal(f)) return wrs_device_pack_half2x16(vec2(wrs_f16_grid(f), 0.0f)) & 0xffffu;
+    return wrs_f32_to_f16(f);
 }
 WRS_FN uint wrs_store_f16x2(float a, float b) {
-    return WRS_HARDWARE_HALF ? wrs_device_pack_half2x16(vec2(a, b)) : wrs_f32_to_f16(a) | (wrs_f32_to_f16(b) << 16u);
+    if (WRS_HARDWARE_HALF && wrs_f16_normal(a) && wrs_f16_normal(b))
+        return wrs_device_pack_half2x16(vec2(wrs_f16_grid(a), wrs_f16_grid(b)));
+    return wrs_store_f16(a) | (wrs_store_f16(b) << 16u);
 }
 #else
 WRS_FN uint wrs_store_f16(float f) { return wrs_f32_to_f16(f); }
