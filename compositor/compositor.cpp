@@ -367,6 +367,7 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
     for (uint32_t k = 0; k < WRS_LEVELS; ++k) {
         const glm::uvec2 s = gpu::wrs_level_size(size0, k);
         p.levels[k] = glm::uvec4(s, k == 0 ? 0u : gpu::wrs_level_offset(size0, k) - level0, stored);
+        p.level_scale[k] = glm::vec4(gpu::wrs_level_scale(size0, k), 0.0f, 0.0f);
     }
     // z is unused: whether birth colours are tracked is the passes' constant TRACK_BIRTH.
     // The floor rule's quality: the mode's far periphery, or for a frame submitted foveated the lowest

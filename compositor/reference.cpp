@@ -226,7 +226,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             if (level == 0u) return at(0u, p);
             uvec2 sl = wrs_level_size(size0, level);
             uvec2 i0, i1;
-            vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+            vec2 f = wrs_bilinear_setup(p, wrs_level_scale(size0, level), sl, i0, i1);
             return wrs_bilinear(at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)),
                                 at(level, i1), f);
         };
@@ -351,7 +351,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 }
                 uvec2 sl = wrs_level_size(size0, level);
                 uvec2 i0, i1;
-                vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+                vec2 f = wrs_bilinear_setup(p, wrs_level_scale(size0, level), sl, i0, i1);
                 vec4 t[4] = {at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)), at(level, i1)};
                 arange = wrs_taps_range(t[0], t[1], t[2], t[3], lo, hi);
                 return wrs_bilinear(t[0], t[1], t[2], t[3], f);

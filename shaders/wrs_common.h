@@ -1,9 +1,12 @@
 // The per-pixel math of wrsfov, in the common subset of GLSL and C++ (see glsl_cpp.h).
 //
 // Compiled into every compute shader and into the CPU reference (compositor/reference.cpp), so the
-// GPU and the reference can only differ by the rounding of built-in functions (exp, pow, atan,
-// normalize). Equation numbers refer to Cantory et al., MIG '25 ("the paper"); section names to
-// docs/conventions.md.
+// GPU and the reference can only differ where the Vulkan spec leaves a result free: the built-ins
+// spelled wrs_div, wrs_exp, wrs_pow, wrs_sqrt, wrs_length and wrs_normalize (whose other permitted
+// results the reference can take: device_rounding.h), and the rounding direction of the rest. What is
+// stored quantised (fp16, the fingerprint and output codes) is rounded by hand from unfused operations
+// (docs/speed.md, "Rounding: what a conformant device may do differently"). Equation numbers refer to
+// Cantory et al., MIG '25 ("the paper"); section names to docs/conventions.md.
 #ifndef WRSFOV_WRS_COMMON_H
 #define WRSFOV_WRS_COMMON_H
 
@@ -246,34 +249,58 @@ WRS_FN uint wrs_level_offset(uvec2 size0, uint level) {
 }
 WRS_FN uint wrs_pyramid_texels(uvec2 size0) { return wrs_level_offset(size0, uint(WRS_LEVELS)); }
 
-// Bilinear lookup of a coarser level at the centre of level-0 pixel p, clamp to edge.
-// Returns the integer corner in i0 (the other corner is i0 + 1 clamped, in i1) and the weights.
-WRS_FN vec2 wrs_bilinear_setup(uvec2 p, uvec2 size0, uvec2 size_l, WRS_OUT(uvec2) i0, WRS_OUT(uvec2) i1) {
-    vec2 pos = wrs_div((vec2(p) + vec2(0.5f, 0.5f)) * vec2(size_l), vec2(size0)) - vec2(0.5f, 0.5f);
-    pos = clamp(pos, vec2(0.0f, 0.0f), vec2(size_l) - vec2(1.0f, 1.0f));
+#ifdef __cplusplus
+// A level's size over level 0's (FrameParams::level_scale), worked out once on the host: the bilinear
+// weights of the fingerprint and of every foveated colour must be the same on every device, and a
+// shader's division may be 2.5 ULP off.
+inline vec2 wrs_level_scale(uvec2 size0, uint level) {
+    const uvec2 s = wrs_level_size(size0, level);
+    return vec2(float(double(s.x) / double(size0.x)), float(double(s.y) / double(size0.y)));
+}
+#endif
+
+// Bilinear lookup of a coarser level at the centre of level-0 pixel p, clamp to edge; `scale` is
+// wrs_level_scale of the level. Returns the integer corner in i0 (the other corner is i0 + 1
+// clamped, in i1) and the weights. Unfused, so that every device computes the same weights.
+WRS_FN vec2 wrs_bilinear_setup(uvec2 p, vec2 scale, uvec2 size_l, WRS_OUT(uvec2) i0, WRS_OUT(uvec2) i1) {
+    WRS_PRECISE vec2 c = vec2(p) + vec2(0.5f, 0.5f);
+    WRS_PRECISE vec2 at = c * scale - vec2(0.5f, 0.5f);
+    vec2 pos = clamp(at, vec2(0.0f, 0.0f), vec2(size_l) - vec2(1.0f, 1.0f));
     vec2 f = floor(pos);
     i0 = uvec2(f);
     i1 = min(i0 + uvec2(1u, 1u), size_l - uvec2(1u, 1u));
     return pos - f;
 }
+// Unfused (a device may otherwise fuse each multiply and add, or not): the same bits everywhere.
 WRS_FN vec4 wrs_bilinear(vec4 c00, vec4 c10, vec4 c01, vec4 c11, vec2 f) {
-    vec4 top = c00 + (c10 - c00) * f.x;
-    vec4 bottom = c01 + (c11 - c01) * f.x;
-    return top + (bottom - top) * f.y;
+    WRS_PRECISE vec4 top = c00 + (c10 - c00) * f.x;
+    WRS_PRECISE vec4 bottom = c01 + (c11 - c01) * f.x;
+    WRS_PRECISE vec4 r = top + (bottom - top) * f.y;
+    return r;
 }
 
-// Linear blend of two pyramid samples, written out so both sides round alike.
-WRS_FN vec4 wrs_blend(vec4 a, vec4 b, float t) { return a + (b - a) * t; }
+// Linear blend of two pyramid samples, written out and unfused so every device rounds alike.
+WRS_FN vec4 wrs_blend(vec4 a, vec4 b, float t) {
+    WRS_PRECISE vec4 r = a + (b - a) * t;
+    return r;
+}
 
 // Source texel of a downsample tap: level-(k-1) index 2*d + o, clamped to the level.
 WRS_FN uvec2 wrs_down_tap(uvec2 d, ivec2 o, uvec2 src_size) {
     ivec2 s = ivec2(2u * d) + o;
     return uvec2(clamp(s, ivec2(0, 0), ivec2(src_size) - ivec2(1, 1)));
 }
-// `mip`: 2x2 box over taps o in {0,1}^2, in the order (0,0) (1,0) (0,1) (1,1).
-WRS_FN vec4 wrs_down_box(vec4 t00, vec4 t10, vec4 t01, vec4 t11) { return ((t00 + t10) + (t01 + t11)) * 0.25f; }
+// `mip`: 2x2 box over taps o in {0,1}^2, in the order (0,0) (1,0) (0,1) (1,1). The filters are kept in
+// the order written (a device may otherwise reassociate the sums and fuse the multiplies).
+WRS_FN vec4 wrs_down_box(vec4 t00, vec4 t10, vec4 t01, vec4 t11) {
+    WRS_PRECISE vec4 r = ((t00 + t10) + (t01 + t11)) * 0.25f;
+    return r;
+}
 // `gauss`: separable [1 3 3 1]/8 over taps o in {-1..2}^2, given as 4 rows of 4 taps each.
-WRS_FN vec4 wrs_binomial_row(vec4 a, vec4 b, vec4 c, vec4 d) { return (a + d + 3.0f * (b + c)) * 0.125f; }
+WRS_FN vec4 wrs_binomial_row(vec4 a, vec4 b, vec4 c, vec4 d) {
+    WRS_PRECISE vec4 r = (a + d + 3.0f * (b + c)) * 0.125f;
+    return r;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Colour
@@ -334,19 +361,40 @@ WRS_FN bool wrs_input_valid(bool finite, uint encoding, float alpha) {
     return finite && (encoding != WRS_INPUT_COMPOSED || alpha > 0.5f);
 }
 
-// CIE 1976 L* of linear sRGB (D65), Y from the Rec. 709 primaries.
+// t^(1/3) for t > 0 from additions and multiplications only: three Newton steps for t^(-1/3) from a
+// first guess made of t's bits, then t y^2 (relative error under 5e-7 from 1e-4 to 2e5). pow, inherited
+// from exp2(y log2 t), may be ~10 ULP off and differ between devices, which the fp16 rounding of the
+// fingerprint turns into whole steps; these operations are correctly rounded and kept unfused
+// (WRS_PRECISE), so every device that rounds to nearest gets the CPU's bits.
+WRS_FN float wrs_cbrt(float t) {
+    WRS_PRECISE float y = uintBitsToFloat(0x54a21d2au - floatBitsToUint(t) / 3u);
+    WRS_PRECISE float t3 = t * 0.333333343f;
+    for (int i = 0; i < 3; ++i) {
+        WRS_PRECISE float y3 = y * y * y;
+        WRS_PRECISE float e = 1.33333337f - t3 * y3;
+        y = y * e;
+    }
+    WRS_PRECISE float r = t * (y * y);
+    return r;
+}
+
+// CIE 1976 L* of linear sRGB (D65), Y from the Rec. 709 primaries. No pow and no division (the
+// constants' reciprocals are literals), every operation unfused: the same bits on every device.
 WRS_FN float wrs_lab_f(float t) {
-    const float d = 6.0f / 29.0f;
-    return t > d * d * d ? wrs_pow(t, 1.0f / 3.0f) : wrs_div(t, 3.0f * d * d) + 4.0f / 29.0f;
+    WRS_PRECISE float lin = t * 7.78703690f + 0.137931034f;  // t / (3 (6/29)^2) + 4/29
+    return t > 0.00885645207f ? wrs_cbrt(t) : lin;         // (6/29)^3
 }
 WRS_FN vec3 wrs_linear_to_lab(vec3 c) {
-    float X = 0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z;
-    float Y = 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
-    float Z = 0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z;
-    float fx = wrs_lab_f(wrs_div(X, 0.95047f));
+    WRS_PRECISE float X = 0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z;
+    WRS_PRECISE float Y = 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
+    WRS_PRECISE float Z = 0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z;
+    WRS_PRECISE float xn = X * 1.05211103f;  // X / 0.95047
+    WRS_PRECISE float zn = Z * 0.918417037f;  // Z / 1.08883
+    float fx = wrs_lab_f(xn);
     float fy = wrs_lab_f(Y);
-    float fz = wrs_lab_f(wrs_div(Z, 1.08883f));
-    return vec3(116.0f * fy - 16.0f, 500.0f * (fx - fy), 200.0f * (fy - fz));
+    float fz = wrs_lab_f(zn);
+    WRS_PRECISE vec3 lab = vec3(116.0f * fy - 16.0f, 500.0f * (fx - fy), 200.0f * (fy - fz));
+    return lab;
 }
 
 const uint WRS_CHANGE_OFF = 0u;    // eq. 6 only
@@ -713,9 +761,11 @@ struct Tracked {
 
 // Quality of a sample foveated with levels lv = (a, b, t): the shading rate, 4^-level, blended.
 WRS_FN float wrs_level_quality(vec3 lv) {
-    float qa = wrs_div(1.0f, float(1u << (2u * uint(lv.x))));
-    float qb = wrs_div(1.0f, float(1u << (2u * uint(lv.y))));
-    return qa + (qb - qa) * lv.z;
+    // 4^-level from its exponent bits: exact (a quotient may be 2.5 ULP off).
+    float qa = uintBitsToFloat((127u - 2u * uint(lv.x)) << 23u);
+    float qb = uintBitsToFloat((127u - 2u * uint(lv.y)) << 23u);
+    WRS_PRECISE float q = qa + (qb - qa) * lv.z;
+    return q;
 }
 
 // The quality of a pixel's candidate, for every kind of input (the one place the retain pass and the
@@ -730,18 +780,25 @@ WRS_FN float wrs_candidate_quality(uint mode, vec3 lv, float e, float r_f, float
     return wrs_level_quality(lv);
 }
 
-WRS_FN uint wrs_fp_code(float lstar) { return uint(clamp(floor(lstar * WRS_FP_SCALE + 0.5f), 0.0f, 255.0f)); }
-WRS_FN float wrs_fp_value(uint code) { return wrs_div(float(code), WRS_FP_SCALE); }
+// 1 / WRS_FP_SCALE as a literal: a quotient may be 2.5 ULP off.
+const float WRS_FP_STEP = 0.392156869f;
+// Unfused: a fused multiply-add may round a value near a code boundary to the other code.
+WRS_FN uint wrs_fp_code(float lstar) {
+    WRS_PRECISE float x = lstar * WRS_FP_SCALE + 0.5f;
+    return uint(clamp(floor(x), 0.0f, 255.0f));
+}
+WRS_FN float wrs_fp_value(uint code) { return float(code) * WRS_FP_STEP; }
 
 WRS_FN uint wrs_offset_code(float d, float u) {
     // -127..126: the footprint is half-open, [-0.5, 0.5), so +127/254 = 0.5 would leave it.
-    int c = clamp(int(floor(d * WRS_OFFSET_SCALE + u)), -127, 126);
+    WRS_PRECISE float x = d * WRS_OFFSET_SCALE + u;
+    int c = clamp(int(floor(x)), -127, 126);
     return uint(c) & 0xffu;
 }
 WRS_FN float wrs_offset_value(uint code) {
     int c = int(code & 0xffu);
     if (c > 127) c -= 256;
-    return wrs_div(float(c), WRS_OFFSET_SCALE);
+    return float(c) * 0.00393700786f;  // 1 / WRS_OFFSET_SCALE (exactly -0.5 for -127)
 }
 
 // Packed storage, 16 bytes per pixel like the paper's reservoir (README "Reservoir layout"):
@@ -789,7 +846,7 @@ WRS_FN bool wrs_tracked_valid(Tracked r) {
 // sub-pixel drift still accumulates in expectation instead of being rounded away.
 WRS_FN vec2 wrs_offset_dither(uint frame, uint seed) {
     uint h = wrs_hash(0u, 0u, 0u, frame, seed);
-    return vec2(wrs_div(float(h & 255u) + 0.5f, 256.0f), wrs_div(float((h >> 8u) & 255u) + 0.5f, 256.0f));
+    return vec2((float(h & 255u) + 0.5f) * 0.00390625f, (float((h >> 8u) & 255u) + 0.5f) * 0.00390625f);
 }
 
 // Motion reach (docs/retention.md "Motion reach"): a pixel whose motion moves it more than `reach`
@@ -1277,16 +1334,19 @@ WRS_FN vec3 wrs_clip_box(vec3 h, vec3 centre, vec3 extent) {
 WRS_FN vec3 wrs_taa_step(vec3 nb[9], vec3 hist, bool has_history, float alpha) {
     vec3 cur = wrs_ycocg_to_rgb(nb[4]);
     if (!has_history) return cur;
-    vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
-    vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
+    WRS_PRECISE vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
+    WRS_PRECISE vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
     for (int i = 0; i < 9; ++i) {
         m1 += nb[i];
         m2 += nb[i] * nb[i];
     }
-    vec3 mu = wrs_div(m1, 9.0f);
-    vec3 sigma = wrs_sqrt(max(wrs_div(m2, 9.0f) - mu * mu, vec3(0.0f, 0.0f, 0.0f)));
+    // The variance cancels (m2 / 9 - mu^2): its terms multiply by a literal 1/9 and stay unfused, so that
+    // every device computes the same box before the square root.
+    WRS_PRECISE vec3 mu = m1 * 0.111111112f;
+    WRS_PRECISE vec3 var = m2 * 0.111111112f - mu * mu;
+    vec3 sigma = wrs_sqrt(max(var, vec3(0.0f, 0.0f, 0.0f)));
     vec3 h = wrs_clip_box(wrs_rgb_to_ycocg(hist), mu, WRS_TAA_GAMMA * sigma);
-    vec3 out_ycocg = h + (nb[4] - h) * alpha;
+    WRS_PRECISE vec3 out_ycocg = h + (nb[4] - h) * alpha;
     return max(wrs_ycocg_to_rgb(out_ycocg), vec3(0.0f, 0.0f, 0.0f));
 }
 WRS_FN vec3 wrs_taa(vec3 nb[9], vec3 hist, bool has_history) { return wrs_taa_step(nb, hist, has_history, WRS_TAA_ALPHA); }
@@ -1343,9 +1403,10 @@ WRS_FN uvec2 wrs_steady_motion_pixel(uvec2 d, uvec2 size0) {
 // pan's 0.02 texels a frame), which the filter accumulates over its ~1/alpha frames into a blur of a
 // quarter texel (4 pixels) on top of the 16x16 box; Catmull-Rom's blur at that f is ~30 times less.
 WRS_FN vec4 wrs_catmull_rom(float f) {
-    float f2 = f * f, f3 = f2 * f;
-    return vec4(-0.5f * f3 + f2 - 0.5f * f, 1.5f * f3 - 2.5f * f2 + 1.0f, -1.5f * f3 + 2.0f * f2 + 0.5f * f,
-                0.5f * f3 - 0.5f * f2);
+    WRS_PRECISE float f2 = f * f, f3 = f2 * f;
+    WRS_PRECISE vec4 w = vec4(-0.5f * f3 + f2 - 0.5f * f, 1.5f * f3 - 2.5f * f2 + 1.0f,
+                              -1.5f * f3 + 2.0f * f2 + 0.5f * f, 0.5f * f3 - 0.5f * f2);
+    return w;
 }
 // Tap k (each axis 0..3, for -1..2) of the 4x4 Catmull-Rom footprint at i0, clamped to the image.
 WRS_FN uvec2 wrs_cubic_tap(uvec2 i0, ivec2 k, uvec2 size) {
@@ -1353,7 +1414,7 @@ WRS_FN uvec2 wrs_cubic_tap(uvec2 i0, ivec2 k, uvec2 size) {
 }
 // A pixel's motion in level-4 texels (the depth change is not used).
 WRS_FN vec3 wrs_steady_motion(vec3 mv) {
-    float s = 1.0f / float(1u << WRS_STEADY_LEVEL);
+    const float s = 0.0625f;  // 1 / 2^WRS_STEADY_LEVEL
     return vec3(mv.x * s, mv.y * s, 0.0f);
 }
 
