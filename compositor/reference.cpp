@@ -11,8 +11,8 @@ namespace wrsfov {
 using namespace gpu;
 
 glm::u8vec4 encodeOutput(glm::vec3 linear) {
-    // What store_output hands the RGBA8 image, converted as the modelled device converts it.
-    glm::vec3 s = wrs_linear_to_srgb3(linear);
+    // What store_output hands the RGBA8 image (whole codes), converted as the modelled device converts it.
+    glm::vec3 s = wrs_output_value(linear);
     return glm::u8vec4(wrs_device_unorm8(s.x), wrs_device_unorm8(s.y), wrs_device_unorm8(s.z), 255);
 }
 

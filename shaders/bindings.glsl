@@ -121,7 +121,7 @@ float load_depth(uint eye, uvec2 p) {
     return wrs_linear_depth(d, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
 }
 void store_output(uint eye, uvec2 p, vec3 linear_rgb) {
-    imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_linear_to_srgb3(linear_rgb), 1.0));
+    imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_output_value(linear_rgb), 1.0));
 }
 
 #endif

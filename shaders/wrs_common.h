@@ -342,6 +342,30 @@ inline vec3 wrs_srgb8_to_linear3(vec3 unorm) {
 WRS_FN vec3 wrs_linear_to_srgb3(vec3 c) {
     return vec3(wrs_linear_to_srgb(c.x), wrs_linear_to_srgb(c.y), wrs_linear_to_srgb(c.z));
 }
+// The 8-bit code of an sRGB value in [0, 1] (half up), unfused.
+WRS_FN uint wrs_unorm8_code(float s) {
+    WRS_PRECISE float x = clamp(s, 0.0f, 1.0f) * 255.0f + 0.5f;
+    return uint(floor(x));
+}
+// code / 255 as the nearest float, whose product with 255 is the code exactly: a store to an 8-bit UNORM
+// image must return that whole number as it is (fundamentals-fpfixedconv), where any other value may be
+// stored as either of the two nearest codes. code times the nearest float to 1/255 is one ULP high for
+// about half the codes; the neighbour whose product with 255 is the code is taken instead.
+WRS_FN float wrs_unorm8_value(uint code) {
+    WRS_PRECISE float f = float(code) * 0.00392156886f;
+    WRS_PRECISE float back = f * 255.0f;
+    uint b = floatBitsToUint(f);
+    if (back > float(code)) b -= 1u;
+    if (back < float(code)) b += 1u;
+    return uintBitsToFloat(b);
+}
+// What the RGBA8 output stores of a linear colour: sRGB-encoded and quantised to 8 bits by hand, so the
+// image's conversion, which the spec leaves to the device, is given whole codes.
+WRS_FN vec3 wrs_output_value(vec3 linear) {
+    vec3 s = wrs_linear_to_srgb3(linear);
+    return vec3(wrs_unorm8_value(wrs_unorm8_code(s.x)), wrs_unorm8_value(wrs_unorm8_code(s.y)),
+                wrs_unorm8_value(wrs_unorm8_code(s.z)));
+}
 
 // What a colour becomes before it enters the pipeline: non-finite channels -> 0, negative -> 0,
 // larger than fp16 can hold -> 65504. `valid` reports whether the input was usable as-is finite.
