@@ -406,13 +406,13 @@ WRS_FN float wrs_cbrt(float t) {
 // constants' reciprocals are literals), every operation unfused: the same bits on every device.
 WRS_FN float wrs_lab_f(float t) {
     WRS_PRECISE float lin = t * 7.78703690f + 0.137931034f;  // t / (3 (6/29)^2) + 4/29
-    return t > 0.00885645207f ? wrs_cbrt(t) : lin;         // (6/29)^3
+    return t > 0.00885645207f ? wrs_cbrt(t) : lin;           // (6/29)^3
 }
 WRS_FN vec3 wrs_linear_to_lab(vec3 c) {
     WRS_PRECISE float X = 0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z;
     WRS_PRECISE float Y = 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
     WRS_PRECISE float Z = 0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z;
-    WRS_PRECISE float xn = X * 1.05211103f;  // X / 0.95047
+    WRS_PRECISE float xn = X * 1.05211103f;   // X / 0.95047
     WRS_PRECISE float zn = Z * 0.918417037f;  // Z / 1.08883
     float fx = wrs_lab_f(xn);
     float fy = wrs_lab_f(Y);
@@ -617,7 +617,9 @@ inline std::uint32_t wrs_device_f32_to_f16(float f) {
     if (m < 0x400u) m = 0u;  // an fp16 denormal result may be flushed to zero
     return sign | m;
 }
-inline uint wrs_device_pack_half2x16(vec2 v) { return wrs_device_f32_to_f16(v.x) | (wrs_device_f32_to_f16(v.y) << 16u); }
+inline uint wrs_device_pack_half2x16(vec2 v) {
+    return wrs_device_f32_to_f16(v.x) | (wrs_device_f32_to_f16(v.y) << 16u);
+}
 #endif
 // fp16 for storage, rounded to nearest even on every device. Where the compositor lets the passes use
 // the device's own conversion (Compositor::hardwareHalf: a shader that includes this header defines
