@@ -14,9 +14,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
-
 #include <glm/glm.hpp>
+#include <limits>
 
 namespace wrsfov::gpu {
 
@@ -79,13 +78,16 @@ inline std::uint32_t mix(std::uint32_t h, std::uint32_t v) {
 // Where in [-1, 1] a value goes: -1 Low, +1 High, 0 Nearest; Mixed from the hash of `key`.
 inline double direction(Permitted p, std::uint32_t key) {
     switch (p) {
-    case Permitted::Low: return -1.0;
-    case Permitted::High: return 1.0;
-    case Permitted::Mixed: {
-        const std::uint32_t h = mix(mix(0x2545f491u, deviceRounding().seed), key);
-        return double(h % 2001u) / 1000.0 - 1.0;
-    }
-    default: return 0.0;
+        case Permitted::Low:
+            return -1.0;
+        case Permitted::High:
+            return 1.0;
+        case Permitted::Mixed: {
+            const std::uint32_t h = mix(mix(0x2545f491u, deviceRounding().seed), key);
+            return double(h % 2001u) / 1000.0 - 1.0;
+        }
+        default:
+            return 0.0;
     }
 }
 // The smaller of the gaps to the floats either side of r (the spec's ulp(x) for x near r).
@@ -124,7 +126,8 @@ inline float wrs_div(float a, float b) {
     // OpFDiv: 2.5 ULP for |b| in [2^-126, 2^126]; outside that range nothing is promised and nothing is moved.
     const float ab = std::fabs(b);
     if (!(ab >= 0x1p-126f && ab <= 0x1p126f)) return r;
-    return rounding_detail::perturb(r, 2.5, 0.5, p, rounding_detail::mix(rounding_detail::bits(a), rounding_detail::bits(b)));
+    return rounding_detail::perturb(r, 2.5, 0.5, p,
+                                    rounding_detail::mix(rounding_detail::bits(a), rounding_detail::bits(b)));
 }
 template <glm::length_t N>
 inline glm::vec<N, float> wrs_div(glm::vec<N, float> a, glm::vec<N, float> b) {
@@ -142,7 +145,8 @@ inline float wrs_exp(float x) {
     const Permitted p = deviceRounding().builtins;
     if (p == Permitted::Nearest) return r;
     // exp: 3 + 2|x| ULP; the reference's expf is within one.
-    return rounding_detail::perturb(r, 3.0 + 2.0 * std::fabs(double(x)), 1.0, p, rounding_detail::mix(0x657870u, rounding_detail::bits(x)));
+    return rounding_detail::perturb(r, 3.0 + 2.0 * std::fabs(double(x)), 1.0, p,
+                                    rounding_detail::mix(0x657870u, rounding_detail::bits(x)));
 }
 
 /// The error, in ULP of the result r, that pow(x, y) may have: inherited from exp2(y * log2(x)) with
@@ -161,8 +165,9 @@ inline float wrs_pow(float x, float y) {
     const float r = std::pow(x, y);
     const Permitted p = deviceRounding().builtins;
     if (p == Permitted::Nearest) return r;
-    return rounding_detail::perturb(r, wrs_pow_error_ulps(x, y, r), 1.0, p,
-                                    rounding_detail::mix(rounding_detail::bits(x), rounding_detail::bits(y) ^ 0x706f77u));
+    return rounding_detail::perturb(
+        r, wrs_pow_error_ulps(x, y, r), 1.0, p,
+        rounding_detail::mix(rounding_detail::bits(x), rounding_detail::bits(y) ^ 0x706f77u));
 }
 
 /// The error, in ULP of the result r = sqrt(x), inherited from 1 / inversesqrt(x): inversesqrt within
@@ -176,7 +181,8 @@ inline float wrs_sqrt(float x) {
     const float r = std::sqrt(x);
     const Permitted p = deviceRounding().builtins;
     if (p == Permitted::Nearest) return r;
-    return rounding_detail::perturb(r, wrs_sqrt_error_ulps(r), 0.5, p, rounding_detail::mix(0x737172u, rounding_detail::bits(x)));
+    return rounding_detail::perturb(r, wrs_sqrt_error_ulps(r), 0.5, p,
+                                    rounding_detail::mix(0x737172u, rounding_detail::bits(x)));
 }
 template <glm::length_t N>
 inline glm::vec<N, float> wrs_sqrt(glm::vec<N, float> x) {
@@ -206,7 +212,8 @@ inline glm::vec<N, float> wrs_normalize(glm::vec<N, float> v) {
     if (p == Permitted::Nearest) return r;
     std::uint32_t key = 0x6e6f72u;
     for (glm::length_t i = 0; i < N; ++i) key = rounding_detail::mix(key, rounding_detail::bits(v[i]));
-    for (glm::length_t i = 0; i < N; ++i) r[i] = rounding_detail::perturb(r[i], 3.0, 1.5, p, rounding_detail::mix(key, i));
+    for (glm::length_t i = 0; i < N; ++i)
+        r[i] = rounding_detail::perturb(r[i], 3.0, 1.5, p, rounding_detail::mix(key, i));
     return r;
 }
 

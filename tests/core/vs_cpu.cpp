@@ -67,6 +67,8 @@ void compareFrame(Compositor& gpu, const Reference& ref, const std::vector<glm::
             if (skip[i / 4]) continue;
             int d = std::abs(int(uint8_t(out->data[i])) - int(uint8_t(cpuOut.data[i])));
             t.maxOutputDiff = std::max<uint64_t>(t.maxOutputDiff, d);
+            t.channels++;
+            t.channelsOneStep += d == 1;
             if (d > 1) {
                 if (t.outputOff++ < 5)
                     ADD_FAILURE() << "frame " << frame << " eye " << eye << " pixel " << (i / 4) % W << ","
@@ -78,7 +80,10 @@ void compareFrame(Compositor& gpu, const Reference& ref, const std::vector<glm::
 }
 
 // Methods wrs and oracle: the reservoirs must agree field by field. Colour, quality and weight to fp16
-// rounding of values computed with quotients (merge weights: OpFDiv 2.5 ULP); the fingerprint and
+// rounding of values computed with quotients (merge weights: OpFDiv 2.5 ULP), the colour also to the
+// error of a blend's weight (t = e - r_f: the eccentricity through normalize, length and quotients is
+// within ~1e-6 of the reference's, so t within 1e-5 at the blends' e <= 10 deg: 2e-5 of a colour step
+// of at most 1); the fingerprint and
 // offset codes to one code (quantised measurements: a value within rounding of a code boundary may
 // take either code); the linear depth to one fp16 step (a quotient: OpFDiv, 2.5 ULP, then rounded to
 // fp16). A pixel that disagrees beyond that made a different decision; that is allowed only where the
@@ -87,15 +92,17 @@ void compareFrame(Compositor& gpu, const Reference& ref, const std::vector<glm::
 // bilinear lookup) is within a few ULP (under 1e-6) of the reference's on any conformant device.
 bool sameReservoir(const glm::uvec4& g, const glm::uvec4& c) {
     const gpu::Tracked a = gpu::wrs_unpack_tracked(g), b = gpu::wrs_unpack_tracked(c);
-    auto close = [](float x, float y, float rel) { return std::fabs(x - y) <= rel * std::max(std::fabs(y), 1e-3f); };
+    auto close = [](float x, float y, float rel, float least) {
+        return std::fabs(x - y) <= rel * std::max(std::fabs(y), least);
+    };
     for (int k = 0; k < 3; ++k)
-        if (!close(a.color[k], b.color[k], 2e-3f)) return false;
+        if (!close(a.color[k], b.color[k], 2e-3f, 1e-2f)) return false;
     const int fpA = int((g.z >> 16) & 0xff), fpB = int((c.z >> 16) & 0xff);
     const int dxA = int(int8_t(g.w >> 16)), dxB = int(int8_t(c.w >> 16)), dyA = int(int8_t(g.w >> 24)),
               dyB = int(int8_t(c.w >> 24));
     const int zA = int(g.w & 0x7fffu), zB = int(c.w & 0x7fffu);  // z >= 0: consecutive fp16 codes are one step apart
-    return close(a.q, b.q, 2e-3f) && close(a.w_sum, b.w_sum, 2e-3f) && std::abs(fpA - fpB) <= 1 && a.flags == b.flags &&
-           std::abs(zA - zB) <= 1 && std::abs(dxA - dxB) <= 1 && std::abs(dyA - dyB) <= 1;
+    return close(a.q, b.q, 2e-3f, 1e-3f) && close(a.w_sum, b.w_sum, 2e-3f, 1e-3f) && std::abs(fpA - fpB) <= 1 &&
+           a.flags == b.flags && std::abs(zA - zB) <= 1 && std::abs(dxA - dxB) <= 1 && std::abs(dyA - dyB) <= 1;
 }
 
 void compareRetain(Compositor& gpu, const Reference& ref, RetainTally& t, std::vector<bool> skip[2], int frame) {
@@ -247,10 +254,11 @@ void runAgainstReferences(const Case& c, uint32_t W, uint32_t H, int frames, std
                 (unsigned long long)v.rt.mismatches, (unsigned long long)v.rt.nearThreshold);
         std::printf(
             "[%s%s%s] decisions with history: %llu (history kept in %llu), selection mismatches: %llu (all within 1e-6 "
-            "of the threshold: %llu), max output difference: %llu/255%s\n",
+            "of the threshold: %llu), max output difference: %llu/255 (one step: %llu of %llu channels)%s\n",
             c.name, *n ? ", " : "", n, (unsigned long long)v.t.decisions, (unsigned long long)v.t.kept,
             (unsigned long long)v.t.mismatches, (unsigned long long)v.t.nearThreshold,
-            (unsigned long long)v.t.maxOutputDiff,
+            (unsigned long long)v.t.maxOutputDiff, (unsigned long long)v.t.channelsOneStep,
+            (unsigned long long)v.t.channels,
             c.steadyFloor ? (", steady floor texels beyond one fp16 step: " + std::to_string(v.st.differ) + " of " +
                              std::to_string(v.st.texels))
                                 .c_str()
@@ -266,6 +274,11 @@ void expectAgreement(const Case& c, const Variant& v) {
     }
     EXPECT_EQ(v.t.mismatches, v.t.nearThreshold);
     EXPECT_LE(v.t.maxOutputDiff, 1u);
+    // A channel is a step apart only where its sRGB value lies within the two sides' pow errors of a
+    // code boundary: ~15 ULP each (inherited from exp2(y log2 x)), 2.5e-4 of a code, so a fraction of
+    // about 1e-3 of the channels at most. A UNORM store given a value that is not a whole code may round
+    // it to either neighbour (fundamentals-fpfixedconv), which would put half of them a step apart.
+    EXPECT_LE(v.t.channelsOneStep, v.t.channels / 1000);
     EXPECT_EQ(v.st.differ, 0u);
 }
 

@@ -29,6 +29,7 @@ struct Case {
 /// `wrs-paper`'s selections and every method's outputs.
 struct Tally {
     uint64_t decisions = 0, kept = 0, mismatches = 0, nearThreshold = 0, outputOff = 0, maxOutputDiff = 0;
+    uint64_t channels = 0, channelsOneStep = 0;  ///< output channels compared, and those one 8-bit step apart
 };
 /// `wrs` and the oracles: decisions by outcome, and those that differ from the reference's.
 struct RetainTally {
