@@ -5,8 +5,10 @@
 // is the built-in itself (glsl_cpp.h), so nothing here reaches the SPIR-V.
 //
 // By default every hook returns what the reference always computed (correctly rounded, ties to
-// even; fp16 and UNORM conversions by hand). A test sets another permitted result for the current
-// thread (DeviceRounding, ScopedDeviceRounding) and checks that the GPU still agrees with it.
+// even; fp16 and UNORM conversions by hand). A test sets another permitted result for the process
+// (DeviceRounding, ScopedDeviceRounding) and checks that the GPU still agrees with it. A plain global
+// rather than a thread_local: the compositor library links nothing beyond libc, libm, libstdc++,
+// libgcc_s and Vulkan (a thread_local adds the dynamic loader's TLS), and only tests set it.
 #ifndef WRSFOV_DEVICE_ROUNDING_H
 #define WRSFOV_DEVICE_ROUNDING_H
 
@@ -27,7 +29,7 @@ enum class Permitted : std::uint8_t {
     Mixed,    ///< per value, from a hash of its inputs and DeviceRounding::seed: anything from Low to High
 };
 
-/// The device the reference models (per thread).
+/// The device the reference models.
 struct DeviceRounding {
     /// The device's fp16 conversion (packHalf2x16) of a value fp16 cannot hold: "conversions between types:
     /// correctly rounded" with the rounding mode unspecified (spirvenv-correctly-rounded: either neighbour;
@@ -45,13 +47,13 @@ struct DeviceRounding {
     bool hardwareHalf = false;
 };
 
-/// The current thread's model.
+/// The model every reference of the process steps with.
 inline DeviceRounding& deviceRounding() {
-    static thread_local DeviceRounding model;
+    static DeviceRounding model;
     return model;
 }
 
-/// Sets the current thread's model until the end of the scope.
+/// Sets the model until the end of the scope.
 class ScopedDeviceRounding {
 public:
     explicit ScopedDeviceRounding(const DeviceRounding& model) : saved_(deviceRounding()) { deviceRounding() = model; }
