@@ -10,7 +10,8 @@ set(WRSFOV_PUBLIC_HEADERS
   layers/formats.h layers/frame.h layers/status.h layers/swapchain.h
   compositor/compositor.h compositor/vk_context.h compositor/host_image.h compositor/host_app.h
   compositor/reference.h compositor/swapchain_vk.h compositor/input.h compositor/compose.h
-  shaders/glsl_cpp.h shaders/config.h shaders/wrs_common.h shaders/wrs_params.h shaders/wrs_submitted.h
+  shaders/glsl_cpp.h shaders/device_rounding.h shaders/config.h shaders/wrs_common.h shaders/wrs_params.h
+  shaders/wrs_submitted.h
   shaders/compose_params.h)
 set(WRSFOV_GAZE_HEADERS
   gaze/sample.h gaze/result.h gaze/angles.h gaze/generator.h gaze/gaze_file.h gaze/source.h

@@ -376,6 +376,7 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
     for (uint32_t k = 0; k < WRS_LEVELS; ++k) {
         const glm::uvec2 s = gpu::wrs_level_size(size0, k);
         p.levels[k] = glm::uvec4(s, k == 0 ? 0u : gpu::wrs_level_offset(size0, k) - level0, stored);
+        p.level_scale[k] = glm::vec4(gpu::wrs_level_scale(size0, k), 0.0f, 0.0f);
     }
     // z is unused: whether birth colours are tracked is the passes' constant TRACK_BIRTH.
     // The floor rule's quality: the mode's far periphery, or for a frame submitted foveated the lowest
@@ -522,23 +523,13 @@ Status Compositor::init() {
 }
 
 static std::vector<float> halfProbeValues() {
-    // Every finite fp16 value of either sign, the midpoint to the next one (a tie: rounds to the even
-    // one) and the floats either side of it, from the subnormals up to the overflow to infinity; the
-    // infinities, and values that round to zero. Not NaN: no pass stores one.
+    // What the passes hand the device's conversion (wrs_store_f16): values already on fp16's grid, every
+    // normal fp16 value of either sign. A conformant conversion returns each exactly; how a device rounds
+    // a value fp16 cannot hold no longer reaches a stored bit (those values are rounded by hand first).
     std::vector<float> v;
-    for (uint32_t h = 0; h <= 0x7bffu; ++h) {
-        const float f = gpu::wrs_f16_to_f32(h);
-        const float next = h == 0x7bffu ? 65536.0f : gpu::wrs_f16_to_f32(h + 1);
-        const float mid = 0.5f * (f + next);  // exact: an fp16 value has 11 significant bits
-        for (float x : {f, mid, std::nextafter(mid, 0.0f), std::nextafter(mid, 1e30f)}) {
-            v.push_back(x);
-            v.push_back(-x);
-        }
-    }
-    for (float x : {std::numeric_limits<float>::infinity(), 1e30f, 65519.99f, 2.9802322e-8f, 2.98e-8f, 1e-10f,
-                    std::numeric_limits<float>::denorm_min()}) {
-        v.push_back(x);
-        v.push_back(-x);
+    for (uint32_t h = 0x0400u; h <= 0x7bffu; ++h) {
+        v.push_back(gpu::wrs_f16_to_f32(h));
+        v.push_back(-gpu::wrs_f16_to_f32(h));
     }
     return v;
 }

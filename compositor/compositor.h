@@ -126,8 +126,9 @@ struct CompositorConfig {
     /// 0.02-0.08 JOD lower than without; off by default.
     bool steadyFloor = false;
     /// Convert to fp16 for storage (pyramid, reservoirs) with the device's own instruction where the
-    /// first compositor on the context found it giving the hand conversion's bits (round to nearest
-    /// even) on every probe value: the same bits, a fraction of the arithmetic. Off: always by hand.
+    /// first compositor on the context found it exact on every value the passes give it (values already
+    /// rounded to fp16's grid by hand, wrs_store_f16): the same bits, a fraction of the arithmetic. Off:
+    /// always by hand.
     bool hardwareHalf = true;
     /// Quad views (layers::InsetView): width in inset pixels of the band inside the inset's edge over
     /// which the output blends from the wide view to the inset (and the quality from the wide view's to

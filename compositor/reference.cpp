@@ -11,9 +11,9 @@ namespace wrsfov {
 using namespace gpu;
 
 glm::u8vec4 encodeOutput(glm::vec3 linear) {
-    glm::vec3 s = wrs_linear_to_srgb3(linear);
-    auto q = [](float v) { return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
-    return glm::u8vec4(q(s.x), q(s.y), q(s.z), 255);
+    // What store_output hands the RGBA8 image (whole codes), converted as the modelled device converts it.
+    glm::vec3 s = wrs_output_value(linear);
+    return glm::u8vec4(wrs_device_unorm8(s.x), wrs_device_unorm8(s.y), wrs_device_unorm8(s.z), 255);
 }
 
 namespace {
@@ -145,8 +145,12 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             return pyr[wrs_level_offset(size0, level) + q.y * sl.x + q.x];
         };
 
-        // What a texel of the pyramid buffer stores: fp16 RGBA.
-        auto round4 = [](vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); };
+        // What a texel of the pyramid buffer stores: fp16 RGBA, converted as pyr_pack does (wrs_store_f16).
+        auto round4 = [](vec4 v) {
+            const uvec2 h(wrs_store_f16x2(v.x, v.y), wrs_store_f16x2(v.z, v.w));
+            return vec4(wrs_f16_to_f32(h.x & 0xffffu), wrs_f16_to_f32(h.x >> 16u), wrs_f16_to_f32(h.y & 0xffffu),
+                        wrs_f16_to_f32(h.y >> 16u));
+        };
 
         // Pass 1: pyramid levels 1..4 (methods wrs and oracle need level 4 for every mode: a box pyramid for `none`).
         if (wrs_mode_simulated(mode) || retain) {
@@ -222,7 +226,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             if (level == 0u) return at(0u, p);
             uvec2 sl = wrs_level_size(size0, level);
             uvec2 i0, i1;
-            vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+            vec2 f = wrs_bilinear_setup(p, wrs_level_scale(size0, level), sl, i0, i1);
             return wrs_bilinear(at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)),
                                 at(level, i1), f);
         };
@@ -347,7 +351,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 }
                 uvec2 sl = wrs_level_size(size0, level);
                 uvec2 i0, i1;
-                vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+                vec2 f = wrs_bilinear_setup(p, wrs_level_scale(size0, level), sl, i0, i1);
                 vec4 t[4] = {at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)), at(level, i1)};
                 arange = wrs_taps_range(t[0], t[1], t[2], t[3], lo, hi);
                 return wrs_bilinear(t[0], t[1], t[2], t[3], f);

@@ -6,8 +6,8 @@
 #ifndef WRSFOV_BINDINGS_GLSL
 #define WRSFOV_BINDINGS_GLSL
 
-// Every pass: the device's fp16 conversion for storage where the compositor found it exact
-// (wrs_store_f16, Compositor::hardwareHalf).
+// Every pass: the device's fp16 conversion for storage, of values rounded to fp16's grid by hand, where
+// the compositor found it exact on them (wrs_store_f16, Compositor::hardwareHalf).
 layout(constant_id = 7) const bool HARDWARE_HALF = false;
 #define WRS_HARDWARE_HALF HARDWARE_HALF
 // Every pass: the birth colours of the stale-pixel evaluation are tracked (CompositorConfig::trackBirth,
@@ -89,7 +89,7 @@ uint pyramid_index(uint eye, uint level, uvec2 q) {
     uvec4 l = frame.levels[level];
     return eye * l.w + l.z + q.y * l.x + q.x;
 }
-// Rounds to nearest even (by hand, or by the device where it was found to do the same: wrs_store_f16).
+// Rounds to nearest even on every device (wrs_store_f16).
 uvec2 pyr_pack(vec4 v) { return uvec2(wrs_store_f16x2(v.x, v.y), wrs_store_f16x2(v.z, v.w)); }
 // fp16 to fp32 is exact, so unpackHalf2x16 agrees with wrs_f16_to_f32 on the CPU.
 vec4 pyr_unpack(uvec2 h) { return vec4(unpackHalf2x16(h.x), unpackHalf2x16(h.y)); }
@@ -134,7 +134,7 @@ float load_depth(uint eye, uvec2 p) {
     return wrs_linear_depth(d, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
 }
 void store_output(uint eye, uvec2 p, vec3 linear_rgb) {
-    imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_linear_to_srgb3(linear_rgb), 1.0));
+    imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_output_value(linear_rgb), 1.0));
 }
 
 #endif

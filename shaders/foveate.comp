@@ -14,10 +14,9 @@ layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1)
 // `level0`: the pixel's own decoded colour (load_color), read once per pixel.
 vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0) {
     if (level == 0u) return level0;
-    uvec2 size0 = frame.size.xy;
     uvec2 sl = level_size(level);
     uvec2 i0, i1;
-    vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+    vec2 f = wrs_bilinear_setup(p, frame.level_scale[level].xy, sl, i0, i1);
     return wrs_bilinear(pyr_read(eye, level, i0), pyr_read(eye, level, uvec2(i1.x, i0.y)),
                         pyr_read(eye, level, uvec2(i0.x, i1.y)), pyr_read(eye, level, i1), f);
 }

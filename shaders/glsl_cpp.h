@@ -24,6 +24,12 @@ using uint = std::uint32_t;
 #define WRS_INOUT(T) T&
 // C++ side is compiled with -ffp-contract=off, which gives the same guarantee as GLSL `precise`.
 #define WRS_PRECISE
+// The built-ins whose result a device may round differently (wrs_div, wrs_exp, wrs_pow, ...): C++
+// functions that model what the spec permits (device_rounding.h); the reference's own by default.
+#include "device_rounding.h"
+// Whether the passes store fp16 with the device's conversion: in a shader the pipelines' constant
+// (bindings.glsl), in C++ the modelled device's.
+#define WRS_HARDWARE_HALF_MODEL (::wrsfov::gpu::deviceRounding().hardwareHalf)
 #else
 #define WRS_BEGIN
 #define WRS_END
@@ -31,6 +37,14 @@ using uint = std::uint32_t;
 #define WRS_OUT(T) out T
 #define WRS_INOUT(T) inout T
 #define WRS_PRECISE precise
+// The built-ins themselves; C++ models what else a conformant device may return (device_rounding.h).
+#define wrs_div(a, b) ((a) / (b))
+#define wrs_exp exp
+#define wrs_pow pow
+#define wrs_sqrt sqrt
+#define wrs_length length
+#define wrs_normalize normalize
+#define wrs_device_pack_half2x16 packHalf2x16
 #endif
 
 #endif

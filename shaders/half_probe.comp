@@ -1,6 +1,6 @@
 // The device's own fp16 conversion (packHalf2x16) of each input float, low 16 bits: the compositor
-// compares it with wrs_f32_to_f16 (round to nearest even, by hand) on every value that matters
-// before it lets the passes use it (Compositor::hardwareHalf).
+// compares it with wrs_f32_to_f16 on every value the passes give it (every normal fp16 value: they round
+// to fp16's grid by hand first, wrs_store_f16) before it lets the passes use it (Compositor::hardwareHalf).
 #version 450
 layout(local_size_x = 64) in;
 layout(std430, set = 0, binding = 0) readonly buffer Src { float src[]; };

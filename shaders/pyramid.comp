@@ -175,11 +175,12 @@ void steady_floor(uint eye) {
     vec2 f;
     uint prev = push.pad1;
     bool has = push.pad2 != 0u && wrs_taa_reproject(d, size4, mv, i0, i1, f) && steady_read(prev, eye, d).a != 0.0;
-    vec3 hist = vec3(0.0);
+    // Unfused, as the reference sums it.
+    precise vec3 hist = vec3(0.0);
     if (has) {
         vec4 wx = wrs_catmull_rom(f.x), wy = wrs_catmull_rom(f.y);
         for (int j = 0; j < 4; ++j) {
-            vec3 row = vec3(0.0);
+            precise vec3 row = vec3(0.0);
             for (int i = 0; i < 4; ++i) row += wx[i] * steady_read(prev, eye, wrs_cubic_tap(i0, ivec2(i, j), size4)).rgb;
             hist += wy[j] * row;
         }

@@ -31,10 +31,9 @@ vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, ino
         arange = wrs_taps_range(level0, level0, level0, level0, lo, hi);
         return level0;
     }
-    uvec2 size0 = frame.size.xy;
     uvec2 sl = level_size(level);
     uvec2 i0, i1;
-    vec2 f = wrs_bilinear_setup(p, size0, sl, i0, i1);
+    vec2 f = wrs_bilinear_setup(p, frame.level_scale[level].xy, sl, i0, i1);
     vec4 c00 = pyr_read(eye, level, i0), c10 = pyr_read(eye, level, uvec2(i1.x, i0.y));
     vec4 c01 = pyr_read(eye, level, uvec2(i0.x, i1.y)), c11 = pyr_read(eye, level, i1);
     arange = wrs_taps_range(c00, c10, c01, c11, lo, hi);

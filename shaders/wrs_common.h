@@ -1,9 +1,12 @@
 // The per-pixel math of wrsfov, in the common subset of GLSL and C++ (see glsl_cpp.h).
 //
 // Compiled into every compute shader and into the CPU reference (compositor/reference.cpp), so the
-// GPU and the reference can only differ by the rounding of built-in functions (exp, pow, atan,
-// normalize). Equation numbers refer to Cantory et al., MIG '25 ("the paper"); section names to
-// docs/conventions.md.
+// GPU and the reference can only differ where the Vulkan spec leaves a result free: the built-ins
+// spelled wrs_div, wrs_exp, wrs_pow, wrs_sqrt, wrs_length and wrs_normalize (whose other permitted
+// results the reference can take: device_rounding.h), and the rounding direction of the rest. What is
+// stored quantised (fp16, the fingerprint and output codes) is rounded by hand from unfused operations
+// (docs/speed.md, "Rounding: what a conformant device may do differently"). Equation numbers refer to
+// Cantory et al., MIG '25 ("the paper"); section names to docs/conventions.md.
 #ifndef WRSFOV_WRS_COMMON_H
 #define WRSFOV_WRS_COMMON_H
 
@@ -37,11 +40,11 @@ WRS_FN bool wrs_finite3(vec3 v) { return wrs_finite(v.x) && wrs_finite(v.y) && w
 // fov_tan = (tan angleLeft, tan angleRight, tan angleUp, tan angleDown), the XrFovf order.
 // Pixel (x, y), y down, centre (x + 0.5, y + 0.5); eye space is -Z forward, +Y up, +X right.
 WRS_FN vec3 wrs_pixel_ray(uint x, uint y, uint width, uint height, vec4 fov_tan) {
-    float u = (float(x) + 0.5f) / float(width);
-    float v = (float(y) + 0.5f) / float(height);
+    float u = wrs_div(float(x) + 0.5f, float(width));
+    float v = wrs_div(float(y) + 0.5f, float(height));
     float tx = fov_tan.x + u * (fov_tan.y - fov_tan.x);
     float ty = fov_tan.z - v * (fov_tan.z - fov_tan.w);
-    return normalize(vec3(tx, ty, -1.0f));
+    return wrs_normalize(vec3(tx, ty, -1.0f));
 }
 
 // atan(y / x) for y, x >= 0, in radians, written out (Cephes atanf: range reduction + odd
@@ -51,10 +54,10 @@ WRS_FN float wrs_atan2_pos(float y, float x) {
     if (y <= 0.0f) return 0.0f;
     if (x <= 0.0f) return 0.5f * WRS_PI;
     bool swap = y > x;
-    float t = swap ? x / y : y / x;  // in (0, 1]
+    float t = swap ? wrs_div(x, y) : wrs_div(y, x);  // in (0, 1]
     float base = 0.0f;
     if (t > 0.41421356f) {  // tan(pi/8)
-        t = (t - 1.0f) / (t + 1.0f);
+        t = wrs_div(t - 1.0f, t + 1.0f);
         base = 0.25f * WRS_PI;
     }
     float z = t * t;
@@ -66,8 +69,8 @@ WRS_FN float wrs_atan2_pos(float y, float x) {
 // Angle in degrees between two unit rays. 2·atan2(|a−b|, |a+b|) keeps full precision near 0°,
 // where acos(dot) loses most of its digits.
 WRS_FN float wrs_eccentricity_deg(vec3 ray, vec3 gaze) {
-    float num = length(ray - gaze);
-    float den = length(ray + gaze);
+    float num = wrs_length(ray - gaze);
+    float den = wrs_length(ray + gaze);
     return 2.0f * wrs_atan2_pos(num, den) * WRS_RAD_TO_DEG;
 }
 
@@ -83,15 +86,15 @@ const float WRS_WATSON_RM = 41.03f;
 
 // Eq. 3, e in degrees.
 WRS_FN float wrs_watson_density(float e) {
-    float q = 1.0f + e / WRS_WATSON_R2;
-    return 2.0f * WRS_WATSON_DC0 / (1.0f + e / WRS_WATSON_RM) *
-           (WRS_WATSON_A / (q * q) + (1.0f - WRS_WATSON_A) * exp(-e / WRS_WATSON_RE));
+    float q = 1.0f + wrs_div(e, WRS_WATSON_R2);
+    return wrs_div(2.0f * WRS_WATSON_DC0, 1.0f + wrs_div(e, WRS_WATSON_RM)) *
+           (wrs_div(WRS_WATSON_A, q * q) + (1.0f - WRS_WATSON_A) * wrs_exp(wrs_div(-e, WRS_WATSON_RE)));
 }
 
 // Eq. 4: 1 inside the fovea (radius r_f in degrees), d(e)/d(r_f) outside.
 WRS_FN float wrs_sample_weight(float e, float r_f) {
     if (e <= r_f) return 1.0f;
-    return wrs_watson_density(e) / wrs_watson_density(r_f);
+    return wrs_div(wrs_watson_density(e), wrs_watson_density(r_f));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -113,7 +116,7 @@ WRS_FN bool wrs_mode_simulated(uint mode) { return mode == WRS_FOV_MIP || mode =
 // which is what makes `gauss` comparable with `mip`.
 WRS_FN float wrs_gauss_level_sigma(uint k) {
     float p = float(1u << (2u * k));
-    return 0.5f * sqrt(p - 1.0f);
+    return 0.5f * wrs_sqrt(p - 1.0f);
 }
 
 // sigma(e) for `gauss` (documented in README "Foveation modes"): 0 inside the fovea, rising linearly
@@ -123,8 +126,8 @@ WRS_FN float wrs_gauss_level_sigma(uint k) {
 WRS_FN float wrs_gauss_sigma(float e, float r_f, float r_m) {
     if (e <= r_f) return 0.0f;
     float r_mid = max(r_m, r_f + 1.0f);
-    if (e <= r_mid) return 0.5f + 3.5f * (e - r_f) / (r_mid - r_f);
-    return 4.0f + 4.0f * min((e - r_mid) / 5.0f, 1.0f);
+    if (e <= r_mid) return 0.5f + wrs_div(3.5f * (e - r_f), r_mid - r_f);
+    return 4.0f + 4.0f * min(wrs_div(e - r_mid, 5.0f), 1.0f);
 }
 
 // Levels to blend for a pixel at eccentricity e: colour = mix(level a, level b, t).
@@ -144,7 +147,7 @@ WRS_FN vec3 wrs_foveation_levels(uint mode, float e, float r_f, float r_m) {
     for (uint k = 0u; k + 1u < uint(WRS_LEVELS); ++k) {
         float s0 = wrs_gauss_level_sigma(k);
         float s1 = wrs_gauss_level_sigma(k + 1u);
-        if (s <= s1) return vec3(float(k), float(k + 1u), (s - s0) / (s1 - s0));
+        if (s <= s1) return vec3(float(k), float(k + 1u), wrs_div(s - s0, s1 - s0));
     }
     return vec3(float(WRS_LEVELS - 1), float(WRS_LEVELS - 1), 0.0f);
 }
@@ -188,9 +191,9 @@ WRS_FN uint wrs_tile_class_of_range(uint mode, float lo, float hi, float r_f, fl
 
 // Ray through a point of the image in pixel units (a pixel's centre is (x + 0.5, y + 0.5)).
 WRS_FN vec3 wrs_image_point_ray(vec2 pt, uvec2 size, vec4 fov_tan) {
-    float tx = fov_tan.x + pt.x / float(size.x) * (fov_tan.y - fov_tan.x);
-    float ty = fov_tan.z - pt.y / float(size.y) * (fov_tan.z - fov_tan.w);
-    return normalize(vec3(tx, ty, -1.0f));
+    float tx = fov_tan.x + wrs_div(pt.x, float(size.x)) * (fov_tan.y - fov_tan.x);
+    float ty = fov_tan.z - wrs_div(pt.y, float(size.y)) * (fov_tan.z - fov_tan.w);
+    return wrs_normalize(vec3(tx, ty, -1.0f));
 }
 
 // The classification's constants of a view (EyeParams::tile, set once per frame): a pixel's width
@@ -213,7 +216,7 @@ WRS_FN vec4 wrs_tile_geometry(uvec2 size, vec4 fov_tan) {
 // tile; the angle to each corner it replaced cost four more of each (docs/speed.md "Tiles").
 WRS_FN uint wrs_tile_class(uint mode, uvec2 t, uvec2 size, vec4 fov_tan, vec4 tile, vec3 gaze, float r_f, float r_m) {
     vec2 c = 0.5f * vec2(t * WRS_TILE + min((t + uvec2(1u, 1u)) * WRS_TILE, size));
-    vec3 ray = normalize(vec3(fov_tan.x + c.x * tile.x, fov_tan.z - c.y * tile.y, -1.0f));
+    vec3 ray = wrs_normalize(vec3(fov_tan.x + c.x * tile.x, fov_tan.z - c.y * tile.y, -1.0f));
     float e = wrs_eccentricity_deg(ray, gaze);
     return wrs_tile_class_of_range(mode, e - tile.z - WRS_TILE_MARGIN_DEG, e + tile.z + WRS_TILE_MARGIN_DEG, r_f, r_m);
 }
@@ -246,45 +249,69 @@ WRS_FN uint wrs_level_offset(uvec2 size0, uint level) {
 }
 WRS_FN uint wrs_pyramid_texels(uvec2 size0) { return wrs_level_offset(size0, uint(WRS_LEVELS)); }
 
-// Bilinear lookup of a coarser level at the centre of level-0 pixel p, clamp to edge.
-// Returns the integer corner in i0 (the other corner is i0 + 1 clamped, in i1) and the weights.
-WRS_FN vec2 wrs_bilinear_setup(uvec2 p, uvec2 size0, uvec2 size_l, WRS_OUT(uvec2) i0, WRS_OUT(uvec2) i1) {
-    vec2 pos = (vec2(p) + vec2(0.5f, 0.5f)) * vec2(size_l) / vec2(size0) - vec2(0.5f, 0.5f);
-    pos = clamp(pos, vec2(0.0f, 0.0f), vec2(size_l) - vec2(1.0f, 1.0f));
+#ifdef __cplusplus
+// A level's size over level 0's (FrameParams::level_scale), worked out once on the host: the bilinear
+// weights of the fingerprint and of every foveated colour must be the same on every device, and a
+// shader's division may be 2.5 ULP off.
+inline vec2 wrs_level_scale(uvec2 size0, uint level) {
+    const uvec2 s = wrs_level_size(size0, level);
+    return vec2(float(double(s.x) / double(size0.x)), float(double(s.y) / double(size0.y)));
+}
+#endif
+
+// Bilinear lookup of a coarser level at the centre of level-0 pixel p, clamp to edge; `scale` is
+// wrs_level_scale of the level. Returns the integer corner in i0 (the other corner is i0 + 1
+// clamped, in i1) and the weights. Unfused, so that every device computes the same weights.
+WRS_FN vec2 wrs_bilinear_setup(uvec2 p, vec2 scale, uvec2 size_l, WRS_OUT(uvec2) i0, WRS_OUT(uvec2) i1) {
+    WRS_PRECISE vec2 c = vec2(p) + vec2(0.5f, 0.5f);
+    WRS_PRECISE vec2 at = c * scale - vec2(0.5f, 0.5f);
+    vec2 pos = clamp(at, vec2(0.0f, 0.0f), vec2(size_l) - vec2(1.0f, 1.0f));
     vec2 f = floor(pos);
     i0 = uvec2(f);
     i1 = min(i0 + uvec2(1u, 1u), size_l - uvec2(1u, 1u));
     return pos - f;
 }
+// Unfused (a device may otherwise fuse each multiply and add, or not): the same bits everywhere.
 WRS_FN vec4 wrs_bilinear(vec4 c00, vec4 c10, vec4 c01, vec4 c11, vec2 f) {
-    vec4 top = c00 + (c10 - c00) * f.x;
-    vec4 bottom = c01 + (c11 - c01) * f.x;
-    return top + (bottom - top) * f.y;
+    WRS_PRECISE vec4 top = c00 + (c10 - c00) * f.x;
+    WRS_PRECISE vec4 bottom = c01 + (c11 - c01) * f.x;
+    WRS_PRECISE vec4 r = top + (bottom - top) * f.y;
+    return r;
 }
 
-// Linear blend of two pyramid samples, written out so both sides round alike.
-WRS_FN vec4 wrs_blend(vec4 a, vec4 b, float t) { return a + (b - a) * t; }
+// Linear blend of two pyramid samples, written out and unfused so every device rounds alike.
+WRS_FN vec4 wrs_blend(vec4 a, vec4 b, float t) {
+    WRS_PRECISE vec4 r = a + (b - a) * t;
+    return r;
+}
 
 // Source texel of a downsample tap: level-(k-1) index 2*d + o, clamped to the level.
 WRS_FN uvec2 wrs_down_tap(uvec2 d, ivec2 o, uvec2 src_size) {
     ivec2 s = ivec2(2u * d) + o;
     return uvec2(clamp(s, ivec2(0, 0), ivec2(src_size) - ivec2(1, 1)));
 }
-// `mip`: 2x2 box over taps o in {0,1}^2, in the order (0,0) (1,0) (0,1) (1,1).
-WRS_FN vec4 wrs_down_box(vec4 t00, vec4 t10, vec4 t01, vec4 t11) { return ((t00 + t10) + (t01 + t11)) * 0.25f; }
+// `mip`: 2x2 box over taps o in {0,1}^2, in the order (0,0) (1,0) (0,1) (1,1). The filters are kept in
+// the order written (a device may otherwise reassociate the sums and fuse the multiplies).
+WRS_FN vec4 wrs_down_box(vec4 t00, vec4 t10, vec4 t01, vec4 t11) {
+    WRS_PRECISE vec4 r = ((t00 + t10) + (t01 + t11)) * 0.25f;
+    return r;
+}
 // `gauss`: separable [1 3 3 1]/8 over taps o in {-1..2}^2, given as 4 rows of 4 taps each.
-WRS_FN vec4 wrs_binomial_row(vec4 a, vec4 b, vec4 c, vec4 d) { return (a + d + 3.0f * (b + c)) * 0.125f; }
+WRS_FN vec4 wrs_binomial_row(vec4 a, vec4 b, vec4 c, vec4 d) {
+    WRS_PRECISE vec4 r = (a + d + 3.0f * (b + c)) * 0.125f;
+    return r;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Colour
 // ---------------------------------------------------------------------------------------------
 
 WRS_FN float wrs_srgb_to_linear(float c) {
-    return c <= 0.04045f ? c / 12.92f : pow((c + 0.055f) / 1.055f, 2.4f);
+    return c <= 0.04045f ? wrs_div(c, 12.92f) : wrs_pow(wrs_div(c + 0.055f, 1.055f), 2.4f);
 }
 WRS_FN float wrs_linear_to_srgb(float c) {
     c = clamp(c, 0.0f, 1.0f);
-    return c <= 0.0031308f ? c * 12.92f : 1.055f * pow(c, 1.0f / 2.4f) - 0.055f;
+    return c <= 0.0031308f ? c * 12.92f : 1.055f * wrs_pow(c, 1.0f / 2.4f) - 0.055f;
 }
 WRS_FN vec3 wrs_srgb_to_linear3(vec3 c) {
     return vec3(wrs_srgb_to_linear(c.x), wrs_srgb_to_linear(c.y), wrs_srgb_to_linear(c.z));
@@ -315,6 +342,30 @@ inline vec3 wrs_srgb8_to_linear3(vec3 unorm) {
 WRS_FN vec3 wrs_linear_to_srgb3(vec3 c) {
     return vec3(wrs_linear_to_srgb(c.x), wrs_linear_to_srgb(c.y), wrs_linear_to_srgb(c.z));
 }
+// The 8-bit code of an sRGB value in [0, 1] (half up), unfused.
+WRS_FN uint wrs_unorm8_code(float s) {
+    WRS_PRECISE float x = clamp(s, 0.0f, 1.0f) * 255.0f + 0.5f;
+    return uint(floor(x));
+}
+// code / 255 as the nearest float, whose product with 255 is the code exactly: a store to an 8-bit UNORM
+// image must return that whole number as it is (fundamentals-fpfixedconv), where any other value may be
+// stored as either of the two nearest codes. code times the nearest float to 1/255 is one ULP high for
+// about half the codes; the neighbour whose product with 255 is the code is taken instead.
+WRS_FN float wrs_unorm8_value(uint code) {
+    WRS_PRECISE float f = float(code) * 0.00392156886f;
+    WRS_PRECISE float back = f * 255.0f;
+    uint b = floatBitsToUint(f);
+    if (back > float(code)) b -= 1u;
+    if (back < float(code)) b += 1u;
+    return uintBitsToFloat(b);
+}
+// What the RGBA8 output stores of a linear colour: sRGB-encoded and quantised to 8 bits by hand, so the
+// image's conversion, which the spec leaves to the device, is given whole codes.
+WRS_FN vec3 wrs_output_value(vec3 linear) {
+    vec3 s = wrs_linear_to_srgb3(linear);
+    return vec3(wrs_unorm8_value(wrs_unorm8_code(s.x)), wrs_unorm8_value(wrs_unorm8_code(s.y)),
+                wrs_unorm8_value(wrs_unorm8_code(s.z)));
+}
 
 // What a colour becomes before it enters the pipeline: non-finite channels -> 0, negative -> 0,
 // larger than fp16 can hold -> 65504. `valid` reports whether the input was usable as-is finite.
@@ -334,19 +385,40 @@ WRS_FN bool wrs_input_valid(bool finite, uint encoding, float alpha) {
     return finite && (encoding != WRS_INPUT_COMPOSED || alpha > 0.5f);
 }
 
-// CIE 1976 L* of linear sRGB (D65), Y from the Rec. 709 primaries.
+// t^(1/3) for t > 0 from additions and multiplications only: three Newton steps for t^(-1/3) from a
+// first guess made of t's bits, then t y^2 (relative error under 5e-7 from 1e-4 to 2e5). pow, inherited
+// from exp2(y log2 t), may be ~10 ULP off and differ between devices, which the fp16 rounding of the
+// fingerprint turns into whole steps; these operations are correctly rounded and kept unfused
+// (WRS_PRECISE), so every device that rounds to nearest gets the CPU's bits.
+WRS_FN float wrs_cbrt(float t) {
+    WRS_PRECISE float y = uintBitsToFloat(0x54a21d2au - floatBitsToUint(t) / 3u);
+    WRS_PRECISE float t3 = t * 0.333333343f;
+    for (int i = 0; i < 3; ++i) {
+        WRS_PRECISE float y3 = y * y * y;
+        WRS_PRECISE float e = 1.33333337f - t3 * y3;
+        y = y * e;
+    }
+    WRS_PRECISE float r = t * (y * y);
+    return r;
+}
+
+// CIE 1976 L* of linear sRGB (D65), Y from the Rec. 709 primaries. No pow and no division (the
+// constants' reciprocals are literals), every operation unfused: the same bits on every device.
 WRS_FN float wrs_lab_f(float t) {
-    const float d = 6.0f / 29.0f;
-    return t > d * d * d ? pow(t, 1.0f / 3.0f) : t / (3.0f * d * d) + 4.0f / 29.0f;
+    WRS_PRECISE float lin = t * 7.78703690f + 0.137931034f;  // t / (3 (6/29)^2) + 4/29
+    return t > 0.00885645207f ? wrs_cbrt(t) : lin;           // (6/29)^3
 }
 WRS_FN vec3 wrs_linear_to_lab(vec3 c) {
-    float X = 0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z;
-    float Y = 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
-    float Z = 0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z;
-    float fx = wrs_lab_f(X / 0.95047f);
+    WRS_PRECISE float X = 0.4124564f * c.x + 0.3575761f * c.y + 0.1804375f * c.z;
+    WRS_PRECISE float Y = 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
+    WRS_PRECISE float Z = 0.0193339f * c.x + 0.1191920f * c.y + 0.9503041f * c.z;
+    WRS_PRECISE float xn = X * 1.05211103f;   // X / 0.95047
+    WRS_PRECISE float zn = Z * 0.918417037f;  // Z / 1.08883
+    float fx = wrs_lab_f(xn);
     float fy = wrs_lab_f(Y);
-    float fz = wrs_lab_f(Z / 1.08883f);
-    return vec3(116.0f * fy - 16.0f, 500.0f * (fx - fy), 200.0f * (fy - fz));
+    float fz = wrs_lab_f(zn);
+    WRS_PRECISE vec3 lab = vec3(116.0f * fy - 16.0f, 500.0f * (fx - fy), 200.0f * (fy - fz));
+    return lab;
 }
 
 const uint WRS_CHANGE_OFF = 0u;    // eq. 6 only
@@ -362,8 +434,8 @@ WRS_FN float wrs_change(uint metric, vec3 a, vec3 b) {
     if (metric == WRS_CHANGE_LSTAR) {
         d = abs(la.x - lb.x);
     } else {
-        float c1 = sqrt(la.y * la.y + la.z * la.z);
-        float c2 = sqrt(lb.y * lb.y + lb.z * lb.z);
+        float c1 = wrs_sqrt(la.y * la.y + la.z * la.z);
+        float c2 = wrs_sqrt(lb.y * lb.y + lb.z * lb.z);
         float dl = la.x - lb.x;
         float dc = c1 - c2;
         float da = la.y - lb.y;
@@ -371,9 +443,10 @@ WRS_FN float wrs_change(uint metric, vec3 a, vec3 b) {
         float dh2 = max(da * da + db * db - dc * dc, 0.0f);
         float sc = 1.0f + 0.045f * c1;
         float sh = 1.0f + 0.015f * c1;
-        d = sqrt(dl * dl + (dc / sc) * (dc / sc) + dh2 / (sh * sh));
+        float dcs = wrs_div(dc, sc);
+        d = wrs_sqrt(dl * dl + dcs * dcs + wrs_div(dh2, sh * sh));
     }
-    float r = d / 100.0f;
+    float r = wrs_div(d, 100.0f);
     return wrs_finite(r) ? clamp(r, 0.0f, 1.0f) : 1.0f;
 }
 
@@ -389,9 +462,9 @@ WRS_FN float wrs_linear_depth(float d, float near_z, float far_z, bool reversed)
     float z;
     bool inf_far = !wrs_finite(far_z);
     if (reversed) {
-        z = inf_far ? near_z / d : near_z * far_z / (near_z + d * (far_z - near_z));
+        z = inf_far ? wrs_div(near_z, d) : wrs_div(near_z * far_z, near_z + d * (far_z - near_z));
     } else {
-        z = inf_far ? near_z / (1.0f - d) : near_z * far_z / (far_z - d * (far_z - near_z));
+        z = inf_far ? wrs_div(near_z, 1.0f - d) : wrs_div(near_z * far_z, far_z - d * (far_z - near_z));
     }
     return (wrs_finite(z) && z > 0.0f) ? min(z, WRS_HALF_MAX) : 0.0f;
 }
@@ -522,16 +595,62 @@ WRS_FN float wrs_f16_to_f32(uint h) {
     return uintBitsToFloat(sign | ((e + 112u) << 23u) | (m << 13u));
 }
 WRS_FN float wrs_round_f16(float f) { return wrs_f16_to_f32(wrs_f32_to_f16(f)); }
-// fp16 for storage: wrs_f32_to_f16, or on a device whose own conversion gives the same bits on every
-// value the probe tries (Compositor::hardwareHalf), that conversion: a shader that includes this header
-// defines WRS_HARDWARE_HALF as its specialisation constant. Both round to nearest even; the hand one
-// costs ~20 instructions a value, which made the pyramid pass arithmetic-bound on a GPU.
+#ifdef __cplusplus
+// fp16 bits of f as a device's packHalf2x16 may give them (device_rounding.h): ties to even by default;
+// otherwise, for a value fp16 cannot hold, the neighbour DeviceRounding::half picks (a finite value
+// beyond the largest fp16: infinity or 65504), and a denormal result may be flushed to zero. A value
+// fp16 holds converts exactly in every mode.
+inline std::uint32_t wrs_device_f32_to_f16(float f) {
+    const std::uint32_t h = wrs_f32_to_f16(f);
+    const Permitted p = deviceRounding().half;
+    const std::uint32_t ax = floatBitsToUint(f) & 0x7fffffffu;
+    if (p == Permitted::Nearest || ax >= 0x7f800000u || wrs_f16_to_f32(h) == f) return h;
+    const std::uint32_t sign = h & 0x8000u, mag = h & 0x7fffu;
+    // The fp16 magnitudes either side of |f|: mag is one of them (overflow: infinity or 65504).
+    const float af = std::fabs(f), am = std::fabs(wrs_f16_to_f32(mag));
+    const std::uint32_t below = am > af ? mag - 1u : mag, above = am > af ? mag : mag + 1u;
+    const double d = rounding_detail::direction(p, floatBitsToUint(f) ^ 0x68616cu);
+    // Low and High are towards -inf and +inf; a value between is rounded as the hash says.
+    const bool up = sign ? d < 0.0 : d > 0.0;
+    std::uint32_t m = (p == Permitted::Mixed ? d > 0.0 : up) ? above : below;
+    if (m > 0x7c00u) m = 0x7c00u;
+    if (m < 0x400u) m = 0u;  // an fp16 denormal result may be flushed to zero
+    return sign | m;
+}
+inline uint wrs_device_pack_half2x16(vec2 v) {
+    return wrs_device_f32_to_f16(v.x) | (wrs_device_f32_to_f16(v.y) << 16u);
+}
+#endif
+// fp16 for storage, rounded to nearest even on every device. Where the compositor lets the passes use
+// the device's own conversion (Compositor::hardwareHalf: a shader that includes this header defines
+// WRS_HARDWARE_HALF as its specialisation constant; in C++ the modelled device's choice), the value is
+// first put on fp16's grid by hand (wrs_f16_grid: four integer operations against ~20 for
+// wrs_f32_to_f16, which made the pyramid pass arithmetic-bound on a GPU) and the device converts a
+// value fp16 holds exactly, which every conformant conversion returns as it is (spirvenv-correctly-
+// rounded): the direction a conversion of an inexact value may round to, or a compiler's folding of
+// pack and unpack into the computation of the value, never reaches a stored bit. Zeros, fp16
+// denormals (which a device may flush), overflow and non-finite values take the hand conversion.
+WRS_FN float wrs_f16_grid(float f) {
+    uint b = floatBitsToUint(f);
+    return uintBitsToFloat((b + 0xfffu + ((b >> 13u) & 1u)) & 0xffffe000u);
+}
+// |f| rounds to a normal fp16 value: [2^-14, 65520).
+WRS_FN bool wrs_f16_normal(float f) {
+    uint ax = floatBitsToUint(f) & 0x7fffffffu;
+    return ax >= 0x38800000u && ax < 0x477ff000u;
+}
+#if defined(__cplusplus) && !defined(WRS_HARDWARE_HALF)
+#define WRS_HARDWARE_HALF WRS_HARDWARE_HALF_MODEL
+#endif
 #ifdef WRS_HARDWARE_HALF
 WRS_FN uint wrs_store_f16(float f) {
-    return WRS_HARDWARE_HALF ? (packHalf2x16(vec2(f, 0.0f)) & 0xffffu) : wrs_f32_to_f16(f);
+    if (WRS_HARDWARE_HALF && wrs_f16_normal(f)) return wrs_device_pack_half2x16(vec2(wrs_f16_grid(f), 0.0f)) & 0xffffu;
+    return wrs_f32_to_f16(f);
 }
 WRS_FN uint wrs_store_f16x2(float a, float b) {
-    return WRS_HARDWARE_HALF ? packHalf2x16(vec2(a, b)) : wrs_f32_to_f16(a) | (wrs_f32_to_f16(b) << 16u);
+    if (WRS_HARDWARE_HALF && wrs_f16_normal(a) && wrs_f16_normal(b))
+        return wrs_device_pack_half2x16(vec2(wrs_f16_grid(a), wrs_f16_grid(b)));
+    return wrs_store_f16(a) | (wrs_store_f16(b) << 16u);
 }
 #else
 WRS_FN uint wrs_store_f16(float f) { return wrs_f32_to_f16(f); }
@@ -569,7 +688,7 @@ const uint WRS_BIAS_BERNOULLI = 1u;  // eq. 6: scale history by its survival pro
 // w_sum1 = w_sum · (1 − |ΔL|) · (1 − w_cur / (w_sum + w_cur)).
 WRS_FN float wrs_biased_history_weight(float w_sum, float w_cur, float change, bool bernoulli) {
     WRS_PRECISE float w1 = w_sum * (1.0f - change);
-    if (bernoulli) w1 = w1 * (1.0f - w_cur / (w_sum + w_cur));  // w_sum > 0, so the division is safe
+    if (bernoulli) w1 = w1 * (1.0f - wrs_div(w_cur, w_sum + w_cur));  // w_sum > 0, so the division is safe
     return max(w1, 0.0f);
 }
 
@@ -577,7 +696,7 @@ WRS_FN float wrs_biased_history_weight(float w_sum, float w_cur, float change, b
 // Used by tests to know how close a decision was.
 WRS_FN float wrs_keep_threshold(float w_sum1, float w_cur) {
     float t = w_sum1 + w_cur;
-    return t > 0.0f ? w_sum1 / t : 1.0f;
+    return t > 0.0f ? wrs_div(w_sum1, t) : 1.0f;
 }
 
 // One temporal step for one pixel (Alg. 2 with the biased history). Without usable history the
@@ -668,9 +787,11 @@ struct Tracked {
 
 // Quality of a sample foveated with levels lv = (a, b, t): the shading rate, 4^-level, blended.
 WRS_FN float wrs_level_quality(vec3 lv) {
-    float qa = 1.0f / float(1u << (2u * uint(lv.x)));
-    float qb = 1.0f / float(1u << (2u * uint(lv.y)));
-    return qa + (qb - qa) * lv.z;
+    // 4^-level from its exponent bits: exact (a quotient may be 2.5 ULP off).
+    float qa = uintBitsToFloat((127u - 2u * uint(lv.x)) << 23u);
+    float qb = uintBitsToFloat((127u - 2u * uint(lv.y)) << 23u);
+    WRS_PRECISE float q = qa + (qb - qa) * lv.z;
+    return q;
 }
 
 // The quality of a pixel's candidate, for every kind of input (the one place the retain pass and the
@@ -685,18 +806,25 @@ WRS_FN float wrs_candidate_quality(uint mode, vec3 lv, float e, float r_f, float
     return wrs_level_quality(lv);
 }
 
-WRS_FN uint wrs_fp_code(float lstar) { return uint(clamp(floor(lstar * WRS_FP_SCALE + 0.5f), 0.0f, 255.0f)); }
-WRS_FN float wrs_fp_value(uint code) { return float(code) / WRS_FP_SCALE; }
+// 1 / WRS_FP_SCALE as a literal: a quotient may be 2.5 ULP off.
+const float WRS_FP_STEP = 0.392156869f;
+// Unfused: a fused multiply-add may round a value near a code boundary to the other code.
+WRS_FN uint wrs_fp_code(float lstar) {
+    WRS_PRECISE float x = lstar * WRS_FP_SCALE + 0.5f;
+    return uint(clamp(floor(x), 0.0f, 255.0f));
+}
+WRS_FN float wrs_fp_value(uint code) { return float(code) * WRS_FP_STEP; }
 
 WRS_FN uint wrs_offset_code(float d, float u) {
     // -127..126: the footprint is half-open, [-0.5, 0.5), so +127/254 = 0.5 would leave it.
-    int c = clamp(int(floor(d * WRS_OFFSET_SCALE + u)), -127, 126);
+    WRS_PRECISE float x = d * WRS_OFFSET_SCALE + u;
+    int c = clamp(int(floor(x)), -127, 126);
     return uint(c) & 0xffu;
 }
 WRS_FN float wrs_offset_value(uint code) {
     int c = int(code & 0xffu);
     if (c > 127) c -= 256;
-    return float(c) / WRS_OFFSET_SCALE;
+    return float(c) * 0.00393700786f;  // 1 / WRS_OFFSET_SCALE (exactly -0.5 for -127)
 }
 
 // Packed storage, 16 bytes per pixel like the paper's reservoir (README "Reservoir layout"):
@@ -744,7 +872,7 @@ WRS_FN bool wrs_tracked_valid(Tracked r) {
 // sub-pixel drift still accumulates in expectation instead of being rounded away.
 WRS_FN vec2 wrs_offset_dither(uint frame, uint seed) {
     uint h = wrs_hash(0u, 0u, 0u, frame, seed);
-    return vec2((float(h & 255u) + 0.5f) / 256.0f, (float((h >> 8u) & 255u) + 0.5f) / 256.0f);
+    return vec2((float(h & 255u) + 0.5f) * 0.00390625f, (float((h >> 8u) & 255u) + 0.5f) * 0.00390625f);
 }
 
 // Motion reach (docs/retention.md "Motion reach"): a pixel whose motion moves it more than `reach`
@@ -924,7 +1052,7 @@ WRS_FN void wrs_shown_add(WRS_INOUT(vec4) acc, uvec4 pk, uvec2 qk, vec2 pos, flo
     wrs_shown_add_weighted(acc, pk, wrs_shown_weight(pk, qk, pos, z_cur, dz, tau), hq);
 }
 WRS_FN vec3 wrs_shown_end(vec4 acc, vec3 kept) {
-    return acc.w > 0.0f ? vec3(acc.x / acc.w, acc.y / acc.w, acc.z / acc.w) : kept;
+    return acc.w > 0.0f ? vec3(wrs_div(acc.x, acc.w), wrs_div(acc.y, acc.w), wrs_div(acc.z, acc.w)) : kept;
 }
 // The shown colour of the kept sample (quality hq, colour `kept`) from the packed taps t0..t3 of the 2x2
 // lookup and their weights w (wrs_shown_weight; 0 where a tap was not read).
@@ -970,7 +1098,7 @@ WRS_FN float wrs_taps_range(vec4 a, vec4 b, vec4 c, vec4 d, WRS_INOUT(vec3) lo, 
 }
 
 // Weight of the candidate in an equal-quality merge: a running mean over w_sum's worth of samples.
-WRS_FN float wrs_merge_weight(float w_sum, float q) { return q / (w_sum + q); }
+WRS_FN float wrs_merge_weight(float w_sum, float q) { return wrs_div(q, w_sum + q); }
 
 // The candidate of one pixel as the retention rule sees it (`Candidate` names the buffer block).
 struct RetainInput {
@@ -1222,9 +1350,9 @@ WRS_FN vec3 wrs_ycocg_to_rgb(vec3 c) { return vec3(c.x + c.y - c.z, c.x + c.z, c
 WRS_FN vec3 wrs_clip_box(vec3 h, vec3 centre, vec3 extent) {
     vec3 d = h - centre;
     vec3 e = max(extent, vec3(1.0f / 255.0f, 1.0f / 255.0f, 1.0f / 255.0f));
-    vec3 r = abs(d) / e;
+    vec3 r = wrs_div(abs(d), e);
     float m = max(r.x, max(r.y, r.z));
-    return m > 1.0f ? centre + d / m : h;
+    return m > 1.0f ? centre + wrs_div(d, m) : h;
 }
 
 // One TAA step: `nb` holds the 3x3 neighbourhood of the current (foveated) colour in YCoCg, the
@@ -1232,16 +1360,19 @@ WRS_FN vec3 wrs_clip_box(vec3 h, vec3 centre, vec3 extent) {
 WRS_FN vec3 wrs_taa_step(vec3 nb[9], vec3 hist, bool has_history, float alpha) {
     vec3 cur = wrs_ycocg_to_rgb(nb[4]);
     if (!has_history) return cur;
-    vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
-    vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
+    WRS_PRECISE vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
+    WRS_PRECISE vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
     for (int i = 0; i < 9; ++i) {
         m1 += nb[i];
         m2 += nb[i] * nb[i];
     }
-    vec3 mu = m1 / 9.0f;
-    vec3 sigma = sqrt(max(m2 / 9.0f - mu * mu, vec3(0.0f, 0.0f, 0.0f)));
+    // The variance cancels (m2 / 9 - mu^2): its terms multiply by a literal 1/9 and stay unfused, so that
+    // every device computes the same box before the square root.
+    WRS_PRECISE vec3 mu = m1 * 0.111111112f;
+    WRS_PRECISE vec3 var = m2 * 0.111111112f - mu * mu;
+    vec3 sigma = wrs_sqrt(max(var, vec3(0.0f, 0.0f, 0.0f)));
     vec3 h = wrs_clip_box(wrs_rgb_to_ycocg(hist), mu, WRS_TAA_GAMMA * sigma);
-    vec3 out_ycocg = h + (nb[4] - h) * alpha;
+    WRS_PRECISE vec3 out_ycocg = h + (nb[4] - h) * alpha;
     return max(wrs_ycocg_to_rgb(out_ycocg), vec3(0.0f, 0.0f, 0.0f));
 }
 WRS_FN vec3 wrs_taa(vec3 nb[9], vec3 hist, bool has_history) { return wrs_taa_step(nb, hist, has_history, WRS_TAA_ALPHA); }
@@ -1298,9 +1429,10 @@ WRS_FN uvec2 wrs_steady_motion_pixel(uvec2 d, uvec2 size0) {
 // pan's 0.02 texels a frame), which the filter accumulates over its ~1/alpha frames into a blur of a
 // quarter texel (4 pixels) on top of the 16x16 box; Catmull-Rom's blur at that f is ~30 times less.
 WRS_FN vec4 wrs_catmull_rom(float f) {
-    float f2 = f * f, f3 = f2 * f;
-    return vec4(-0.5f * f3 + f2 - 0.5f * f, 1.5f * f3 - 2.5f * f2 + 1.0f, -1.5f * f3 + 2.0f * f2 + 0.5f * f,
-                0.5f * f3 - 0.5f * f2);
+    WRS_PRECISE float f2 = f * f, f3 = f2 * f;
+    WRS_PRECISE vec4 w = vec4(-0.5f * f3 + f2 - 0.5f * f, 1.5f * f3 - 2.5f * f2 + 1.0f,
+                              -1.5f * f3 + 2.0f * f2 + 0.5f * f, 0.5f * f3 - 0.5f * f2);
+    return w;
 }
 // Tap k (each axis 0..3, for -1..2) of the 4x4 Catmull-Rom footprint at i0, clamped to the image.
 WRS_FN uvec2 wrs_cubic_tap(uvec2 i0, ivec2 k, uvec2 size) {
@@ -1308,7 +1440,7 @@ WRS_FN uvec2 wrs_cubic_tap(uvec2 i0, ivec2 k, uvec2 size) {
 }
 // A pixel's motion in level-4 texels (the depth change is not used).
 WRS_FN vec3 wrs_steady_motion(vec3 mv) {
-    float s = 1.0f / float(1u << WRS_STEADY_LEVEL);
+    const float s = 0.0625f;  // 1 / 2^WRS_STEADY_LEVEL
     return vec3(mv.x * s, mv.y * s, 0.0f);
 }
 

@@ -32,6 +32,9 @@ struct FrameParams {
     // xy: size; z: first texel of the level in an eye's stored pyramid (levels 1.. only, so level 1
     // starts at 0); w: texels of an eye's stored pyramid.
     uvec4 levels[WRS_LEVELS];
+    // Per pyramid level, xy: its size over level 0's (wrs_level_scale, worked out on the host so that the
+    // bilinear weights are the same on every device); zw: pad.
+    vec4 level_scale[WRS_LEVELS];
     // Sparse retention (wrs_common.h): x, y: first word of the previous and of this frame's held
     // qualities in TileHeld (one word per tile, eye-major); z: 1 when far tiles may skip retention;
     // w: first word of the superblocks' held qualities (wrs_reach_blocks; one word per superblock, eye-major).
@@ -50,7 +53,7 @@ WRS_END
 
 #ifdef __cplusplus
 static_assert(sizeof(wrsfov::gpu::EyeParams) == 144);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 144 + 32 + 16 * WRS_LEVELS + 16);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 144 + 32 + 2 * 16 * WRS_LEVELS + 16);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 

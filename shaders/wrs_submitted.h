@@ -86,7 +86,7 @@ WRS_FN float wrs_quad_quality(float q_wide, float t) {
 // fragment sizes, is taken as 4.
 WRS_FN float wrs_rate_quality(uint v) {
     uint lw = min((v >> 2u) & 3u, 2u), lh = min(v & 3u, 2u);
-    return 1.0f / float(1u << (lw + lh));
+    return uintBitsToFloat((127u - lw - lh) << 23u);  // 2^-(lw + lh), exact (a quotient may be 2.5 ULP off)
 }
 // The lowest quality a rate map can give (4x4): the floor rule's quality for rate-map frames.
 const float WRS_RATE_FLOOR = 0.0625f;

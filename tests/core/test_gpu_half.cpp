@@ -1,6 +1,6 @@
 // fp16 storage with the device's own conversion (CompositorConfig::hardwareHalf): where the probe
-// found it giving the hand conversion's bits (round to nearest even), every pass stores the same bits
-// with it as without it, for every method, mode and input kind.
+// found it exact on the values the passes give it (already on fp16's grid, wrs_store_f16), every pass
+// stores the same bits with it as without it, for every method, mode and input kind.
 #include <cstdlib>
 #include <string>
 
