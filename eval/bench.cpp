@@ -1028,7 +1028,7 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
                     if (!c) return c.error();
                     auto a = HostStereoApp::share(**c, **source);
                     if (!a) return a.error();
-                    runs.push_back(Run{m, std::move(*c), std::move(*a), {}});
+                    runs.push_back(Run{m, std::move(*c), std::move(*a), Accum()});
                 }
                 double prevT = 0;
                 for (int f = 0; f < o.frames; ++f) {
