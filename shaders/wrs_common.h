@@ -349,15 +349,13 @@ WRS_FN uint wrs_unorm8_code(float s) {
 }
 // code / 255 as the nearest float, whose product with 255 is the code exactly: a store to an 8-bit UNORM
 // image must return that whole number as it is (fundamentals-fpfixedconv), where any other value may be
-// stored as either of the two nearest codes. code times the nearest float to 1/255 is one ULP high for
-// about half the codes; the neighbour whose product with 255 is the code is taken instead.
+// stored as either of the two nearest codes. code times the nearest float to 1/255 is that float for
+// 130 of the 256 codes and one ULP above it for the others (RoundingModels checks every code); there the
+// float below is taken.
 WRS_FN float wrs_unorm8_value(uint code) {
     WRS_PRECISE float f = float(code) * 0.00392156886f;
     WRS_PRECISE float back = f * 255.0f;
-    uint b = floatBitsToUint(f);
-    if (back > float(code)) b -= 1u;
-    if (back < float(code)) b += 1u;
-    return uintBitsToFloat(b);
+    return back > float(code) ? uintBitsToFloat(floatBitsToUint(f) - 1u) : f;
 }
 // What the RGBA8 output stores of a linear colour: sRGB-encoded and quantised to 8 bits by hand, so the
 // image's conversion, which the spec leaves to the device, is given whole codes.
@@ -629,7 +627,8 @@ inline uint wrs_device_pack_half2x16(vec2 v) {
 // value fp16 holds exactly, which every conformant conversion returns as it is (spirvenv-correctly-
 // rounded): the direction a conversion of an inexact value may round to, or a compiler's folding of
 // pack and unpack into the computation of the value, never reaches a stored bit. Zeros, fp16
-// denormals (which a device may flush), overflow and non-finite values take the hand conversion.
+// denormals (which a device may flush), overflow and non-finite values get the hand conversion's bits
+// by a shorter route (wrs_f16_outside_normal). Either way the bits are wrs_f32_to_f16's.
 WRS_FN float wrs_f16_grid(float f) {
     uint b = floatBitsToUint(f);
     return uintBitsToFloat((b + 0xfffu + ((b >> 13u) & 1u)) & 0xffffe000u);
@@ -643,13 +642,21 @@ WRS_FN bool wrs_f16_normal(float f) {
 #define WRS_HARDWARE_HALF WRS_HARDWARE_HALF_MODEL
 #endif
 #ifdef WRS_HARDWARE_HALF
+// The hand conversion's bits of a value outside fp16's normal range, in a few operations: below it
+// (zeros, fp16 denormals) |f| 2^24 rounded to even, an exact product; above it infinity, or a NaN.
+WRS_FN uint wrs_f16_outside_normal(float f) {
+    uint b = floatBitsToUint(f), ax = b & 0x7fffffffu, sign = (b >> 16u) & 0x8000u;
+    if (ax < 0x38800000u) return sign | uint(roundEven(abs(f) * 16777216.0f));
+    return sign | 0x7c00u | (ax > 0x7f800000u ? 0x200u : 0u);
+}
 WRS_FN uint wrs_store_f16(float f) {
-    if (WRS_HARDWARE_HALF && wrs_f16_normal(f)) return wrs_device_pack_half2x16(vec2(wrs_f16_grid(f), 0.0f)) & 0xffffu;
-    return wrs_f32_to_f16(f);
+    if (!WRS_HARDWARE_HALF) return wrs_f32_to_f16(f);
+    if (!wrs_f16_normal(f)) return wrs_f16_outside_normal(f);
+    return wrs_device_pack_half2x16(vec2(wrs_f16_grid(f), 0.0f)) & 0xffffu;
 }
 WRS_FN uint wrs_store_f16x2(float a, float b) {
-    if (WRS_HARDWARE_HALF && wrs_f16_normal(a) && wrs_f16_normal(b))
-        return wrs_device_pack_half2x16(vec2(wrs_f16_grid(a), wrs_f16_grid(b)));
+    if (!WRS_HARDWARE_HALF) return wrs_f32_to_f16(a) | (wrs_f32_to_f16(b) << 16u);
+    if (wrs_f16_normal(a) && wrs_f16_normal(b)) return wrs_device_pack_half2x16(vec2(wrs_f16_grid(a), wrs_f16_grid(b)));
     return wrs_store_f16(a) | (wrs_store_f16(b) << 16u);
 }
 #else

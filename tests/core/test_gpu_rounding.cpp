@@ -130,6 +130,24 @@ TEST(RoundingModels, HandQuantisationIsExact) {
     EXPECT_FALSE(gpu::wrs_f16_normal(0.0f));
     EXPECT_FALSE(gpu::wrs_f16_normal(65520.0f));
     EXPECT_FALSE(gpu::wrs_f16_normal(6.0e-5f));
+    // The stores with the device's conversion (here a conformant one that rounds down): the hand
+    // conversion's bits for every float, zeros, denormals, overflow, infinities and NaNs included.
+    {
+        DeviceRounding m;
+        m.hardwareHalf = true;
+        m.half = Permitted::Low;
+        gpu::ScopedDeviceRounding scope(m);
+        std::uniform_int_distribution<uint32_t> any;
+        for (int i = 0; i < 400000; ++i) {
+            const uint32_t u = i < 64 ? (i % 2 ? 0x80000000u : 0u) | (0x38800000u + uint32_t(i / 2) - 16u) : any(rng);
+            const float f = glm::uintBitsToFloat(u), g = glm::uintBitsToFloat(any(rng));
+            ASSERT_EQ(gpu::wrs_store_f16(f), gpu::wrs_f32_to_f16(f)) << std::hex << u;
+            ASSERT_EQ(gpu::wrs_store_f16x2(f, g), gpu::wrs_f32_to_f16(f) | (gpu::wrs_f32_to_f16(g) << 16u))
+                << std::hex << u;
+        }
+        for (float f : {0.0f, -0.0f, 65504.0f, 65519.0f, 65520.0f, 1e30f, 5.9604645e-8f, 2.9802322e-8f, 6.1e-5f})
+            EXPECT_EQ(gpu::wrs_store_f16(f), gpu::wrs_f32_to_f16(f)) << f;
+    }
     // Whole 8-bit codes: code / 255 to the nearest float, and 255 times it is the code.
     for (uint32_t k = 0; k < 256; ++k) {
         const float f = gpu::wrs_unorm8_value(k);
