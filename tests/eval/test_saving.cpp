@@ -59,9 +59,11 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
         EXPECT_GT(r.composeMs, 0.0);
         // The oracle keeps whichever sample is nearer the reference: no method of its input and inset has
         // a lower MSE.
-        for (const eval::SavingRow& x : *rows)
-            if (x.input == r.input && x.insetDeg == r.insetDeg && x.method == Method::Oracle)
+        for (const eval::SavingRow& x : *rows) {
+            if (x.input == r.input && x.insetDeg == r.insetDeg && x.method == Method::Oracle) {
                 EXPECT_LE(x.mse, r.mse * (1.0 + 1e-9)) << toString(r.method) << " at " << r.insetDeg;
+            }
+        }
     }
     // Larger insets render more pixels.
     EXPECT_LT((*rows)[1].pixelsRendered, (*rows)[4].pixelsRendered);

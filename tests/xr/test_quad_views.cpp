@@ -138,7 +138,9 @@ XrResult locate(Client& c, XrTime t, bool foveated, XrView (&views)[4], XrViewSt
     for (auto& v : views) v = {XR_TYPE_VIEW};
     uint32_t n = 0;
     XrResult r = xrLocateViews(c.session, &li, state ? state : &vs, 4, &n, views);
-    if (r == XR_SUCCESS) EXPECT_EQ(n, 4u);
+    if (r == XR_SUCCESS) {
+        EXPECT_EQ(n, 4u);
+    }
     return r;
 }
 
