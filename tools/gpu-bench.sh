@@ -11,6 +11,8 @@
 #   xr/       hello_xr (-g Vulkan2 -vc Stereo) on the wrsfov OpenXR runtime, headless, synthetic gaze,
 #             2x1832x1920, method wrs and method fov: exit code and the runtime's composition time per
 #             frame (its "session ended" line); a client that hangs at exit is reported as a timeout
+#   saving/   the main job's atrium cell of the rendering saved (wrsfov-bench --saving): full
+#             resolution against quad views and shading rates, render and composition times on this GPU
 #   then, while the budget lasts: the tests again with WRSFOV_HARDWARE_HALF=0 (tests/), fov and wrs
 #   with --dense-retention (dense/), and the cost model on this device and RADV's null devices (cost/)
 #   summary.md  one table: sweep cells (ms, x copy, wrs - fov), tests passed/failed, hello_xr
@@ -211,34 +213,7 @@ if [ -n "$hello" ] && [ -f "$xr_json" ] && [ "$t" -gt 0 ]; then
   rows+="| hello_xr, stdin left open (glibc ${glibc:-?}) | 192×192 | wrs | | | | $st (expected: timeout on glibc ≥ 2.39, 0 before) |"$'\n'
 fi
 
-if [ -n "${WRSFOV_GPU_TESTS:-}" ]; then
-  echo "== 4: GPU tests with the hand fp16 conversion (WRSFOV_HARDWARE_HALF=0)"
-  run_tests half0 WRSFOV_HARDWARE_HALF=0
-fi
-
-echo "== 5: fov and wrs with every tile retaining (--dense-retention)"
-t=$(stage_timeout 60)
-if [ "$t" -gt 0 ]; then
-  timeout -k 5 "$t" "$bench" --scaling "$sizes" --frames "$frames" --warmup "$warmup" --methods fov,wrs \
-    --dense-retention --out "$out/dense" >"$out/dense.log" 2>&1
-  echo "   $(status_of $?)"
-else
-  echo "   skipped: budget spent"
-fi
-
-echo "== 6: cost model on this device and on RADV's null devices"
-# A real device's name without the driver's parenthesised suffix ("AMD Radeon RX 7900 XTX (RADV NAVI31)").
-short=$(printf '%s' "$device" | sed 's/ (.*//')
-t=$(stage_timeout 60)
-if [ "$t" -gt 0 ]; then
-  timeout -k 5 "$t" "$bench" --cost-model --cost-targets "device:$short,gfx1100,vangogh" --out "$out/cost" \
-    >"$out/cost.log" 2>&1
-  echo "   $(status_of $?)"
-else
-  echo "   skipped: budget spent"
-fi
-
-echo "== 7: rendering saved (--saving): the atrium at full resolution, as quad views and at shading rates"
+echo "== 4: rendering saved (--saving): the atrium at full resolution, as quad views and at shading rates"
 # The main job's cell (docs/metrics.md, "Rendering saved") on this device: its render times are this GPU's.
 if [ "$dry" = 1 ]; then saving=(--size 128x128 --frames 16 --warmup 4 --jod-frames 6 --inset-degs 10,20 --rate-degs 10)
 else saving=(--size 504x504 --frames 90 --warmup 10 --jod-frames 10 --inset-degs 5,10,20,30 --rate-degs 10,20); fi
@@ -253,6 +228,33 @@ if [ "$t" -gt 0 ]; then
 else
   echo "   skipped: budget spent"
   rows+="| rendering saved (atrium) | | | | | | skipped: budget spent |"$'\n'
+fi
+
+if [ -n "${WRSFOV_GPU_TESTS:-}" ]; then
+  echo "== 5: GPU tests with the hand fp16 conversion (WRSFOV_HARDWARE_HALF=0)"
+  run_tests half0 WRSFOV_HARDWARE_HALF=0
+fi
+
+echo "== 6: fov and wrs with every tile retaining (--dense-retention)"
+t=$(stage_timeout 60)
+if [ "$t" -gt 0 ]; then
+  timeout -k 5 "$t" "$bench" --scaling "$sizes" --frames "$frames" --warmup "$warmup" --methods fov,wrs \
+    --dense-retention --out "$out/dense" >"$out/dense.log" 2>&1
+  echo "   $(status_of $?)"
+else
+  echo "   skipped: budget spent"
+fi
+
+echo "== 7: cost model on this device and on RADV's null devices"
+# A real device's name without the driver's parenthesised suffix ("AMD Radeon RX 7900 XTX (RADV NAVI31)").
+short=$(printf '%s' "$device" | sed 's/ (.*//')
+t=$(stage_timeout 60)
+if [ "$t" -gt 0 ]; then
+  timeout -k 5 "$t" "$bench" --cost-model --cost-targets "device:$short,gfx1100,vangogh" --out "$out/cost" \
+    >"$out/cost.log" 2>&1
+  echo "   $(status_of $?)"
+else
+  echo "   skipped: budget spent"
 fi
 
 took=$(($(date +%s) - start))
