@@ -235,7 +235,14 @@ double FrameStats::motionShare() const {
 }
 
 bool runsSparse(const CompositorConfig& c) {
-    return c.sparseRetention && c.skipTiles && usesRetainPass(c.method) && floorQuality(c) > 0.0f;
+    if (!c.sparseRetention || !c.skipTiles) return false;
+    // A frame submitted foveated brings its floor (submittedFloor) where the rule has one at all.
+    if (c.foveation == FoveationMode::Submitted) {
+        CompositorConfig simulated = c;
+        simulated.foveation = FoveationMode::Mip;
+        return floorQuality(simulated) > 0.0f;
+    }
+    return floorQuality(c) > 0.0f;
 }
 
 bool steadyFloorActive(const CompositorConfig& c) {
@@ -945,8 +952,11 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     const uint32_t written = inPlace ? current_ : 1 - current_;
     stats_.inPlace = inPlace;
     // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles.
-    const bool tiled = frame_.skipTiles && simulatesFoveation(frame_.foveation) &&
-                       (frame_.method == Method::Fov || retain);
+    // A frame submitted foveated has two classes, far (rendered at the floor quality only) and any
+    // (wrs_submitted_tile_class), which only sparse retention uses.
+    const bool tiled = frame_.skipTiles && ((simulatesFoveation(frame_.foveation) &&
+                                             (frame_.method == Method::Fov || retain)) ||
+                                            (frame_.foveation == FoveationMode::Submitted && sparse));
     stats_.tiled = tiled;
     // Per-frame inputs: the last released image of each swapchain.
     VkDescriptorSet set = sets_[current_ + (inPlace ? 2 : 0)];
@@ -1132,7 +1142,9 @@ Status Compositor::prepareSubmitted(uint32_t width, uint32_t height) {
         if (!st) return st;
         dummyUint_ = std::move(*img);
     }
-    const uint64_t bytes = uint64_t(width) * height * WRS_EYES * 4;
+    // Each pixel's quality, then each tile's largest (compose.comp).
+    const uint64_t tiles = uint64_t(groups(width, gpu::WRS_TILE)) * groups(height, gpu::WRS_TILE);
+    const uint64_t bytes = (uint64_t(width) * height + tiles) * WRS_EYES * 4;
     if (quality_.size() != bytes) {
         auto q = ctx_.createBuffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
         if (!q) return named("rendered qualities", q.error());

@@ -337,8 +337,18 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             for (uint ty = 0; sparse && ty < tiles.y; ++ty)
                 for (uint tx = 0; tx < tiles.x; ++tx) {
                     const uvec2 t(tx, ty);
-                    const uint cls =
-                        wrs_tile_class(mode, t, size0, ep.fov_tan, ep.tile, vec3(ep.gaze), ep.gaze.w, params.tuning.x);
+                    uint cls;
+                    if (mode == WRS_FOV_SUBMITTED) {
+                        // The compose pass's per-tile maximum of the rendered qualities.
+                        float q_max = 0.0f;
+                        for (uint y = ty * WRS_TILE; y < std::min((ty + 1u) * WRS_TILE, H); ++y)
+                            for (uint x = tx * WRS_TILE; x < std::min((tx + 1u) * WRS_TILE, W); ++x)
+                                q_max = std::max(q_max, in.quality[std::size_t(y) * W + x]);
+                        cls = wrs_submitted_tile_class(q_max, params.tuning.w);
+                    } else {
+                        cls = wrs_tile_class(mode, t, size0, ep.fov_tan, ep.tile, vec3(ep.gaze), ep.gaze.w,
+                                             params.tuning.x);
+                    }
                     if (cls != WRS_TILE_FAR) continue;
                     skip[ty * tiles.x + tx] = wrs_tile_skips(cls, sourceHeld(t), params.tuning.w);
                 }

@@ -54,6 +54,11 @@ uvec2 tile_count() { return (frame.size.xy + uvec2(WRS_TILE - 1u)) / WRS_TILE; }
 uint tile_capacity() { uvec2 t = tile_count(); return t.x * t.y * 2u; }
 // Index of tile t of an eye among the tiles of both eyes (TileHeld).
 uint tile_index(uint eye, uvec2 t) { uvec2 n = tile_count(); return (eye * n.y + t.y) * n.x + t.x; }
+// Submitted foveation: the largest rendered quality of tile t's pixels, which the compose pass writes
+// after the pixels' (at 2 W H, tile_index order).
+float submitted_tile_quality(uint eye, uvec2 t) {
+    return submitted_quality[2u * frame.size.x * frame.size.y + tile_index(eye, t)];
+}
 // The held quality of tile t in the previous frame.
 float held_prev(uint eye, uvec2 t) { return uintBitsToFloat(tile_held[frame.held.x + tile_index(eye, t)]); }
 uvec2 superblock_count() { return (tile_count() + uvec2(WRS_SUPERBLOCK - 1u)) / WRS_SUPERBLOCK; }
@@ -77,7 +82,7 @@ void invocation_pixel(uint tile, out uint eye, out uvec2 p) {
 // any eccentricity (e = 0: only mode none reads it, and it has no tile classes).
 vec3 pixel_levels(uint tile, uint mode, uint eye, uvec2 p, out float e) {
     e = 0.0;
-    if (tile > 1u) return wrs_tile_levels(tile - 1u);
+    if (tile > 1u) return wrs_mode_simulated(mode) ? wrs_tile_levels(tile - 1u) : vec3(0.0);
     EyeParams ep = frame.eye[eye];
     e = wrs_eccentricity_deg(wrs_pixel_ray(p.x, p.y, frame.size.x, frame.size.y, ep.fov_tan), ep.gaze.xyz);
     return wrs_foveation_levels(mode, e, ep.gaze.w, frame.tuning.x);

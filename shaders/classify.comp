@@ -82,7 +82,9 @@ void main() {
     uvec2 t = gl_GlobalInvocationID.xy;
     if (any(greaterThanEqual(t, tile_count()))) return;
     EyeParams ep = frame.eye[eye];
-    uint cls = wrs_tile_class(FOV_MODE, t, frame.size.xy, ep.fov_tan, ep.tile, ep.gaze.xyz, ep.gaze.w, frame.tuning.x);
+    uint cls = FOV_MODE == WRS_FOV_SUBMITTED
+                   ? wrs_submitted_tile_class(submitted_tile_quality(eye, t), frame.tuning.w)
+                   : wrs_tile_class(FOV_MODE, t, frame.size.xy, ep.fov_tan, ep.tile, ep.gaze.xyz, ep.gaze.w, frame.tuning.x);
     if (SPARSE && cls == WRS_TILE_FAR && wrs_tile_skips(cls, source_held(eye, t), frame.tuning.w)) {
         cls = WRS_TILE_SKIP;
         tile_held[frame.held.y + tile_index(eye, t)] = 0u;

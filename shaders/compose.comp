@@ -7,6 +7,9 @@
 //     wrs_quad_quality.
 //   KIND 2 (a rate map): the submitted colour is the candidate as it is; the quality
 //     wrs_rate_quality of the pixel's texel.
+// Each group is one 8x8 tile (WRS_TILE): after the pixels' qualities (eye-major, 2 W H of them) it
+// writes its tile's largest (tile_index order), from which the classification finds the tiles rendered
+// at the floor quality only (wrs_submitted_tile_class; sparse retention skips them).
 // Stored values are rounded to fp16 by hand (wrs_round_f16) before a 16-bit image stores them, so the
 // device's own conversion, which may round either way, has nothing left to round.
 #version 450
@@ -52,17 +55,17 @@ uvec2 nearest(vec2 pos, uvec2 size) { return uvec2(clamp(ivec2(floor(pos)), ivec
 
 vec4 round_f16(vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); }
 
-void main() {
-    uint eye = gl_WorkGroupID.z;
-    uvec2 p = gl_GlobalInvocationID.xy;
-    uvec2 size = params.size.xy;
-    if (any(greaterThanEqual(p, size))) return;
+shared uint tile_q;  // the group's tile's largest quality, as bits (qualities are finite and >= 0)
+
+// Composes pixel p of an eye; returns the quality it stored.
+float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     ComposeEye ce = params.eye[eye];
     uint idx = (eye * size.y + p.y) * size.x + p.x;
     if (KIND == 2u) {
         uvec2 t = p / ce.rate.zw;
-        quality[idx] = wrs_rate_quality(texelFetch(rateMap[eye], ivec2(t + ce.rate.xy), 0).r);
-        return;
+        float q = wrs_rate_quality(texelFetch(rateMap[eye], ivec2(t + ce.rate.xy), 0).r);
+        quality[idx] = q;
+        return q;
     }
     uvec2 wsize = ce.sizes.xy, isize = ce.sizes.zw;
     vec2 wpos = wrs_source_pos(p, ce.wide_map);
@@ -78,7 +81,8 @@ void main() {
         else c = wrs_lerp_exact(wide, inset, t);
         if (t == 1.0) c = inset;
     }
-    quality[idx] = wrs_quad_quality(ce.wide_motion.w, t);
+    float q = wrs_quad_quality(ce.wide_motion.w, t);
+    quality[idx] = q;
     imageStore(composedColor, ivec3(p, eye), round_f16(c));
     bool from_inset = t >= 0.5;
     if (HAS_DEPTH) {
@@ -93,5 +97,21 @@ void main() {
         vec3 scale = from_inset ? ce.inset_motion.xyz : ce.wide_motion.xyz;
         precise vec3 mv = texelFetch(srcMotion[from_inset ? 2u + eye : eye], ivec2(q + o), 0).xyz * scale;
         imageStore(composedMotion, ivec3(p, eye), round_f16(vec4(mv, 0.0)));
+    }
+    return q;
+}
+
+void main() {
+    uint eye = gl_WorkGroupID.z;
+    uvec2 p = gl_GlobalInvocationID.xy;
+    uvec2 size = params.size.xy;
+    if (gl_LocalInvocationIndex == 0u) tile_q = 0u;
+    barrier();
+    if (all(lessThan(p, size))) atomicMax(tile_q, floatBitsToUint(compose_pixel(eye, p, size)));
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) {
+        uvec2 tiles = (size + uvec2(WRS_GROUP_X - 1u, WRS_GROUP_Y - 1u)) / uvec2(WRS_GROUP_X, WRS_GROUP_Y);
+        uvec2 t = gl_WorkGroupID.xy;
+        quality[2u * size.x * size.y + (eye * tiles.y + t.y) * tiles.x + t.x] = uintBitsToFloat(tile_q);
     }
 }

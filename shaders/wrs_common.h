@@ -1336,6 +1336,15 @@ WRS_FN bool wrs_reach_blocks(uvec2 t, uvec2 size, float reach, WRS_OUT(uvec2) b0
 WRS_FN bool wrs_tile_skips(uint cls, float held, float q_floor) {
     return cls == WRS_TILE_FAR && q_floor > 0.0f && held <= q_floor;
 }
+// The class of a tile of a frame submitted foveated (quad views, a rate map; FOV_MODE
+// WRS_FOV_SUBMITTED), from the largest quality any of its pixels was rendered at (the compose pass's
+// per-tile maximum): far where every pixel was rendered at the floor quality, so that retention there
+// takes the floor rule's fresh candidate as in a far tile of a simulated mode (a rendered quality is
+// never below the frame's floor: the wide views' quality, or the 4x4 rate's), any otherwise (the
+// pixels' own qualities, no levels: a submitted frame has no pyramid candidates).
+WRS_FN uint wrs_submitted_tile_class(float q_max, float q_floor) {
+    return q_floor > 0.0f && q_max <= q_floor * (1.0f + WRS_Q_EQUAL) ? WRS_TILE_FAR : WRS_TILE_ANY;
+}
 
 // ---------------------------------------------------------------------------------------------
 // FOV+TAA baseline (docs/conventions.md "Evaluation"): Karis 2014 YCoCg neighbourhood clip with Salvi 2016

@@ -184,10 +184,11 @@ public:
         referenceColor;
 };
 
-std::unique_ptr<Compositor> compositor(Method m) {
+std::unique_ptr<Compositor> compositor(Method m, bool sparse = true) {
     CompositorConfig cfg;
     cfg.method = m;
     cfg.seed = 5;
+    cfg.sparseRetention = sparse;
     auto c = Compositor::create(context(), cfg);
     EXPECT_TRUE(c.ok());
     return c.ok() ? std::move(*c) : nullptr;
@@ -292,14 +293,26 @@ TEST_F(Submitted, EachPixelKeepsTheQualityItWasRenderedAt) {
     // The floor rule's quality is the wide view's.
     EXPECT_FLOAT_EQ(c->lastParams().tuning.w, c->lastComposeParams().eye[0].wide_motion.w);
     const auto in = composed(*c, f);
-    int inset = 0, wide = 0, blend = 0;
+    int inset = 0, wide = 0, blend = 0, skipped = 0;
     for (uint32_t e = 0; e < 2; ++e) {
         auto res = c->readReservoirs(e);
         ASSERT_TRUE(res.ok());
+        // Sparse retention: a tile rendered at the wide view's quality only skipped retention (the
+        // first frame holds nothing) and stored nothing; every other tile stored each pixel's quality.
+        auto held = c->readTileHeld(e);
+        ASSERT_TRUE(held.ok());
+        ASSERT_FALSE(held->empty()) << "quad views run sparse retention";
+        const uint32_t tilesX = (W + gpu::WRS_TILE - 1) / gpu::WRS_TILE;
         for (uint32_t y = 0; y < H; ++y)
             for (uint32_t x = 0; x < W; ++x) {
                 const std::size_t i = std::size_t(y) * W + x;
-                const float q = gpu::wrs_packed_quality((*res)[i]);
+                float q = gpu::wrs_packed_quality((*res)[i]);
+                const float tileHeld = (*held)[(y / gpu::WRS_TILE) * tilesX + x / gpu::WRS_TILE];
+                if (tileHeld == 0.0f) {
+                    ASSERT_EQ(in[e].quality[i], c->lastParams().tuning.w) << "skipped above the floor at " << x << "," << y;
+                    q = gpu::wrs_round_f16(in[e].quality[i]);
+                    skipped++;
+                }
                 ASSERT_EQ(q, gpu::wrs_round_f16(in[e].quality[i])) << "eye " << e << " pixel " << x << "," << y;
                 // The inset spans output pixels 60..99 x 40..79; its blend band is its outer 8 pixels.
                 const bool core = x >= 68 && x < 92 && y >= 48 && y < 72;
@@ -318,6 +331,8 @@ TEST_F(Submitted, EachPixelKeepsTheQualityItWasRenderedAt) {
     }
     EXPECT_EQ(inset, 2 * 24 * 24);
     EXPECT_EQ(blend, 2 * (40 * 40 - 24 * 24));
+    // Every tile outside the inset's 8-aligned 56..103 x 40..79 skipped: all but 6 x 5 of 20 x 15.
+    EXPECT_EQ(skipped, 2 * (W * H - 48 * 40));
 }
 
 // The method's point: the inset moves on, and `wrs` keeps showing the detail it rendered where it was,
@@ -355,6 +370,56 @@ TEST_F(Submitted, WrsKeepsTheInsetsDetailAfterTheInsetMovedOn) {
     std::printf("inset A's core after the inset moved on: MSE fov %.6f, wrs %.6f\n", mFov, mWrs);
     EXPECT_GT(mFov, 1e-3) << "the wide view alone must lose the pattern there";
     EXPECT_LT(mWrs, 0.05 * mFov);
+}
+
+// Sparse retention on frames submitted foveated: the tiles rendered at the floor quality only (outside
+// the inset and its blend band) skip retention wherever nothing sharper can reach them, with the same
+// outputs and stored samples as running retention in every tile, while the gaze and the head move.
+TEST_F(Submitted, SparseRetentionSkipsWideOnlyTilesWithTheSameOutput) {
+    auto sparse = compositor(Method::Wrs), dense = compositor(Method::Wrs, false);
+    QuadApp sApp(*sparse, true, true), dApp(*dense, true, true);
+    double firstShare = 0, lastShare = 0, insetShare = 0;
+    for (uint64_t i = 1; i <= 12; ++i) {
+        // The gaze dwells, then jumps; the head pans a little every frame from frame 6 on.
+        const glm::vec2 g = i <= 5 ? glm::vec2(-0.4f, 0.2f) : glm::vec2(0.35f, -0.15f);
+        const glm::vec2 delta = i >= 6 ? glm::vec2(0.01f, 0.0f) : glm::vec2(0.0f);
+        const glm::vec2 shift = i >= 6 ? float(i - 5) * delta : glm::vec2(0.0f);
+        const QuadApp::Frame f = sApp.make(g.x, g.y, 1.0f, shift, delta);
+        sApp.submit(*sparse, i, f);
+        dApp.submit(*dense, i, dApp.make(g.x, g.y, 1.0f, shift, delta));
+        if (i == 1) {
+            // The tiles of either eye with a pixel rendered above the wide view's quality.
+            const auto in = composed(*sparse, f);
+            const uint32_t tx = W / gpu::WRS_TILE, ty = H / gpu::WRS_TILE;
+            int above = 0;
+            for (uint32_t e = 0; e < 2; ++e)
+                for (uint32_t t = 0; t < tx * ty; ++t) {
+                    bool any = false;
+                    for (uint32_t k = 0; k < gpu::WRS_TILE * gpu::WRS_TILE; ++k) {
+                        const uint32_t x = (t % tx) * gpu::WRS_TILE + k % gpu::WRS_TILE, y = (t / tx) * gpu::WRS_TILE + k / gpu::WRS_TILE;
+                        any = any || in[e].quality[y * W + x] > sparse->lastParams().tuning.w;
+                    }
+                    above += any;
+                }
+            insetShare = above / (2.0 * tx * ty);
+        }
+        ASSERT_TRUE(sparse->waitFrame().ok() && dense->waitFrame().ok());
+        EXPECT_TRUE(sparse->stats().sparse) << i;
+        EXPECT_FALSE(dense->stats().sparse) << i;
+        const double share = sparse->stats().retainShare();
+        if (i == 1) firstShare = share;
+        lastShare = share;
+        expectSameOutputs(*sparse, *dense, "frame " + std::to_string(i));
+        expectSameReservoirs(*sparse, *dense, "frame " + std::to_string(i));
+    }
+    std::printf("retention ran in %.1f %% of the tiles on the first frame, %.1f %% on the last\n", 100 * firstShare,
+                100 * lastShare);
+    // The first frame holds nothing: only the inset's tiles run retention (36 of 300 per eye here).
+    EXPECT_NEAR(firstShare, insetShare, 1e-9);
+    EXPECT_LT(firstShare, 0.2);
+    // Later, also where the first inset left its samples and where motion can carry them; never all.
+    EXPECT_GT(lastShare, firstShare);
+    EXPECT_LT(lastShare, 0.6);
 }
 
 // Rate maps: a gaze-centred pattern (1x1 fovea, 2x2 and 4x4 rings) and, in one corner, every encoding
@@ -422,10 +487,23 @@ TEST_F(Submitted, RateMapsMatchTheReferenceAndGiveEachPixelItsRate) {
             EXPECT_EQ(c->lastParams().tuning.w, m == Method::Wrs ? gpu::WRS_RATE_FLOOR : 0.0f);
             stepAndCompare(*c, ref, in, a, "frame " + std::to_string(i));
             if (m == Method::Wrs && i == 1) {
+                // Each pixel stored its rate's quality, but where a tile was shaded 4x4 only: sparse
+                // retention skipped it (nothing held yet) and it stored nothing.
                 auto res = c->readReservoirs(0);
-                ASSERT_TRUE(res.ok());
-                for (std::size_t p = 0; p < res->size(); ++p)
+                auto held = c->readTileHeld(0);
+                ASSERT_TRUE(res.ok() && held.ok());
+                ASSERT_FALSE(held->empty());
+                std::size_t skipped = 0;
+                for (std::size_t p = 0; p < res->size(); ++p) {
+                    const std::size_t x = p % W, y = p / W;
+                    if ((*held)[(y / gpu::WRS_TILE) * (W / gpu::WRS_TILE) + x / gpu::WRS_TILE] == 0.0f) {
+                        ASSERT_EQ(in[0].quality[p], gpu::WRS_RATE_FLOOR) << p;
+                        skipped++;
+                        continue;
+                    }
                     ASSERT_EQ(gpu::wrs_packed_quality((*res)[p]), gpu::wrs_round_f16(in[0].quality[p])) << p;
+                }
+                EXPECT_GT(skipped, res->size() / 2) << "the 4x4 ring covers most of the view";
             }
         }
         EXPECT_LE(a.maxOutputDiff, 1);
