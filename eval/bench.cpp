@@ -224,20 +224,6 @@ private:
     std::unique_ptr<scenes::PhotoScene> scene_;
 };
 
-// The photo scene's options for a cell of the sweep.
-scenes::PhotoOptions photoOptions(const BenchOptions& o) {
-    scenes::PhotoOptions po;
-    po.width = o.width;
-    po.height = o.height;
-    po.monitor = o.monitor;
-    po.fovDeg = o.hmdFovDeg;
-    po.image = o.photoImage;
-    po.motion = o.photoMotion;
-    po.speed = o.photoSpeed;
-    po.frames = uint32_t(o.frames);
-    po.seed = o.seed;
-    return po;
-}
 
 // External frames from a sequence directory, read from disk frame by frame.
 class SequenceFrames final : public SceneFrames {
@@ -279,6 +265,21 @@ gaze::GeneratorConfig sweepGaze(const BenchOptions& o, const scenes::TextLayout*
 }
 
 }  // namespace
+
+// The photo scene's options for a cell of the sweep.
+scenes::PhotoOptions photoOptions(const BenchOptions& o) {
+    scenes::PhotoOptions po;
+    po.width = o.width;
+    po.height = o.height;
+    po.monitor = o.monitor;
+    po.fovDeg = o.hmdFovDeg;
+    po.image = o.photoImage;
+    po.motion = o.photoMotion;
+    po.speed = o.photoSpeed;
+    po.frames = uint32_t(o.frames);
+    po.seed = o.seed;
+    return po;
+}
 
 scenes::AtriumOptions atriumOptions(const BenchOptions& o, SceneKind scene) {
     scenes::AtriumOptions ao;

@@ -148,6 +148,8 @@ struct CellResult {
 
 /// The atrium's options (AtriumOptions) for `scene` (atrium or dynamic) in a sweep with `options`.
 scenes::AtriumOptions atriumOptions(const BenchOptions& options, SceneKind scene);
+/// The photo scene's options (PhotoOptions) in a sweep with `options`.
+scenes::PhotoOptions photoOptions(const BenchOptions& options);
 
 /// Runs the sweep. Fails with a message when a scene, compositor or frame cannot be made.
 Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& options);

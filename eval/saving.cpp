@@ -18,6 +18,7 @@
 #include "eval/chart.h"
 #include "eval/metrics.h"
 #include "scenes/atrium.h"
+#include "scenes/photo.h"
 #include "scenes/text.h"
 
 namespace wrsfov::eval {
@@ -129,7 +130,8 @@ public:
         a->renderer_ = std::move(*r);
         return a;
     }
-    // Both eyes through `fovs` at w x h; `ms` gets the render's time (submission to completion).
+    // Both eyes through `fovs` at w x h; `ms` gets the render's device time (timestamps around its render
+    // passes), or where the queue has no timestamps its time from submission to completion.
     Status render(double t, double prevT, const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, Views& out,
                   double* ms) {
         auto it = apps_.find({w, h});
@@ -155,7 +157,7 @@ public:
         }
         const auto t0 = std::chrono::steady_clock::now();
         Status s = renderer_->renderViews(t, prevT, fovs, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
-        if (ms) *ms = msSince(t0);
+        if (ms) *ms = std::isfinite(renderer_->lastGpuMs()) ? renderer_->lastGpuMs() : msSince(t0);
         const layers::Format fmt[3] = {layers::Format::RGBA8_SRGB, layers::Format::D32F, layers::Format::RGBA16F};
         for (uint32_t e = 0; e < 2 && s; ++e) {
             HostImage* dst[3] = {&out.color[e], &out.depth[e], &out.motion[e].emplace()};
@@ -223,8 +225,9 @@ HostImage rateMapFor(const layers::Fov& fov, uint32_t W, uint32_t H, uint32_t T,
 }  // namespace
 
 Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, const SavingOptions& so) {
-    if (scene != SceneKind::Atrium && scene != SceneKind::Text)
-        return savingError("the study renders the atrium or the text page, not scene " + std::string(toString(scene)));
+    if (scene != SceneKind::Atrium && scene != SceneKind::Text && scene != SceneKind::Photo)
+        return savingError("the study renders the atrium, the text page or the photo, not scene " +
+                           std::string(toString(scene)));
     if (so.insetDegs.empty()) return savingError("no inset sizes");
     for (float d : so.insetDegs)
         if (!(d > 0.0f && d < 170.0f)) return savingError("inset sizes must be in (0°, 170°)");
@@ -241,10 +244,15 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
 
     std::unique_ptr<AtriumViews> atriumViews;
     std::unique_ptr<scenes::TextScene> text;
+    std::unique_ptr<scenes::PhotoScene> photo;
     if (scene == SceneKind::Atrium) {
         auto a = AtriumViews::create(ctx, atriumOptions(o, scene));
         if (!a) return a.error();
         atriumViews = std::move(*a);
+    } else if (scene == SceneKind::Photo) {
+        auto p = scenes::PhotoScene::create(photoOptions(o));
+        if (!p) return p.error();
+        photo = std::move(*p);
     } else {
         scenes::TextOptions to;
         to.width = W;
@@ -255,10 +263,26 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
     }
     // The scene through any views; the text page is static, so its views depend on the views alone.
     std::map<std::tuple<float, float, float, float, uint32_t, uint32_t>, Views> textCache;
+    int frameIndex = 0;  // the photo's frame (its motion is per frame)
     auto render = [&](const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, double t, double prevT,
                       Views& out, double* ms) -> Status {
         if (ms) *ms = std::numeric_limits<double>::quiet_NaN();
         if (atriumViews) return atriumViews->render(t, prevT, fovs, w, h, out, ms);
+        if (photo) {
+            const double f = frameIndex, pf = frameIndex > 0 ? frameIndex - 1 : 0;
+            for (int e = 0; e < 2; ++e) {
+                if (e == 1 && o.monitor && std::memcmp(&fovs[0], &fovs[1], sizeof(layers::Fov)) == 0) {
+                    out.color[1] = out.color[0];
+                    out.depth[1] = out.depth[0];
+                    out.motion[1] = out.motion[0];
+                    break;
+                }
+                HostImage m;
+                if (Status s = photo->renderViewAt(f, pf, e, fovs[e], w, h, out.color[e], out.depth[e], m); !s) return s;
+                out.motion[e] = std::move(m);
+            }
+            return {};
+        }
         const auto key = std::make_tuple(fovs[0].angleLeft, fovs[0].angleUp, fovs[1].angleLeft, fovs[1].angleUp, w, h);
         if (auto it = textCache.find(key); it != textCache.end()) {
             out = it->second;
@@ -297,6 +321,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             cfg.method = m;
             cfg.foveation = FoveationMode::None;  // the full-resolution row: composed as submitted
             cfg.seed = o.seed;
+            cfg.sparseRetention = o.sparseRetention;  // --dense-retention: retention in every tile
             auto c = Compositor::create(ctx, cfg);
             if (!c) return c.error();
             r.comp = std::move(*c);
@@ -323,7 +348,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             if (in != SavingInput::Full && isOracle(m))
                 r.reference = swapchain(comp, layers::Usage::Color, layers::Format::RGBA8_SRGB, W, H, st);
             if (!st) return st;
-            for (int e = 0; e < evalEyes; ++e) {
+            for (int e = 0; e < evalEyes && so.jod; ++e) {
                 auto j = makeJodMetric(ctx, jodOptions(o, scene, W, H, tangents(fullFov[e]), info.fps));
                 if (!j) return j.error();
                 r.jod[e] = std::move(*j);
@@ -348,6 +373,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             if (Status s = setUp(info, eyes); !s) return s;
         const double pt = f == 0 ? t : prevT;
         prevT = t;
+        frameIndex = f;
         const bool scored = f >= firstScored;
         // What the application renders this frame: the full-resolution views (the scene's own frame;
         // rendered again on the scored frames only to time them), the wide views, each inset on the gaze,
@@ -483,6 +509,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
                 const gpu::EyeParams& ep = r.comp->lastParams().eye[e];
                 r.mseSum += meanSquaredError(reference[e], test);
                 r.nearMseSum += mseFromPsnr(nearGazePsnr(reference[e], test, eccentricityMap(W, H, ep)));
+                if (!r.jod[e]) continue;
                 if (Status js = r.jod[e]->push(test, reference[e], gazePixelF(ep, W, H)); !js) return js;
             }
             r.scored++;
@@ -508,13 +535,15 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         const double n = double(std::max(1, r.scored * evalEyes));
         row.mse = r.mseSum / n;
         row.nearGazePsnr = psnrFromMse(r.nearMseSum / n);
-        double jod = 0;
-        for (int e = 0; e < evalEyes; ++e) {
-            auto j = r.jod[e]->jod();
-            if (!j) return j.error();
-            jod += *j;
+        if (so.jod) {
+            double jod = 0;
+            for (int e = 0; e < evalEyes; ++e) {
+                auto j = r.jod[e]->jod();
+                if (!j) return j.error();
+                jod += *j;
+            }
+            row.jod = jod / evalEyes;
         }
-        row.jod = jod / evalEyes;
         rows.push_back(row);
     }
     // Retention efficiency against the oracle of the same input and inset.
@@ -611,8 +640,19 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     // The headline: the inset with WRS (and the oracle's) that matches composition alone at 30° and 20°.
     std::ostringstream head;
     const std::vector<const SavingRow*> quadWrs = quadOf(Method::Wrs);
+    if (!so.jod) {
+        head << "- " << toString(scene) << ": no JOD (`--no-jod`); pixels, render and composition times only.";
+        if (hasRender) {
+            head << " Render time per frame: " << fmt("%.3f", full->renderMs) << " ms at full resolution";
+            for (const SavingRow* q : quadOf(Method::Fov))
+                head << "; quad views with a " << fmt("%.0f", q->insetDeg) << "° inset " << fmt("%.3f", q->renderMs)
+                     << " ms (×" << fmt("%.2f", q->renderMs / full->renderMs) << ", " << fmt("%.1f", 100.0 * q->pixelsRendered / full->pixelsRendered)
+                     << " % of the pixels)";
+        }
+        head << ".\n";
+    }
     for (float target : {30.0f, 20.0f}) {
-        const SavingRow* base = row(SavingInput::Quad, Method::Fov, target);
+        const SavingRow* base = so.jod ? row(SavingInput::Quad, Method::Fov, target) : nullptr;
         if (!base) continue;
         const FoveaWorth wrs = insetForJod(rows, scene, Method::Wrs, base->jod);
         const FoveaWorth oracle = insetForJod(rows, scene, Method::Oracle, base->jod);
@@ -654,7 +694,8 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
        << (cpu ? " (a CPU: its times are the CPU's work, worth reading as ratios only)" : "") << ". Command: `wrsfov-bench --saving`"
        << " (docs/metrics.md, \"Rendering saved\").\n\n";
     md << "## Headline\n\n" << head.str() << "\n";
-    md << "Goal: on the atrium at 12 px/deg or more, the inset `wrs` needs to match 30° without it is at most 10° (a "
+    if (so.jod)
+        md << "Goal: on the atrium at 12 px/deg or more, the inset `wrs` needs to match 30° without it is at most 10° (a "
           "ninth of the inset's pixels).\n\n";
     md << "## Every composition\n\n";
     md << "| input | method | inset | pixels rendered (M) | × full | render ms | × full | compose ms | JOD | "
@@ -669,9 +710,10 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     }
     md << "\nColumns: pixels rendered per frame by the application (both eyes; quad: wide + inset; rate: shaded "
           "samples, one per block); render ms: the application's rendering per frame ("
-       << (hasRender ? "the atrium's raster on this device; rate maps: n/a, as this device has no variable-rate shading and the "
+       << (hasRender ? "the atrium's raster on this device, both eyes, timed by the device's timestamps around its render passes; "
+                       "rate maps: n/a, as this device has no variable-rate shading and the "
                        "study emulates it by rendering at half and a quarter of the resolution"
-                     : "n/a: the page is rendered on the CPU, and its cost is its pixels")
+                     : "n/a: the scene is rendered on the CPU, and its cost is its pixels")
        << "); compose ms: the compositor's time per frame (PassTimes::total, with the compose pass); JOD and near-gaze "
           "PSNR against the full-resolution render; η: (MSE_fov − MSE) / (MSE_fov − MSE_oracle) for the same input and "
           "inset (n/a where the oracle removes less than 1 % of fov's MSE).\n";
@@ -694,6 +736,7 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
         }
     }
     if (full) series.push_back({"full resolution", {0, 0, 0}, {{hasRender ? full->renderMs : full->pixelsRendered / 1e6, full->jod}}, {}, false});
+    if (!so.jod) return {};  // no JOD to plot
     const std::string title = std::string(toString(scene)) + ": FovVideoVDP JOD against the rendering it costs";
     cv::imwrite(dir + "/saving.png",
                 chart(title, hasRender ? "render ms per frame (both eyes)" : "megapixels rendered per frame", "JOD", series));

@@ -37,6 +37,10 @@ struct SavingOptions {
     std::vector<float> rateDegs;
     /// Pixels per rate-map texel (VK_KHR_fragment_shading_rate's attachment texel size).
     uint32_t rateTexel = 16;
+    /// FovVideoVDP JOD per row (on the CPU, the study's largest cost at a headset's size). Without it
+    /// (`wrsfov-bench --saving --no-jod`) the rows keep pixels, times and near-gaze PSNR, and there is no
+    /// headline or plot: a cell for the render and composition times at sizes where JOD costs too much.
+    bool jod = true;
 };
 
 struct SavingRow {
@@ -45,8 +49,9 @@ struct SavingRow {
     Method method = Method::Fov;
     float insetDeg = 0.0f;       ///< 0 for the full-resolution row
     double pixelsRendered = 0;   ///< per frame, both eyes: pixels (quad: wide + inset) or shaded samples (rate)
-    /// Median per frame of the application's rendering of both eyes (GPU scenes; NaN for a scene rendered
-    /// on the CPU or emulated: the text page, shading rates on a device without them).
+    /// Median per frame of the application's rendering of both eyes, device time from timestamps around
+    /// its render passes (GPU scenes; NaN for a scene rendered on the CPU or emulated: the text page,
+    /// shading rates on a device without them).
     double renderMs = std::numeric_limits<double>::quiet_NaN();
     double composeMs = 0;  ///< median compositor time per frame, both eyes (PassTimes::total)
     /// Over the JOD frames: FovVideoVDP JOD and near-gaze PSNR against the full-resolution render, MSE

@@ -468,7 +468,21 @@ Status AtriumRenderer::renderViews(double t, double prevT, const std::array<laye
         std::memcpy(cameras_[e].mapped(), &cam, sizeof(cam));
     }
     VkFormat colorViewFormat = cf;
-    return ctx_.submitAndWait([&](VkCommandBuffer cb) {
+    const bool timing = ctx_.timestampPeriodNs() > 0;
+    if (timing && !queries_) {
+        VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qci.queryCount = 2;
+        VkQueryPool qp;
+        VK_CHECK(vkCreateQueryPool(dev, &qci, nullptr, &qp));
+        queries_ = vk::QueryPool(dev, qp);
+    }
+    lastGpuMs_ = std::numeric_limits<double>::quiet_NaN();
+    Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
+        if (timing) {
+            vkCmdResetQueryPool(cb, queries_.get(), 0, 2);
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_.get(), 0);
+        }
         for (uint32_t e = 0; e < 2; ++e) {
             VkImageView cv = view(color.image(colorIndex), colorViewFormat, VK_IMAGE_ASPECT_COLOR_BIT, e);
             VkImageView mv =
@@ -508,7 +522,15 @@ Status AtriumRenderer::renderViews(double t, double prevT, const std::array<laye
             }
             vkCmdEndRenderPass(cb);
         }
+        if (timing) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), 1);
     });
+    uint64_t ts[2] = {};
+    if (s && timing &&
+        vkGetQueryPoolResults(dev, queries_.get(), 0, 2, sizeof(ts), ts, sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) ==
+            VK_SUCCESS &&
+        ts[1] >= ts[0])
+        lastGpuMs_ = double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
+    return s;
 }
 
 }  // namespace wrsfov::scenes

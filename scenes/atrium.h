@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -98,6 +99,10 @@ public:
 
     const AtriumOptions& options() const { return options_; }
 
+    /// The device's time for the last render()/renderViews() (both eyes: from a timestamp before the
+    /// first render pass to one after the last), in ms; NaN where the queue has no timestamps.
+    double lastGpuMs() const { return lastGpuMs_; }
+
 private:
     explicit AtriumRenderer(vk::Context& ctx, const AtriumOptions& o) : ctx_(ctx), options_(o) {}
     Status init();
@@ -130,6 +135,8 @@ private:
     Object room_{}, cube_{};
     std::map<std::tuple<VkImage, VkFormat, uint32_t>, VkImageView> views_;
     std::map<std::tuple<VkImageView, VkImageView, VkImageView>, VkFramebuffer> framebuffers_;
+    vk::QueryPool queries_;  // two timestamps around a render; none without timestamps
+    double lastGpuMs_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace wrsfov::scenes

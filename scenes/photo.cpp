@@ -246,9 +246,14 @@ Status PhotoScene::render(uint32_t index, int eye, HostImage& color, HostImage& 
 
 Status PhotoScene::renderAt(double frame, double prevFrame, int eye, HostImage& color, HostImage& depth,
                             HostImage& motion) const {
+    return renderViewAt(frame, prevFrame, eye, photoFov(options_, eye), options_.width, options_.height, color, depth,
+                        motion);
+}
+
+Status PhotoScene::renderViewAt(double frame, double prevFrame, int eye, const layers::Fov& f, uint32_t W,
+                                uint32_t H, HostImage& color, HostImage& depth, HostImage& motion) const {
     const PhotoOptions& o = options_;
-    const uint32_t W = o.width, H = o.height;
-    const layers::Fov f = photoFov(o, eye);
+    if (W == 0 || H == 0) return Error{1, "photo: a view needs a size"};
     const double tl = std::tan(f.angleLeft), tr = std::tan(f.angleRight), tu = std::tan(f.angleUp),
                  td = std::tan(f.angleDown);
     const double eyeX = o.monitor ? 0.0 : (eye == 0 ? -0.5 : 0.5) * o.ipd, D = o.distance;

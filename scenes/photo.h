@@ -70,6 +70,13 @@ public:
     /// The same at a fractional frame (frames at the speed's rate), motion from `prevFrame`: for a
     /// viewer whose frames do not come at a fixed rate.
     Status renderAt(double frame, double prevFrame, int eye, HostImage& color, HostImage& depth, HostImage& motion) const;
+    /// The same eye through another view at another size (a quad view's wide view at a low density, or
+    /// its inset on the gaze): one Lanczos sample of the texture at each pixel's centre, as a renderer
+    /// sampling the texture once per pixel does at that density (a sparse view aliases the texture's
+    /// fine detail; it is not a blur of the full-resolution frame); depth and motion in that view's
+    /// pixels. With photoFov(eye) at the options' size it is renderAt, bit for bit.
+    Status renderViewAt(double frame, double prevFrame, int eye, const layers::Fov& fov, uint32_t width,
+                        uint32_t height, HostImage& color, HostImage& depth, HostImage& motion) const;
     const PhotoOptions& options() const { return options_; }
     /// Pixels per tangent unit at the view's centre (the texture's density on the plane).
     double pixelsPerTangent() const { return ppt_; }

@@ -544,6 +544,7 @@ int main(int argc, char** argv) {
         savingOptions.bench = o;
         savingOptions.methods = o.methods;
         savingOptions.rate = !noRate;
+        savingOptions.jod = !noJod;
         std::printf("wrsfov-bench: rendering saved, %s, %ux%u per eye, %d frames -> %s\n",
                     std::string(eval::toString(o.scenes[0])).c_str(), o.width, o.height, o.frames, out.c_str());
         auto rows = eval::runSaving(*toolCtx, o.scenes[0], savingOptions);

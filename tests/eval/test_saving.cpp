@@ -83,14 +83,52 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
     EXPECT_NE(headline.find("matches composition alone at a 20° inset"), std::string::npos) << headline;
 }
 
+// The photo (natural texture, a head panning) as quad views, without JOD: pixels and times only, no
+// headline or plot; wrs keeps more of what the inset rendered than composition alone.
+TEST_F(Saving, PhotoQuadViewsWithoutJod) {
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 128;
+    o.height = 96;
+    o.monitor = true;
+    o.frames = 12;
+    o.warmup = 3;
+    o.jodFrames = 4;
+    o.photoMotion = scenes::PhotoMotion::Pan;
+    so.insetDegs = {20.0f};
+    so.rate = false;
+    so.jod = false;
+    so.methods = {Method::Fov, Method::Wrs};
+    auto rows = eval::runSaving(context(), eval::SceneKind::Photo, so);
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    ASSERT_EQ(rows->size(), 3u);
+    const eval::SavingRow &full = (*rows)[0], &fov = (*rows)[1], &wrs = (*rows)[2];
+    EXPECT_EQ(full.pixelsRendered, 128.0 * 96.0) << "monitor mode: one view";
+    for (const eval::SavingRow& r : *rows) {
+        EXPECT_TRUE(std::isnan(r.jod));
+        EXPECT_TRUE(std::isnan(r.renderMs)) << "rendered on the CPU";
+        EXPECT_GT(r.composeMs, 0.0);
+    }
+    EXPECT_LT(fov.pixelsRendered, 0.5 * full.pixelsRendered);
+    EXPECT_TRUE(std::isfinite(fov.nearGazePsnr) && std::isfinite(wrs.nearGazePsnr));
+    EXPECT_LE(wrs.mse, fov.mse * 1.02) << "retention must not lose to composition alone";
+    const std::string dir = std::filesystem::temp_directory_path() / "wrsfov_saving_photo_test";
+    std::filesystem::remove_all(dir);
+    std::string headline;
+    ASSERT_TRUE(eval::writeSavingReport(*rows, so, dir, context().deviceName(), &headline).ok());
+    EXPECT_NE(headline.find("no JOD"), std::string::npos) << headline;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/saving.csv"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/saving.png"));
+}
+
 TEST_F(Saving, BadOptionsAreRefusedWithAMessage) {
     eval::SavingOptions so;
     so.bench.width = so.bench.height = 64;
     so.bench.frames = 4;
     so.bench.warmup = 1;
-    auto photo = eval::runSaving(context(), eval::SceneKind::Photo, so);
-    ASSERT_FALSE(photo.ok());
-    EXPECT_NE(photo.error().message.find("atrium or the text page"), std::string::npos);
+    auto seq = eval::runSaving(context(), eval::SceneKind::Sequence, so);
+    ASSERT_FALSE(seq.ok());
+    EXPECT_NE(seq.error().message.find("the atrium, the text page or the photo"), std::string::npos);
     so.insetDegs = {0.0f};
     auto zero = eval::runSaving(context(), eval::SceneKind::Atrium, so);
     ASSERT_FALSE(zero.ok());

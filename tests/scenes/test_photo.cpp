@@ -205,5 +205,57 @@ TEST(Photo, AnImageFileIsShownAtOneTexelPerPixel) {
     EXPECT_EQ(same, 40) << "the texels land on the pixels";
 }
 
+// Other views of the same eye (quad views' wide view and inset): through the eye's own view at its
+// size, the frame bit for bit; an inset on whole pixels of that view, the same pixels (to rounding);
+// a view at 0.4 of the density, one sample per pixel, not a blur: it keeps the texture's contrast,
+// and differs from the full frame filtered and decimated to its size (aliasing).
+TEST(Photo, OtherViewsAreRenderedAtTheirOwnDensity) {
+    PhotoOptions o;
+    o.width = 120, o.height = 90;
+    o.motion = PhotoMotion::Pan;
+    auto s = PhotoScene::create(o);
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    const PhotoScene& scene = **s;
+    const Frame f = render(scene, 3);
+    const layers::Fov fov = photoFov(o, 0);
+    Frame v;
+    ASSERT_TRUE(scene.renderViewAt(3, 2, 0, fov, 120, 90, v.color, v.depth, v.motion).ok());
+    EXPECT_EQ(v.color.data, f.color.data);
+    EXPECT_EQ(v.depth.data, f.depth.data);
+    EXPECT_EQ(v.motion.data, f.motion.data);
+
+    // An inset over pixels 40..79 x 30..59 of the view.
+    const double tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight), tu = std::tan(fov.angleUp),
+                 td = std::tan(fov.angleDown);
+    auto tanX = [&](double px) { return tl + px / 120.0 * (tr - tl); };
+    auto tanY = [&](double py) { return tu - py / 90.0 * (tu - td); };
+    const layers::Fov inset{float(std::atan(tanX(40))), float(std::atan(tanX(80))), float(std::atan(tanY(30))),
+                            float(std::atan(tanY(60)))};
+    Frame in;
+    ASSERT_TRUE(scene.renderViewAt(3, 2, 0, inset, 40, 30, in.color, in.depth, in.motion).ok());
+    int maxDiff = 0;
+    for (uint32_t y = 0; y < 30; ++y)
+        for (uint32_t x = 0; x < 40; ++x) {
+            const glm::vec4 a = in.color.fetch(x, y), b = f.color.fetch(x + 40, y + 30);
+            for (int k = 0; k < 3; ++k) maxDiff = std::max(maxDiff, int(std::lround(std::abs(a[k] - b[k]) * 255)));
+            EXPECT_NEAR(in.motion.fetch(x, y).x, f.motion.fetch(x + 40, y + 30).x, 1e-3f);
+        }
+    EXPECT_LE(maxDiff, 1);
+
+    // The wide view: 48 x 36 (0.4 of the density) over the whole view.
+    Frame wide;
+    ASSERT_TRUE(scene.renderViewAt(3, 2, 0, fov, 48, 36, wide.color, wide.depth, wide.motion).ok());
+    cv::Mat full = luma(f.color), sparse = luma(wide.color), blurred;
+    cv::resize(full, blurred, sparse.size(), 0, 0, cv::INTER_AREA);
+    cv::Scalar mS, sS, mB, sB;
+    cv::meanStdDev(sparse, mS, sS);
+    cv::meanStdDev(blurred, mB, sB);
+    std::printf("wide view: luminance sd %.4f, the full frame area-averaged to its size %.4f\n", sS[0], sB[0]);
+    EXPECT_GT(sS[0], 1.15 * sB[0]) << "one sample per pixel keeps the texture's fine contrast (it aliases)";
+    EXPECT_GT(cv::norm(sparse, blurred, cv::NORM_L2) / std::sqrt(double(sparse.total())), 0.01);
+    // Motion in the wide view's own pixels: the pan's speed at 0.4 of the density.
+    EXPECT_NEAR(wide.motion.fetch(24, 18).x, 0.4f * f.motion.fetch(60, 45).x, 0.02f);
+}
+
 }  // namespace
 }  // namespace wrsfov::scenes
