@@ -997,16 +997,24 @@ XRAPI_ATTR XrResult XRAPI_CALL layerLocateViews(XrSession session, const XrViewL
     XrViewLocateInfo li = *info;
     li.next = nullptr;
     li.viewConfigurationType = kStereo;
+    if (!countOutput || !viewState || viewState->type != XR_TYPE_VIEW_STATE) return XR_ERROR_VALIDATION_FAILURE;
     uint32_t n = 0;
-    if (XrResult r = st.next.locateViews(session, &li, viewState, 0, &n, nullptr); XR_FAILED(r)) return r;
-    if (!countOutput) return XR_ERROR_VALIDATION_FAILURE;
+    XrView sv[2] = {{XR_TYPE_VIEW}, {XR_TYPE_VIEW}};
+    if (capacity == 0) {
+        // The count alone. The stereo views are located all the same, into the layer's own views and
+        // view state, so that the call is checked below as it would be (session, space, time); never as a
+        // count query with no views and the application's view state: a layer below may read views
+        // through that state's flags (the Khronos CTS's conformance layer does, and crashed on it).
+        XrViewState vs{XR_TYPE_VIEW_STATE};
+        if (XrResult r = st.next.locateViews(session, &li, &vs, 2, &n, sv); XR_FAILED(r)) return r;
+        *countOutput = 4;
+        return XR_SUCCESS;
+    }
     *countOutput = 4;
-    if (capacity == 0) return XR_SUCCESS;
     if (capacity < 4) return XR_ERROR_SIZE_INSUFFICIENT;
     if (!views) return XR_ERROR_VALIDATION_FAILURE;
     for (uint32_t i = 0; i < 4; ++i)
         if (views[i].type != XR_TYPE_VIEW) return XR_ERROR_VALIDATION_FAILURE;
-    XrView sv[2] = {{XR_TYPE_VIEW}, {XR_TYPE_VIEW}};
     if (XrResult r = st.next.locateViews(session, &li, viewState, 2, &n, sv); XR_FAILED(r)) return r;
     auto* fr = reinterpret_cast<const XrViewLocateFoveatedRenderingVARJO*>(
         findNext(info->next, XR_TYPE_VIEW_LOCATE_FOVEATED_RENDERING_VARJO));

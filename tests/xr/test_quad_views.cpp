@@ -813,6 +813,27 @@ TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
         }
         EXPECT_GT(tracked, 15);
         EXPECT_GT(shifted, 15) << "the layer's insets do not follow its gaze";
+        // The count alone, with no views and a view state whose flags a previous call set: 4, and the
+        // state as it was (the layer locates the stereo views into its own; docs/openxr-layer.md).
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO};
+            li.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO;
+            li.displayTime = fs.predictedDisplayTime;
+            li.space = c->local;
+            XrViewState vs{XR_TYPE_VIEW_STATE};
+            vs.viewStateFlags = XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT;
+            uint32_t count = 0;
+            EXPECT_EQ(xrLocateViews(c->session, &li, &vs, 0, &count, nullptr), XR_SUCCESS);
+            EXPECT_EQ(count, 4u);
+            EXPECT_EQ(vs.viewStateFlags, XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT);
+            XrView lv[4];
+            for (auto& v : lv) v = {XR_TYPE_VIEW};
+            EXPECT_EQ(xrLocateViews(c->session, &li, &vs, 2, &count, lv), XR_ERROR_SIZE_INSUFFICIENT);
+            const std::vector<const XrCompositionLayerBaseHeader*> none;
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, none);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS);
         // Two views in the quad session the layer offers: refused, as the runtime would.
         XrResult r = c->frame([&](const XrFrameState& fs) {
             XrView lv[4];
