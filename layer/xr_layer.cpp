@@ -48,11 +48,8 @@
 namespace wrsfov::xrlayer {
 namespace {
 
-using xr::depthInfo;
 using xr::findNext;
 using xr::loadConfig;
-using xr::movesLayerSpace;
-using xr::spaceWarpMotionScale;
 using xr::RuntimeConfig;
 
 constexpr const char* kLayerName = "XR_APILAYER_WRSFOV_foveation";
@@ -1185,45 +1182,19 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
     fe.time_s = double(info.displayTime) * 1e-9;
     layers::ProjectionLayer layer;
     // One view of the application's: its colour, depth and motion where the compositor reads them.
-    auto viewOf = [&](const XrCompositionLayerProjectionView& v) -> std::optional<layers::ProjectionView> {
-        auto it = g_swapchains.find(v.subImage.swapchain);
+    // An imported sub-image of the application's, or null (xr::projectionView, the runtime's conversion).
+    auto imported = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
+        auto it = g_swapchains.find(x.swapchain);
         if (it == g_swapchains.end() || !it->second.imported) return std::nullopt;
-        layers::ProjectionView pv;
-        pv.fov = {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown};
-        pv.color = {it->second.imported.get(),
-                    {v.subImage.imageRect.offset.x, v.subImage.imageRect.offset.y,
-                     uint32_t(v.subImage.imageRect.extent.width), uint32_t(v.subImage.imageRect.extent.height)},
-                    v.subImage.imageArrayIndex};
-        // An imported sub-image of the application's, or null.
-        auto imported = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
-            auto it = g_swapchains.find(x.swapchain);
-            if (it == g_swapchains.end() || !it->second.imported) return std::nullopt;
-            return layers::SubImage{it->second.imported.get(),
-                                    {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
-                                     uint32_t(x.imageRect.extent.height)},
-                                    x.imageArrayIndex};
-        };
-        auto depthOf = [&](const XrSwapchainSubImage& x, float minD, float maxD, float nearZ, float farZ) {
-            auto si = imported(x);
-            std::optional<layers::DepthInfo> di = depthInfo(minD, maxD, nearZ, farZ);
-            if (!si || !di) return;
-            di->subImage = *si;
-            pv.depth = di;
-        };
-        if (auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(
-                findNext(v.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR)))
-            depthOf(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
-        if (auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(
-                findNext(v.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB))) {
-            if (auto si = imported(w->motionVectorSubImage)) {
-                layers::MotionInfo mi;
-                mi.subImage = *si;
-                mi.scale = spaceWarpMotionScale(si->rect);
-                pv.motion = mi;
-            }
-            if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
-            if (movesLayerSpace(w->appSpaceDeltaPose)) s.comp->resetHistory();
-        }
+        return layers::SubImage{it->second.imported.get(),
+                                {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
+                                 uint32_t(x.imageRect.extent.height)},
+                                x.imageArrayIndex};
+    };
+    auto viewOf = [&](const XrCompositionLayerProjectionView& v) -> std::optional<layers::ProjectionView> {
+        xr::ViewExtras ex;
+        std::optional<layers::ProjectionView> pv = xr::projectionView(v, imported, true, true, &ex);
+        if (pv && ex.locomotion) s.comp->resetHistory();
         return pv;
     };
     if (quad) {

@@ -58,4 +58,55 @@ inline bool movesLayerSpace(XrPosef d) {
            std::abs(std::abs(d.orientation.w) - 1.0f) > 1e-6f;
 }
 
+/// What projectionView found beside a view's images.
+struct ViewExtras {
+    bool depthRangeUnused = false;  ///< depth came with a range other than [0, 1]: not used
+    bool locomotion = false;        ///< the space warp's appSpaceDeltaPose moved the layer space
+};
+
+/// One view of a projection layer as the compositor reads it (the runtime's and the API layer's one
+/// conversion): its field of view and colour; depth from XrCompositionLayerDepthInfoKHR where
+/// `depthExt`, and motion from XrCompositionLayerSpaceWarpInfoFB where `warpExt`, whose depth stands in
+/// where the first gives none. `subImageOf(const XrSwapchainSubImage&)` returns the compositor's
+/// std::optional<layers::SubImage> for a sub-image (nullopt: a swapchain it does not read; depth or
+/// motion there is then not used). nullopt where the colour's swapchain is one it does not read.
+template <class SubImageOf>
+std::optional<layers::ProjectionView> projectionView(const XrCompositionLayerProjectionView& v, SubImageOf&& subImageOf,
+                                                     bool depthExt, bool warpExt, ViewExtras* extras = nullptr) {
+    ViewExtras ex;
+    std::optional<layers::SubImage> color = subImageOf(v.subImage);
+    if (!color) return std::nullopt;
+    layers::ProjectionView pv;
+    pv.fov = {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown};
+    pv.color = *color;
+    auto depthOf = [&](const XrSwapchainSubImage& x, float minDepth, float maxDepth, float nearZ, float farZ) {
+        std::optional<layers::DepthInfo> di = depthInfo(minDepth, maxDepth, nearZ, farZ);
+        if (!di) {
+            ex.depthRangeUnused = true;
+            return;
+        }
+        std::optional<layers::SubImage> si = subImageOf(x);
+        if (!si) return;
+        di->subImage = *si;
+        pv.depth = di;
+    };
+    if (const auto* n = findNext(v.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); n && depthExt) {
+        const auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(n);
+        depthOf(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
+    }
+    if (const auto* n = findNext(v.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); n && warpExt) {
+        const auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(n);
+        if (std::optional<layers::SubImage> si = subImageOf(w->motionVectorSubImage)) {
+            layers::MotionInfo mi;
+            mi.subImage = *si;
+            mi.scale = spaceWarpMotionScale(si->rect);
+            pv.motion = mi;
+        }
+        if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
+        ex.locomotion = movesLayerSpace(w->appSpaceDeltaPose);
+    }
+    if (extras) *extras = ex;
+    return pv;
+}
+
 }  // namespace wrsfov::xr

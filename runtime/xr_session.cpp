@@ -1105,42 +1105,20 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
     layers::FrameEndInfo f;
     f.frameIndex = frameIndex;
     f.time_s = s->instance->seconds(plan.displayTime);
-    auto sub = [](const XrSwapchainSubImage& x) {
-        layers::SubImage si;
-        si.swapchain = getSwapchain(x.swapchain)->images.get();
-        si.rect = {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
-                   uint32_t(x.imageRect.extent.height)};
-        si.arrayIndex = x.imageArrayIndex;
-        return si;
+    // Every swapchain of a verified frame end is one of this session's.
+    auto sub = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
+        return layers::SubImage{getSwapchain(x.swapchain)->images.get(),
+                                {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
+                                 uint32_t(x.imageRect.extent.height)},
+                                x.imageArrayIndex};
     };
     auto viewOf = [&](const XrCompositionLayerProjectionView& xv) {
-        layers::ProjectionView pv;
-        pv.fov = {xv.fov.angleLeft, xv.fov.angleRight, xv.fov.angleUp, xv.fov.angleDown};
-        pv.color = sub(xv.subImage);
-        auto depthOf = [&](const XrSwapchainSubImage& d, float minDepth, float maxDepth, float nearZ, float farZ) {
-            std::optional<layers::DepthInfo> di = depthInfo(minDepth, maxDepth, nearZ, farZ);
-            if (!di) {
-                if (s->refusalsLogged.insert(-2).second)
-                    logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
-                return;
-            }
-            di->subImage = sub(d);
-            pv.depth = di;
-        };
-        if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR); n && depthExt) {
-            auto* d = reinterpret_cast<const XrCompositionLayerDepthInfoKHR*>(n);
-            depthOf(d->subImage, d->minDepth, d->maxDepth, d->nearZ, d->farZ);
-        }
-        if (auto* n = findNext(xv.next, XR_TYPE_COMPOSITION_LAYER_SPACE_WARP_INFO_FB); n && warpExt) {
-            auto* w = reinterpret_cast<const XrCompositionLayerSpaceWarpInfoFB*>(n);
-            layers::MotionInfo mi;
-            mi.subImage = sub(w->motionVectorSubImage);
-            mi.scale = spaceWarpMotionScale(mi.subImage.rect);
-            pv.motion = mi;
-            if (!pv.depth) depthOf(w->depthSubImage, w->minDepth, w->maxDepth, w->nearZ, w->farZ);
-            locomotion = locomotion || movesLayerSpace(w->appSpaceDeltaPose);
-        }
-        return pv;
+        ViewExtras ex;
+        std::optional<layers::ProjectionView> pv = projectionView(xv, sub, depthExt, warpExt, &ex);
+        if (ex.depthRangeUnused && s->refusalsLogged.insert(-2).second)
+            logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
+        locomotion = locomotion || ex.locomotion;
+        return *pv;
     };
     layers::ProjectionLayer layer;
     if (proj->viewCount == 4) {
