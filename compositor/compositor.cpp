@@ -245,6 +245,28 @@ bool runsSparse(const CompositorConfig& c) {
     return floorQuality(c) > 0.0f;
 }
 
+PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth) {
+    PassPlan p;
+    p.retain = usesRetainPass(c.method);
+    p.wrsPaper = c.method == Method::WrsPaper;
+    p.taa = c.method == Method::FovTaa;
+    p.temporal = p.retain || p.wrsPaper || p.taa;
+    p.pyramid = simulatesFoveation(c.foveation) || p.retain;
+    // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles. A
+    // frame submitted foveated has two classes, far (rendered at the floor quality only) and any
+    // (wrs_submitted_tile_class), which only sparse retention uses.
+    const bool sparse = runsSparse(c);
+    p.tiled = c.skipTiles && ((simulatesFoveation(c.foveation) && (c.method == Method::Fov || p.retain)) ||
+                              (c.foveation == FoveationMode::Submitted && sparse));
+    p.sparse = p.tiled && sparse;
+    // Without motion, `wrs` and the oracle read only each pixel's own reservoir, so they update the
+    // reservoirs in place; with motion a pixel reads its 2x2 neighbourhood and the buffers ping-pong,
+    // as they do with stale tracking's birth buffers.
+    p.inPlace = p.retain && !hasMotion && !birth;
+    p.steady = p.pyramid && steadyFloorActive(c);
+    return p;
+}
+
 bool steadyFloorActive(const CompositorConfig& c) {
     return c.steadyFloor && floorQuality(c) > 0.0f && simulatesFoveation(c.foveation);
 }
@@ -268,9 +290,8 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     const uint32_t first = gpu::wrs_first_stored_level(uint32_t(c.foveation));
     double levels = 0;
     for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
-    const bool retain = usesRetainPass(c.method);
-    const bool temporal = c.method != Method::Fov;
-    const bool pyramid = simulatesFoveation(c.foveation) || retain;
+    const PassPlan plan = planPasses(c, in.motionBytes > 0, c.trackBirth);
+    const bool retain = plan.retain, temporal = plan.temporal, pyramid = plan.pyramid;
     const bool usesDepth = c.method == Method::WrsPaper || retain;
     const bool usesMotion = temporal;
     const double depth = usesDepth ? in.depthBytes : 0, motion = usesMotion ? in.motionBytes : 0;
@@ -279,7 +300,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
 
     // Sparse retention: the retain pass in the tiles that ran it; the others run the foveating pass
     // (with the birth colour when tracked), and the classification reads the far tiles' motion.
-    const bool sparse = retain && runsSparse(c);
+    const bool sparse = plan.sparse;
     const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
     Traffic t;
     const bool composed = in.composeWrite > 0;
@@ -292,7 +313,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
         const double below = gauss ? (level[1] + level[2] + level[3]) * kTexel : 0;
         t.passes.push_back({"pyramid", in.colorBytes + below, levels * kTexel});
     }
-    if (pyramid && steadyFloorActive(c)) {
+    if (plan.steady) {
         // Per level-4 texel: its 3x3 neighbourhood (each texel read by nine, once from memory), the
         // history's 4x4 Catmull-Rom taps (once), one motion texel; the filtered texel out. Then level 4 and
         // the filtered texel in, level 4 out.
@@ -303,10 +324,10 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     if (!retain)
         t.passes.push_back({"foveate", in.colorBytes + levelsRead, temporal ? 16.0 : 4.0});  // candidate or output
     const double history = 16, output = 4;
-    if (c.method == Method::WrsPaper)
+    if (plan.wrsPaper)
         t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
                             history + output + birth});
-    if (c.method == Method::FovTaa) t.passes.push_back({"taa", 16 + history + motion, history + output});
+    if (plan.taa) t.passes.push_back({"taa", 16 + history + motion, history + output});
     if (retain)  // the fingerprint level is among the stored ones in every mode
         t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth + quality),
                             share * (history + output + birth)});
@@ -920,12 +941,10 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // A change between full and submitted frames is a change of foveation: history starts anew.
     if (frame_.foveation != lastFoveation_) historyValid_ = false;
     lastFoveation_ = frame_.foveation;
-    const bool wrsPaper = frame_.method == Method::WrsPaper;
-    const bool retain = usesRetainPass(frame_.method);
-    const bool taa = frame_.method == Method::FovTaa;
-    const bool temporal = wrsPaper || retain || taa;  // a pass with history in the reservoir buffers
-    // `retain` needs level 4 for its fingerprint whatever the foveation (a box pyramid otherwise).
-    const bool pyramid = simulatesFoveation(frame_.foveation) || retain;
+    // Which passes run (planPasses, as traffic() and the cost model see them).
+    const PassPlan passes = planPasses(frame_, hasMotion, birthAllocated_);
+    const bool wrsPaper = passes.wrsPaper, retain = passes.retain, taa = passes.taa, temporal = passes.temporal;
+    const bool pyramid = passes.pyramid;
 
     stats_ = FrameStats{};
     stats_.frameIndex = frame.frameIndex;
@@ -934,7 +953,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     stats_.historyReset = temporal && !historyValid_;
     params_ = makeFrameParams(frame_, frame, w, h, stats_.gazeFallback);
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
-    const bool sparse = runsSparse(frame_);
+    const bool sparse = passes.sparse;
     const uint32_t tilesPerEye = groups(w, gpu::WRS_TILE) * groups(h, gpu::WRS_TILE);
     const uint32_t tileCount = tilesPerEye * uint32_t(WRS_EYES);
     params_.held.x = heldPrev_ * tileCount;
@@ -944,19 +963,12 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     stats_.retained = usesRetainPass(frame_.method);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
-    // Without motion, `wrs` and the oracle read only each pixel's own reservoir, so they update the
-    // reservoirs in place and skip the store of a pixel whose reservoir did not change (a kept sample
-    // of a still scene: most of the periphery); with motion a pixel reads its 2x2 neighbourhood and the
-    // buffers ping-pong. Not with stale tracking (its birth buffers ping-pong).
-    const bool inPlace = retain && !hasMotion && !birthAllocated_;
+    // In place: the retain pass skips the store of a pixel whose reservoir did not change (a kept
+    // sample of a still scene: most of the periphery).
+    const bool inPlace = passes.inPlace;
     const uint32_t written = inPlace ? current_ : 1 - current_;
     stats_.inPlace = inPlace;
-    // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles.
-    // A frame submitted foveated has two classes, far (rendered at the floor quality only) and any
-    // (wrs_submitted_tile_class), which only sparse retention uses.
-    const bool tiled = frame_.skipTiles && ((simulatesFoveation(frame_.foveation) &&
-                                             (frame_.method == Method::Fov || retain)) ||
-                                            (frame_.foveation == FoveationMode::Submitted && sparse));
+    const bool tiled = passes.tiled;
     stats_.tiled = tiled;
     // Per-frame inputs: the last released image of each swapchain.
     VkDescriptorSet set = sets_[current_ + (inPlace ? 2 : 0)];
@@ -1047,7 +1059,7 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         }
     };
     transitionInputs(true);
-    const bool steady = pyramid && steadyFloorActive(frame_);
+    const bool steady = passes.steady;
     stats_.steadyFloor = steady;
     const FramePlan plan{cb,     w,      h,       eyes,    hasDepth, hasMotion, retain,  wrsPaper,    taa, temporal,
                          pyramid, tiled, sparse, inPlace, mono,     timing,    steady,  written, tilesPerEye};

@@ -149,6 +149,24 @@ bool runsSparse(const CompositorConfig& c);
 /// where the floor rule applies: floorQuality > 0).
 bool steadyFloorActive(const CompositorConfig& c);
 
+/// Which passes a frame runs, and how. One pure function of the frame's configuration (foveation
+/// Submitted for a frame submitted foveated) and inputs serves Compositor::endFrame, which records
+/// these passes, traffic(), which counts their bytes, and eval::pipelineVariants, which lists their
+/// pipelines for the cost model.
+struct PassPlan {
+    bool retain = false;    ///< the retain pass (wrs, the oracles), foveation fused into it
+    bool wrsPaper = false;  ///< the published WRS pass after the foveating pass
+    bool taa = false;       ///< fov+taa's pass after the foveating pass
+    bool temporal = false;  ///< a pass with history in the reservoir buffers
+    bool pyramid = false;   ///< levels 1..4: simulated foveation, or retain's fingerprint level
+    bool tiled = false;     ///< the classification first, then per-pixel passes per tile class
+    bool sparse = false;    ///< sparse retention: far tiles with nothing sharper in reach skip it
+    bool inPlace = false;   ///< reservoirs updated in place (retain without motion or birth buffers)
+    bool steady = false;    ///< the steady floor after the pyramid
+};
+/// `hasMotion`: the frame's views carry motion; `birth`: birth buffers exist (stale tracking).
+PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth);
+
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 /// On a CPU device (Mesa lavapipe) timestamps do not bracket the dispatches between them: a pass's
 /// time lands in a later interval, and a lone dispatch reads as almost free (a 14 MB copy stamped

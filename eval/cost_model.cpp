@@ -90,15 +90,12 @@ uint64_t groupsOf(uint64_t n, uint64_t size) { return (n + size - 1) / size; }
 }  // namespace
 
 std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const TrafficInputs& in, uint32_t eyes) {
-    // The conditions of Compositor::endFrame, in its words.
+    // The passes Compositor::endFrame records (planPasses, which it calls too).
     const bool hasDepth = in.depthBytes > 0, hasMotion = in.motionBytes > 0;
-    const bool retain = usesRetainPass(c.method);
-    const bool temporal = c.method != Method::Fov;
-    const bool pyramid = c.foveation != FoveationMode::None || retain;
-    const bool tiled = c.skipTiles && c.foveation != FoveationMode::None && (c.method == Method::Fov || retain);
-    const bool inPlace = retain && !hasMotion && !c.trackBirth;
+    const PassPlan plan = planPasses(c, hasMotion, c.trackBirth);
+    const bool retain = plan.retain, temporal = plan.temporal, pyramid = plan.pyramid, tiled = plan.tiled;
+    const bool inPlace = plan.inPlace, sparse = plan.sparse;
     const uint32_t fov = uint32_t(c.foveation);
-    const bool sparse = tiled && runsSparse(c);
     // Bytes per pixel covered: a tile list's pass moves its own pixels' bytes, so retention's are
     // taken with every tile retaining and the skipped tiles' with none (traffic() weighs them by share).
     TrafficInputs all = in, none = in;
@@ -161,7 +158,7 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
         const uint32_t first = gpu::wrs_first_stored_level(fov);
         add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, first}, groups, bytes("pyramid"));
         barrier();
-        if (steadyFloorActive(c)) {  // the steady floor: one invocation per level-4 texel, two phases
+        if (plan.steady) {  // the steady floor: one invocation per level-4 texel, two phases
             const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(in.width, in.height), gpu::WRS_STEADY_LEVEL);
             const uint64_t g4 = groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
             add("steady", ShaderId::Pyramid, {3u, first, hasMotion, 0u}, g4, bytes("steady"));
@@ -174,10 +171,10 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     if (!retain && temporal) barrier();
     if (retain)
         addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace, 0, sparse}, inPlace);
-    else if (c.method == Method::WrsPaper)
+    else if (plan.wrsPaper)
         add("wrs-paper", ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli}, whole,
             bytes("wrs-paper"));
-    else if (c.method == Method::FovTaa)
+    else if (plan.taa)
         add("taa", ShaderId::Taa, {hasMotion}, whole, bytes("taa"));
     if (sparse) {  // the far tiles that skip retention: the foveating pass alone, after a barrier if in place
         if (inPlace) barrier();
