@@ -129,8 +129,11 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                 const std::size_t i = std::size_t(y) * W + x;
                 const float e =
                     gpu::wrs_eccentricity_deg(gpu::wrs_pixel_ray(x, y, W, H, ep.fov_tan), glm::vec3(ep.gaze));
-                const float qc = gpu::wrs_level_quality(
-                    gpu::wrs_foveation_levels(uint32_t(o.modes.front()), e, ep.gaze.w, fp.tuning.x));
+                // The candidate's quality as the retain pass takes it (wrs_candidate_quality; a valid
+                // candidate of a simulated mode).
+                const uint32_t mode = uint32_t(o.modes.front());
+                const float qc = gpu::wrs_candidate_quality(
+                    mode, gpu::wrs_foveation_levels(mode, e, ep.gaze.w, fp.tuning.x), e, ep.gaze.w, 0.0f, true);
                 curShown[i] = classify(wrs + 4 * i, fov + 4 * i, (*res)[i], qc);
                 qCandidate[i] = qc;
             }

@@ -1,0 +1,39 @@
+// What the compositor's sources share and nobody else needs: the passes' shader indices, the frame's
+// timestamps, and the helpers every part records with (compositor.cpp: resources and endFrame;
+// passes.cpp: configuration, the pass plan and the traffic model; record.cpp: the passes' commands
+// and their times; readback.cpp: what the tests and tools read back). Internal to the compositor.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "compositor/vk_context.h"
+#include "layers/status.h"
+
+namespace wrsfov::detail {
+
+enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kClassify, kHalfProbe, kShaderCount };
+
+// Timestamps: the frame's start, after compose (and classify), pyramid, foveate, wrs/taa/retain; then
+// before and after a copy kernel, in a submission of its own (measureCopy).
+constexpr uint32_t kFrameStamps = 5;
+constexpr uint32_t kTimestamps = kFrameStamps + 2;
+
+// Prefixes an allocation error with what it was for, e.g. "reservoirs: vkAllocateMemory (...) failed: ...".
+inline Error named(const char* what, const Error& e) { return Error{e.code, std::string(what) + ": " + e.message}; }
+
+inline uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
+
+inline void computeBarrier(VkCommandBuffer cb) {
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+// computeBarrier, and the tile lists' dispatch arguments readable by indirect dispatches.
+inline void listsBarrier(VkCommandBuffer cb) {
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+}  // namespace wrsfov::detail

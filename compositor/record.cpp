@@ -1,0 +1,247 @@
+// The passes of a frame as commands (Compositor::record*, in the order endFrame calls them) and
+// their times (collectTimes).
+#include "compositor/compositor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "compositor/compose.h"
+#include "compositor/compositor_internal.h"
+#include "compositor/input.h"
+#include "compositor/swapchain_vk.h"
+
+namespace wrsfov {
+
+using namespace detail;
+
+void Compositor::stamp(const FramePlan& plan, uint32_t i) {
+    if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
+}
+
+void Compositor::recordCompose(const FramePlan& plan) {
+    if (submitted_ == layers::SubmittedFoveation::Full) return;  // compose_ exists from the first such frame on
+    compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes);
+}
+
+void Compositor::recordHistoryStart(const FramePlan& plan) {
+    VkCommandBuffer cb = plan.cb;
+    if (plan.temporal && !historyValid_) {
+        // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
+        vkCmdFillBuffer(cb, reservoirs_[current_].handle(), 0, VK_WHOLE_SIZE, 0);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    }
+    if (plan.sparse && (!historyValid_ || held_ == Held::Unknown)) {
+        // The held qualities this frame reads: nothing after a reset (the reservoirs are empty), and
+        // anything where the last frame did not record them (every pixel's reservoir is real there).
+        const uint32_t word = historyValid_ ? 0x3f800000u : 0u;  // 1.0f: the best quality there is
+        vkCmdFillBuffer(cb, tileHeld_.handle(), VkDeviceSize(params_.held.x) * 4,
+                        VkDeviceSize(plan.tilesPerEye) * WRS_EYES * 4, word);
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    }
+}
+
+void Compositor::recordClassify(const FramePlan& plan) {
+    if (!plan.tiled) return;
+    VkCommandBuffer cb = plan.cb;
+    uint32_t args[gpu::WRS_TILE_LISTS][4];
+    for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
+    vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    const uint32_t tilesX = groups(plan.w, gpu::WRS_TILE), tilesY = groups(plan.h, gpu::WRS_TILE);
+    if (plan.sparse && plan.hasMotion) {
+        // Phase 1: the previous frame's held qualities per superblock, for phase 0's reach test; one
+        // group per superblock, one invocation per tile.
+        static_assert(gpu::WRS_SUPERBLOCK == WRS_GROUP_X && gpu::WRS_SUPERBLOCK == WRS_GROUP_Y);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 1u}));
+        vkCmdDispatch(cb, groups(tilesX, gpu::WRS_SUPERBLOCK), groups(tilesY, gpu::WRS_SUPERBLOCK), plan.eyes);
+        computeBarrier(cb);
+    }
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pipeline(kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 0u}));
+    vkCmdDispatch(cb, groups(tilesX, WRS_GROUP_X), groups(tilesY, WRS_GROUP_Y), plan.eyes);
+    // The pyramid shares no buffer or image with the classification: it is recorded next with no
+    // barrier between them, so that a GPU overlaps the two (on an NVIDIA H200 each was a few tens of
+    // microseconds of latency, docs/speed.md "On a GPU"), and its last barrier publishes the lists.
+    if (!plan.pyramid) listsBarrier(cb);
+}
+
+void Compositor::recordPyramid(const FramePlan& plan) {
+    if (!plan.pyramid) return;
+    VkCommandBuffer cb = plan.cb;
+    const bool gauss = frame_.foveation == FoveationMode::Gauss;
+    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
+    // mip: every level in one dispatch of WRS_MIP_TILE-pixel tiles; gauss: one dispatch per level.
+    const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
+    const uint32_t tile = WRS_MIP_TILE;
+    for (uint32_t level = 1; level <= dispatches; ++level) {
+        gpu::LevelPush push{level, 0, 0, 0};
+        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+        glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), level);
+        if (gauss)
+            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
+        else
+            vkCmdDispatch(cb, groups(plan.w, tile), groups(plan.h, tile), plan.eyes);
+        if (plan.tiled && level == dispatches)
+            listsBarrier(cb);  // also the classification's, recorded just before (recordClassify)
+        else
+            computeBarrier(cb);
+    }
+}
+
+void Compositor::recordSteadyFloor(const FramePlan& plan) {
+    if (!plan.steady) return;
+    VkCommandBuffer cb = plan.cb;
+    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
+    const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), gpu::WRS_STEADY_LEVEL);
+    // Written: the slot the last frame did not write; read: the last frame's, where it wrote one (a
+    // history reset starts the filter anew, as it does the reservoirs).
+    const uint32_t slot = 1 - steadySlot_;
+    const gpu::LevelPush push{0, slot, steadySlot_, steadyValid_ && historyValid_ ? 1u : 0u};
+    vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    for (uint32_t phase = 0; phase < 2; ++phase) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {3u, firstStored, plan.hasMotion, phase}));
+        vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
+        computeBarrier(cb);
+    }
+}
+
+// A foveating pass over every pixel, or one indirect dispatch per tile class (constant 5), then, with
+// sparse retention, the skip list through the foveating pass alone. `aliased`: the pass reads a
+// buffer it also writes (the in-place reservoirs). Each invocation touches only its own pixel and the
+// lists' tiles are disjoint, but a barrier between the dispatches keeps the order explicit, as
+// synchronization validation (which tracks whole descriptor ranges) requires.
+void Compositor::recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased) {
+    VkCommandBuffer cb = plan.cb;
+    if (!plan.tiled) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+        vkCmdDispatch(cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
+        return;
+    }
+    for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
+        if (aliased && cls > 0) computeBarrier(cb);
+        constants[5] = 1 + cls;
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+        vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
+    }
+    if (!plan.sparse || shader != kRetain) return;
+    // Tiles that skip retention: the foveating pass writes their output (and birth colours).
+    if (aliased) computeBarrier(cb);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pipeline(kFoveate, {uint32_t(frame_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
+    vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
+}
+
+void Compositor::recordFoveate(const FramePlan& plan) {
+    if (plan.retain) return;  // foveation is fused into the retain pass
+    recordPixelPass(plan, kFoveate, {uint32_t(frame_.foveation), plan.temporal ? 0u : 1u, 0, 0});
+    computeBarrier(plan.cb);
+}
+
+void Compositor::recordTemporal(const FramePlan& plan) {
+    VkCommandBuffer cb = plan.cb;
+    const uint32_t gx = groups(plan.w, WRS_GROUP_X), gy = groups(plan.h, WRS_GROUP_Y);
+    if (plan.retain) {
+        recordPixelPass(plan, kRetain,
+                        {plan.hasMotion, plan.hasDepth, uint32_t(frame_.foveation), retainRule(frame_), plan.inPlace, 0,
+                         plan.sparse},
+                        plan.inPlace);
+    } else if (plan.wrsPaper) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                          pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli}));
+        vkCmdDispatch(cb, gx, gy, plan.eyes);
+    } else if (plan.taa) {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, 0, 0, 0}));
+        vkCmdDispatch(cb, gx, gy, plan.eyes);
+    } else {
+        return;
+    }
+    computeBarrier(cb);
+}
+
+void Compositor::recordMonoCopies(const FramePlan& plan) {
+    if (!plan.mono) return;
+    VkCommandBuffer cb = plan.cb;
+    // Right eye = left eye: output layer, and the history this frame wrote; the copies read and
+    // write what the passes wrote.
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+    VkImageCopy ic{};
+    ic.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    ic.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 1};
+    ic.extent = {plan.w, plan.h, 1};
+    vkCmdCopyImage(cb, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, output_.handle(), VK_IMAGE_LAYOUT_GENERAL, 1, &ic);
+    const VkDeviceSize eyeBytes = VkDeviceSize(plan.w) * plan.h * 16;
+    const VkBufferCopy bc{0, eyeBytes, eyeBytes};
+    if (plan.temporal) vkCmdCopyBuffer(cb, reservoirs_[plan.written].handle(), reservoirs_[plan.written].handle(), 1, &bc);
+    if (plan.temporal && birthAllocated_)
+        vkCmdCopyBuffer(cb, birth_[plan.written].handle(), birth_[plan.written].handle(), 1, &bc);
+    const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + plan.tilesPerEye) * 4,
+                          VkDeviceSize(plan.tilesPerEye) * 4};
+    if (plan.sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
+    if (plan.steady) {  // the right eye's steady floor, which its next stereo frame reads
+        const glm::uvec4 l4 = params_.levels[gpu::WRS_STEADY_LEVEL];
+        const VkDeviceSize left = gpu::wrs_steady_offset(l4, 1 - steadySlot_, 0);
+        const VkDeviceSize right = gpu::wrs_steady_offset(l4, 1 - steadySlot_, 1);
+        const VkBufferCopy sc{left * 8, right * 8, VkDeviceSize(l4.x) * l4.y * 8};
+        vkCmdCopyBuffer(cb, pyramid_.handle(), pyramid_.handle(), 1, &sc);
+    }
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+}
+
+void Compositor::recordTileCounts(const FramePlan& plan, bool record) {
+    if (!plan.tiled || record) return;  // Record mode: the caller's submission, no statistics
+    // The lists' counts, for FrameStats::tiles.
+    vk::memoryBarrier(plan.cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    const VkBufferCopy tc{0, 0, 16 * gpu::WRS_TILE_LISTS};
+    vkCmdCopyBuffer(plan.cb, tiles_.handle(), tileCounts_.handle(), 1, &tc);
+    vk::memoryBarrier(plan.cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                      VK_ACCESS_HOST_READ_BIT);
+}
+
+void Compositor::collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes) {
+    if (lastTiled_) {
+        for (uint32_t k = 0; k < gpu::WRS_TILE_LISTS; ++k)
+            std::memcpy(&stats_.tiles[k], static_cast<const uint8_t*>(tileCounts_.mapped()) + 16 * k, 4);
+        // The skip list's fourth word counts the tiles whose motion the classification read.
+        std::memcpy(&stats_.motionTiles, static_cast<const uint8_t*>(tileCounts_.mapped()) + 16 * gpu::WRS_TILE_SKIP + 12, 4);
+    }
+    TrafficInputs in = trafficIn;
+    if (stats_.sparse && lastTiled_) {
+        in.retainShare = stats_.retainShare();
+        in.motionShare = stats_.motionShare();
+    }
+    if (ctx_.timestampPeriodNs() <= 0) return;
+    uint64_t ts[kFrameStamps];
+    if (vkGetQueryPoolResults(ctx_.device(), queries_.get(), 0, kFrameStamps, sizeof(ts), ts, sizeof(uint64_t),
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS) {
+        double ms = ctx_.timestampPeriodNs() * 1e-6;
+        stats_.gpu.compose = double(ts[1] - ts[0]) * ms;
+        stats_.gpu.pyramid = double(ts[2] - ts[1]) * ms;
+        stats_.gpu.foveate = double(ts[3] - ts[2]) * ms;
+        stats_.gpu.temporal = double(ts[4] - ts[3]) * ms;
+        stats_.gpu.total = double(ts[4] - ts[0]) * ms;
+        stats_.gpu.valid = true;
+    }
+    if (ctx_.isCpuDevice()) {  // see PassTimes::hostTimed
+        stats_.gpu.total = hostMs;
+        stats_.gpu.hostTimed = true;
+    }
+    if (frame_.measureCopy) {
+        // The yardsticks, each in a submission of its own after the frame: lavapipe moves time
+        // between adjacent dispatches of one submission, which made a copy recorded before the
+        // passes read as a fraction of what it costs alone.
+        stats_.gpu.copy = timeCopy(trafficBytes(frame_, in) / WRS_EYES * eyes);
+        stats_.gpu.copyFloor = timeCopy(floorBytes(frame_, in) / WRS_EYES * eyes);
+    }
+}
+
+}  // namespace wrsfov
