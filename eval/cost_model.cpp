@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "classify_spv.h"
+#include "compose_spv.h"
 #include "foveate_spv.h"
 #include "pyramid_spv.h"
 #include "retain_spv.h"
@@ -43,6 +44,8 @@ std::string_view toString(ShaderId s) {
             return "taa";
         case ShaderId::Retain:
             return "retain";
+        case ShaderId::Compose:
+            return "compose";
     }
     return "?";
 }
@@ -61,6 +64,8 @@ std::span<const uint32_t> spirv(ShaderId s) {
             return taa_spv;
         case ShaderId::Retain:
             return retain_spv;
+        case ShaderId::Compose:
+            return compose_spv;
     }
     return {};
 }
@@ -203,8 +208,8 @@ std::optional<VariantKey> parseVariantKey(std::string_view text) {
     if (colon == std::string_view::npos) return std::nullopt;
     VariantKey k;
     bool found = false;
-    for (ShaderId s :
-         {ShaderId::Classify, ShaderId::Pyramid, ShaderId::Foveate, ShaderId::Wrs, ShaderId::Taa, ShaderId::Retain})
+    for (ShaderId s : {ShaderId::Classify, ShaderId::Pyramid, ShaderId::Foveate, ShaderId::Wrs, ShaderId::Taa,
+                       ShaderId::Retain, ShaderId::Compose})
         if (toString(s) == text.substr(0, colon)) k.shader = s, found = true;
     if (!found) return std::nullopt;
     std::string_view rest = text.substr(colon + 1);
@@ -443,8 +448,12 @@ struct StatsDevice {
     VkDevice device = VK_NULL_HANDLE;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkDescriptorSetLayout composeSetLayout = VK_NULL_HANDLE;
+    VkPipelineLayout composeLayout = VK_NULL_HANDLE;
     ~StatsDevice() {
         if (device) {
+            if (composeLayout) vkDestroyPipelineLayout(device, composeLayout, nullptr);
+            if (composeSetLayout) vkDestroyDescriptorSetLayout(device, composeSetLayout, nullptr);
             if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
             if (setLayout) vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
             vkDestroyDevice(device, nullptr);
@@ -622,6 +631,29 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
     pl.pushConstantRangeCount = 1;
     pl.pPushConstantRanges = &push;
     if (vkCreatePipelineLayout(d.device, &pl, nullptr, &d.layout) != VK_SUCCESS) return fail("pipeline layout");
+    // The compose pass's own layout (ComposePass): its block, the four wide and inset views' colour,
+    // depth and motion, the two rate maps, the qualities, the sRGB table, the three composed images.
+    const VkDescriptorSetLayoutBinding composeBindings[] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+        {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+    VkDescriptorSetLayoutCreateInfo csl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    csl.bindingCount = uint32_t(std::size(composeBindings));
+    csl.pBindings = composeBindings;
+    if (vkCreateDescriptorSetLayout(d.device, &csl, nullptr, &d.composeSetLayout) != VK_SUCCESS)
+        return fail("compose descriptor set layout");
+    VkPipelineLayoutCreateInfo cpl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    cpl.setLayoutCount = 1;
+    cpl.pSetLayouts = &d.composeSetLayout;
+    if (vkCreatePipelineLayout(d.device, &cpl, nullptr, &d.composeLayout) != VK_SUCCESS)
+        return fail("compose pipeline layout");
     auto getProps = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
         vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutablePropertiesKHR"));
     auto getStats = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
@@ -647,7 +679,7 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         ci.stage.module = module;
         ci.stage.pName = "main";
         ci.stage.pSpecializationInfo = &spec;
-        ci.layout = d.layout;
+        ci.layout = k.shader == ShaderId::Compose ? d.composeLayout : d.layout;
         VkPipeline pipeline;
         const VkResult r = vkCreateComputePipelines(d.device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
         vkDestroyShaderModule(d.device, module, nullptr);

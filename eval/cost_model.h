@@ -23,7 +23,8 @@
 namespace wrsfov::eval {
 
 /// The compositor's compute shaders, as embedded at build time (shaders/CMakeLists.txt).
-enum class ShaderId : uint8_t { Classify, Pyramid, Foveate, Wrs, Taa, Retain };
+/// Compose: the pass for frames submitted foveated (compose.comp, a layout of its own: ComposePass).
+enum class ShaderId : uint8_t { Classify, Pyramid, Foveate, Wrs, Taa, Retain, Compose };
 std::string_view toString(ShaderId s);
 /// The embedded SPIR-V of a shader.
 std::span<const uint32_t> spirv(ShaderId s);

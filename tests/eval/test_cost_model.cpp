@@ -215,6 +215,8 @@ TEST(CostModel, VariantKeysRoundTrip) {
             ASSERT_TRUE(back) << toString(k);
             EXPECT_EQ(*back, k);
         }
+    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 0, 0, 0, 1, 0}};
+    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,0,0,0,1,0"), compose);
     EXPECT_FALSE(parseVariantKey("retain:1,2"));
     EXPECT_FALSE(parseVariantKey("copy:0,0,0,0,0,0"));
     EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,7"));
@@ -436,5 +438,22 @@ TEST(CostModelDevice, RadvNullDeviceGivesAcoStatistics) {
     }
     // The retain pass of the far class computes no eccentricity: fewer instructions than per pixel.
     EXPECT_LT((*stats)[*retainFar].instructions, (*stats)[*retainAny].instructions);
+}
+
+// The compose pass (frames submitted foveated) compiles with its own layout: quad views with depth and
+// motion (two bilinear colour sources, the blend, nearest depth and motion) cost more than a rate map
+// (one texel's rate per pixel).
+TEST(CostModelDevice, ComposePassCompilesWithItsOwnLayout) {
+    const VariantKey quad{ShaderId::Compose, {1, 1, 1, 0, 0, 0, 0, 1, 0}};
+    const VariantKey rate{ShaderId::Compose, {2, 0, 0, 0, 0, 0, 0, 1, 0}};
+    auto stats = collectStatistics(WRSFOV_BENCH_EXE, *parseStatsTarget("gfx1100"), {quad, rate});
+    if (!stats && stats.error().code == int(CostError::Unavailable))
+        GTEST_SKIP() << "RADV's null device is unavailable here: " << stats.error().message;
+    ASSERT_TRUE(stats) << stats.error().message;
+    std::printf("compose on gfx1100: quad %.0f instructions, %.0f cycles per wave; rate %.0f, %.0f\n",
+                (*stats)[quad].instructions, (*stats)[quad].invThroughput, (*stats)[rate].instructions,
+                (*stats)[rate].invThroughput);
+    EXPECT_GT((*stats)[quad].instructions, 4 * (*stats)[rate].instructions);
+    EXPECT_GT((*stats)[rate].instructions, 0);
 }
 #endif
