@@ -51,6 +51,45 @@ Result<std::unique_ptr<HostStereoApp>> HostStereoApp::share(Compositor& composit
     return app;
 }
 
+Status HostStereoApp::drawInPlace(const std::function<Status(const Images&)>& draw) {
+    layers::Swapchain* sc[3] = {color_.get(), depth_.get(), motion_.get()};
+    uint32_t idx[3] = {0, 0, 0};
+    bool acquired[3] = {false, false, false};
+    Status s;
+    for (int i = 0; i < 3 && s; ++i) {
+        if (!sc[i]) continue;
+        auto a = sc[i]->acquire();
+        if (!a) {
+            s = a.error();
+            break;
+        }
+        idx[i] = *a;
+        acquired[i] = true;
+        s = sc[i]->wait();
+    }
+    if (s) s = draw(Images{idx[0], idx[1], idx[2]});
+    for (int i = 0; i < 3; ++i)
+        if (acquired[i]) (void)sc[i]->release();
+    return s;
+}
+
+Status HostStereoApp::readBack(const Images& im, uint32_t eye, HostImage& color, HostImage* depth, HostImage* motion) {
+    struct Part {
+        layers::Swapchain* swapchain;
+        uint32_t index;
+        HostImage* out;
+    } parts[3] = {{color_.get(), im.color, &color}, {depth_.get(), im.depth, depth}, {motion_.get(), im.motion, motion}};
+    for (const Part& p : parts) {
+        if (!p.swapchain || !p.out) continue;
+        auto bytes = p.swapchain->read(p.index, eye);
+        if (!bytes) return bytes.error();
+        const layers::SwapchainCreateInfo& ci = p.swapchain->info();
+        *p.out = HostImage::make(ci.format, ci.width, ci.height);
+        p.out->data = std::move(*bytes);
+    }
+    return {};
+}
+
 Status HostStereoApp::write(const std::array<EyeSubmission, 2>& eyes) {
     auto put = [&](layers::Swapchain* sc, auto get) -> Status {
         if (!sc) return {};

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -55,6 +56,19 @@ public:
     /// For an app made by share(): Compositor::endFrame() with the images its source last released
     /// (`eyes` gives the field of view and gaze only). Refused for an app not made by share().
     Status submitShared(uint64_t frameIndex, double time_s, const std::array<EyeSubmission, 2>& eyes);
+
+    /// One image of each swapchain, as drawInPlace hands them over (depth and motion 0 where the app
+    /// has no such swapchain).
+    struct Images {
+        uint32_t color = 0, depth = 0, motion = 0;
+    };
+    /// For a renderer that draws into the swapchains itself, as a Vulkan application does: acquires
+    /// and waits for one image of each swapchain, runs `draw` on them (render, read back), and releases
+    /// every image it acquired whatever happened. The first failure (acquire, wait, `draw`) is returned.
+    Status drawInPlace(const std::function<Status(const Images&)>& draw);
+    /// Inside drawInPlace's `draw`: eye `eye`'s layer of the images `im` read back, in the swapchains'
+    /// formats and size; `depth` and `motion` where the app has those swapchains.
+    Status readBack(const Images& im, uint32_t eye, HostImage& color, HostImage* depth, HostImage* motion);
 
     layers::Swapchain& color() { return *color_; }
     layers::Swapchain* depth() { return depth_.get(); }

@@ -156,31 +156,15 @@ public:
         return f;
     }
     Status frame(int, double t, double prevT, std::array<EyeSubmission, 2>& eyes) override {
-        layers::Swapchain* sc[3] = {&app_->color(), app_->depth(), app_->motion()};
-        uint32_t idx[3];
-        for (int i = 0; i < 3; ++i) {
-            auto a = sc[i]->acquire();
-            if (!a) return a.error();
-            idx[i] = *a;
-            if (Status s = sc[i]->wait(); !s) return s;
-        }
-        Status s = renderer_->render(t, prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
-        const layers::Format fmt[3] = {layers::Format::RGBA8_SRGB, layers::Format::D32F, layers::Format::RGBA16F};
-        for (int e = 0; e < 2 && s; ++e) {
-            HostImage* out[3] = {&eyes[e].color, &eyes[e].depth.emplace(), &eyes[e].motion.emplace()};
-            for (int i = 0; i < 3 && s; ++i) {
-                auto bytes = sc[i]->read(idx[i], uint32_t(e));
-                if (!bytes) {
-                    s = bytes.error();
-                    break;
-                }
-                *out[i] = HostImage::make(fmt[i], options_.width, options_.height);
-                out[i]->data = std::move(*bytes);
+        HostStereoApp& app = *app_;
+        return app.drawInPlace([&](const HostStereoApp::Images& im) {
+            Status s = renderer_->render(t, prevT, app.color(), im.color, *app.depth(), im.depth, *app.motion(), im.motion);
+            for (uint32_t e = 0; e < 2 && s; ++e) {
+                s = app.readBack(im, e, eyes[e].color, &eyes[e].depth.emplace(), &eyes[e].motion.emplace());
+                eyes[e].fov = scenes::atriumFov(options_, int(e));
             }
-            eyes[e].fov = scenes::atriumFov(options_, e);
-        }
-        for (int i = 0; i < 3; ++i) (void)sc[i]->release();
-        return s;
+            return s;
+        });
     }
     HostStereoApp::Options appOptions() const override { return atriumAppOptions(options_); }
 
@@ -1037,17 +1021,10 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
                     std::array<EyeSubmission, 2> eyes;
                     if (rendered) {
                         HostStereoApp& app = **source;
-                        layers::Swapchain* sc[3] = {&app.color(), app.depth(), app.motion()};
-                        uint32_t idx[3];
-                        for (int i = 0; i < 3; ++i) {
-                            auto a = sc[i]->acquire();
-                            if (!a) return a.error();
-                            idx[i] = *a;
-                            if (Status s = sc[i]->wait(); !s) return s.error();
-                        }
-                        Status s =
-                            renderer->render(t, f == 0 ? t : prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
-                        for (int i = 0; i < 3; ++i) (void)sc[i]->release();
+                        Status s = app.drawInPlace([&](const HostStereoApp::Images& im) {
+                            return renderer->render(t, f == 0 ? t : prevT, app.color(), im.color, *app.depth(),
+                                                    im.depth, *app.motion(), im.motion);
+                        });
                         if (!s) return s.error();
                         ++st.rendered;
                         for (int e = 0; e < 2; ++e) eyes[e].fov = scenes::atriumFov(ao, e);

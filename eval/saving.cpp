@@ -147,32 +147,15 @@ public:
             it = apps_.emplace(std::pair(w, h), std::move(*app)).first;
         }
         HostStereoApp& app = *it->second;
-        layers::Swapchain* sc[3] = {&app.color(), app.depth(), app.motion()};
-        uint32_t idx[3];
-        for (int i = 0; i < 3; ++i) {
-            auto a = sc[i]->acquire();
-            if (!a) return a.error();
-            idx[i] = *a;
-            if (Status s = sc[i]->wait(); !s) return s;
-        }
-        const auto t0 = std::chrono::steady_clock::now();
-        Status s = renderer_->renderViews(t, prevT, fovs, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
-        if (ms) *ms = std::isfinite(renderer_->lastGpuMs()) ? renderer_->lastGpuMs() : msSince(t0);
-        const layers::Format fmt[3] = {layers::Format::RGBA8_SRGB, layers::Format::D32F, layers::Format::RGBA16F};
-        for (uint32_t e = 0; e < 2 && s; ++e) {
-            HostImage* dst[3] = {&out.color[e], &out.depth[e], &out.motion[e].emplace()};
-            for (int i = 0; i < 3 && s; ++i) {
-                auto bytes = sc[i]->read(idx[i], e);
-                if (!bytes) {
-                    s = bytes.error();
-                    break;
-                }
-                *dst[i] = HostImage::make(fmt[i], w, h);
-                dst[i]->data = std::move(*bytes);
-            }
-        }
-        for (int i = 0; i < 3; ++i) (void)sc[i]->release();
-        return s;
+        return app.drawInPlace([&](const HostStereoApp::Images& im) {
+            const auto t0 = std::chrono::steady_clock::now();
+            Status s = renderer_->renderViews(t, prevT, fovs, app.color(), im.color, *app.depth(), im.depth,
+                                              *app.motion(), im.motion);
+            if (ms) *ms = std::isfinite(renderer_->lastGpuMs()) ? renderer_->lastGpuMs() : msSince(t0);
+            for (uint32_t e = 0; e < 2 && s; ++e)
+                s = app.readBack(im, e, out.color[e], &out.depth[e], &out.motion[e].emplace());
+            return s;
+        });
     }
 
 private:

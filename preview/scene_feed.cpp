@@ -138,21 +138,9 @@ Status SceneFeed::submit(std::span<Compositor* const> targets, uint64_t frameInd
         }
         // The atrium renders straight into this target's swapchain images (acquire, wait, render,
         // release), as a Vulkan application would.
-        layers::Swapchain* sc[3] = {&app.color(), app.depth(), app.motion()};
-        uint32_t idx[3] = {};
-        Status s;
-        int acquired = 0;
-        for (; acquired < 3 && s; ++acquired) {
-            auto i = sc[acquired]->acquire();
-            if (!i) {
-                s = i.error();
-                break;
-            }
-            idx[acquired] = *i;
-            s = sc[acquired]->wait();
-        }
-        if (s) s = atrium_->render(t, prevT, *sc[0], idx[0], *sc[1], idx[1], *sc[2], idx[2]);
-        for (int i = 0; i < acquired; ++i) (void)sc[i]->release();
+        Status s = app.drawInPlace([&](const HostStereoApp::Images& im) {
+            return atrium_->render(t, prevT, app.color(), im.color, *app.depth(), im.depth, *app.motion(), im.motion);
+        });
         if (!s) return s;
         if (Status e = target->endFrame(app.frameEnd(frameIndex, t, eyes)); !e) return e;
     }
