@@ -60,17 +60,9 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             const vec2 ipos = wrs_source_pos(p, ce.inset_map);
             float t = wrs_inset_weight(ipos, isize, ce.inset_motion.w);
             const vec4 wide = sourceBilinear(src.wideColor, wpos, ce.wide_color.z != 0u);
-            vec4 c = wide;
-            if (t > 0.0f) {
-                const vec4 inset = sourceBilinear(src.insetColor, ipos, ce.inset_color.z != 0u);
-                if (inset.w == 0.0f)
-                    t = 0.0f;
-                else if (wide.w == 0.0f)
-                    t = 1.0f;
-                else
-                    c = wrs_lerp_exact(wide, inset, t);
-                if (t == 1.0f) c = inset;
-            }
+            const vec4 inset = t > 0.0f ? sourceBilinear(src.insetColor, ipos, ce.inset_color.z != 0u) : vec4(0.0f);
+            t = wrs_quad_weight(t, inset.w != 0.0f, wide.w != 0.0f);
+            const vec4 c = wrs_quad_color(wide, inset, t);
             out.quality[std::size_t(y) * size.x + x] = wrs_quad_quality(ce.wide_motion.w, t);
             out.color.store(x, y, roundF16(c));
             const bool fromInset = t >= 0.5f;

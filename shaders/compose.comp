@@ -30,6 +30,9 @@ layout(set = 0, binding = 3) uniform sampler2D srcMotion[4];
 layout(set = 0, binding = 4) uniform usampler2D rateMap[2];
 layout(std430, set = 0, binding = 5) writeonly buffer Quality { float quality[]; };
 layout(std430, set = 0, binding = 6) readonly buffer SrgbTable { float srgb_table[256]; };
+// The group's copy of the sRGB table: each decoded tap reads it from shared memory, not from a buffer
+// load that depends on the texel fetch before it (as the pyramid pass does).
+shared float s_srgb[256];
 layout(set = 0, binding = 7, rgba16f) uniform writeonly image2DArray composedColor;
 layout(set = 0, binding = 8, r32f) uniform writeonly image2DArray composedDepth;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2DArray composedMotion;
@@ -38,7 +41,7 @@ layout(set = 0, binding = 9, rgba16f) uniform writeonly image2DArray composedMot
 vec4 source_texel(uint k, uvec2 q, uvec4 rect) {
     vec3 c = texelFetch(srcColor[k], ivec2(q + rect.xy), 0).rgb;
     if (rect.z != 0u)
-        c = vec3(srgb_table[wrs_srgb8_code(c.r)], srgb_table[wrs_srgb8_code(c.g)], srgb_table[wrs_srgb8_code(c.b)]);
+        c = vec3(s_srgb[wrs_srgb8_code(c.r)], s_srgb[wrs_srgb8_code(c.g)], s_srgb[wrs_srgb8_code(c.b)]);
     bool valid;
     c = wrs_sanitize_color(c, valid);
     return vec4(c, valid ? 1.0 : 0.0);
@@ -71,16 +74,12 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     vec2 wpos = wrs_source_pos(p, ce.wide_map);
     vec2 ipos = wrs_source_pos(p, ce.inset_map);
     float t = wrs_inset_weight(ipos, isize, ce.inset_motion.w);
-    vec4 wide = source_bilinear(eye, wpos, wsize, ce.wide_color);
-    vec4 c = wide;
-    if (t > 0.0) {
-        vec4 inset = source_bilinear(2u + eye, ipos, isize, ce.inset_color);
-        // A source with no valid tap leaves the pixel to the other one, at that one's quality.
-        if (inset.w == 0.0) t = 0.0;
-        else if (wide.w == 0.0) t = 1.0;
-        else c = wrs_lerp_exact(wide, inset, t);
-        if (t == 1.0) c = inset;
-    }
+    vec4 inset = t > 0.0 ? source_bilinear(2u + eye, ipos, isize, ce.inset_color) : vec4(0.0);
+    // Where the inset alone shows (and has a valid tap), the wide view is not read.
+    bool inset_only = t == 1.0 && inset.w != 0.0;
+    vec4 wide = inset_only ? vec4(0.0) : source_bilinear(eye, wpos, wsize, ce.wide_color);
+    t = wrs_quad_weight(t, inset.w != 0.0, wide.w != 0.0);
+    vec4 c = wrs_quad_color(wide, inset, t);
     float q = wrs_quad_quality(ce.wide_motion.w, t);
     quality[idx] = q;
     imageStore(composedColor, ivec3(p, eye), round_f16(c));
@@ -106,6 +105,8 @@ void main() {
     uvec2 p = gl_GlobalInvocationID.xy;
     uvec2 size = params.size.xy;
     if (gl_LocalInvocationIndex == 0u) tile_q = 0u;
+    if (KIND == 1u)
+        for (uint i = gl_LocalInvocationIndex; i < 256u; i += WRS_GROUP_X * WRS_GROUP_Y) s_srgb[i] = srgb_table[i];
     barrier();
     if (all(lessThan(p, size))) atomicMax(tile_q, floatBitsToUint(compose_pixel(eye, p, size)));
     barrier();

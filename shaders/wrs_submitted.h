@@ -72,6 +72,21 @@ WRS_FN float wrs_inset_weight(vec2 ipos, uvec2 isize, float inv_blend) {
     return min(t, 1.0f);
 }
 
+// The inset's weight once the sources' validity is known (t from wrs_inset_weight): a source with no
+// valid tap leaves the pixel to the other one, at that one's quality.
+WRS_FN float wrs_quad_weight(float t, bool inset_valid, bool wide_valid) {
+    if (!(t > 0.0f) || !inset_valid) return 0.0f;
+    if (!wide_valid) return 1.0f;
+    return t;
+}
+// The composed colour of the wide and the inset sample at weight t (wrs_quad_weight): either source
+// alone at 0 and 1, so that a pixel the inset covers needs no wide sample.
+WRS_FN vec4 wrs_quad_color(vec4 wide, vec4 inset, float t) {
+    if (t == 0.0f) return wide;
+    if (t == 1.0f) return inset;
+    return wrs_lerp_exact(wide, inset, t);
+}
+
 // Quality of a quad-view pixel: 1 where the inset alone shows, q_wide (the wide view's density over
 // the inset's, squared) where the wide view alone shows, linear across the blend.
 WRS_FN float wrs_quad_quality(float q_wide, float t) {
