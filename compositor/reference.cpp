@@ -6,6 +6,21 @@
 
 #include "shaders/wrs_submitted.h"
 
+// The candidate stage's bridge (shaders/wrs_candidate.h): an eye's pyramid as the reference stores it,
+// levels 0..WRS_LEVELS-1 at wrs_level_offset, each texel already rounded as the pyramid buffer stores it.
+namespace wrsfov::gpu {
+struct WrsPyramid {
+    const vec4* texels;
+    uvec2 size0;
+};
+inline vec4 wrs_pyr_texel(WrsPyramid s, uint level, uvec2 q) {
+    return s.texels[wrs_level_offset(s.size0, level) + q.y * wrs_level_size(s.size0, level).x + q.x];
+}
+inline uvec2 wrs_pyr_level_size(WrsPyramid s, uint level) { return wrs_level_size(s.size0, level); }
+inline vec2 wrs_pyr_level_scale(WrsPyramid s, uint level) { return wrs_level_scale(s.size0, level); }
+}  // namespace wrsfov::gpu
+#include "shaders/wrs_candidate.h"
+
 namespace wrsfov {
 
 using namespace gpu;
@@ -214,14 +229,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         }
 
         // Pass 2: foveate.
-        auto sampleLevel = [&](uint level, uvec2 p) {
-            if (level == 0u) return at(0u, p);
-            uvec2 sl = wrs_level_size(size0, level);
-            uvec2 i0, i1;
-            vec2 f = wrs_bilinear_setup(p, wrs_level_scale(size0, level), sl, i0, i1);
-            return wrs_bilinear(at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)),
-                                at(level, i1), f);
-        };
+        const WrsPyramid pyramid{pyr.data(), size0};
         cand_[eye].assign(std::size_t(W) * H, vec4(0.0f));
         out_[eye] = HostImage::make(layers::Format::RGBA8, W, H);
         for (uint y = 0; y < H; ++y)
@@ -231,12 +239,9 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 float e = wrs_eccentricity_deg(ray, vec3(ep.gaze));
                 float r_f = ep.gaze.w;
                 vec3 lv = wrs_foveation_levels(mode, e, r_f, params.tuning.x);
-                vec4 c = sampleLevel(uint(lv.x), p);
-                if (lv.z > 0.0f) c = wrs_blend(c, sampleLevel(uint(lv.y), p), lv.z);
-                bool valid = at(0u, p).w > 0.5f;
-                float w = valid ? wrs_sample_weight(e, r_f) : 0.0f;
-                cand_[eye][y * W + x] = vec4(vec3(c), w);
-                glm::u8vec4 o = encodeOutput(vec3(c));
+                const WrsCandidate c = wrs_candidate_at(pyramid, mode, p, at(0u, p), lv, e, r_f, 0.0f, false);
+                cand_[eye][y * W + x] = vec4(c.color, c.w);
+                glm::u8vec4 o = encodeOutput(c.color);
                 std::memcpy(out_[eye].data.data() + (std::size_t(y) * W + x) * 4, &o, 4);
             }
         if (!wrs && !taa && !retain) continue;
@@ -345,19 +350,6 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     skip[ty * tiles.x + tx] = wrs_tile_skips(cls, sourceHeld(t), params.tuning.w);
                 }
             auto tileOf = [&](uvec2 q) { return std::size_t(q.y / WRS_TILE) * tiles.x + q.x / WRS_TILE; };
-            auto sampleRange = [&](uint level, uvec2 p, vec3& lo, vec3& hi, float& arange) {
-                if (level == 0u) {
-                    vec4 c = at(0u, p);
-                    arange = wrs_taps_range(c, c, c, c, lo, hi);
-                    return c;
-                }
-                uvec2 sl = wrs_level_size(size0, level);
-                uvec2 i0, i1;
-                vec2 f = wrs_bilinear_setup(p, wrs_level_scale(size0, level), sl, i0, i1);
-                vec4 t[4] = {at(level, i0), at(level, uvec2(i1.x, i0.y)), at(level, uvec2(i0.x, i1.y)), at(level, i1)};
-                arange = wrs_taps_range(t[0], t[1], t[2], t[3], lo, hi);
-                return wrs_bilinear(t[0], t[1], t[2], t[3], f);
-            };
             trace_[eye].assign(std::size_t(W) * H, Trace{});
             for (uint y = 0; y < H; ++y)
                 for (uint x = 0; x < W; ++x) {
@@ -369,19 +361,9 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     float e = wrs_eccentricity_deg(ray, vec3(ep.gaze));
                     float r_f = ep.gaze.w;
                     vec3 lv = wrs_foveation_levels(mode, e, r_f, params.tuning.x);
-                    RetainInput c;
-                    c.lo = vec3(WRS_HALF_MAX);
-                    c.hi = vec3(0.0f);
-                    float unused;
-                    vec4 col = sampleRange(uint(lv.x), p, c.lo, c.hi, unused);
-                    if (lv.z > 0.0f) col = wrs_blend(col, sampleRange(uint(lv.y), p, c.lo, c.hi, unused), lv.z);
-                    vec4 ref = at(0u, p);
-                    bool valid = ref.w > 0.5f;
-                    c.color = vec3(col);
+                    const vec4 ref = at(0u, p);
                     const float q_sub = mode == WRS_FOV_SUBMITTED ? in.quality[idx] : 0.0f;
-                    c.q = wrs_candidate_quality(mode, lv, e, r_f, q_sub, valid);
-                    vec3 flo(0.0f), fhi(0.0f);
-                    c.fp = sampleRange(WRS_FP_LEVEL, p, flo, fhi, c.fp_range).w;
+                    RetainInput c = wrs_retain_input(wrs_candidate_at(pyramid, mode, p, ref, lv, e, r_f, q_sub, true));
                     c.z = hasDepth ? zlin[idx] : 0.0f;
                     c.q_floor = params.tuning.w;
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);

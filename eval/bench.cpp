@@ -324,14 +324,13 @@ double median(std::vector<double> v) {
 double mseFromPsnr(double p) { return std::isinf(p) ? 0.0 : std::pow(10.0, -p / 10.0); }
 double psnrFromMse(double m) { return m <= 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(1.0 / m); }
 
-// Fraction of full-rate shading: each pixel costs 1/4^level of its blended pyramid levels.
+// Fraction of full-rate shading: each pixel costs the quality of its blended pyramid levels
+// (wrs_level_quality: 1/4^level, blended).
 double shadingFraction(FoveationMode mode, const cv::Mat& ecc, float rf, float rm) {
     double sum = 0;
     for (int y = 0; y < ecc.rows; ++y)
-        for (int x = 0; x < ecc.cols; ++x) {
-            glm::vec3 lv = gpu::wrs_foveation_levels(uint32_t(mode), ecc.at<float>(y, x), rf, rm);
-            sum += std::pow(4.0, -lv.x) * (1.0 - lv.z) + std::pow(4.0, -lv.y) * lv.z;
-        }
+        for (int x = 0; x < ecc.cols; ++x)
+            sum += gpu::wrs_level_quality(gpu::wrs_foveation_levels(uint32_t(mode), ecc.at<float>(y, x), rf, rm));
     return sum / double(ecc.total());
 }
 

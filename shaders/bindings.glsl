@@ -102,6 +102,16 @@ vec4 pyr_unpack(uvec2 h) { return vec4(unpackHalf2x16(h.x), unpackHalf2x16(h.y))
 vec4 pyr_read(uint eye, uint level, uvec2 q) { return pyr_unpack(pyramid[pyramid_index(eye, level, q)]); }
 void pyr_write(uint eye, uint level, uvec2 q, uvec2 packed_texel) { pyramid[pyramid_index(eye, level, q)] = packed_texel; }
 
+// The candidate stage's bridge (wrs_candidate.h): an eye's pyramid is the pyramid buffer's levels of it.
+struct WrsPyramid {
+    uint eye;
+};
+WrsPyramid eye_pyramid(uint eye) { return WrsPyramid(eye); }
+vec4 wrs_pyr_texel(WrsPyramid s, uint level, uvec2 q) { return pyr_read(s.eye, level, q); }
+uvec2 wrs_pyr_level_size(WrsPyramid s, uint level) { return level_size(level); }
+vec2 wrs_pyr_level_scale(WrsPyramid s, uint level) { return frame.level_scale[level].xy; }
+#include "wrs_candidate.h"
+
 // Level 0 at pixel p of the eye's rectangle: linear RGB, sanitized, validity (1 or 0) in alpha.
 // The sRGB table it decodes with: the buffer, or a pass's copy of it in shared memory (a pass that
 // defines WRS_SRGB_TABLE before including this file fills that copy before its first load_color).

@@ -23,23 +23,6 @@ layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1)
 
 shared uint group_held;
 
-// Bilinear sample of `level` at the centre of pixel p; widens [lo, hi] by the four taps' colours and
-// returns their alpha range in `arange` (the L* range at the fingerprint level).
-// `level0`: the pixel's own decoded colour (load_color), read once per pixel.
-vec4 sample_level(uint eye, uint level, uvec2 p, vec4 level0, inout vec3 lo, inout vec3 hi, out float arange) {
-    if (level == 0u) {
-        arange = wrs_taps_range(level0, level0, level0, level0, lo, hi);
-        return level0;
-    }
-    uvec2 sl = level_size(level);
-    uvec2 i0, i1;
-    vec2 f = wrs_bilinear_setup(p, frame.level_scale[level].xy, sl, i0, i1);
-    vec4 c00 = pyr_read(eye, level, i0), c10 = pyr_read(eye, level, uvec2(i1.x, i0.y));
-    vec4 c01 = pyr_read(eye, level, uvec2(i0.x, i1.y)), c11 = pyr_read(eye, level, i1);
-    arange = wrs_taps_range(c00, c10, c01, c11, lo, hi);
-    return wrs_bilinear(c00, c10, c01, c11, f);
-}
-
 // The stored sample at pixel q of the previous frame, as a tracked lookup reads it.
 uvec4 history_tap(uint eye, uvec2 q) {
     if (SPARSE && tile_held[frame.held.x + tile_index(eye, q / WRS_TILE)] == 0u) return wrs_floor_sample(frame.tuning.w);
@@ -52,29 +35,12 @@ float retain_pixel(uint eye, uvec2 p) {
     EyeParams ep = frame.eye[eye];
     uint idx = pixel_index(eye, p);
 
-    // Candidate: foveated colour, quality and the range of the taps it came from.
+    // Candidate: foveated colour, quality, the range of the taps it came from and the fingerprint.
     float e;
-    float r_f = ep.gaze.w;
     vec3 lv = pixel_levels(TILE, FOV_MODE, eye, p, e);
-    RetainInput c;
-    c.lo = vec3(WRS_HALF_MAX);
-    c.hi = vec3(0.0);
-    float range_a, range_b;
     vec4 ref = load_color(eye, p);
-    vec4 col_a = sample_level(eye, uint(lv.x), p, ref, c.lo, c.hi, range_a);
-    vec4 col = col_a;
-    if (lv.z > 0.0) col = wrs_blend(col_a, sample_level(eye, uint(lv.y), p, ref, c.lo, c.hi, range_b), lv.z);
-    bool valid = ref.a > 0.5;
-    c.color = col.rgb;
     float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality[idx] : 0.0;
-    c.q = wrs_candidate_quality(FOV_MODE, lv, e, r_f, q_sub, valid);
-    if (uint(lv.x) == WRS_FP_LEVEL) {  // the far periphery samples the fingerprint level already
-        c.fp = col_a.a;
-        c.fp_range = range_a;
-    } else {
-        vec3 flo = vec3(0.0), fhi = vec3(0.0);
-        c.fp = sample_level(eye, WRS_FP_LEVEL, p, ref, flo, fhi, c.fp_range).a;
-    }
+    RetainInput c = wrs_retain_input(wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, ref, lv, e, ep.gaze.w, q_sub, true));
     c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
     c.q_floor = frame.tuning.w;
 
