@@ -356,7 +356,10 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     uvec2 p(x, y);
                     std::size_t idx = std::size_t(y) * W + x;
                     // A skipped tile: the candidate (the foveate pass's output above), nothing stored.
-                    if (skip[tileOf(p)]) continue;
+                    if (skip[tileOf(p)]) {
+                        trace_[eye][idx].skipped = true;
+                        continue;
+                    }
                     vec3 ray = wrs_pixel_ray(x, y, W, H, ep.fov_tan);
                     float e = wrs_eccentricity_deg(ray, vec3(ep.gaze));
                     float r_f = ep.gaze.w;

@@ -43,6 +43,8 @@ public:
         /// wrs: the lookup found no sample, but a kept sample within a pixel (a gap between unevenly
         /// drifted samples, wrs_track_gap) is shown; the candidate is stored.
         bool gapShown = false;
+        /// Sparse retention skipped the pixel's tile: it shows its candidate and stores nothing.
+        bool skipped = false;
     };
 
     explicit Reference(const CompositorConfig& config) : config_(config) {}

@@ -15,6 +15,7 @@
 #include <cstdio>
 
 #include "compositor/host_app.h"
+#include "compositor/reference.h"
 #include "eval/chart.h"
 #include "eval/metrics.h"
 #include "scenes/atrium.h"
@@ -179,7 +180,56 @@ struct Run {
     int scored = 0;
     double pixelSum = 0;  // over the frames: pixels (or shaded samples) rendered
     int frames = 0;
+    std::unique_ptr<Reference> ref;  // SavingOptions::outcomes
+    SavingOutcomes outcomes;
+    std::array<std::vector<glm::uvec4>, 2> history;  // the compositor's reservoirs after the last frame
+    std::array<std::vector<float>, 2> held;          // and its held qualities
 };
+
+// SavingOptions::outcomes: steps the run's reference on the frame its compositor just composed (the same
+// composed inputs: composeQuadViews of the same sources and parameters), from the compositor's own
+// history of the frame before (its reservoirs and held qualities, read back before the frame), so that
+// the outcomes counted are the compositor's decisions and a near-threshold difference does not carry
+// into later frames. On a scored frame it counts each evaluated pixel's outcome by whether its history
+// was sharper than the wide views' quality (the lowest a quad-view frame has), and the reservoirs where
+// the reference and the compositor disagree.
+Status tallyOutcomes(Run& r, const std::array<QuadSources, 2>& sources, const std::array<const HostImage*, 2>& full,
+                     int evalEyes, bool scored) {
+    std::array<Reference::EyeInput, 2> in;
+    for (uint32_t e = 0; e < 2; ++e) {
+        in[e] = composeQuadViews(r.comp->lastComposeParams(), e, sources[e]);
+        if (isOracle(r.method)) in[e].reference = *full[e];
+        if (r.frames > 1) r.ref->setHistory(e, r.history[e], r.held[e]);
+    }
+    r.ref->step(r.comp->lastParams(), in);
+    for (uint32_t e = 0; e < 2; ++e) {
+        auto res = r.comp->readReservoirs(e);
+        if (!res) return res.error();
+        auto held = r.comp->readTileHeld(e);
+        if (!held) return held.error();
+        const std::vector<glm::uvec4>& cpu = r.ref->reservoirs(e);
+        if (scored && int(e) < evalEyes) {
+            const float floorQ = r.comp->lastComposeParams().eye[e].wide_motion.w;
+            const float sharper = floorQ * (1.0f + gpu::WRS_Q_EQUAL);
+            const auto& trace = r.ref->trace(e);
+            for (std::size_t i = 0; i < trace.size(); ++i) {
+                const Reference::Trace& t = trace[i];
+                const bool sharp = t.hadHistory && t.source < r.history[e].size() &&
+                                   gpu::wrs_unpack_tracked(r.history[e][t.source]).q > sharper;
+                const int cls = !sharp ? 0 : in[e].quality[i] > sharper ? 1 : 2;
+                const uint32_t k = t.skipped ? SavingOutcomes::kOutcomes - 1 : t.outcome;
+                if (k < uint32_t(SavingOutcomes::kOutcomes)) ++r.outcomes.count[cls][k];
+                if (t.gapShown) ++r.outcomes.gapShown;
+            }
+            for (std::size_t i = 0; i < cpu.size() && i < res->size(); ++i)
+                if (cpu[i] != (*res)[i]) ++r.outcomes.differing;
+            r.outcomes.reservoirs += cpu.size();
+        }
+        r.history[e] = std::move(*res);
+        r.held[e] = std::move(*held);
+    }
+    return {};
+}
 
 double mseFromPsnr(double p) { return std::isinf(p) ? 0.0 : std::pow(10.0, -p / 10.0); }
 double psnrFromMse(double m) { return m <= 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(1.0 / m); }
@@ -330,6 +380,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             }
             if (in != SavingInput::Full && isOracle(m))
                 r.reference = swapchain(comp, layers::Usage::Color, layers::Format::RGBA8_SRGB, W, H, st);
+            if (so.outcomes && quad && (m == Method::Wrs || m == Method::Oracle)) r.ref = std::make_unique<Reference>(cfg);
             if (!st) return st;
             for (int e = 0; e < evalEyes && so.jod; ++e) {
                 auto j = makeJodMetric(ctx, jodOptions(o, scene, W, H, tangents(fullFov[e]), info.fps));
@@ -480,6 +531,18 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
                 return savingError(std::string(toString(r.input)) + " " + std::string(toString(r.method)) + " at " +
                                    std::to_string(r.insetDeg) + "°, frame " + std::to_string(f) + ": " + es.message());
             r.frames++;
+            if (r.ref) {
+                const Views& in = insets.at(r.insetDeg).first;
+                std::array<QuadSources, 2> src;
+                for (uint32_t eye = 0; eye < 2; ++eye) {
+                    const uint32_t e = o.monitor ? 0u : eye;
+                    src[eye] = {wide.color[e], std::nullopt, std::nullopt, in.color[e], std::nullopt, std::nullopt};
+                    if (r.depth) src[eye].wideDepth = wide.depth[e], src[eye].insetDepth = in.depth[e];
+                    if (r.motion) src[eye].wideMotion = wide.motion[e], src[eye].insetMotion = in.motion[e];
+                }
+                const uint32_t e1 = o.monitor ? 0u : 1u;
+                if (Status ts = tallyOutcomes(r, src, {&eyes[0].color, &eyes[e1].color}, evalEyes, scored); !ts) return ts;
+            }
             if (r.input == SavingInput::Full) r.pixelSum += evalEyes * double(W) * H;
             if (f >= o.warmup) r.composeMs.push_back(r.comp->stats().gpu.total);
             if (!scored) continue;
@@ -513,6 +576,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         row.insetDeg = r.insetDeg;
         row.pixelsRendered = r.frames ? r.pixelSum / r.frames : 0.0;
         row.composeMs = median(r.composeMs);
+        if (r.ref) row.outcomes = r.outcomes;
         if (atriumViews && r.input == SavingInput::Full) row.renderMs = median(fullRenderMs);
         if (atriumViews && r.input == SavingInput::Quad) row.renderMs = median(wideRenderMs) + median(insetRenderMs[r.insetDeg]);
         const double n = double(std::max(1, r.scored * evalEyes));
@@ -700,6 +764,51 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
        << "); compose ms: the compositor's time per frame (PassTimes::total, with the compose pass); JOD and near-gaze "
           "PSNR against the full-resolution render; η: (MSE_fov − MSE) / (MSE_fov − MSE_oracle) for the same input and "
           "inset (n/a where the oracle removes less than 1 % of fov's MSE).\n";
+
+    // Retention outcomes (SavingOptions::outcomes).
+    static constexpr const char* kOutcomeNames[SavingOutcomes::kOutcomes] = {
+        "fresh", "changed", "better", "kept", "merged", "outside", "floor", "skipped"};
+    static constexpr const char* kClassNames[SavingOutcomes::kClasses] = {"floor history", "inset still there",
+                                                                          "inset left"};
+    bool anyOutcomes = false;
+    for (const SavingRow& r : rows) anyOutcomes = anyOutcomes || r.outcomes.has_value();
+    if (anyOutcomes) {
+        std::ofstream csv(dir + "/outcomes.csv");
+        if (!csv) return savingError("cannot write " + dir + "/outcomes.csv");
+        csv << "scene,input,method,inset_deg,class,outcome,pixels\n";
+        md << "\n## Retention outcomes\n\n"
+              "What the rule did at each pixel of the scored frames (the CPU reference stepped beside the compositor on "
+              "the same composed frames from the compositor's own history, `--outcomes`), per class of pixel: its "
+              "history at the wide views' quality or none (**floor history**); a history sharper than that where the "
+              "candidate is sharper too (**inset still there**); a sharper history where the candidate is the wide "
+              "views' (**inset left**: where retention can gain). Outcomes (WRS_OUT_*, shaders/wrs_common.h): fresh "
+              "(no usable history), changed (the change test dropped the history), better (the candidate is sharper), "
+              "kept (the history is sharper, or the oracle kept it), merged and outside (equal quality: merged, "
+              "clipped first), floor (a floor-quality history against a floor-quality candidate: the candidate, by the "
+              "floor rule), skipped (a far tile sparse retention skipped: the candidate).\n\n";
+        md << "| method | inset | class | pixels |";
+        for (const char* n : kOutcomeNames) md << ' ' << n << " |";
+        md << " reference ≠ GPU |\n|---|---|---|---|";
+        for (int k = 0; k < SavingOutcomes::kOutcomes; ++k) md << "---|";
+        md << "---|\n";
+        for (const SavingRow& r : rows) {
+            if (!r.outcomes) continue;
+            const SavingOutcomes& oc = *r.outcomes;
+            for (int h = 0; h < SavingOutcomes::kClasses; ++h) {
+                uint64_t total = 0;
+                for (uint64_t c : oc.count[h]) total += c;
+                md << "| " << toString(r.method) << " | " << fmt("%.1f°", r.insetDeg) << " | " << kClassNames[h] << " | "
+                   << total << " |";
+                for (int k = 0; k < SavingOutcomes::kOutcomes; ++k) {
+                    md << ' ' << fmt("%.1f %%", total ? 100.0 * double(oc.count[h][k]) / double(total) : NAN) << " |";
+                    csv << toString(r.scene) << ',' << toString(r.input) << ',' << toString(r.method) << ',' << r.insetDeg
+                        << ',' << kClassNames[h] << ',' << kOutcomeNames[k] << ',' << oc.count[h][k] << '\n';
+                }
+                md << ' ' << (h == 0 ? std::to_string(oc.differing) + " of " + std::to_string(oc.reservoirs) : std::string())
+                   << " |\n";
+            }
+        }
+    }
 
     // JOD against the cost, one curve per method: render time where the scene has it, else pixels.
     std::vector<Series> series;

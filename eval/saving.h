@@ -5,7 +5,10 @@
 // render and composition time, FovVideoVDP JOD, near-gaze PSNR and retention efficiency.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -41,6 +44,27 @@ struct SavingOptions {
     /// (`wrsfov-bench --saving --no-jod`) the rows keep pixels, times and near-gaze PSNR, and there is no
     /// headline or plot: a cell for the render and composition times at sizes where JOD costs too much.
     bool jod = true;
+    /// Retention outcomes (`wrsfov-bench --saving --outcomes`): the CPU reference steps beside each quad-view
+    /// composition of `wrs` and the oracle on the same composed frames, and counts over the scored frames
+    /// what the rule did at each pixel (WRS_OUT_*), split by whether the pixel's history held a sample
+    /// sharper than the frame's floor quality (the inset's, once the inset moved on). outcomes.csv and a
+    /// table in saving.md. The CPU reference costs about as much as the study at the main job's sizes.
+    bool outcomes = false;
+};
+
+/// Retention outcomes of one composition (SavingOptions::outcomes): pixel counts over the scored frames
+/// (evaluated eyes), per class of pixel and per outcome: WRS_OUT_FRESH .. WRS_OUT_FLOOR, then `skipped`
+/// (a far tile that sparse retention skipped: the candidate, nothing stored).
+struct SavingOutcomes {
+    static constexpr int kOutcomes = 8;
+    /// Classes: the history was at the wide views' quality or none (0); sharper, and the candidate is
+    /// sharper than the wide views too: the inset is still there (1); sharper, and the candidate is the
+    /// wide views': the inset has left the pixel (2). Class 2 is where retention can gain.
+    static constexpr int kClasses = 3;
+    std::array<std::array<uint64_t, kOutcomes>, kClasses> count{};
+    uint64_t gapShown = 0;        ///< pixels where a gap's kept sample was shown (wrs_track_gap)
+    uint64_t differing = 0;       ///< reservoirs where the reference and the GPU disagree
+    uint64_t reservoirs = 0;      ///< reservoirs compared
 };
 
 struct SavingRow {
@@ -61,6 +85,8 @@ struct SavingRow {
     double nearGazePsnr = std::numeric_limits<double>::quiet_NaN();
     double mse = std::numeric_limits<double>::quiet_NaN();
     double eta = std::numeric_limits<double>::quiet_NaN();
+    /// SavingOptions::outcomes, quad views with `wrs` or the oracle only.
+    std::optional<SavingOutcomes> outcomes;
 };
 
 /// Runs the study on one scene (text or atrium). Fails with a message when a scene, compositor or frame

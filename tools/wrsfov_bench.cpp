@@ -459,6 +459,10 @@ int main(int argc, char** argv) {
     cli::option(app, "--wide-scale", savingOptions.wideScale, cli::number<float>(0, 1, cli::Ends::OpenLow),
                 "--saving: the wide views' pixel density relative to the display's (default 0.4, i.e. 1/2.5).");
     app.add_flag("--no-rate", noRate, "--saving: quad views only, no shading-rate rows.");
+    app.add_flag("--outcomes", savingOptions.outcomes,
+                 "--saving: count what the retention rule did at each pixel (kept, changed, merged, ...) for wrs and "
+                 "the oracle on quad views, by whether the history was sharper than the floor: the CPU reference steps "
+                 "beside each composition (as costly again as the study). outcomes.csv and a table in saving.md.");
     cli::listOption(app, "--rate-degs", savingOptions.rateDegs, cli::list(cli::number<float>(0, 170, cli::Ends::OpenLow)),
                 "--saving: the shading-rate rows' 1x1-region diameters in degrees (default: --inset-degs).")
         ->type_name("DEG,...");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -119,6 +120,72 @@ TEST_F(Saving, PhotoQuadViewsWithoutJod) {
     EXPECT_NE(headline.find("no JOD"), std::string::npos) << headline;
     EXPECT_TRUE(std::filesystem::exists(dir + "/saving.csv"));
     EXPECT_FALSE(std::filesystem::exists(dir + "/saving.png"));
+}
+
+// The retention outcomes (--outcomes): the CPU reference stepped beside `wrs` and the oracle on quad views
+// counts every evaluated pixel of every scored frame once, agrees with the compositor's reservoirs, and
+// finds the inset's samples (a history sharper than the floor) among them; the report lists them.
+TEST_F(Saving, OutcomesCountEveryScoredPixelAndTheReferenceAgrees) {
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 96;
+    o.height = 96;
+    o.hmdFovDeg = 40.0f;
+    o.frames = 10;
+    o.warmup = 3;
+    o.jodFrames = 4;
+    o.path = scenes::CameraPath::Lateral;  // depth and motion in both sources
+    so.insetDegs = {10.0f};
+    so.rate = false;
+    so.jod = false;
+    so.outcomes = true;
+    so.methods = {Method::Fov, Method::Wrs, Method::Oracle};
+    auto rows = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    ASSERT_EQ(rows->size(), 4u);
+    const uint64_t pixels = 4ull * 2 * 96 * 96;  // scored frames x eyes x pixels
+    for (const eval::SavingRow& r : *rows) {
+        SCOPED_TRACE(std::string(toString(r.input)) + " " + std::string(toString(r.method)));
+        if (r.method == Method::Fov) {
+            EXPECT_FALSE(r.outcomes.has_value()) << "only retention has outcomes";
+            continue;
+        }
+        ASSERT_TRUE(r.outcomes.has_value());
+        const eval::SavingOutcomes& oc = *r.outcomes;
+        uint64_t total = 0;
+        for (const auto& cls : oc.count)
+            for (uint64_t c : cls) total += c;
+        const auto sum = [](const auto& cls) { uint64_t n = 0; for (uint64_t c : cls) n += c; return n; };
+        EXPECT_EQ(total, pixels);
+        EXPECT_EQ(oc.reservoirs, pixels);
+        EXPECT_GT(sum(oc.count[1]), 0u) << "the inset's samples where the inset still is";
+        EXPECT_GT(sum(oc.count[2]), 0u) << "and where it has left: the head moves";
+        EXPECT_GT(sum(oc.count[0]), sum(oc.count[1]) + sum(oc.count[2])) << "most of a 40° view is the wide views'";
+        // Where the inset still is, its candidate has the history's quality: never dropped as a change of
+        // quality, and under sparse retention never skipped (such a tile is not rendered at the floor only).
+        EXPECT_EQ(oc.count[1][7], 0u);
+        if (r.method == Method::Wrs) {
+            EXPECT_EQ(oc.differing, 0u) << "the reference is the compositor's, decision for decision";
+            EXPECT_GT(oc.count[0][7], 0u) << "sparse retention skips far tiles rendered at the floor only";
+        } else {
+            // The oracle's comparisons of distances to the full-resolution reference flip near ties
+            // (Submitted.OraclesCompareWithTheFullResolutionReference).
+            EXPECT_LE(oc.differing, pixels / 100);
+        }
+    }
+    const std::string dir = std::filesystem::temp_directory_path() / "wrsfov_saving_outcomes_test";
+    std::filesystem::remove_all(dir);
+    ASSERT_TRUE(eval::writeSavingReport(*rows, so, dir, context().deviceName()).ok());
+    std::ifstream csv(dir + "/outcomes.csv");
+    std::string header, line;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "scene,input,method,inset_deg,class,outcome,pixels");
+    int n = 0;
+    while (std::getline(csv, line)) n++;
+    EXPECT_EQ(n, 2 * 3 * 8) << "wrs and the oracle, three classes, eight outcomes";
+    std::ifstream md(dir + "/saving.md");
+    const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("## Retention outcomes"), std::string::npos);
 }
 
 TEST_F(Saving, BadOptionsAreRefusedWithAMessage) {
