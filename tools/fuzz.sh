@@ -29,12 +29,14 @@ seed() {  # seed NAME HEXFILE...
 data=$root/tests/gaze/data
 seed standard "$data/eyetracker_descriptor.hex" "$data/eyetracker_report.hex"
 seed feature "$data/eyetracker_descriptor.hex" "$data/eyetracker_feature.hex"
-run() {  # run TARGET CORPUS MAX_LEN
+# The two targets run at the same time, one core each (each fuzzer is one process): their log follows.
+run() {  # run TARGET CORPUS MAX_LEN: in the background, its output in $build/TARGET.log
     echo "fuzz: $1 for $seconds s (corpus $2)"
     "$build/$1" -max_total_time="$seconds" -max_len="$3" -timeout=10 -rss_limit_mb=2048 \
-        -artifact_prefix="$build/artifacts/$1-" -print_final_stats=1 "$2"
+        -artifact_prefix="$build/artifacts/$1-" -print_final_stats=1 "$2" >"$build/$1.log" 2>&1 &
 }
 run fuzz_hid "$corpus" 8192
+hid_pid=$!
 # fuzz_text seeds: a selector byte (fuzz_text.cpp: sequence.json; gaze.csv of 3 frames; project
 # CSV, Pupil Labs, Tobii recordings), then the file.
 text=$build/corpus_text
@@ -45,3 +47,15 @@ seeds=$root/fuzz/seeds
 { printf '\012'; cat "$data/pupil_gaze_positions.csv"; } >"$text/pupil"
 { printf '\016'; cat "$data/tobii_export.tsv"; } >"$text/tobii"
 run fuzz_text "$text" 16384
+text_pid=$!
+hid_rc=0 text_rc=0
+wait "$hid_pid" || hid_rc=$?
+wait "$text_pid" || text_rc=$?
+for t in fuzz_hid fuzz_text; do
+    echo "== $t"
+    cat "$build/$t.log"
+done
+if [ "$hid_rc" -ne 0 ] || [ "$text_rc" -ne 0 ]; then
+    echo "fuzz: a target failed (fuzz_hid: exit $hid_rc, fuzz_text: exit $text_rc); inputs in $build/artifacts/" >&2
+    exit 1
+fi

@@ -43,10 +43,23 @@ vulkan_scripts="(_cli|_cli_faults|bench_quick)$"
 rounding_variants="Rounding\.EveryPermittedRounding"
 ASAN_OPTIONS="detect_leaks=1:$asan" \
     ctest --test-dir build-asan --output-on-failure -j 2 --timeout 900 -LE gpu -E "$vulkan_scripts"
+# The command-line scripts without the gpu label (two short ones) run beside the GPU suites rather than
+# after them, so that neither waits on the other's last test; their log follows the suites'.
+scripts_log=build-asan/scripts-ctest.log
 ASAN_OPTIONS="detect_leaks=0:$asan" \
-    ctest --test-dir build-asan --output-on-failure -j 2 --timeout 900 -L gpu -E "$rounding_variants"
+    ctest --test-dir build-asan --output-on-failure -j 1 --timeout 900 -LE gpu -R "$vulkan_scripts" > "$scripts_log" 2>&1 &
+scripts_pid=$!
+gpu_rc=0
 ASAN_OPTIONS="detect_leaks=0:$asan" \
-    ctest --test-dir build-asan --output-on-failure -j 2 --timeout 900 -LE gpu -R "$vulkan_scripts"
+    ctest --test-dir build-asan --output-on-failure -j 2 --timeout 900 -L gpu -E "$rounding_variants" || gpu_rc=$?
+scripts_rc=0
+wait "$scripts_pid" || scripts_rc=$?
+echo "== the command-line scripts (without the gpu label), run beside the GPU suites:"
+cat "$scripts_log"
+if [ "$gpu_rc" -ne 0 ] || [ "$scripts_rc" -ne 0 ]; then
+  echo "== sanitizer stage failed (GPU suites: exit $gpu_rc, command-line scripts: exit $scripts_rc)"
+  exit 1
+fi
 
 echo "== [3/3] fuzz targets, ${WRSFOV_FUZZ_SECONDS:-30} s each"
 bash tools/fuzz.sh "${WRSFOV_FUZZ_SECONDS:-30}"

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <random>
@@ -20,6 +21,22 @@
 #include "layers/frame.h"
 
 namespace wrsfov::test {
+
+/// Built with the sanitizers (tests/CMakeLists.txt). There the host code is what is checked, and a
+/// sweep over shader variants that share one host path keeps its first variant (sanitizedSweep); the
+/// release build runs them all against the reference.
+#ifdef WRSFOV_SANITIZED
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+/// The values a sweep runs: all of them, or in a sanitizer build only the first.
+template <typename T>
+std::vector<T> sanitizedSweep(std::initializer_list<T> values) {
+    std::vector<T> v(values);
+    if (kSanitized && v.size() > 1) v.resize(1);
+    return v;
+}
 
 /// The test program's Vulkan context (created on first use; aborts the test if none).
 vk::Context& context();
