@@ -724,6 +724,34 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
         }
         head << "\n";
     }
+    // Where the inset left a pixel, how often `wrs` kept the inset's sample; and how often the oracle kept
+    // an older sample of the wide views (a pick among aliased samples that a quality-respecting rule
+    // does not make): at the largest inset with outcomes.
+    const SavingRow *wrsOc = nullptr, *oracleOc = nullptr;
+    for (const SavingRow& r : rows) {
+        if (!r.outcomes || r.input != SavingInput::Quad) continue;
+        if (r.method == Method::Wrs && (!wrsOc || r.insetDeg >= wrsOc->insetDeg)) wrsOc = &r;
+        if (r.method == Method::Oracle && (!oracleOc || r.insetDeg >= oracleOc->insetDeg)) oracleOc = &r;
+    }
+    auto share = [](const SavingOutcomes& oc, int cls, uint32_t outcome) {
+        uint64_t n = 0;
+        for (uint64_t c : oc.count[cls]) n += c;
+        return n ? double(oc.count[cls][outcome]) / double(n) : std::numeric_limits<double>::quiet_NaN();
+    };
+    if (wrsOc) {
+        const SavingOutcomes& w = *wrsOc->outcomes;
+        head << "- Retention outcomes at " << fmt("%.0f", wrsOc->insetDeg) << "° (`--outcomes`): where the inset has left a "
+             << "pixel, `wrs` keeps the inset's sample at " << fmt("%.1f", 100.0 * share(w, 2, gpu::WRS_OUT_KEPT))
+             << " % of them (the change test drops " << fmt("%.1f", 100.0 * share(w, 2, gpu::WRS_OUT_CHANGED)) << " %)";
+        if (oracleOc && oracleOc->insetDeg == wrsOc->insetDeg)
+            head << "; the oracle keeps " << fmt("%.1f", 100.0 * share(*oracleOc->outcomes, 2, gpu::WRS_OUT_KEPT))
+                 << " % there, and also keeps an older sample of the wide views at "
+                 << fmt("%.1f", 100.0 * share(*oracleOc->outcomes, 0, gpu::WRS_OUT_KEPT))
+                 << " % of the pixels whose history is the wide views' own: a pick among the wide views' samples "
+                    "of other frames by their distance to the full-resolution render, which a rule that keeps only "
+                    "sharper samples does not make";
+        head << ".\n";
+    }
     if (headline) *headline = head.str();
 
     std::ofstream md(dir + "/saving.md");
@@ -741,7 +769,7 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
        << (cpu ? " (a CPU: its times are the CPU's work, worth reading as ratios only)" : "") << ". Command: `wrsfov-bench --saving`"
        << " (docs/metrics.md, \"Rendering saved\").\n\n";
     md << "## Headline\n\n" << head.str() << "\n";
-    if (so.jod) {
+    if (so.jod && scene == SceneKind::Atrium) {
         md << "Goal: on the atrium at 12 px/deg or more, the inset `wrs` needs to match 30° without it is at most 10° (a "
               "ninth of the inset's pixels).";
         if (const SavingRow* base = row(SavingInput::Quad, Method::Fov, 30.0f)) {

@@ -22,8 +22,9 @@
 #                        the density, insets of 5-30 degrees on the gaze) and at gaze-centred shading rates
 #                        (atrium), composed with fov, wrs and the oracle: pixels, render and composition
 #                        time, JOD, near-gaze PSNR, eta, and the inset wrs needs to match fov's at 30 and 20
-#                        degrees (saving.md, saving.csv, saving.png). Short runs (0.5-0.7 s of gaze), to
-#                        keep the job's time; --frames 300 gives the full measure
+#                        degrees (saving.md, saving.csv, saving.png), and for the atrium what retention did
+#                        where the inset left (--outcomes: outcomes.csv). Short runs (0.5-0.7 s of gaze),
+#                        to keep the job's time; --frames 300 gives the full measure
 # The two cells also report FovVideoVDP JOD per method and the fovea each method at 5 degrees is worth
 # (the fov fovea of equal JOD, and of equal near-gaze PSNR; fov swept over 5-15 degrees), both over the
 # last 30 frames of the cell (fovea_worth.csv, table.md).
@@ -63,7 +64,7 @@ echo "== 4/6: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 3
   | grep --line-buffered -E '^\[|^wrsfov-bench'
 echo "== 5/6: rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
 "$bench" --saving --scenes atrium --hmd-fov 40 --size 504x504 --path lateral --frames 60 --warmup 10 --jod-frames 30 \
-  --inset-degs 5,10,20,30 --rate-degs 20 --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
+  --inset-degs 5,10,20,30 --rate-degs 20 --outcomes --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
 echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
 "$bench" --saving --scenes text --monitor --size 1024x768 --frames 45 --warmup 5 --jod-frames 30 \
   --inset-degs 5,10,20,30 --no-rate --out out/report/saving/text | grep --line-buffered -E '^saving|^wrsfov-bench'
@@ -83,7 +84,7 @@ echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
   echo "## rendering saved"
   echo
   for s in atrium text; do
-    sed -n '/^## Headline/,/^Goal/p' "out/report/saving/$s/saving.md" | sed '1d;$d'
+    sed -n '/^## Headline/,/^## Every composition/p' "out/report/saving/$s/saving.md" | sed '1d;$d'
   done
   echo
   for cell in monitor hmd; do
