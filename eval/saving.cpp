@@ -593,16 +593,19 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         }
         rows.push_back(row);
     }
-    // Retention efficiency against the oracle of the same input and inset.
+    // Retention efficiency against the oracle of the same input and inset, and against the retention oracle.
     for (SavingRow& row : rows) {
-        const SavingRow *fov = nullptr, *oracle = nullptr;
+        const SavingRow *fov = nullptr, *oracle = nullptr, *oracleQ = nullptr;
         for (const SavingRow& x : rows)
             if (x.input == row.input && x.insetDeg == row.insetDeg) {
                 if (x.method == Method::Fov) fov = &x;
                 if (x.method == Method::Oracle) oracle = &x;
+                if (x.method == Method::OracleQ) oracleQ = &x;
             }
         if (fov && oracle && fov->mse - oracle->mse > 0.01 * fov->mse)
             row.eta = (fov->mse - row.mse) / (fov->mse - oracle->mse);
+        if (fov && oracleQ && fov->mse - oracleQ->mse > 0.01 * fov->mse)
+            row.etaQ = (fov->mse - row.mse) / (fov->mse - oracleQ->mse);
     }
     return rows;
 }
@@ -705,7 +708,10 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
         const FoveaWorth oracle = insetForJod(rows, scene, Method::Oracle, base->jod);
         head << "- **" << toString(scene) << ", quad views: `wrs` matches composition alone at a " << target << "° inset ("
              << fmt("%.2f", base->jod) << " JOD) with an inset of " << toString(wrs) << "** (the oracle: "
-             << toString(oracle) << ").";
+             << toString(oracle);
+        if (!quadOf(Method::OracleQ).empty())
+            head << "; the retention oracle: " << toString(insetForJod(rows, scene, Method::OracleQ, base->jod));
+        head << ").";
         const QuadCost c = quadCost(quadWrs, wrs.deg);
         if (wrs.bound == FoveaWorth::Bound::Exact || wrs.bound == FoveaWorth::Bound::AtMost) {
             head << " Pixels rendered per frame: " << fmt("%.3f", c.pixels / 1e6) << " M against "
@@ -782,6 +788,10 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
             } else {
                 md << " **Not met on this cell**: `wrs` needs " << toString(wrs);
                 if (reached) md << ", " << fmt("%.1f", wrs.deg - 10.0) << "° more than the goal";
+                if (!quadOf(Method::OracleQ).empty())
+                    md << ". The retention oracle (`oracle-q`: a sharper sample kept exactly where it is nearer the "
+                          "full-resolution render, the bound of a rule that keeps sharper samples) needs "
+                       << toString(insetForJod(rows, scene, Method::OracleQ, base->jod));
                 md << ". The oracle, which keeps at each pixel whichever sample is nearer the full-resolution render "
                       "and so bounds any retention rule on these frames, needs "
                    << toString(oracle) << ": ";
@@ -798,15 +808,19 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
         md << "\n\n";
     }
     md << "## Every composition\n\n";
+    const bool hasEtaQ = !quadOf(Method::OracleQ).empty();
     md << "| input | method | inset | pixels rendered (M) | × full | render ms | × full | compose ms | JOD | "
-          "near-gaze PSNR (dB) | η |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "near-gaze PSNR (dB) | η |"
+       << (hasEtaQ ? " η_q |" : "") << "\n|---|---|---|---|---|---|---|---|---|---|---|" << (hasEtaQ ? "---|" : "") << "\n";
     for (const SavingRow& r : rows) {
         md << "| " << toString(r.input) << " | " << toString(r.method) << " | "
            << (r.input == SavingInput::Full ? std::string("–") : fmt("%.1f°", r.insetDeg)) << " | "
            << fmt("%.3f", r.pixelsRendered / 1e6) << " | " << fmt("%.3f", full ? r.pixelsRendered / full->pixelsRendered : NAN)
            << " | " << fmt("%.2f", r.renderMs) << " | " << fmt("%.2f", full ? r.renderMs / full->renderMs : NAN) << " | "
            << fmt("%.2f", r.composeMs) << " | " << fmt("%.2f", r.jod) << " | " << fmt("%.2f", r.nearGazePsnr) << " | "
-           << fmt("%.2f", r.eta) << " |\n";
+           << fmt("%.2f", r.eta) << " |";
+        if (hasEtaQ) md << ' ' << fmt("%.2f", r.etaQ) << " |";
+        md << "\n";
     }
     md << "\nColumns: pixels rendered per frame by the application (both eyes; quad: wide + inset; rate: shaded "
           "samples, one per block); render ms: the application's rendering per frame ("
@@ -816,7 +830,11 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
                      : "n/a: the scene is rendered on the CPU, and its cost is its pixels")
        << "); compose ms: the compositor's time per frame (PassTimes::total, with the compose pass); JOD and near-gaze "
           "PSNR against the full-resolution render; η: (MSE_fov − MSE) / (MSE_fov − MSE_oracle) for the same input and "
-          "inset (n/a where the oracle removes less than 1 % of fov's MSE).\n";
+          "inset (n/a where the oracle removes less than 1 % of fov's MSE)"
+       << (hasEtaQ ? "; η_q: the same against the retention oracle (`oracle-q`), the bound of a rule that keeps only "
+                     "sharper samples"
+                   : "")
+       << ".\n";
 
     // Retention outcomes (SavingOptions::outcomes).
     static constexpr const char* kOutcomeNames[SavingOutcomes::kOutcomes] = {

@@ -33,8 +33,9 @@ struct SavingOptions {
     /// The wide views' pixel density relative to the display's (the OpenXR specification's Varjo example:
     /// 14 px/deg against 35, 1 / 2.5).
     float wideScale = 0.4f;
-    /// Composed with each of these (fov: composition alone; the oracle bounds any retention rule).
-    std::vector<Method> methods{Method::Fov, Method::Wrs, Method::Oracle};
+    /// Composed with each of these (fov: composition alone; the oracle bounds any retention rule, the
+    /// retention oracle `oracle-q` any rule that keeps only sharper samples).
+    std::vector<Method> methods{Method::Fov, Method::Wrs, Method::Oracle, Method::OracleQ};
     /// Shading-rate rows too (fov and wrs only), at these 1x1-region diameters (empty: insetDegs).
     bool rate = true;
     std::vector<float> rateDegs;
@@ -85,6 +86,9 @@ struct SavingRow {
     double nearGazePsnr = std::numeric_limits<double>::quiet_NaN();
     double mse = std::numeric_limits<double>::quiet_NaN();
     double eta = std::numeric_limits<double>::quiet_NaN();
+    /// The same against the retention oracle (`oracle-q`: a sharper sample kept only where it is nearer the
+    /// full-resolution render, the bound of a rule that keeps only sharper samples), where the study ran it.
+    double etaQ = std::numeric_limits<double>::quiet_NaN();
     /// SavingOptions::outcomes, quad views with `wrs` or the oracle only.
     std::optional<SavingOutcomes> outcomes;
 };

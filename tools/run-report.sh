@@ -20,7 +20,7 @@
 #                        cell's density (12.6 px/deg, 504x504 over 40x40 degrees) and the text page at the
 #                        monitor's, each rendered at full resolution, as quad views (wide views at 0.4 of
 #                        the density, insets of 5-30 degrees on the gaze) and at gaze-centred shading rates
-#                        (atrium), composed with fov, wrs and the oracle: pixels, render and composition
+#                        (atrium), composed with fov, wrs, the oracle and oracle-q: pixels, render and composition
 #                        time, JOD, near-gaze PSNR, eta, and the inset wrs needs to match fov's at 30 and 20
 #                        degrees (saving.md, saving.csv, saving.png), and for the atrium what retention did
 #                        where the inset left (--outcomes: outcomes.csv). Short runs (0.5-0.7 s of gaze),

@@ -449,8 +449,8 @@ int main(int argc, char** argv) {
     app.add_flag("--saving", saving,
                  "What rendering foveated saves (docs/metrics.md, \"Rendering saved\"): the first scene (atrium or text) "
                  "rendered at full resolution, as quad views with an inset on the gaze (--inset-degs, wide views at "
-                 "--wide-scale of the display's density) and at gaze-centred shading rates, each composed with fov, wrs "
-                 "and the oracle (--methods, unless given), against the full-resolution render: pixels rendered, render "
+                 "--wide-scale of the display's density) and at gaze-centred shading rates, each composed with fov, wrs, "
+                 "the oracle and the retention oracle oracle-q (--methods, unless given), against the full-resolution render: pixels rendered, render "
                  "and composition time, JOD, near-gaze PSNR, eta. Writes saving.csv, saving.md and saving.png in --out.");
     cli::listOption(app, "--inset-degs", savingOptions.insetDegs, cli::list(cli::number<float>(0, 170, cli::Ends::OpenLow)),
                 "--saving: inset sizes across in degrees (quad views), and the 1x1 region's diameter (rate maps).")
@@ -544,7 +544,7 @@ int main(int argc, char** argv) {
     }
     if (saving) {
         if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
-        if (!methodsGiven) o.methods = {Method::Fov, Method::Wrs, Method::Oracle};
+        if (!methodsGiven) o.methods = {Method::Fov, Method::Wrs, Method::Oracle, Method::OracleQ};
         savingOptions.bench = o;
         savingOptions.methods = o.methods;
         savingOptions.rate = !noRate;

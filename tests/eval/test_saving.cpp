@@ -29,10 +29,10 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
     o.path = scenes::CameraPath::Lateral;
     so.insetDegs = {10.0f, 20.0f};
     so.rateDegs = {10.0f};
-    so.methods = {Method::Fov, Method::Wrs, Method::Oracle};
+    so.methods = {Method::Fov, Method::Wrs, Method::Oracle, Method::OracleQ};
     auto rows = eval::runSaving(context(), eval::SceneKind::Atrium, so);
     ASSERT_TRUE(rows.ok()) << rows.error().message;
-    ASSERT_EQ(rows->size(), 1u + 2u * 3u + 1u * 2u);
+    ASSERT_EQ(rows->size(), 1u + 2u * 4u + 1u * 2u);
 
     const eval::SavingRow& full = rows->front();
     EXPECT_EQ(full.input, eval::SavingInput::Full);
@@ -67,7 +67,26 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
         }
     }
     // Larger insets render more pixels.
-    EXPECT_LT((*rows)[1].pixelsRendered, (*rows)[4].pixelsRendered);
+    EXPECT_LT((*rows)[1].pixelsRendered, (*rows)[5].pixelsRendered);
+    // η_q is against the retention oracle of the same input and inset (none for the full-resolution row and
+    // the rate rows, which have no oracle-q), n/a where it removes under 1 % of fov's error.
+    for (const eval::SavingRow& r : *rows) {
+        const eval::SavingRow *fov = nullptr, *oq = nullptr;
+        for (const eval::SavingRow& x : *rows) {
+            if (x.input != r.input || x.insetDeg != r.insetDeg) continue;
+            if (x.method == Method::Fov) fov = &x;
+            if (x.method == Method::OracleQ) oq = &x;
+        }
+        SCOPED_TRACE(std::string(toString(r.input)) + " " + std::string(toString(r.method)));
+        if (!fov || !oq || !(fov->mse - oq->mse > 0.01 * fov->mse)) {
+            EXPECT_TRUE(std::isnan(r.etaQ));
+        } else {
+            EXPECT_DOUBLE_EQ(r.etaQ, (fov->mse - r.mse) / (fov->mse - oq->mse));
+        }
+        if (r.input == eval::SavingInput::Quad) {
+            EXPECT_NE(oq, nullptr);
+        }
+    }
 
     const std::string dir = std::filesystem::temp_directory_path() / "wrsfov_saving_test";
     std::string headline;
