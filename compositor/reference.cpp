@@ -240,8 +240,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 float r_f = ep.gaze.w;
                 vec3 lv = wrs_foveation_levels(mode, e, r_f, params.tuning.x);
                 const WrsCandidate c = wrs_candidate_at(pyramid, mode, p, at(0u, p), lv, e, r_f, 0.0f, false);
-                cand_[eye][y * W + x] = vec4(c.color, c.w);
-                glm::u8vec4 o = encodeOutput(c.color);
+                cand_[eye][y * W + x] = vec4(c.rule.color, c.w);
+                glm::u8vec4 o = encodeOutput(c.rule.color);
                 std::memcpy(out_[eye].data.data() + (std::size_t(y) * W + x) * 4, &o, 4);
             }
         if (!wrs && !taa && !retain) continue;
@@ -366,7 +366,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     vec3 lv = wrs_foveation_levels(mode, e, r_f, params.tuning.x);
                     const vec4 ref = at(0u, p);
                     const float q_sub = mode == WRS_FOV_SUBMITTED ? in.quality[idx] : 0.0f;
-                    RetainInput c = wrs_retain_input(wrs_candidate_at(pyramid, mode, p, ref, lv, e, r_f, q_sub, true));
+                    RetainInput c = wrs_candidate_at(pyramid, mode, p, ref, lv, e, r_f, q_sub, true).rule;
                     c.z = hasDepth ? zlin[idx] : 0.0f;
                     c.q_floor = params.tuning.w;
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);

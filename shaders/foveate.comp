@@ -24,10 +24,10 @@ void main() {
     WrsCandidate c = wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, level0, lv, e, ep.gaze.w, 0.0, false);
 
     if (WRITE_OUTPUT) {
-        store_output(eye, p, c.color);
+        store_output(eye, p, c.rule.color);
         // A skipped tile shows its candidate, taken now (the stale-pixel evaluation's birth colour).
         if (TILE == 1u + WRS_TILE_SKIP && TRACK_BIRTH) birth_cur[pixel_index(eye, p)] = vec4(level0.rgb, 0.0);
     } else {
-        candidate[pixel_index(eye, p)] = vec4(c.color, c.w);
+        candidate[pixel_index(eye, p)] = vec4(c.rule.color, c.w);
     }
 }

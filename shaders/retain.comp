@@ -40,7 +40,7 @@ float retain_pixel(uint eye, uvec2 p) {
     vec3 lv = pixel_levels(TILE, FOV_MODE, eye, p, e);
     vec4 ref = load_color(eye, p);
     float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality[idx] : 0.0;
-    RetainInput c = wrs_retain_input(wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, ref, lv, e, ep.gaze.w, q_sub, true));
+    RetainInput c = wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, ref, lv, e, ep.gaze.w, q_sub, true).rule;
     c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
     c.q_floor = frame.tuning.w;
 

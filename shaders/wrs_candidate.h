@@ -37,16 +37,12 @@ WRS_FN vec4 wrs_sample_level(WrsPyramid s, uint level, uvec2 p, vec4 level0, WRS
     return wrs_bilinear(c00, c10, c01, c11, f);
 }
 
-// One pixel's candidate. Every field is set; fp and fp_range only where asked for (with_fp).
+// One pixel's candidate: what the retention rule takes of it (RetainInput: colour, quality, tap range,
+// fingerprint; its depth, motion and floor quality are the pixel's, left 0 and false for the caller to
+// set; fp and fp_range only where asked for, with_fp) and the paper's sample weight p-hat.
 struct WrsCandidate {
-    vec3 color;      // foveated colour, linear RGB: the blend of levels lv of the pyramid
-    float w;         // the paper's sample weight p-hat (wrs_sample_weight; 0 for an invalid pixel)
-    float q;         // quality (wrs_candidate_quality: the levels' rate, p-hat, or the rendered quality)
-    vec3 lo;         // per-channel min and max of the taps it was blended from
-    vec3 hi;
-    float fp;        // fingerprint (L*, unquantised) at the pixel: level WRS_FP_LEVEL's alpha
-    float fp_range;  // L* range of the four fingerprint taps
-    bool valid;      // the submitted pixel was finite (level0's alpha)
+    RetainInput rule;
+    float w;  // wrs_sample_weight; 0 for an invalid pixel
 };
 
 // The candidate at pixel p foveated with levels lv = (a, b, t) (wrs_foveation_levels of eccentricity e,
@@ -54,7 +50,7 @@ struct WrsCandidate {
 // submitted foveated (compose pass), read only in that mode.
 WRS_FN WrsCandidate wrs_candidate_at(WrsPyramid s, uint mode, uvec2 p, vec4 level0, vec3 lv, float e, float r_f,
                                      float q_sub, bool with_fp) {
-    WrsCandidate c;
+    RetainInput c;
     c.lo = vec3(WRS_HALF_MAX, WRS_HALF_MAX, WRS_HALF_MAX);
     c.hi = vec3(0.0f, 0.0f, 0.0f);
     float range_a, range_b;
@@ -62,9 +58,8 @@ WRS_FN WrsCandidate wrs_candidate_at(WrsPyramid s, uint mode, uvec2 p, vec4 leve
     vec4 col = col_a;
     if (lv.z > 0.0f) col = wrs_blend(col_a, wrs_sample_level(s, uint(lv.y), p, level0, c.lo, c.hi, range_b), lv.z);
     c.color = vec3(col);
-    c.valid = level0.w > 0.5f;
-    c.w = c.valid ? wrs_sample_weight(e, r_f) : 0.0f;
-    c.q = wrs_candidate_quality(mode, lv, e, r_f, q_sub, c.valid);
+    bool valid = level0.w > 0.5f;
+    c.q = wrs_candidate_quality(mode, lv, e, r_f, q_sub, valid);
     c.fp = 0.0f;
     c.fp_range = 0.0f;
     if (with_fp) {
@@ -76,22 +71,12 @@ WRS_FN WrsCandidate wrs_candidate_at(WrsPyramid s, uint mode, uvec2 p, vec4 leve
             c.fp = wrs_sample_level(s, WRS_FP_LEVEL, p, level0, flo, fhi, c.fp_range).w;
         }
     }
-    return c;
-}
-
-// What the retention rule takes of a candidate (the rest of RetainInput is the pixel's depth, motion
-// and the floor quality, which the caller sets).
-WRS_FN RetainInput wrs_retain_input(WrsCandidate c) {
-    RetainInput r;
-    r.color = c.color;
-    r.q = c.q;
-    r.lo = c.lo;
-    r.hi = c.hi;
-    r.fp = c.fp;
-    r.fp_range = c.fp_range;
-    r.z = 0.0f;
-    r.q_floor = 0.0f;
-    r.moved = false;
+    c.moved = false;
+    c.z = 0.0f;
+    c.q_floor = 0.0f;
+    WrsCandidate r;
+    r.rule = c;
+    r.w = valid ? wrs_sample_weight(e, r_f) : 0.0f;
     return r;
 }
 
