@@ -593,19 +593,21 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         }
         rows.push_back(row);
     }
-    // Retention efficiency against the oracle of the same input and inset, and against the retention oracle.
+    // Retention efficiency against the oracle of the same input and inset, and against the retention oracle
+    // (n/a without both rows, or where the bound removes under 1 % of fov's error).
     for (SavingRow& row : rows) {
-        const SavingRow *fov = nullptr, *oracle = nullptr, *oracleQ = nullptr;
-        for (const SavingRow& x : rows)
-            if (x.input == row.input && x.insetDeg == row.insetDeg) {
-                if (x.method == Method::Fov) fov = &x;
-                if (x.method == Method::Oracle) oracle = &x;
-                if (x.method == Method::OracleQ) oracleQ = &x;
-            }
-        if (fov && oracle && fov->mse - oracle->mse > 0.01 * fov->mse)
-            row.eta = (fov->mse - row.mse) / (fov->mse - oracle->mse);
-        if (fov && oracleQ && fov->mse - oracleQ->mse > 0.01 * fov->mse)
-            row.etaQ = (fov->mse - row.mse) / (fov->mse - oracleQ->mse);
+        auto mseOf = [&](Method m) {
+            for (const SavingRow& x : rows)
+                if (x.input == row.input && x.insetDeg == row.insetDeg && x.method == m) return x.mse;
+            return std::numeric_limits<double>::quiet_NaN();
+        };
+        const double fov = mseOf(Method::Fov);
+        auto against = [&](Method bound) {
+            const double b = mseOf(bound);
+            return fov - b > 0.01 * fov ? (fov - row.mse) / (fov - b) : std::numeric_limits<double>::quiet_NaN();
+        };
+        row.eta = against(Method::Oracle);
+        row.etaQ = against(Method::OracleQ);
     }
     return rows;
 }
@@ -739,20 +741,15 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
         if (r.method == Method::Wrs && (!wrsOc || r.insetDeg >= wrsOc->insetDeg)) wrsOc = &r;
         if (r.method == Method::Oracle && (!oracleOc || r.insetDeg >= oracleOc->insetDeg)) oracleOc = &r;
     }
-    auto share = [](const SavingOutcomes& oc, int cls, uint32_t outcome) {
-        uint64_t n = 0;
-        for (uint64_t c : oc.count[cls]) n += c;
-        return n ? double(oc.count[cls][outcome]) / double(n) : std::numeric_limits<double>::quiet_NaN();
-    };
     if (wrsOc) {
         const SavingOutcomes& w = *wrsOc->outcomes;
         head << "- Retention outcomes at " << fmt("%.0f", wrsOc->insetDeg) << "° (`--outcomes`): where the inset has left a "
-             << "pixel, `wrs` keeps the inset's sample at " << fmt("%.1f", 100.0 * share(w, 2, gpu::WRS_OUT_KEPT))
-             << " % of them (the change test drops " << fmt("%.1f", 100.0 * share(w, 2, gpu::WRS_OUT_CHANGED)) << " %)";
+             << "pixel, `wrs` keeps the inset's sample at " << fmt("%.1f", 100.0 * w.share(2, int(gpu::WRS_OUT_KEPT)))
+             << " % of them (the change test drops " << fmt("%.1f", 100.0 * w.share(2, int(gpu::WRS_OUT_CHANGED))) << " %)";
         if (oracleOc && oracleOc->insetDeg == wrsOc->insetDeg)
-            head << "; the oracle keeps " << fmt("%.1f", 100.0 * share(*oracleOc->outcomes, 2, gpu::WRS_OUT_KEPT))
+            head << "; the oracle keeps " << fmt("%.1f", 100.0 * oracleOc->outcomes->share(2, int(gpu::WRS_OUT_KEPT)))
                  << " % there, and also keeps an older sample of the wide views at "
-                 << fmt("%.1f", 100.0 * share(*oracleOc->outcomes, 0, gpu::WRS_OUT_KEPT))
+                 << fmt("%.1f", 100.0 * oracleOc->outcomes->share(0, int(gpu::WRS_OUT_KEPT)))
                  << " % of the pixels whose history is the wide views' own: a pick among the wide views' samples "
                     "of other frames by their distance to the full-resolution render, which a rule that keeps only "
                     "sharper samples does not make";
@@ -866,12 +863,10 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
             if (!r.outcomes) continue;
             const SavingOutcomes& oc = *r.outcomes;
             for (int h = 0; h < SavingOutcomes::kClasses; ++h) {
-                uint64_t total = 0;
-                for (uint64_t c : oc.count[h]) total += c;
                 md << "| " << toString(r.method) << " | " << fmt("%.1f°", r.insetDeg) << " | " << kClassNames[h] << " | "
-                   << total << " |";
+                   << oc.pixels(h) << " |";
                 for (int k = 0; k < SavingOutcomes::kOutcomes; ++k) {
-                    md << ' ' << fmt("%.1f %%", total ? 100.0 * double(oc.count[h][k]) / double(total) : NAN) << " |";
+                    md << ' ' << fmt("%.1f %%", 100.0 * oc.share(h, k)) << " |";
                     csv << toString(r.scene) << ',' << toString(r.input) << ',' << toString(r.method) << ',' << r.insetDeg
                         << ',' << kClassNames[h] << ',' << kOutcomeNames[k] << ',' << oc.count[h][k] << '\n';
                 }

@@ -66,6 +66,16 @@ struct SavingOutcomes {
     uint64_t gapShown = 0;        ///< pixels where a gap's kept sample was shown (wrs_track_gap)
     uint64_t differing = 0;       ///< reservoirs where the reference and the GPU disagree
     uint64_t reservoirs = 0;      ///< reservoirs compared
+    /// Pixels of class `cls`, and the share of them with outcome k (NaN for an empty class).
+    uint64_t pixels(int cls) const {
+        uint64_t n = 0;
+        for (uint64_t c : count[cls]) n += c;
+        return n;
+    }
+    double share(int cls, int k) const {
+        const uint64_t n = pixels(cls);
+        return n ? double(count[cls][k]) / double(n) : std::numeric_limits<double>::quiet_NaN();
+    }
 };
 
 struct SavingRow {
