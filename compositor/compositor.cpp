@@ -120,12 +120,11 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
             glm::vec3 c((e.fov_tan.x + e.fov_tan.y) * 0.5f, (e.fov_tan.z + e.fov_tan.w) * 0.5f, -1.0f);
             e.gaze = glm::vec4(glm::normalize(c), config.fallbackFoveaDeg * 0.5f);
         }
-        bool srgb = v.color.swapchain->info().format == layers::Format::RGBA8_SRGB;
         // (The layer fields are informative: each eye's image layer is bound as a view of its own; a
         // composed frame's say 0, so that two identical submitted views give identical parameters.)
         e.color_rect = composed ? glm::uvec4(0u, 0u, gpu::WRS_INPUT_COMPOSED, 0u)
                                 : glm::uvec4(v.color.rect.x, v.color.rect.y,
-                                             srgb ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR, v.color.arrayIndex);
+                                             colorEncoding(v.color), v.color.arrayIndex);
         if (v.depth) {
             e.depth_rect = composed ? glm::uvec4(0u, 0u, v.depth->reversedZ ? 1u : 0u, 0u)
                                     : glm::uvec4(v.depth->subImage.rect.x, v.depth->subImage.rect.y,
@@ -140,9 +139,8 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
                                 : std::numeric_limits<float>::infinity();
         e.motion_scale = glm::vec4(1.0f, 1.0f, 1.0f, reach);
         if (v.reference) {
-            const bool refSrgb = v.reference->swapchain->info().format == layers::Format::RGBA8_SRGB;
-            e.ref_rect = glm::uvec4(v.reference->rect.x, v.reference->rect.y,
-                                    refSrgb ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR, v.reference->arrayIndex);
+            e.ref_rect = glm::uvec4(v.reference->rect.x, v.reference->rect.y, colorEncoding(*v.reference),
+                                    v.reference->arrayIndex);
         }
         if (v.motion && composed) {
             e.motion_rect = glm::uvec4(0u, 0u, 0u, 0u);

@@ -266,6 +266,11 @@ struct SwapchainImageOptions {
     /// Leave the images uninitialised until VulkanSwapchain::prepare() (an OpenXR runtime may use the
     /// application's queue only in some calls: xrCreateSwapchain is not one of them).
     bool deferInitialization = false;
+    /// createSwapchain: make the images with `flags` alone. By default the compositor adds
+    /// VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT to sRGB images and reads them through UNORM views; without
+    /// it they are read through sRGB views (the device decodes, shaders/wrs_input.h), as imported
+    /// images are unless `flags` says they were made MUTABLE_FORMAT.
+    bool exactFlags = false;
 };
 
 /// How Compositor::endFrame hands its GPU work over. The output image (outputImage(), 2 layers,
@@ -311,8 +316,8 @@ public:
     Result<std::unique_ptr<layers::Swapchain>> createSwapchain(const layers::SwapchainCreateInfo& info,
                                                                const SwapchainImageOptions& options = {});
     /// A swapchain over images someone else made on this compositor's device and keeps owning (an
-    /// OpenXR runtime's, seen by an API layer): info.imageCount images of info's format (sRGB ones
-    /// with VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT), size and array size, with SAMPLED and TRANSFER_SRC
+    /// OpenXR runtime's, seen by an API layer): info.imageCount images of info's format, size and
+    /// array size (options.flags: the create flags the owner vouches for), with SAMPLED and TRANSFER_SRC
     /// usage, initialised and in options.restingLayout whenever the compositor may read them. The
     /// compositor creates views only and destroys nothing else.
     Result<std::unique_ptr<layers::Swapchain>> importSwapchain(const layers::SwapchainCreateInfo& info,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compositor/swapchain_vk.h"
 #include "shaders/wrs_submitted.h"
 
 namespace wrsfov {
@@ -18,9 +19,12 @@ glm::dvec2 density(const glm::vec4& tan, uint32_t w, uint32_t h) {
     return {w / (double(tan.y) - tan.x), h / (double(tan.z) - tan.w)};
 }
 
-bool srgb(const layers::SubImage& s) { return s.swapchain->info().format == layers::Format::RGBA8_SRGB; }
-
 }  // namespace
+
+uint32_t colorEncoding(const layers::SubImage& s) {
+    if (const auto* vs = dynamic_cast<const VulkanSwapchain*>(s.swapchain)) return vs->colorEncoding();
+    return s.swapchain->info().format == layers::Format::RGBA8_SRGB ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR;
+}
 
 float wideQuality(const layers::ProjectionView& v) {
     if (!v.inset) return 1.0f;
@@ -57,7 +61,7 @@ gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::
         };
         e.wide_map = map(outTan, v.color.rect.width, v.color.rect.height);
         e.sizes = glm::uvec4(v.color.rect.width, v.color.rect.height, 0u, 0u);
-        e.wide_color = glm::uvec4(v.color.rect.x, v.color.rect.y, srgb(v.color) ? 1u : 0u, 0u);
+        e.wide_color = glm::uvec4(v.color.rect.x, v.color.rect.y, colorEncoding(v.color), 0u);
         if (v.rateMap) {
             const layers::RateMapInfo& m = *v.rateMap;
             e.rate = glm::uvec4(m.subImage.rect.x, m.subImage.rect.y, m.texelWidth, m.texelHeight);
@@ -68,7 +72,7 @@ gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::
         e.inset_map = map(insetTan, in.color.rect.width, in.color.rect.height);
         e.sizes.z = in.color.rect.width;
         e.sizes.w = in.color.rect.height;
-        e.inset_color = glm::uvec4(in.color.rect.x, in.color.rect.y, srgb(in.color) ? 1u : 0u, 0u);
+        e.inset_color = glm::uvec4(in.color.rect.x, in.color.rect.y, colorEncoding(in.color), 0u);
         if (v.depth) {
             e.offsets.x = v.depth->subImage.rect.x, e.offsets.y = v.depth->subImage.rect.y;
             e.inset_offsets.x = in.depth->subImage.rect.x, e.inset_offsets.y = in.depth->subImage.rect.y;

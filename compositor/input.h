@@ -13,6 +13,11 @@
 
 namespace wrsfov {
 
+/// How the passes read the colour of `s` (gpu::WRS_INPUT_LINEAR, WRS_INPUT_SRGB: a UNORM view of sRGB
+/// codes, or WRS_INPUT_SRGB_VIEW: an sRGB view, decoded by the device): the compositor's swapchain
+/// says which views it made (VulkanSwapchain::colorEncoding); any other swapchain is read by format.
+uint32_t colorEncoding(const layers::SubImage& s);
+
 /// The compose pass's parameters for a validated layer with quad views or rate maps (zero for a full
 /// frame). `out`: the output size (layers::outputSize); `blendPx`: CompositorConfig::insetBlendPx.
 gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::uvec2 out, float blendPx);

@@ -20,6 +20,7 @@ inline uvec2 wrs_pyr_level_size(WrsPyramid s, uint level) { return wrs_level_siz
 inline vec2 wrs_pyr_level_scale(WrsPyramid s, uint level) { return wrs_level_scale(s.size0, level); }
 }  // namespace wrsfov::gpu
 #include "shaders/wrs_candidate.h"
+#include "shaders/wrs_input.h"
 
 namespace wrsfov {
 
@@ -33,22 +34,26 @@ glm::u8vec4 encodeOutput(glm::vec3 linear) {
 
 namespace {
 
-// A source texel decoded as compose.comp's source_texel does: sRGB through the table, sanitised,
-// validity in alpha.
-vec4 sourceTexel(const HostImage& img, uvec2 q, bool srgb) {
-    vec3 c = vec3(img.fetch(q.x, q.y));
-    if (srgb) c = wrs_srgb8_to_linear3(c);
-    bool valid;
-    c = wrs_sanitize_color(c, valid);
-    return vec4(c, valid ? 1.0f : 0.0f);
+// What a pass fetches of an input texel read as `encoding` says: HostImage::fetch gives an 8-bit image's
+// code / 255, what a UNORM view returns; through an sRGB view the device returns the code's linear
+// value (the table: the nearest float to it, as a table-driven decode gives).
+vec4 asFetched(vec4 t, uint encoding) {
+    if (encoding != WRS_INPUT_SRGB_VIEW) return t;
+    const auto& table = wrs_srgb8_table();
+    return vec4(table[wrs_srgb8_code(t.x)], table[wrs_srgb8_code(t.y)], table[wrs_srgb8_code(t.z)], t.w);
 }
 
-vec4 sourceBilinear(const HostImage& img, vec2 pos, bool srgb) {
+// A source texel decoded as compose.comp's source_texel does (wrs_decode_input).
+vec4 sourceTexel(const HostImage& img, uvec2 q, uint encoding) {
+    return wrs_decode_input(vec4(vec3(asFetched(img.fetch(q.x, q.y), encoding)), 1.0f), encoding);
+}
+
+vec4 sourceBilinear(const HostImage& img, vec2 pos, uint encoding) {
     const uvec2 size(img.width, img.height);
     uvec2 i0, i1;
     const vec2 f = wrs_bilinear_taps(pos, size, i0, i1);
-    return wrs_bilinear_valid(sourceTexel(img, i0, srgb), sourceTexel(img, uvec2(i1.x, i0.y), srgb),
-                              sourceTexel(img, uvec2(i0.x, i1.y), srgb), sourceTexel(img, i1, srgb), f);
+    return wrs_bilinear_valid(sourceTexel(img, i0, encoding), sourceTexel(img, uvec2(i1.x, i0.y), encoding),
+                              sourceTexel(img, uvec2(i0.x, i1.y), encoding), sourceTexel(img, i1, encoding), f);
 }
 
 uvec2 nearestTexel(vec2 pos, uvec2 size) {
@@ -74,8 +79,8 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             const vec2 wpos = wrs_source_pos(p, ce.wide_map);
             const vec2 ipos = wrs_source_pos(p, ce.inset_map);
             float t = wrs_inset_weight(ipos, isize, ce.inset_motion.w);
-            const vec4 wide = sourceBilinear(src.wideColor, wpos, ce.wide_color.z != 0u);
-            const vec4 inset = t > 0.0f ? sourceBilinear(src.insetColor, ipos, ce.inset_color.z != 0u) : vec4(0.0f);
+            const vec4 wide = sourceBilinear(src.wideColor, wpos, ce.wide_color.z);
+            const vec4 inset = t > 0.0f ? sourceBilinear(src.insetColor, ipos, ce.inset_color.z) : vec4(0.0f);
             t = wrs_quad_weight(t, inset.w != 0.0f, wide.w != 0.0f);
             const vec4 c = wrs_quad_color(wide, inset, t);
             out.quality[std::size_t(y) * size.x + x] = wrs_quad_quality(ce.wide_motion.w, t);
@@ -136,13 +141,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
         std::vector<float> zlin(std::size_t(W) * H, 0.0f);
         for (uint y = 0; y < H; ++y)
             for (uint x = 0; x < W; ++x) {
-                const vec4 t = in.color.fetch(x, y);
-                vec3 c = vec3(t);
-                if (ep.color_rect.z == WRS_INPUT_SRGB) c = wrs_srgb8_to_linear3(c);
-                bool valid;
-                c = wrs_sanitize_color(c, valid);
-                valid = wrs_input_valid(valid, ep.color_rect.z, t.w);
-                pyr[y * W + x] = vec4(c, valid ? 1.0f : 0.0f);
+                pyr[y * W + x] = wrs_decode_input(asFetched(in.color.fetch(x, y), ep.color_rect.z), ep.color_rect.z);
                 if (hasDepth)
                     zlin[y * W + x] =
                         wrs_linear_depth(in.depth->fetch(x, y).x, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
@@ -406,11 +405,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     // The oracles of a frame submitted foveated compare with its full-resolution reference.
                     vec3 truth = vec3(ref);
                     if (wrs_rule_is_oracle(rule) && mode == WRS_FOV_SUBMITTED && in.reference) {
-                        const vec4 rt = in.reference->fetch(x, y);
-                        vec3 rc = vec3(rt);
-                        if (ep.ref_rect.z == WRS_INPUT_SRGB) rc = wrs_srgb8_to_linear3(rc);
-                        bool rv;
-                        truth = wrs_sanitize_color(rc, rv);
+                        truth = vec3(wrs_decode_input(asFetched(in.reference->fetch(x, y), ep.ref_rect.z), ep.ref_rect.z));
                     }
                     Tracked r = wrs_retain(rule, has_history, hd, d, c, truth, rnd, t.outcome, t.margin);
                     if (t.outcome == WRS_OUT_KEPT) r.color = h.color;

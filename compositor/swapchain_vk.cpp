@@ -33,10 +33,10 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::create(vk::Context& ct
     VkFormat viewFormat = VK_FORMAT_UNDEFINED;
     ici.usage |= options.usage;
     ici.flags = options.flags;
-    if (info.format == Format::RGBA8_SRGB) {
-        ici.flags |= VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
-        viewFormat = VK_FORMAT_R8G8B8A8_UNORM;
-    }
+    // The compositor's own sRGB images are MUTABLE_FORMAT, read through UNORM views, unless the maker
+    // asks for its flags alone (a runtime's strict setting: as Monado 21 makes them).
+    if (info.format == Format::RGBA8_SRGB && !options.exactFlags) ici.flags |= VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+    sc->chooseViews(ici.flags, viewFormat);
     for (uint32_t i = 0; i < info.imageCount; ++i) {
         auto img = ctx.createImage(ici, viewFormat);
         if (!img) return err(SwapchainError::DeviceFailure, img.error().message);
@@ -63,14 +63,30 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::import(vk::Context& ct
     ici.width = info.width;
     ici.height = info.height;
     ici.layers = info.arraySize;
-    // sRGB images are read through UNORM views (their owner made them MUTABLE_FORMAT).
-    const VkFormat viewFormat = info.format == Format::RGBA8_SRGB ? VK_FORMAT_R8G8B8A8_UNORM : VK_FORMAT_UNDEFINED;
+    // The compositor only samples them (and copies from them): its views ask for no other usage. An sRGB
+    // image is read through a UNORM view only where its owner says it made it MUTABLE_FORMAT.
+    ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    ici.flags = options.flags;
+    VkFormat viewFormat = VK_FORMAT_UNDEFINED;
+    sc->chooseViews(options.flags, viewFormat);
     for (VkImage image : images) {
         auto img = ctx.wrapImage(image, ici, viewFormat);
         if (!img) return err(SwapchainError::DeviceFailure, img.error().message);
         sc->images_.push_back(std::move(*img));
     }
     return sc;
+}
+
+void VulkanSwapchain::chooseViews(VkImageCreateFlags flags, VkFormat& viewFormat) {
+    viewFormat = VK_FORMAT_UNDEFINED;
+    encoding_ = gpu::WRS_INPUT_LINEAR;
+    if (info().format != Format::RGBA8_SRGB) return;
+    // A UNORM view of an sRGB image is valid only if the image was made MUTABLE_FORMAT
+    // (VUID-VkImageViewCreateInfo-image-01019); a runtime may ignore XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT
+    // (Monado 21 does). Without it the image is read through an sRGB view and the device decodes.
+    const bool mutableFormat = (flags & VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT) != 0;
+    viewFormat = mutableFormat ? VK_FORMAT_R8G8B8A8_UNORM : VK_FORMAT_R8G8B8A8_SRGB;
+    encoding_ = mutableFormat ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_SRGB_VIEW;
 }
 
 Status VulkanSwapchain::prepare() {
@@ -154,8 +170,7 @@ Result<std::vector<std::byte>> VulkanSwapchain::read(uint32_t index, uint32_t ar
                                                         std::to_string(arrayLayer) + " is out of range");
     std::size_t bytes = std::size_t(in.width) * in.height * layers::bytesPerTexel(in.format);
     const vk::Image& img = images_[index];
-    auto r = ctx_.readImageLayer(img.handle(), img.aspect(), arrayLayer, in.width, in.height, bytes, restingLayout_,
-                                 in.arraySize);
+    auto r = ctx_.readImageLayer(img.handle(), img.aspect(), arrayLayer, in.width, in.height, bytes, restingLayout_);
     if (!r) return err(SwapchainError::DeviceFailure, r.error().message);
     return std::move(*r);
 }
@@ -168,7 +183,7 @@ Result<std::vector<std::byte>> VulkanSwapchain::readTexel(uint32_t index, uint32
                                                         ") of image " + std::to_string(index) + " is out of range");
     const vk::Image& img = images_[index];
     auto r = ctx_.readImageRegion(img.handle(), img.aspect(), arrayLayer, {int32_t(x), int32_t(y)}, {1, 1},
-                                  layers::bytesPerTexel(in.format), restingLayout_, in.arraySize);
+                                  layers::bytesPerTexel(in.format), restingLayout_);
     if (!r) return err(SwapchainError::DeviceFailure, r.error().message);
     return std::move(*r);
 }

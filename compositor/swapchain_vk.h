@@ -29,9 +29,13 @@ public:
     Result<std::vector<std::byte>> readTexel(uint32_t index, uint32_t arrayLayer, uint32_t x, uint32_t y);
     VkImage image(uint32_t index) const override { return images_.at(index).handle(); }
 
-    /// The view the compositor samples: sRGB images are viewed as UNORM (the load pass decodes
-    /// with the shared sRGB function, so the GPU matches the CPU reference).
+    /// The view the compositor samples: an sRGB image made MUTABLE_FORMAT (by the compositor, or by
+    /// an owner that says so in SwapchainImageOptions::flags) is viewed as UNORM, any other through a
+    /// view of its own sRGB format; the passes decode either to the same bits (shaders/wrs_input.h).
     VkImageView sampledView(uint32_t index, uint32_t layer) const { return images_.at(index).layerView(layer); }
+    /// How the passes read the colour of sampledView(): gpu::WRS_INPUT_LINEAR, WRS_INPUT_SRGB (a UNORM
+    /// view of sRGB codes) or WRS_INPUT_SRGB_VIEW (decoded by the device).
+    uint32_t colorEncoding() const { return encoding_; }
     const Compositor* owner() const { return owner_; }
     /// The layout the images are in whenever the compositor is not reading them.
     VkImageLayout restingLayout() const { return restingLayout_; }
@@ -48,7 +52,10 @@ private:
     const Compositor* owner_;
     std::vector<vk::Image> images_;
     VkImageLayout restingLayout_ = VK_IMAGE_LAYOUT_GENERAL;
+    uint32_t encoding_ = 0;  // gpu::WRS_INPUT_LINEAR
     bool prepared_ = false;
+    /// The format of the views made of images created with `flags`, and the encoding they are read as.
+    void chooseViews(VkImageCreateFlags flags, VkFormat& viewFormat);
 };
 
 }  // namespace wrsfov

@@ -443,6 +443,13 @@ Status Context::createViews(Image& img, VkFormat viewFormat) {
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = img.image_;
     vci.format = viewFormat == VK_FORMAT_UNDEFINED ? info.format : viewFormat;
+    // An sRGB view cannot be a storage view: a view of one asks for the image's other usage only
+    // (an image made with STORAGE for a UNORM alias of it, or an application's UNORDERED_ACCESS).
+    VkImageViewUsageCreateInfo viewUsage{VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO};
+    if (vci.format == VK_FORMAT_R8G8B8A8_SRGB && (info.usage & VK_IMAGE_USAGE_STORAGE_BIT)) {
+        viewUsage.usage = info.usage & ~VkImageUsageFlags(VK_IMAGE_USAGE_STORAGE_BIT);
+        vci.pNext = &viewUsage;
+    }
     vci.subresourceRange = {img.aspect_, 0, info.mipLevels, 0, 1};
     for (uint32_t l = 0; l < info.layers; ++l) {
         vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
@@ -508,25 +515,41 @@ void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspe
 
 Result<std::vector<std::byte>> Context::readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
                                                        uint32_t width, uint32_t height, size_t bytes,
-                                                       VkImageLayout layout, uint32_t imageLayers) {
-    return readImageRegion(image, aspect, layer, {0, 0}, {width, height}, bytes, layout, imageLayers);
+                                                       VkImageLayout layout) {
+    return readImageRegion(image, aspect, layer, {0, 0}, {width, height}, bytes, layout);
 }
 
 Result<std::vector<std::byte>> Context::readImageRegion(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
                                                         VkOffset2D offset, VkExtent2D extent, size_t bytes,
-                                                        VkImageLayout layout, uint32_t imageLayers) {
+                                                        VkImageLayout layout) {
     auto staging = createBuffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
     if (!staging) return staging.error();
     Status s = submitAndWait([&](VkCommandBuffer cb) {
         memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-        layoutTransition(cb, image, aspect, imageLayers, layout, VK_IMAGE_LAYOUT_GENERAL);
+        // Copied from TRANSFER_SRC_OPTIMAL, the layout a copy source is meant to be in (from GENERAL a
+        // device may read it slower; the validation layer's best practices say so).
+        // (The layer read alone: callers may pass a layout that holds for it only.)
+        auto transition = [&](VkImageLayout from, VkImageLayout to) {
+            if (from == to) return;
+            VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+            b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+            b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+            b.oldLayout = from;
+            b.newLayout = to;
+            b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            b.image = image;
+            b.subresourceRange = {aspect, 0, 1, layer, 1};
+            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0,
+                                 nullptr, 0, nullptr, 1, &b);
+        };
+        transition(layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         VkBufferImageCopy region{};
         region.imageSubresource = {aspect, 0, layer, 1};
         region.imageOffset = {offset.x, offset.y, 0};
         region.imageExtent = {extent.width, extent.height, 1};
-        vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_GENERAL, staging->handle(), 1, &region);
-        layoutTransition(cb, image, aspect, imageLayers, VK_IMAGE_LAYOUT_GENERAL, layout);
+        vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging->handle(), 1, &region);
+        transition(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout);
         memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                       VK_ACCESS_HOST_READ_BIT);
     });

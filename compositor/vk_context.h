@@ -238,17 +238,15 @@ public:
     DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
     /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
     PipelineLayout createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes, VkShaderStageFlags pushStages);
-    /// Copies one layer of an image to host memory, after all earlier writes. An image in another
-    /// layout than GENERAL (all `imageLayers` of it) goes through GENERAL and is left as it was.
+    /// Copies one layer of an image to host memory, after all earlier writes. The layer, in `layout`,
+    /// is copied from TRANSFER_SRC_OPTIMAL and left in `layout`.
     Result<std::vector<std::byte>> readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
                                                   uint32_t width, uint32_t height, size_t bytes,
-                                                  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL,
-                                                  uint32_t imageLayers = 1);
+                                                  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
     /// The same for a rectangle of the layer (tightly packed rows of `bytes` in all).
     Result<std::vector<std::byte>> readImageRegion(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
                                                    VkOffset2D offset, VkExtent2D extent, size_t bytes,
-                                                   VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL,
-                                                   uint32_t imageLayers = 1);
+                                                   VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
 
     /// Records with `record`, submits, waits. Returns DeviceFailure-style errors (code = VkResult).
     Status submitAndWait(const std::function<void(VkCommandBuffer)>& record);

@@ -148,6 +148,7 @@ struct SessionState {
     uint32_t outWidth = 0, outHeight = 0;
     int64_t outFormat = 0;
     uint64_t frames = 0, processed = 0, gpuFrames = 0, fallbackFrames = 0;
+    uint64_t projected = 0;  // frames ended with a projection layer (what there is to foveate)
     double gpuMs = 0;
     // Host time spent in the layer's part of xrEndFrame (recording and submitting, no GPU wait).
     double endFrameMs = 0;
@@ -614,8 +615,12 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySession(XrSession session) {
     char gpu[64] = "-", host[64] = "-";
     if (s.gpuFrames) std::snprintf(gpu, sizeof gpu, "%.2f ms", s.gpuMs / double(s.gpuFrames));
     if (s.processed) std::snprintf(host, sizeof host, "%.2f ms", s.endFrameMs / double(s.processed));
-    logLine("session ended: " + std::to_string(s.processed) + " of " + std::to_string(s.frames) +
-            " frames foveated, passes " + gpu + " a frame on average" +
+    // Frames ended without a projection layer (an application that is not visible yet submits none)
+    // have nothing to foveate: they are counted apart.
+    const uint64_t bare = s.frames - s.projected;
+    logLine("session ended: " + std::to_string(s.processed) + " of " + std::to_string(s.projected) +
+            " frames foveated" + (bare ? " (" + std::to_string(bare) + " more ended without a projection layer)" : "") +
+            ", passes " + gpu + " a frame on average" +
             (s.gpuFrames && s.ctx->isCpuDevice() ? " (host-timed from submission to the wait: an upper bound)" : "") + " (in xrEndFrame " + host +
             "), gaze fallback in " + std::to_string(s.fallbackFrames) +
             (s.disabled ? " (disabled: " + s.why + ")" : ""));
@@ -684,20 +689,26 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSwapchain(XrSession session, const XrS
     const Next* n = nextOfSession(session);
     if (!n) return XR_ERROR_HANDLE_INVALID;
     if (!info) return n->createSwapchain(session, info, swapchain);
-    // The compositor samples the images and an sRGB image is read through a UNORM view: added usage,
-    // on a copy; the application's structure stays as it gave it.
+    // The compositor samples the images (and reads the depth under the gaze by a copy): added usage, on
+    // a copy; the application's structure stays as it gave it. No MUTABLE_FORMAT: a runtime may ignore it
+    // (Monado 21 does), so an sRGB image is read through a view of its own format (the device decodes,
+    // shaders/wrs_input.h) and never reinterpreted.
     XrSwapchainCreateInfo ci = *info;
     const auto fmt = colorFormat(info->format);
-    if (fmt) {
-        ci.usageFlags |= XR_SWAPCHAIN_USAGE_SAMPLED_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
-        if (*fmt == layers::Format::RGBA8_SRGB) ci.usageFlags |= XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT;
-    }
+    if (fmt) ci.usageFlags |= XR_SWAPCHAIN_USAGE_SAMPLED_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
     XrResult r = n->createSwapchain(session, &ci, swapchain);
-    if (XR_FAILED(r) && fmt) r = n->createSwapchain(session, info, swapchain);  // the runtime refused the extra usage
+    if (XR_FAILED(r) && fmt && ci.usageFlags != info->usageFlags) {
+        // The runtime refused the added usage: the images are made with the application's usage alone,
+        // and the layer reads them only if that includes SAMPLED (layerEnumerateSwapchainImages).
+        ci = *info;
+        r = n->createSwapchain(session, &ci, swapchain);
+        if (XR_SUCCEEDED(r))
+            logLine("swapchain made without the layer's SAMPLED | TRANSFER_SRC usage (the runtime refused it)");
+    }
     if (XR_FAILED(r)) return r;
     SwapchainState& s = g_swapchains[*swapchain];
     s.session = session;
-    s.info = ci;
+    s.info = ci;  // what the images were made with
     return r;
 }
 
@@ -1284,8 +1295,13 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
         c.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
         c.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
         c.extent = {w, h, 1};
-        vkCmdCopyImage(cb, s.comp->outputImage().handle(), VK_IMAGE_LAYOUT_GENERAL, dst,
-                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        // The compositor's output rests in GENERAL; it is copied from TRANSFER_SRC_OPTIMAL and put back.
+        const VkImage src = s.comp->outputImage().handle();
+        vk::layoutTransition(cb, src, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_GENERAL,
+                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        vkCmdCopyImage(cb, src, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &c);
+        vk::layoutTransition(cb, src, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                             VK_IMAGE_LAYOUT_GENERAL);
         // Back to the layout the runtime expects at release, visible to whatever it runs next on the queue.
         vk::layoutTransition(cb, dst, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                              VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
@@ -1358,15 +1374,16 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
                     return XR_ERROR_VALIDATION_FAILURE;
                 }
             }
-    if (s.disabled || !info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers)
-        return endDown(s, n, session, info);
+    if (!info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers) return endDown(s, n, session, info);
     uint32_t projIndex = info->layerCount;
     for (uint32_t i = 0; i < info->layerCount; ++i)
         if (info->layers[i] && info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
             projIndex = i;
             break;
         }
-    if (projIndex == info->layerCount) return n.endFrame(session, info);
+    if (projIndex == info->layerCount) return n.endFrame(session, info);  // nothing to foveate
+    ++s.projected;
+    if (s.disabled) return endDown(s, n, session, info);
     XrCompositionLayerProjection patched{};
     std::array<XrCompositionLayerProjectionView, 2> views{};
     const auto& proj = *reinterpret_cast<const XrCompositionLayerProjection*>(info->layers[projIndex]);

@@ -43,7 +43,7 @@ std::string_view trim(std::string_view s) {
 constexpr const char* kKeys[] = {"method", "fovea", "foveation", "width", "height", "fov", "ipd",
                                  "display_hz", "pace", "frames", "record", "head", "gaze", "gaze_mode",
                                  "gaze_seed", "gaze_file", "vergence_distance", "validation", "verbose",
-                                 "output", "screenshot", "quad_views", "inset_deg"};
+                                 "output", "screenshot", "quad_views", "inset_deg", "swapchains"};
 
 }  // namespace
 
@@ -147,6 +147,10 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
         auto d = num(5, 120);
         if (!d) return bad(key, v, range(5, 120) + " (the inset's size across in degrees)");
         c.insetDeg = float(*d);
+    } else if (key == "swapchains") {
+        if (v == "own") c.strictSwapchains = false;
+        else if (v == "strict") c.strictSwapchains = true;
+        else return bad(key, v, "own or strict");
     } else if (key == "validation" || key == "verbose") {
         auto b = boolean(v);
         if (!b) return bad(key, v, "0 or 1");

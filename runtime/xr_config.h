@@ -44,6 +44,11 @@ struct RuntimeConfig {
     /// 1 / 2.5 of the display's density, an inset of `insetDeg` across at the display's density.
     bool quadViews = true;
     float insetDeg = 30.0f;  ///< the inset's angular size across, both axes (key `inset_deg`)
+    /// Swapchains as other runtimes have been seen to make them (key `swapchains = strict`; `own` is
+    /// the default): XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT ignored (as Monado 21 on Linux does), so
+    /// sRGB images are never MUTABLE_FORMAT; 8-bit colour offered as sRGB only (no R8G8B8A8_UNORM); four
+    /// images per swapchain rather than three. What an API layer over another runtime must not assume.
+    bool strictSwapchains = false;
     /// Per-eye field of view: the HMD's asymmetric 92° x 93° (hmdFov) unless `fov` gives a symmetric
     /// square one in degrees.
     layers::Fov fov[2];

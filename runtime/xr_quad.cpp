@@ -112,7 +112,7 @@ Status QuadPass::draw(Compositor& compositor, const std::vector<QuadDraw>& quads
         vk::layoutTransition(cb, src, d.swapchain->aspect(), layers, d.swapchain->restingLayout(),
                              VK_IMAGE_LAYOUT_GENERAL);
         QuadPush push{d.quadFromEye, d.fovTan, d.uvRect,
-                      glm::vec4(d.size, d.swapchain->info().format == layers::Format::RGBA8_SRGB ? 1.0f : 0.0f,
+                      glm::vec4(d.size, d.swapchain->colorEncoding() == gpu::WRS_INPUT_SRGB ? 1.0f : 0.0f,
                                 float((d.blendAlpha ? 1 : 0) | (d.unpremultiplied ? 2 : 0))),
                       glm::uvec4(d.eye, compositor.width(), compositor.height(), 0)};
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &sets[i], 0,

@@ -639,13 +639,19 @@ constexpr FormatEntry kFormats[] = {
     {VK_FORMAT_R16G16_SFLOAT, layers::Format::RG16F, layers::Usage::Motion},
 };
 
+// The strict setting offers 8-bit colour as sRGB only (RuntimeConfig::strictSwapchains).
+bool offered(const Session& s, const FormatEntry& f) {
+    return !(s.instance->config.strictSwapchains && f.format == layers::Format::RGBA8);
+}
+
 }  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL xrEnumerateSwapchainFormats(XrSession h, uint32_t capacity, uint32_t* countOutput,
                                                            int64_t* formats) {
     if (!getSession(h)) return XR_ERROR_HANDLE_INVALID;
     std::vector<int64_t> v;
-    for (const auto& f : kFormats) v.push_back(int64_t(f.vk));
+    for (const auto& f : kFormats)
+        if (offered(*getSession(h), f)) v.push_back(int64_t(f.vk));
     return fillArray(capacity, countOutput, formats, v);
 }
 
@@ -660,7 +666,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
     if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT) return XR_ERROR_FEATURE_UNSUPPORTED;
     const FormatEntry* fmt = nullptr;
     for (const auto& f : kFormats)
-        if (int64_t(f.vk) == info->format) fmt = &f;
+        if (int64_t(f.vk) == info->format && offered(*s, f)) fmt = &f;
     if (!fmt) return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
     if (info->width == 0 || info->height == 0 || info->width > kMaxSize || info->height > kMaxSize ||
         info->arraySize == 0 || info->faceCount == 0 || info->mipCount == 0 || info->sampleCount == 0)
@@ -674,7 +680,12 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
 
     SwapchainImageOptions options;
     if (info->usageFlags & XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT) options.usage |= VK_IMAGE_USAGE_STORAGE_BIT;
-    if (info->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) options.flags |= VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+    // The strict setting ignores MUTABLE_FORMAT, as Monado 21 does: its sRGB images are read through
+    // sRGB views (the compositor adds MUTABLE_FORMAT to its own otherwise).
+    const bool strict = s->instance->config.strictSwapchains;
+    if ((info->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) && !strict)
+        options.flags |= VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT;
+    options.exactFlags = strict;
     options.restingLayout =
         depth ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     options.deferInitialization = true;  // cleared at the first acquire: xrCreateSwapchain may not use the queue
@@ -683,7 +694,8 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
                               VK_IMAGE_USAGE_TRANSFER_DST_BIT |
                               (depth ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT);
     VkImageCreateFlags flags =
-        options.flags | (fmt->format == layers::Format::RGBA8_SRGB ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0);
+        options.flags |
+        (fmt->format == layers::Format::RGBA8_SRGB && !strict ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0);
     VkImageFormatProperties props;
     if (vkGetPhysicalDeviceImageFormatProperties(s->context->physicalDevice(), fmt->vk, VK_IMAGE_TYPE_2D,
                                                  VK_IMAGE_TILING_OPTIMAL, usage, flags, &props) != VK_SUCCESS ||
@@ -697,7 +709,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrCreateSwapchain(XrSession h, const XrSwapchainC
     ci.width = info->width;
     ci.height = info->height;
     ci.arraySize = info->arraySize;
-    ci.imageCount = (info->createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) ? 1 : 3;
+    ci.imageCount = (info->createFlags & XR_SWAPCHAIN_CREATE_STATIC_IMAGE_BIT) ? 1 : strict ? 4 : 3;
     ci.anyUse = true;  // an RGBA16F swapchain may carry colour or space-warp motion
     auto images = s->compositor->createSwapchain(ci, options);
     if (!images) {

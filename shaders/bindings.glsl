@@ -18,7 +18,7 @@ layout(constant_id = 8) const bool TRACK_BIRTH = false;
 #include "wrs_params.h"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
-layout(set = 0, binding = 1) uniform sampler2D colorIn[2];   // RGBA8 (sRGB viewed as UNORM), RGBA16F
+layout(set = 0, binding = 1) uniform sampler2D colorIn[2];   // RGBA8 (sRGB viewed as UNORM or sRGB), RGBA16F
 layout(set = 0, binding = 2) uniform sampler2D depthIn[2];   // D32F / R32F, [0, 1]
 layout(set = 0, binding = 3) uniform sampler2D motionIn[2];  // RG16F / RGBA16F, pixels (+ dz)
 // Colour pyramid levels 1..WRS_LEVELS-1, linear RGB + alpha (wrs_pyramid_texel) as fp16 RGBA
@@ -118,29 +118,17 @@ vec2 wrs_pyr_level_scale(WrsPyramid s, uint level) { return frame.level_scale[le
 #ifndef WRS_SRGB_TABLE
 #define WRS_SRGB_TABLE srgb_table
 #endif
+#include "wrs_input.h"
 // Quad views: the colour is the compose pass's, whose alpha says whether any source tap was valid
 // (colour_rect.z == WRS_INPUT_COMPOSED).
 vec4 load_color(uint eye, uvec2 p) {
     EyeParams ep = frame.eye[eye];
-    vec4 t = texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0);
-    vec3 c = t.rgb;
-    if (ep.color_rect.z == WRS_INPUT_SRGB)
-        c = vec3(WRS_SRGB_TABLE[wrs_srgb8_code(c.r)], WRS_SRGB_TABLE[wrs_srgb8_code(c.g)],
-                 WRS_SRGB_TABLE[wrs_srgb8_code(c.b)]);
-    bool valid;
-    c = wrs_sanitize_color(c, valid);
-    valid = wrs_input_valid(valid, ep.color_rect.z, t.a);
-    return vec4(c, valid ? 1.0 : 0.0);
+    return wrs_decode_input(texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0), ep.color_rect.z);
 }
 // The full-resolution reference at pixel p (submitted foveation, the oracles only), decoded as load_color.
 vec3 load_reference(uint eye, uvec2 p) {
     EyeParams ep = frame.eye[eye];
-    vec3 c = texelFetch(referenceIn[eye], ivec2(p + ep.ref_rect.xy), 0).rgb;
-    if (ep.ref_rect.z == WRS_INPUT_SRGB)
-        c = vec3(WRS_SRGB_TABLE[wrs_srgb8_code(c.r)], WRS_SRGB_TABLE[wrs_srgb8_code(c.g)],
-                 WRS_SRGB_TABLE[wrs_srgb8_code(c.b)]);
-    bool valid;
-    return wrs_sanitize_color(c, valid);
+    return wrs_decode_input(texelFetch(referenceIn[eye], ivec2(p + ep.ref_rect.xy), 0), ep.ref_rect.z).rgb;
 }
 // Linear view depth at pixel p (only where the view has depth).
 float load_depth(uint eye, uvec2 p) {

@@ -37,14 +37,11 @@ layout(set = 0, binding = 7, rgba16f) uniform writeonly image2DArray composedCol
 layout(set = 0, binding = 8, r32f) uniform writeonly image2DArray composedDepth;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2DArray composedMotion;
 
+#define WRS_SRGB_TABLE s_srgb
+#include "wrs_input.h"
 // Texel q of source k (eye, or 2 + eye), decoded and sanitised as load_color does; validity in alpha.
 vec4 source_texel(uint k, uvec2 q, uvec4 rect) {
-    vec3 c = texelFetch(srcColor[k], ivec2(q + rect.xy), 0).rgb;
-    if (rect.z != 0u)
-        c = vec3(s_srgb[wrs_srgb8_code(c.r)], s_srgb[wrs_srgb8_code(c.g)], s_srgb[wrs_srgb8_code(c.b)]);
-    bool valid;
-    c = wrs_sanitize_color(c, valid);
-    return vec4(c, valid ? 1.0 : 0.0);
+    return wrs_decode_input(vec4(texelFetch(srcColor[k], ivec2(q + rect.xy), 0).rgb, 1.0), rect.z);
 }
 
 vec4 source_bilinear(uint k, vec2 pos, uvec2 size, uvec4 rect) {

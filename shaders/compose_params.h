@@ -12,7 +12,7 @@ struct ComposeEye {
     vec4 wide_map;      // output pixel -> wide view pixel: xy scale, zw offset (wrs_source_pos)
     vec4 inset_map;     // output pixel -> inset pixel, likewise
     uvec4 sizes;        // xy: the wide view's colour size; zw: the inset's
-    uvec4 wide_color;   // xy: offset of the wide view in its colour image; z: 1 if sRGB-encoded; w: pad
+    uvec4 wide_color;   // xy: offset of the wide view in its colour image; z: how it is read (WRS_INPUT_*); w: pad
     uvec4 inset_color;  // the same for the inset
     uvec4 offsets;      // xy: wide depth offset, zw: wide motion offset
     uvec4 inset_offsets;  // xy: inset depth offset, zw: inset motion offset

@@ -334,10 +334,6 @@ inline const std::array<float, 256>& wrs_srgb8_table() {
     }();
     return table;
 }
-inline vec3 wrs_srgb8_to_linear3(vec3 unorm) {
-    const auto& t = wrs_srgb8_table();
-    return vec3(t[wrs_srgb8_code(unorm.x)], t[wrs_srgb8_code(unorm.y)], t[wrs_srgb8_code(unorm.z)]);
-}
 #endif
 WRS_FN vec3 wrs_linear_to_srgb3(vec3 c) {
     return vec3(wrs_linear_to_srgb(c.x), wrs_linear_to_srgb(c.y), wrs_linear_to_srgb(c.z));
@@ -373,11 +369,30 @@ WRS_FN vec3 wrs_sanitize_color(vec3 c, WRS_OUT(bool) valid) {
     return clamp(r, vec3(0.0f, 0.0f, 0.0f), vec3(WRS_HALF_MAX, WRS_HALF_MAX, WRS_HALF_MAX));
 }
 
-// How a pass's colour input is encoded (EyeParams::color_rect.z): linear, sRGB-encoded 8-bit, or the
-// compose pass's output for quad views (linear, alpha 0 where no source tap was valid).
+// How a pass's colour input is encoded and read (EyeParams::color_rect.z, ComposeEye::wide_color.z):
+// linear; sRGB-encoded 8-bit read through a UNORM view (the image was made MUTABLE_FORMAT by whoever
+// the compositor knows made it: the pass reads the code); the compose pass's output for quad views
+// (linear, alpha 0 where no source tap was valid); or sRGB-encoded 8-bit read through a view of its
+// own sRGB format (an image whose creation flags the compositor cannot vouch for, such as a runtime's
+// seen by the API layer: the device decoded it, and the pass recovers the code, wrs_srgb8_code_of).
 const uint WRS_INPUT_LINEAR = 0u;
 const uint WRS_INPUT_SRGB = 1u;
 const uint WRS_INPUT_COMPOSED = 2u;
+const uint WRS_INPUT_SRGB_VIEW = 3u;
+WRS_FN bool wrs_input_srgb8(uint encoding) { return encoding == WRS_INPUT_SRGB || encoding == WRS_INPUT_SRGB_VIEW; }
+// The 8-bit code of an sRGB channel that a device decoded to `decoded` (an sRGB view): the code whose
+// sRGB value it encodes back to, rounded. Adjacent codes are at least 1/3295 apart in linear value (codes
+// 0 and 1), and re-encoding maps that step to a whole code, so a device decode off by less than a third
+// of that step (a thousand times what a table-driven or float decode is off by) gives the code itself,
+// whatever the device's pow (tests/core: Input.SrgbViewRecoversEveryCode).
+// (A view returns no NaN; one is read as 0 all the same, so no code is undefined.)
+WRS_FN uint wrs_srgb8_code_of(float decoded) {
+    return wrs_unorm8_code(wrs_linear_to_srgb(wrs_finite(decoded) ? decoded : 0.0f));
+}
+// The 8-bit code of channel value v of an sRGB input read as `encoding` says.
+WRS_FN uint wrs_input_code(float v, uint encoding) {
+    return encoding == WRS_INPUT_SRGB_VIEW ? wrs_srgb8_code_of(v) : wrs_srgb8_code(v);
+}
 // Whether a decoded input texel is usable: finite, and for composed input marked valid in alpha.
 WRS_FN bool wrs_input_valid(bool finite, uint encoding, float alpha) {
     return finite && (encoding != WRS_INPUT_COMPOSED || alpha > 0.5f);

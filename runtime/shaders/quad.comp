@@ -14,7 +14,7 @@ layout(push_constant) uniform QuadPush {
     mat4 quad_from_eye;  // eye space -> quad space
     vec4 fov_tan;        // the eye's view (XrFovf tangents)
     vec4 uv_rect;        // sub-image: uv offset xy, uv scale zw in the quad's image
-    vec4 size_flags;     // quad width, height (m); z: 1 if the image is sRGB-encoded; w: bit 0 blend alpha, bit 1 unpremultiplied
+    vec4 size_flags;     // quad width, height (m); z: 1 if sRGB codes read through a UNORM view (an sRGB view decodes itself); w: bit 0 blend alpha, bit 1 unpremultiplied
     uvec4 target;        // x: output layer (eye), y: width, z: height
 } pc;
 

@@ -1,12 +1,16 @@
 // Compositor::importSwapchain: images someone else made on the device (as an OpenXR runtime's images
 // are, seen from an API layer), in an attachment layout between frames, give the same output and
-// reservoirs as the compositor's own swapchains, and stay alive after the import is gone.
+// reservoirs as the compositor's own swapchains, and stay alive after the import is gone. sRGB images
+// made without MUTABLE_FORMAT (as Monado 21 makes them, whatever the usage asked) are read through sRGB
+// views and give the same bits as the compositor's own, read through UNORM views.
+#include "compositor/swapchain_vk.h"
 #include "gpu_checks.h"
 
 namespace wrsfov::test {
 namespace {
 
-class Import : public GpuTest {
+// Param: whether the owner made the sRGB images MUTABLE_FORMAT and says so (SwapchainImageOptions::flags).
+class Import : public GpuTest, public ::testing::WithParamInterface<bool> {
 protected:
     static constexpr uint32_t W = 48, H = 32;
     // Images as their owner would make them, initialised and moved to `layout`.
@@ -38,7 +42,8 @@ protected:
     }
 };
 
-TEST_F(Import, ImportedImagesCompositeLikeOwnSwapchains) {
+TEST_P(Import, ImportedImagesCompositeLikeOwnSwapchains) {
+    const bool mutableFormat = GetParam();
     CompositorConfig cfg;
     cfg.seed = 9;
     auto own = Compositor::create(context(), cfg);
@@ -50,8 +55,8 @@ TEST_F(Import, ImportedImagesCompositeLikeOwnSwapchains) {
                                        VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     const VkImageUsageFlags depthUse = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                        VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-    auto colorImgs = ownerImages(VK_FORMAT_R8G8B8A8_SRGB, colorUse, VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT,
-                                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    const VkImageCreateFlags colorFlags = mutableFormat ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0;
+    auto colorImgs = ownerImages(VK_FORMAT_R8G8B8A8_SRGB, colorUse, colorFlags, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
     auto depthImgs = ownerImages(VK_FORMAT_D32_SFLOAT, depthUse, 0, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
     layers::SwapchainCreateInfo ci;
     ci.format = layers::Format::RGBA8_SRGB;
@@ -61,10 +66,15 @@ TEST_F(Import, ImportedImagesCompositeLikeOwnSwapchains) {
     ci.imageCount = 3;
     SwapchainImageOptions colorOpt, depthOpt;
     colorOpt.restingLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    colorOpt.flags = colorFlags;
     depthOpt.restingLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
     const auto ch = handles(colorImgs), dh = handles(depthImgs);
     auto color = (*imp)->importSwapchain(ci, ch, colorOpt);
     ASSERT_TRUE(color.ok()) << color.error().message;
+    // A UNORM view only of an image its owner made MUTABLE_FORMAT (VUID-VkImageViewCreateInfo-image-01019).
+    EXPECT_EQ(dynamic_cast<const VulkanSwapchain&>(**color).colorEncoding(),
+              mutableFormat ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_SRGB_VIEW);
+    EXPECT_EQ(dynamic_cast<const VulkanSwapchain&>(app.color()).colorEncoding(), gpu::WRS_INPUT_SRGB);
     layers::SwapchainCreateInfo di = ci;
     di.usage = layers::Usage::Depth;
     di.format = layers::Format::D32F;
@@ -112,9 +122,14 @@ TEST_F(Import, ImportedImagesCompositeLikeOwnSwapchains) {
     color->reset();
     depth->reset();
     auto bytes = context().readImageLayer(colorImgs[size_t(last)].handle(), VK_IMAGE_ASPECT_COLOR_BIT, 1, W, H,
-                                          size_t(W) * H * 4, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 2);
+                                          size_t(W) * H * 4, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
     ASSERT_TRUE(bytes.ok()) << bytes.error().message;
 }
+
+INSTANTIATE_TEST_SUITE_P(Owner, Import, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& i) {
+                             return i.param ? "MutableFormat" : "AsMonadoMakesThem";
+                         });
 
 }  // namespace
 }  // namespace wrsfov::test

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "shaders/wrs_common.h"
+#include "shaders/wrs_input.h"
 
 namespace wrsfov::gpu {
 namespace {
@@ -1156,6 +1157,78 @@ TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
     // A skipped tile is foveated with the far tiles' levels.
     EXPECT_TRUE(wrs_tile_levels(WRS_TILE_SKIP) == wrs_tile_levels(WRS_TILE_FAR));
     EXPECT_EQ(wrs_level_quality(wrs_tile_levels(WRS_TILE_FAR)), floorQ);
+}
+
+}  // namespace
+}  // namespace wrsfov::gpu
+
+// ---- Reading an sRGB input through a view of its own format (shaders/wrs_input.h) ----------------
+
+namespace wrsfov::gpu {
+namespace {
+
+// The smallest distance from code k's linear value to its neighbours'.
+float srgbStep(int k) {
+    const auto& t = wrs_srgb8_table();
+    float step = std::numeric_limits<float>::infinity();
+    if (k > 0) step = std::min(step, t[k] - t[k - 1]);
+    if (k < 255) step = std::min(step, t[k + 1] - t[k]);
+    return step;
+}
+
+// A device's decode of every code, exact or off by up to a third of the step to the next code (what
+// the recovery promises to absorb), recovers the code, whichever result the spec lets pow give.
+TEST(Input, SrgbViewRecoversEveryCode) {
+    const auto& t = wrs_srgb8_table();
+    EXPECT_NEAR(srgbStep(0), 1.0 / (255.0 * 12.92), 1e-9);
+    for (Permitted p : {Permitted::Nearest, Permitted::Low, Permitted::High, Permitted::Mixed}) {
+        DeviceRounding model;
+        model.builtins = p;
+        model.unorm = p;
+        model.seed = 5;
+        ScopedDeviceRounding scoped(model);
+        for (int k = 0; k < 256; ++k)
+            for (float off : {0.0f, -0.33f, 0.33f, -0.1f, 0.1f}) {
+                const float decoded = std::max(0.0f, t[k] + off * srgbStep(k));
+                EXPECT_EQ(wrs_srgb8_code_of(decoded), uint(k)) << "code " << k << " decoded off by " << off
+                                                                 << " of a step, pow " << int(p);
+            }
+        // Two thirds of a step is the next code's (the recovery is the nearest code, not a guess).
+        for (int k = 0; k < 255; ++k)
+            EXPECT_EQ(wrs_srgb8_code_of(t[k] + 0.67f * (t[k + 1] - t[k])), uint(k + 1)) << "code " << k;
+    }
+}
+
+// One reading function: a code read through a UNORM view (code / 255) and through an sRGB view (its
+// linear value) decode to the same bits; linear and composed input pass through; non-finite channels
+// are sanitised to 0 and mark the texel unusable, from either view.
+TEST(Input, BothViewsOfAnSrgbImageDecodeToTheSameBits) {
+    const auto& t = wrs_srgb8_table();
+    for (int k = 0; k < 256; ++k) {
+        const vec4 unorm(wrs_unorm8_value(uint(k)), wrs_unorm8_value(uint(255 - k)), wrs_unorm8_value(uint(k / 2)), 1.0f);
+        const vec4 decoded(t[k], t[255 - k], t[k / 2], 1.0f);
+        const vec4 a = wrs_decode_input(unorm, WRS_INPUT_SRGB), b = wrs_decode_input(decoded, WRS_INPUT_SRGB_VIEW);
+        for (int c = 0; c < 4; ++c)
+            EXPECT_EQ(std::bit_cast<uint32_t>(a[c]), std::bit_cast<uint32_t>(b[c])) << "code " << k << " channel " << c;
+        EXPECT_EQ(a.x, t[k]);
+        EXPECT_EQ(a.w, 1.0f);
+    }
+    const vec4 lin(0.25f, 2.0f, 0.0f, 0.5f);
+    EXPECT_EQ(vec3(wrs_decode_input(lin, WRS_INPUT_LINEAR)), vec3(lin));
+    EXPECT_EQ(wrs_decode_input(lin, WRS_INPUT_LINEAR).w, 1.0f);
+    EXPECT_EQ(wrs_decode_input(vec4(0.5f, 0.5f, 0.5f, 0.0f), WRS_INPUT_COMPOSED).w, 0.0f);  // no valid tap
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (uint enc : {WRS_INPUT_LINEAR, WRS_INPUT_COMPOSED}) {
+        const vec4 r = wrs_decode_input(vec4(nan, inf, -inf, 1.0f), enc);
+        EXPECT_EQ(vec3(r), vec3(0.0f, 0.0f, 0.0f)) << "encoding " << enc;
+        EXPECT_EQ(r.w, 0.0f) << "encoding " << enc;
+    }
+    // An sRGB view cannot return a non-finite value, but whatever reaches the recovery maps to a code.
+    for (float v : {nan, inf, -inf, -1.0f, 2.0f}) {
+        const vec4 r = wrs_decode_input(vec4(v, v, v, 1.0f), WRS_INPUT_SRGB_VIEW);
+        EXPECT_TRUE(wrs_finite3(vec3(r))) << v;
+        EXPECT_LE(r.x, 1.0f) << v;
+    }
 }
 
 }  // namespace

@@ -42,6 +42,12 @@ check() {
 CLI_FIXED=1 cli_check plain 0 "60 shown as submitted" run plain
 CLI_FIXED=1 cli_check layer 0 "session ended: 60 of 60 frames foveated" run layer \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation
+# The same over the runtime in its strict swapchain setting (swapchains = strict: sRGB images never
+# MUTABLE_FORMAT, as Monado 21 makes them; four images): the layer reads them through sRGB views, with
+# no validation message. (That those views give the same bits as UNORM ones: Import.* in the GPU suite,
+# and XrQuadViews.GazeFollowingInsetMatchesTheLibrary over the strict runtime.)
+CLI_FIXED=1 cli_check strict 0 "session ended: 60 of 60 frames foveated" run strict \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation WRSFOV_XR_SWAPCHAINS=strict
 CLI_FIXED=1 cli_check disabled 0 "60 shown as submitted" run disabled \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation DISABLE_XR_APILAYER_WRSFOV_foveation=1
 # Faults inside the layer (its own device work only): the layer disables itself, the application
@@ -63,6 +69,8 @@ check layer_vulkan_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out
 check layer_teardown_clean sh -c "! grep -q -e 'Validation Error' -e 'ERROR: (' '$out/layer.log'"
 check layer_openxr_validation_active grep -q "Core Validation output type" "$out/layer.log"
 check layer_openxr_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/layer.log'"
+check strict_vulkan_clean grep -q "Vulkan validation: 0 errors, 0 warnings" "$out/strict.log"
+check strict_clean sh -c "! grep -q -e 'Validation Error' -e 'ERROR: (' -e VALID_ERROR -e 'VUID-' '$out/strict.log'"
 check disabled_silent sh -c "! grep -q 'wrsfov-layer' '$out/disabled.log'"
 CLI_FIXED=1 cli_check frames 0 "PASSED" "$frames_test" "$out/plain" "$out/layer" "$out/disabled" "$out/lost"
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -960,6 +961,106 @@ TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
         "pixels differ\n",
         (unsigned long long)differing, (unsigned long long)pixels);
     EXPECT_EQ(differing, 0u);
+}
+
+}  // namespace
+}  // namespace wrsfov::xrtest
+
+namespace wrsfov::xrtest {
+namespace {
+
+// Quad views through the API layer on any stereo runtime (our own with quad_views = 0 in the
+// xr_quad_through_layer test, in its strict swapchain setting; Monado, pointed at with
+// WRSFOV_TEST_ANY_RUNTIME=1): what an application sees and submits, with no assumption about the
+// runtime's sizes, formats or image counts. The configuration (four views, the insets inside their
+// wide views at the same poses), swapchains of a colour format the runtime offers with depth, and 60
+// frames of four rendered views ended with XR_SUCCESS. What the runtime shows is its own: the layer's
+// log line "N of N frames foveated" is what the harness checks (tests/xr/CMakeLists.txt).
+TEST(XrQuadViews, SubmittedThroughTheLayerOnAnyStereoRuntime) {
+    const char* quadOff = std::getenv("WRSFOV_XR_QUAD_VIEWS");
+    const char* any = std::getenv("WRSFOV_TEST_ANY_RUNTIME");
+    if (!throughLayer() || !((quadOff && std::string(quadOff) == "0") || (any && std::string(any) == "1")))
+        GTEST_SKIP() << "runs through the API layer on a runtime without quad views (xr_quad_through_layer)";
+    auto c = Client::create(kQuadExtensions);
+    ASSERT_TRUE(c);
+    XrViewConfigurationType types[8];
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateViewConfigurations(c->instance, c->system, 8, &n, types), XR_SUCCESS);
+    ASSERT_GE(n, 2u);
+    EXPECT_EQ(types[0], XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO);
+    XrViewConfigurationView v[4];
+    for (auto& x : v) x = {XR_TYPE_VIEW_CONFIGURATION_VIEW};
+    ASSERT_EQ(xrEnumerateViewConfigurationViews(c->instance, c->system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO,
+                                                4, &n, v),
+              XR_SUCCESS);
+    ASSERT_EQ(n, 4u);
+    const uint32_t ww = v[0].recommendedImageRectWidth, wh = v[0].recommendedImageRectHeight;
+    const uint32_t iw = v[2].recommendedImageRectWidth, ih = v[2].recommendedImageRectHeight;
+    EXPECT_GT(ww * wh, 0u);
+    EXPECT_GT(iw * ih, 0u);
+    EXPECT_LT(ww, c->viewWidth);  // wide views below the display's density
+    // A colour format the runtime offers that the layer composes (8-bit RGBA, sRGB first), and depth.
+    uint32_t fc = 0;
+    ASSERT_EQ(xrEnumerateSwapchainFormats(c->session, 0, &fc, nullptr), XR_SUCCESS);
+    std::vector<int64_t> formats(fc);
+    ASSERT_EQ(xrEnumerateSwapchainFormats(c->session, fc, &fc, formats.data()), XR_SUCCESS);
+    auto offered = [&](int64_t f) { return std::find(formats.begin(), formats.end(), f) != formats.end(); };
+    const int64_t color = offered(kSrgb) ? kSrgb : int64_t(VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(offered(color)) << "the runtime offers no 8-bit RGBA colour format";
+    const bool withDepth = offered(VK_FORMAT_D32_SFLOAT);
+    Swapchain wide, inset, wideDepth, insetDepth;
+    ASSERT_EQ(c->createSwapchain(color, ww, wh, 2, kColorUsage, wide), XR_SUCCESS);
+    ASSERT_EQ(c->createSwapchain(color, iw, ih, 2, kColorUsage, inset), XR_SUCCESS);
+    if (withDepth) {
+        ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, ww, wh, 2, kDepthUsage, wideDepth), XR_SUCCESS);
+        ASSERT_EQ(c->createSwapchain(VK_FORMAT_D32_SFLOAT, iw, ih, 2, kDepthUsage, insetDepth), XR_SUCCESS);
+    }
+    // READY before xrBeginSession (another runtime need not be ready at once).
+    bool ready = false;
+    for (int i = 0; i < 500 && !ready; ++i) {
+        for (XrSessionState s : Client::states(c->poll())) ready = ready || s == XR_SESSION_STATE_READY;
+        if (!ready) usleep(10000);
+    }
+    ASSERT_TRUE(ready) << "the session never became READY";
+    ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
+    int rendered = 0;
+    for (int f = 0; f < 60; ++f) {
+        ASSERT_EQ(c->frame([&](const XrFrameState& fs) {
+            c->poll();
+            std::vector<const XrCompositionLayerBaseHeader*> ls;
+            QuadLayer ql;
+            if (fs.shouldRender) {
+                XrView lv[4];
+                EXPECT_EQ(locate(*c, fs.predictedDisplayTime, true, lv), XR_SUCCESS);
+                for (int e = 0; e < 2; ++e) {
+                    EXPECT_EQ(std::memcmp(&lv[e].pose, &lv[e + 2].pose, sizeof(XrPosef)), 0) << "frame " << f;
+                    EXPECT_GE(lv[e + 2].fov.angleLeft, lv[e].fov.angleLeft) << "frame " << f;
+                    EXPECT_LE(lv[e + 2].fov.angleRight, lv[e].fov.angleRight) << "frame " << f;
+                    EXPECT_LE(lv[e + 2].fov.angleUp, lv[e].fov.angleUp) << "frame " << f;
+                    EXPECT_GE(lv[e + 2].fov.angleDown, lv[e].fov.angleDown) << "frame " << f;
+                }
+                c->writeSwapchain(wide, 4, VK_IMAGE_ASPECT_COLOR_BIT, [&](uint32_t e) { return render(ww, wh, lv[e].fov, f); });
+                c->writeSwapchain(inset, 4, VK_IMAGE_ASPECT_COLOR_BIT,
+                                  [&](uint32_t e) { return render(iw, ih, lv[2 + e].fov, f); });
+                if (withDepth) {
+                    c->writeSwapchain(wideDepth, 4, VK_IMAGE_ASPECT_DEPTH_BIT,
+                                      [&](uint32_t e) { return depthImage(ww, wh, lv[e].fov); });
+                    c->writeSwapchain(insetDepth, 4, VK_IMAGE_ASPECT_DEPTH_BIT,
+                                      [&](uint32_t e) { return depthImage(iw, ih, lv[2 + e].fov); });
+                }
+                ql.build(c->local, lv, wide, inset, withDepth ? &wideDepth : nullptr, withDepth ? &insetDepth : nullptr);
+                ls.push_back(ql.header());
+                ++rendered;
+            }
+            XrFrameEndInfo fe = frameEnd(fs.predictedDisplayTime, ls);
+            return xrEndFrame(c->session, &fe);
+        }),
+                  XR_SUCCESS)
+            << "frame " << f;
+    }
+    EXPECT_GT(rendered, 30) << "the runtime asked for few frames to be rendered";
+    std::printf("[quad views, any runtime] %d of 60 frames rendered as four views (wide %ux%u, inset %ux%u, %s%s)\n",
+                rendered, ww, wh, iw, ih, color == kSrgb ? "R8G8B8A8_SRGB" : "R8G8B8A8_UNORM", withDepth ? ", D32 depth" : "");
 }
 
 }  // namespace
