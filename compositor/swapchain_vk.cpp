@@ -63,9 +63,9 @@ Result<std::unique_ptr<VulkanSwapchain>> VulkanSwapchain::import(vk::Context& ct
     ici.width = info.width;
     ici.height = info.height;
     ici.layers = info.arraySize;
-    // The compositor only samples them (and copies from them): its views ask for no other usage. An sRGB
-    // image is read through a UNORM view only where its owner says it made it MUTABLE_FORMAT.
-    ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    // The compositor samples them: its views ask for no other usage. An sRGB image is read through a
+    // UNORM view only where its owner says it made it MUTABLE_FORMAT.
+    ici.usage = VK_IMAGE_USAGE_SAMPLED_BIT;
     ici.flags = options.flags;
     VkFormat viewFormat = VK_FORMAT_UNDEFINED;
     sc->chooseViews(options.flags, viewFormat);
