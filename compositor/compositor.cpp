@@ -577,15 +577,60 @@ Status Compositor::waitFrame() {
     return {};
 }
 
+// ---- Compositor::endFrame, stage by stage --------------------------------------------------------
+// accept (refusals: nothing changes), allocate (buffers of the frame's size: a failed allocation
+// refuses the frame before any state changed), plan (configuration, which passes run, the frame's
+// parameters), inputs (the frame's images bound), record, submit, keep (the history moves on).
+
+/// One frame's work, as the stages of endFrame hand it on.
+struct Compositor::FrameWork {
+    bool record = false;  ///< FrameSubmission::Mode::Record: into the caller's command buffer
+    layers::SubmittedFoveation kind = layers::SubmittedFoveation::Full;
+    uint32_t w = 0, h = 0;  ///< the output's size per eye
+    bool hasDepth = false, hasMotion = false;
+    CompositorConfig next;  ///< the configuration the frame runs
+    TrafficInputs trafficIn;
+    /// Frames submitted foveated: the compose pass's sources (eye, or 2 + eye for the insets).
+    std::array<VkImageView, 4> srcColor{}, srcDepth{}, srcMotion{};
+    std::array<VkImageView, 2> srcRate{};
+    PassPlan passes;
+    VkDescriptorSet set = VK_NULL_HANDLE;  ///< the passes' set, the frame's images bound
+    uint32_t eyes = WRS_EYES;              ///< the eyes the passes run for (1 with mono views)
+    bool mono = false;
+    bool inPlace = false, tiled = false, sparse = false, steady = false;
+    uint32_t written = 0;  ///< the reservoir buffer the frame writes
+    uint32_t tilesPerEye = 0;
+};
+
+namespace {
+const VulkanSwapchain* vkSwapchain(const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); }
+/// The view the passes sample of a sub-image's last released image.
+VkImageView sampledView(const layers::SubImage& s) {
+    const VulkanSwapchain* vs = vkSwapchain(s);
+    return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
+}
+}  // namespace
+
 Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission) {
+    FrameWork work;
+    if (Status s = acceptFrame(frame, submission, work); !s) return s;
+    if (Status s = allocateFrame(frame, work); !s) return s;
+    planFrame(frame, work);
+    bindInputs(frame, work);
+    VkCommandBuffer cb = recordFrame(frame, submission, work);
+    if (Status s = submitFrame(submission, cb, work); !s) return s;
+    keepFrame(frame, work);
+    return {};
+}
+
+Status Compositor::acceptFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission, FrameWork& work) {
     // The last Submit frame first: its command buffer, parameters and descriptor sets are reused.
     if (Status s = waitFrame(); !s) return s;
     if (ctx_.deviceLost()) return submitError(SubmitError::DeviceFailure, kDeviceLost);
     if (Status s = validator_.validate(frame); !s) return s;
     if (Status s = checkSubmission(submission); !s) return s;
-    const bool record = submission.mode == FrameSubmission::Mode::Record;
+    work.record = submission.mode == FrameSubmission::Mode::Record;
     const layers::ProjectionLayer& layer = frame.layers[0];
-    auto vkSwapchain = [&](const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); };
     for (std::size_t eye = 0; eye < layer.views.size(); ++eye)
         for (auto [s, field] : subImagesOf(layer.views[eye])) {
             if (!s) continue;
@@ -594,25 +639,31 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
                 return submitError(SubmitError::ForeignSwapchain, std::string(eye == 0 ? "left " : "right ") + field +
                                                                       " swapchain was not created by this compositor");
         }
-    const layers::SubmittedFoveation kind = layers::submittedFoveation(layer);
-    if (kind != layers::SubmittedFoveation::Full && isOracle((configPending_ ? pending_ : config_).method) &&
+    work.kind = layers::submittedFoveation(layer);
+    if (work.kind != layers::SubmittedFoveation::Full && isOracle((configPending_ ? pending_ : config_).method) &&
         !(layer.views[0].reference && layer.views[1].reference))
         return submitError(SubmitError::InvalidSubmission,
                            "the oracles compare with the full-resolution image, which quad views and rate maps do not "
                            "carry: give each view its reference (ProjectionView::reference) to evaluate them");
+    const glm::uvec2 outSize = layers::outputSize(layer);
+    work.w = outSize.x;
+    work.h = outSize.y;
+    work.hasDepth = layer.views[0].depth.has_value();
+    work.hasMotion = layer.views[0].motion.has_value();
+    work.next = configPending_ ? pending_ : config_;
+    if (work.kind != layers::SubmittedFoveation::Full) work.next.foveation = FoveationMode::Submitted;
+    work.trafficIn = trafficInputs(layer);
+    return {};
+}
+
+Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
+    const layers::ProjectionLayer& layer = frame.layers[0];
     // Buffers of a new size first (copy kernel, then the passes'): a failed allocation refuses the
     // frame before any state (size, history, configuration) has changed.
-    const glm::uvec2 outSize = layers::outputSize(layer);
-    const uint32_t w = outSize.x, h = outSize.y;
-    const bool hasDepth = layer.views[0].depth.has_value();
-    const bool hasMotion = layer.views[0].motion.has_value();
-    CompositorConfig next = configPending_ ? pending_ : config_;
-    if (kind != layers::SubmittedFoveation::Full) next.foveation = FoveationMode::Submitted;
-    const TrafficInputs trafficIn = trafficInputs(layer);
-    if (next.measureCopy) {
+    if (work.next.measureCopy) {
         // Half the frame's traffic is read and half written: the copy moves the same bytes. The floor
         // copy moves a prefix of the same buffers (the floor is part of the traffic).
-        const uint64_t half = (trafficBytes(next, trafficIn) / 2 + 15) / 16 * 16;
+        const uint64_t half = (trafficBytes(work.next, work.trafficIn) / 2 + 15) / 16 * 16;
         if (copySrc_.size() != half) {
             vkDeviceWaitIdle(ctx_.device());
             const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -636,55 +687,52 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
             vkUpdateDescriptorSets(ctx_.device(), 2, w2, 0, nullptr);
         }
     }
-
     // Quad views and rate maps come with their own foveation: the frame runs with mode Submitted, and
     // the composed images and qualities are made first, before anything else changes (a failed allocation
     // refuses the frame).
-    std::array<VkImageView, 4> srcColor{}, srcDepth{}, srcMotion{};
-    std::array<VkImageView, 2> srcRate{};
-    auto view = [&](const layers::SubImage& s) {
-        const VulkanSwapchain* vs = vkSwapchain(s);
-        return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
-    };
     composeParams_ = gpu::ComposeParams{};
-    if (kind != layers::SubmittedFoveation::Full) {
-        composeParams_ = makeComposeParams(layer, outSize, next.insetBlendPx);
+    if (work.kind != layers::SubmittedFoveation::Full) {
+        composeParams_ = makeComposeParams(layer, glm::uvec2(work.w, work.h), work.next.insetBlendPx);
         for (int eye = 0; eye < 2; ++eye) {
             const layers::ProjectionView& v = layer.views[eye];
-            srcColor[eye] = view(v.color);
-            if (v.depth) srcDepth[eye] = view(v.depth->subImage);
-            if (v.motion) srcMotion[eye] = view(v.motion->subImage);
+            work.srcColor[eye] = sampledView(v.color);
+            if (v.depth) work.srcDepth[eye] = sampledView(v.depth->subImage);
+            if (v.motion) work.srcMotion[eye] = sampledView(v.motion->subImage);
             if (v.inset) {
-                srcColor[2 + eye] = view(v.inset->color);
-                if (v.inset->depth) srcDepth[2 + eye] = view(v.inset->depth->subImage);
-                if (v.inset->motion) srcMotion[2 + eye] = view(v.inset->motion->subImage);
+                work.srcColor[2 + eye] = sampledView(v.inset->color);
+                if (v.inset->depth) work.srcDepth[2 + eye] = sampledView(v.inset->depth->subImage);
+                if (v.inset->motion) work.srcMotion[2 + eye] = sampledView(v.inset->motion->subImage);
             }
-            if (v.rateMap) srcRate[eye] = view(v.rateMap->subImage);
+            if (v.rateMap) work.srcRate[eye] = sampledView(v.rateMap->subImage);
         }
-        if (Status s = prepareSubmitted(w, h); !s)
+        if (Status s = prepareSubmitted(work.w, work.h); !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
-        const ComposePass::Sources sources{srcColor, srcDepth, srcMotion, srcRate};
-        if (Status s = compose_->prepare(kind, composeParams_, sources, quality_.handle(), sampler_.get(),
+        const ComposePass::Sources sources{work.srcColor, work.srcDepth, work.srcMotion, work.srcRate};
+        if (Status s = compose_->prepare(work.kind, composeParams_, sources, quality_.handle(), sampler_.get(),
                                          dummy_.layerView(0), dummyUint_.layerView(0));
             !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
     }
-    if (w != width_ || h != height_ || next.trackBirth != birthAllocated_) {
-        if (Status s = resize(w, h, next.trackBirth); !s)
+    if (work.w != width_ || work.h != height_ || work.next.trackBirth != birthAllocated_) {
+        if (Status s = resize(work.w, work.h, work.next.trackBirth); !s)
             return submitError(SubmitError::DeviceFailure,
-                               ctx_.deviceLost()
-                                   ? std::string(kDeviceLost)
-                                   : "resizing to " + std::to_string(w) + "x" + std::to_string(h) + ": " + s.message());
+                               ctx_.deviceLost() ? std::string(kDeviceLost)
+                                                 : "resizing to " + std::to_string(work.w) + "x" +
+                                                       std::to_string(work.h) + ": " + s.message());
     }
+    return {};
+}
+
+void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     if (configPending_) {
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
         if (!steadyFloorActive(pending_)) steadyValid_ = false;
         config_ = pending_;
         configPending_ = false;
     }
-    frame_ = next;
-    submitted_ = kind;
-    if (kind != layers::SubmittedFoveation::Full)  // after any resize, which binds the placeholder
+    frame_ = work.next;
+    submitted_ = work.kind;
+    if (work.kind != layers::SubmittedFoveation::Full)  // after any resize, which binds the placeholder
         for (VkDescriptorSet set : sets_) {
             VkDescriptorBufferInfo qi{quality_.handle(), 0, VK_WHOLE_SIZE};
             VkWriteDescriptorSet wq = vk::bufferWrite(set, kQuality, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &qi);
@@ -694,50 +742,54 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     if (frame_.foveation != lastFoveation_) historyValid_ = false;
     lastFoveation_ = frame_.foveation;
     // Which passes run (planPasses, as traffic() and the cost model see them).
-    const PassPlan passes = planPasses(frame_, hasMotion, birthAllocated_);
-    const bool wrsPaper = passes.wrsPaper, retain = passes.retain, taa = passes.taa, temporal = passes.temporal;
-    const bool pyramid = passes.pyramid;
+    work.passes = planPasses(frame_, work.hasMotion, birthAllocated_);
 
     stats_ = FrameStats{};
     stats_.frameIndex = frame.frameIndex;
-    stats_.usedDepth = hasDepth;
-    stats_.usedMotion = hasMotion && temporal;
-    stats_.historyReset = temporal && !historyValid_;
-    params_ = makeFrameParams(frame_, frame, w, h, stats_.gazeFallback);
+    stats_.usedDepth = work.hasDepth;
+    stats_.usedMotion = work.hasMotion && work.passes.temporal;
+    stats_.historyReset = work.passes.temporal && !historyValid_;
+    params_ = makeFrameParams(frame_, frame, work.w, work.h, stats_.gazeFallback);
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
-    const bool sparse = passes.sparse;
-    const uint32_t tilesPerEye = groups(w, gpu::WRS_TILE) * groups(h, gpu::WRS_TILE);
-    const uint32_t tileCount = tilesPerEye * uint32_t(WRS_EYES);
+    work.sparse = work.passes.sparse;
+    work.tilesPerEye = groups(work.w, gpu::WRS_TILE) * groups(work.h, gpu::WRS_TILE);
+    const uint32_t tileCount = work.tilesPerEye * uint32_t(WRS_EYES);
     params_.held.x = heldPrev_ * tileCount;
     params_.held.y = (1 - heldPrev_) * tileCount;
     params_.held.w = 2 * tileCount;  // the superblocks
-    stats_.sparse = sparse;
+    stats_.sparse = work.sparse;
     stats_.retained = usesRetainPass(frame_.method);
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 
     // In place: the retain pass skips the store of a pixel whose reservoir did not change (a kept
     // sample of a still scene: most of the periphery).
-    const bool inPlace = passes.inPlace;
-    const uint32_t written = inPlace ? current_ : 1 - current_;
-    stats_.inPlace = inPlace;
-    const bool tiled = passes.tiled;
-    stats_.tiled = tiled;
+    work.inPlace = work.passes.inPlace;
+    work.written = work.inPlace ? current_ : 1 - current_;
+    stats_.inPlace = work.inPlace;
+    work.tiled = work.passes.tiled;
+    stats_.tiled = work.tiled;
+    work.steady = work.passes.steady;
+    stats_.steadyFloor = work.steady;
+}
+
+void Compositor::bindInputs(const layers::FrameEndInfo& frame, FrameWork& work) {
+    const layers::ProjectionLayer& layer = frame.layers[0];
     // Per-frame inputs: the last released image of each swapchain.
-    VkDescriptorSet set = sets_[current_ + (inPlace ? 2 : 0)];
+    work.set = sets_[current_ + (work.inPlace ? 2 : 0)];
     VkDescriptorImageInfo ii[6];
-    const bool composed = kind == layers::SubmittedFoveation::Quad;
+    const bool composed = work.kind == layers::SubmittedFoveation::Quad;
     for (int eye = 0; eye < 2; ++eye) {
         const layers::ProjectionView& v = layer.views[eye];
         // Quad views: the compose pass's images, layer = eye.
-        ii[0 + eye] = {sampler_.get(), composed ? compose_->color().layerView(eye) : view(v.color),
+        ii[0 + eye] = {sampler_.get(), composed ? compose_->color().layerView(eye) : sampledView(v.color),
                        VK_IMAGE_LAYOUT_GENERAL};
         ii[2 + eye] = {sampler_.get(),
                        !v.depth ? dummy_.layerView(0)
-                                : composed ? compose_->depth().layerView(eye) : view(v.depth->subImage),
+                                : composed ? compose_->depth().layerView(eye) : sampledView(v.depth->subImage),
                        VK_IMAGE_LAYOUT_GENERAL};
         ii[4 + eye] = {sampler_.get(),
                        !v.motion ? dummy_.layerView(0)
-                                 : composed ? compose_->motion().layerView(eye) : view(v.motion->subImage),
+                                 : composed ? compose_->motion().layerView(eye) : sampledView(v.motion->subImage),
                        VK_IMAGE_LAYOUT_GENERAL};
     }
     // The same images, field of view and gaze in both views (a monitor, a mono preview): the passes
@@ -749,39 +801,48 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     // maps, references) with the same parameters: the compose pass then runs for the left eye only too.
     const bool eyeRandom = frame_.method == Method::WrsPaper ||
                            (frame_.method == Method::Wrs && frame_.equalQuality == EqualQuality::Reservoir);
+    const auto& src = work;
     const bool sameInputs =
-        kind == layers::SubmittedFoveation::Full
+        work.kind == layers::SubmittedFoveation::Full
             ? ii[0].imageView == ii[1].imageView && ii[2].imageView == ii[3].imageView &&
                   ii[4].imageView == ii[5].imageView
-            : srcColor[0] == srcColor[1] && srcColor[2] == srcColor[3] && srcDepth[0] == srcDepth[1] &&
-                  srcDepth[2] == srcDepth[3] && srcMotion[0] == srcMotion[1] && srcMotion[2] == srcMotion[3] &&
-                  srcRate[0] == srcRate[1] &&
+            : src.srcColor[0] == src.srcColor[1] && src.srcColor[2] == src.srcColor[3] &&
+                  src.srcDepth[0] == src.srcDepth[1] && src.srcDepth[2] == src.srcDepth[3] &&
+                  src.srcMotion[0] == src.srcMotion[1] && src.srcMotion[2] == src.srcMotion[3] &&
+                  src.srcRate[0] == src.srcRate[1] &&
                   std::memcmp(&composeParams_.eye[0], &composeParams_.eye[1], sizeof(gpu::ComposeEye)) == 0;
-    const auto refView = [&](int eye) { return layer.views[eye].reference ? view(*layer.views[eye].reference) : VK_NULL_HANDLE; };
-    const bool mono = !eyeRandom && sameInputs && refView(0) == refView(1) &&
-                      std::memcmp(&params_.eye[0], &params_.eye[1], sizeof(gpu::EyeParams)) == 0;
-    const uint32_t eyes = mono ? 1u : uint32_t(WRS_EYES);
-    stats_.monoViews = mono;
+    const auto refView = [&](int eye) {
+        return layer.views[eye].reference ? sampledView(*layer.views[eye].reference) : VK_NULL_HANDLE;
+    };
+    work.mono = !eyeRandom && sameInputs && refView(0) == refView(1) &&
+                std::memcmp(&params_.eye[0], &params_.eye[1], sizeof(gpu::EyeParams)) == 0;
+    work.eyes = work.mono ? 1u : uint32_t(WRS_EYES);
+    stats_.monoViews = work.mono;
     // The oracles' full-resolution reference of a frame submitted foveated (a placeholder otherwise).
     VkDescriptorImageInfo ri[2];
     for (int eye = 0; eye < 2; ++eye) {
         const layers::ProjectionView& v = layer.views[eye];
-        ri[eye] = {sampler_.get(), v.reference ? view(*v.reference) : dummy_.layerView(0), VK_IMAGE_LAYOUT_GENERAL};
+        ri[eye] = {sampler_.get(), v.reference ? sampledView(*v.reference) : dummy_.layerView(0),
+                   VK_IMAGE_LAYOUT_GENERAL};
     }
     VkWriteDescriptorSet wr[4];
     for (uint32_t k = 0; k < 3; ++k)
-        wr[k] = vk::imageWrite(set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
-    wr[3] = vk::imageWrite(set, kReference, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ri, 2);
+        wr[k] = vk::imageWrite(work.set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
+    wr[3] = vk::imageWrite(work.set, kReference, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ri, 2);
     vkUpdateDescriptorSets(ctx_.device(), 4, wr, 0, nullptr);
+}
 
-    VkCommandBuffer cb = record ? submission.commandBuffer : cmd_;
-    if (!record) {
+VkCommandBuffer Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
+                                        const FrameWork& work) {
+    const layers::ProjectionLayer& layer = frame.layers[0];
+    VkCommandBuffer cb = work.record ? submission.commandBuffer : cmd_;
+    if (!work.record) {
         VK_CHECK(vkResetCommandBuffer(cb, 0));
         VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
         bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
         VK_CHECK(vkBeginCommandBuffer(cb, &bi));
     }
-    const bool timing = ctx_.timestampPeriodNs() > 0 && !record;
+    const bool timing = ctx_.timestampPeriodNs() > 0 && !work.record;
     if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kFrameStamps);
     {
         // Whatever the application wrote (uploads, its own rendering) and the last frame's
@@ -811,15 +872,16 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         }
     };
     transitionInputs(true);
-    const bool steady = passes.steady;
-    stats_.steadyFloor = steady;
-    const FramePlan plan{cb,     w,      h,       eyes,    hasDepth, hasMotion, retain,  wrsPaper,    taa, temporal,
-                         pyramid, tiled, sparse, inPlace, mono,     timing,    steady,  written, tilesPerEye};
+    const PassPlan& p = work.passes;
+    const FramePlan plan{cb,         work.w,     work.h,      work.eyes,    work.hasDepth, work.hasMotion,
+                         p.retain,   p.wrsPaper, p.taa,       p.temporal,   p.pyramid,     work.tiled,
+                         work.sparse, work.inPlace, work.mono, timing,       work.steady,   work.written,
+                         work.tilesPerEye};
     // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
     recordHistoryStart(plan);
     stamp(plan, 0);
     recordCompose(plan);  // binds a set of its own layout: the passes' set is bound after it
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set, 0, nullptr);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &work.set, 0, nullptr);
     recordClassify(plan);
     stamp(plan, 1);
     recordPyramid(plan);
@@ -831,50 +893,56 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     recordMonoCopies(plan);
     stamp(plan, 4);
     transitionInputs(false);
-    recordTileCounts(plan, record);
+    recordTileCounts(plan, work.record);
     // The output (and the history) is visible to whatever the caller runs next on the queue or
     // after its semaphores: presentation, a copy, its own composition.
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                       VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                       VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
-    lastTiled_ = tiled && !record;  // waitFrame reads the counts
-    if (!record) {
-        VK_CHECK(vkEndCommandBuffer(cb));
-        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-        si.commandBufferCount = 1;
-        si.pCommandBuffers = &cb;
-        si.waitSemaphoreCount = uint32_t(submission.waitSemaphores.size());
-        si.pWaitSemaphores = submission.waitSemaphores.data();
-        si.pWaitDstStageMask = submission.waitStages.data();
-        si.signalSemaphoreCount = uint32_t(submission.signalSemaphores.size());
-        si.pSignalSemaphores = submission.signalSemaphores.data();
-        // Both modes submit the same way; Wait then waits here, before the history moves on, so
-        // that a failed frame changes nothing (waitFrame also collects the GPU times).
-        submittedAt_ = std::chrono::steady_clock::now();
-        const VkResult r = ctx_.submitNoWait(si, frameFence_.get());
-        if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
-        if (r != VK_SUCCESS)
-            return submitError(SubmitError::DeviceFailure,
-                               std::string("the device failed while compositing: ") + vk::resultString(r));
-        inFlight_ = true;
-        inFlightTraffic_ = trafficIn;
-        inFlightEyes_ = eyes;
-        if (submission.mode == FrameSubmission::Mode::Wait)
-            if (Status s = waitFrame(); !s) return s;
-    }
-    if (temporal) {
-        current_ = written;
+    lastTiled_ = work.tiled && !work.record;  // waitFrame reads the counts
+    return cb;
+}
+
+Status Compositor::submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, const FrameWork& work) {
+    if (work.record) return {};  // the caller submits
+    VK_CHECK(vkEndCommandBuffer(cb));
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    si.waitSemaphoreCount = uint32_t(submission.waitSemaphores.size());
+    si.pWaitSemaphores = submission.waitSemaphores.data();
+    si.pWaitDstStageMask = submission.waitStages.data();
+    si.signalSemaphoreCount = uint32_t(submission.signalSemaphores.size());
+    si.pSignalSemaphores = submission.signalSemaphores.data();
+    // Both modes submit the same way; Wait then waits here, before the history moves on, so
+    // that a failed frame changes nothing (waitFrame also collects the GPU times).
+    submittedAt_ = std::chrono::steady_clock::now();
+    const VkResult r = ctx_.submitNoWait(si, frameFence_.get());
+    if (r == VK_ERROR_DEVICE_LOST) return submitError(SubmitError::DeviceFailure, kDeviceLost);
+    if (r != VK_SUCCESS)
+        return submitError(SubmitError::DeviceFailure,
+                           std::string("the device failed while compositing: ") + vk::resultString(r));
+    inFlight_ = true;
+    inFlightTraffic_ = work.trafficIn;
+    inFlightEyes_ = work.eyes;
+    if (submission.mode == FrameSubmission::Mode::Wait)
+        if (Status s = waitFrame(); !s) return s;
+    return {};
+}
+
+void Compositor::keepFrame(const layers::FrameEndInfo& frame, const FrameWork& work) {
+    if (work.passes.temporal) {
+        current_ = work.written;
         historyValid_ = true;
     } else {
         historyValid_ = false;  // the history buffers did not follow this frame
     }
-    if (sparse) heldPrev_ = 1 - heldPrev_;
-    held_ = sparse ? Held::Valid : Held::Unknown;
-    if (steady) steadySlot_ = 1 - steadySlot_;
-    steadyValid_ = steady;
-    lastSparse_ = sparse;
+    if (work.sparse) heldPrev_ = 1 - heldPrev_;
+    held_ = work.sparse ? Held::Valid : Held::Unknown;
+    if (work.steady) steadySlot_ = 1 - steadySlot_;
+    steadyValid_ = work.steady;
+    lastSparse_ = work.sparse;
     validator_.accept(frame);
-    return {};
 }
 
 Status Compositor::prepareSubmitted(uint32_t width, uint32_t height) {

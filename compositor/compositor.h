@@ -317,8 +317,8 @@ public:
                                                                const SwapchainImageOptions& options = {});
     /// A swapchain over images someone else made on this compositor's device and keeps owning (an
     /// OpenXR runtime's, seen by an API layer): info.imageCount images of info's format, size and
-    /// array size (options.flags: the create flags the owner vouches for), with SAMPLED and TRANSFER_SRC
-    /// usage, initialised and in options.restingLayout whenever the compositor may read them. The
+    /// array size (options.flags: the create flags the owner vouches for), with SAMPLED usage (and
+    /// TRANSFER_SRC for read()), initialised and in options.restingLayout whenever the compositor may read them. The
     /// compositor creates views only and destroys nothing else.
     Result<std::unique_ptr<layers::Swapchain>> importSwapchain(const layers::SwapchainCreateInfo& info,
                                                                std::span<const VkImage> images,
@@ -452,6 +452,19 @@ private:
     vk::Fence frameFence_;  // signalled by each frame's submission, reset after the wait
     bool inFlight_ = false;  // a Mode::Submit frame not waited for yet
     std::chrono::steady_clock::time_point submittedAt_;
+    /// endFrame's stages, in order (compositor.cpp): accept (the frame's refusals; nothing changes),
+    /// allocate (buffers of its size: a failed allocation refuses it before any state changed), plan
+    /// (configuration, which passes run, the frame's parameters), inputs (its images bound), record,
+    /// submit, keep (the history moves on). FrameWork carries the frame from one to the next.
+    struct FrameWork;
+    Status acceptFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission, FrameWork& work);
+    Status allocateFrame(const layers::FrameEndInfo& frame, FrameWork& work);
+    void planFrame(const layers::FrameEndInfo& frame, FrameWork& work);
+    void bindInputs(const layers::FrameEndInfo& frame, FrameWork& work);
+    VkCommandBuffer recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
+                                const FrameWork& work);
+    Status submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, const FrameWork& work);
+    void keepFrame(const layers::FrameEndInfo& frame, const FrameWork& work);
     /// What a frame runs, decided once in endFrame; each pass records itself from it (recordX, in the
     /// order endFrame calls them).
     struct FramePlan {
