@@ -53,13 +53,18 @@ gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::
         // Output pixel centre c maps to a source's pixel (c * scale + offset) per axis (wrs_source_pos):
         // x = (tan_x(c) - src.left) * srcW / srcSpanX, y = (src.up - tan_y(c)) * srcH / srcSpanY, with
         // tan_x(c) = out.left + c * outSpanX / W and tan_y(c) = out.up - c * outSpanY / H. In double, rounded once.
-        auto map = [&](const glm::vec4& src, uint32_t sw, uint32_t sh) {
+        // A jittered source (sampleOffset o: its pixel i holds the scene at i + 0.5 + o of that grid) is
+        // read on the lattice of its samples: the position less o, so each sample is placed where it
+        // was taken and the output stays on the view's grid.
+        auto map = [&](const glm::vec4& src, uint32_t sw, uint32_t sh, glm::vec2 o) {
             const double kx = sw / (double(src.y) - src.x), ky = sh / (double(src.z) - src.w);
             const double ox = (double(outTan.y) - outTan.x) / out.x, oy = (double(outTan.z) - outTan.w) / out.y;
-            return glm::vec4(float(ox * kx), float(oy * ky), float((double(outTan.x) - src.x) * kx),
-                             float((double(src.z) - outTan.z) * ky));
+            return glm::vec4(float(ox * kx), float(oy * ky), float((double(outTan.x) - src.x) * kx - double(o.x)),
+                             float((double(src.z) - outTan.z) * ky - double(o.y)));
         };
-        e.wide_map = map(outTan, v.color.rect.width, v.color.rect.height);
+        // (Rate maps: the colour is read at its own pixels, which are the output's; no offset.)
+        const glm::vec2 wideOffset = v.inset ? v.sampleOffset : glm::vec2(0.0f);
+        e.wide_map = map(outTan, v.color.rect.width, v.color.rect.height, wideOffset);
         e.sizes = glm::uvec4(v.color.rect.width, v.color.rect.height, 0u, 0u);
         e.wide_color = glm::uvec4(v.color.rect.x, v.color.rect.y, colorEncoding(v.color), 0u);
         if (v.rateMap) {
@@ -69,7 +74,7 @@ gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::
         if (!v.inset) continue;
         const layers::InsetView& in = *v.inset;
         const glm::vec4 insetTan = tangents(in.fov);
-        e.inset_map = map(insetTan, in.color.rect.width, in.color.rect.height);
+        e.inset_map = map(insetTan, in.color.rect.width, in.color.rect.height, in.sampleOffset);
         e.sizes.z = in.color.rect.width;
         e.sizes.w = in.color.rect.height;
         e.inset_color = glm::uvec4(in.color.rect.x, in.color.rect.y, colorEncoding(in.color), 0u);

@@ -689,13 +689,13 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSwapchain(XrSession session, const XrS
     const Next* n = nextOfSession(session);
     if (!n) return XR_ERROR_HANDLE_INVALID;
     if (!info) return n->createSwapchain(session, info, swapchain);
-    // The compositor samples the images (and reads the depth under the gaze by a copy): added usage, on
-    // a copy; the application's structure stays as it gave it. No MUTABLE_FORMAT: a runtime may ignore it
-    // (Monado 21 does), so an sRGB image is read through a view of its own format (the device decodes,
+    // The compositor samples the images, and does nothing else with them: SAMPLED added, on a copy; the
+    // application's structure stays as it gave it. No MUTABLE_FORMAT: a runtime may ignore it (Monado
+    // 21 does), so an sRGB image is read through a view of its own format (the device decodes,
     // shaders/wrs_input.h) and never reinterpreted.
     XrSwapchainCreateInfo ci = *info;
     const auto fmt = colorFormat(info->format);
-    if (fmt) ci.usageFlags |= XR_SWAPCHAIN_USAGE_SAMPLED_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT;
+    if (fmt) ci.usageFlags |= XR_SWAPCHAIN_USAGE_SAMPLED_BIT;
     XrResult r = n->createSwapchain(session, &ci, swapchain);
     if (XR_FAILED(r) && fmt && ci.usageFlags != info->usageFlags) {
         // The runtime refused the added usage: the images are made with the application's usage alone,
@@ -703,7 +703,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateSwapchain(XrSession session, const XrS
         ci = *info;
         r = n->createSwapchain(session, &ci, swapchain);
         if (XR_SUCCEEDED(r))
-            logLine("swapchain made without the layer's SAMPLED | TRANSFER_SRC usage (the runtime refused it)");
+            logLine("swapchain made without the SAMPLED usage the layer asked for (the runtime refused it): "
+                    "frames that use it pass through");
     }
     if (XR_FAILED(r)) return r;
     SwapchainState& s = g_swapchains[*swapchain];
@@ -1217,6 +1218,21 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
             if (!pv) return once(2, "a view's swapchain is not one the compositor reads");
             v[i] = *pv;
         }
+        // Wide views rendered jittered (the runtime's located stereo field of view shifted by under
+        // half a pixel) are composed on the located grid with their samples where they were taken
+        // (xr::placeJitter); the insets are placed by the field of view they were rendered with.
+        XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO};
+        li.viewConfigurationType = kStereo;
+        li.displayTime = info.displayTime;
+        li.space = proj.space;
+        XrViewState vs{XR_TYPE_VIEW_STATE};
+        XrView located[2] = {{XR_TYPE_VIEW}, {XR_TYPE_VIEW}};
+        uint32_t count = 0;
+        if (n.locateViews(session, &li, &vs, 2, &count, located) == XR_SUCCESS && count == 2)
+            for (uint32_t e = 0; e < 2; ++e) {
+                const XrFovf& f = located[e].fov;
+                xr::placeJitter(v[e], layers::Fov{f.angleLeft, f.angleRight, f.angleUp, f.angleDown});
+            }
         layer = layers::quadLayer(v, s.displayWidth, s.displayHeight);
     } else {
         for (uint32_t e = 0; e < 2; ++e) {

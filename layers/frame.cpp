@@ -27,6 +27,7 @@ std::string_view toString(SubmitError e) {
     case SubmitError::InvalidMotionScale: return "InvalidMotionScale";
     case SubmitError::InvalidSubmission: return "InvalidSubmission";
     case SubmitError::InvalidInset: return "InvalidInset";
+    case SubmitError::InvalidSampleOffset: return "InvalidSampleOffset";
     case SubmitError::InvalidRateMap: return "InvalidRateMap";
     }
     return "?";
@@ -113,6 +114,21 @@ glm::dvec2 density(const Fov& f, uint32_t w, uint32_t h) {
             h / (std::tan(double(f.angleUp)) - std::tan(double(f.angleDown)))};
 }
 
+// A sample offset inside its pixel (`where`: "left view", "left inset").
+Status checkSampleOffset(glm::vec2 o, const std::string& where) {
+    for (int i = 0; i < 2; ++i) {
+        const char* axis = i == 0 ? "x" : "y";
+        if (!std::isfinite(o[i]))
+            return err(SubmitError::InvalidSampleOffset,
+                       where + " sample offset " + axis + " is not finite (" + std::to_string(o[i]) + ")");
+        if (o[i] < -0.5f || o[i] > 0.5f)
+            return err(SubmitError::InvalidSampleOffset, where + " sample offset " + axis + " = " +
+                                                             std::to_string(o[i]) +
+                                                             " px is outside its pixel ([-0.5, 0.5])");
+    }
+    return {};
+}
+
 Status checkInset(const ProjectionView& v, const std::string& eye) {
     const InsetView& in = *v.inset;
     const std::string where = eye + " inset";
@@ -191,7 +207,7 @@ ProjectionLayer quadLayer(const std::array<ProjectionView, 4>& v, uint32_t outWi
     ProjectionLayer layer;
     for (uint32_t e = 0; e < 2; ++e) {
         ProjectionView pv = v[e];
-        InsetView in{v[e + 2].fov, v[e + 2].color, std::nullopt, std::nullopt};
+        InsetView in{v[e + 2].fov, v[e + 2].color, std::nullopt, std::nullopt, v[e + 2].sampleOffset};
         if (depth)
             in.depth = v[e + 2].depth;
         else
@@ -246,6 +262,9 @@ Status FrameValidator::validate(const FrameEndInfo& frame) const {
         const ProjectionView& v = layer.views[i];
         std::string eye = eyeName(i);
         if (Status s = checkFov(v.fov, eye + " view"); !s) return s;
+        if (Status s = checkSampleOffset(v.sampleOffset, eye + " view"); !s) return s;
+        if (v.inset)
+            if (Status s = checkSampleOffset(v.inset->sampleOffset, eye + " inset"); !s) return s;
         if (Status s = checkSubImage(v.color, Usage::Color, eye + " colour"); !s) return s;
         if (Status s = checkDepthMotion(v.depth, v.motion, v.color.rect, eye); !s) return s;
         if (v.inset) {

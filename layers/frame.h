@@ -70,6 +70,8 @@ struct InsetView {
     SubImage color;                   ///< any size; its density must be at least the wide view's
     std::optional<DepthInfo> depth;   ///< exactly when the wide view has depth, same near/far/reversed
     std::optional<MotionInfo> motion; ///< exactly when the wide view has motion; in the inset's pixels
+    /// Where the inset's samples were taken, in its own pixels (ProjectionView::sampleOffset).
+    glm::vec2 sampleOffset{0.0f, 0.0f};
 };
 
 /// A shading-rate map (VK_KHR_fragment_shading_rate's attachment): one R8UI texel per
@@ -95,6 +97,14 @@ struct ProjectionView {
     /// size), for the oracles, which compare with it; they refuse frames submitted foveated without it.
     /// Not read by any other method.
     std::optional<SubImage> reference;
+    /// Where the colour's samples were taken, in its own pixels (+x right, +y down): pixel (x, y) holds
+    /// the scene at (x + 0.5 + sampleOffset.x, y + 0.5 + sampleOffset.y) of `fov`'s pixel grid, as an
+    /// engine renders for temporal upsampling (a per-frame sub-pixel jitter of its projection; in
+    /// OpenXR, the located field of view shifted by less than a pixel). Each component finite and in
+    /// [-0.5, 0.5] (SubmitError::InvalidSampleOffset). The compose pass places a quad view's samples
+    /// where they were taken, so the output stays on `fov`'s grid; a full-resolution frame is read at
+    /// its pixels (the offset is not used: docs/integrating.md, "Jittered views").
+    glm::vec2 sampleOffset{0.0f, 0.0f};
 };
 
 /// Exactly two views: index 0 is the left eye, 1 the right eye.
@@ -158,6 +168,7 @@ enum class SubmitError : int {
     InvalidSubmission,      ///< a FrameSubmission (compositor.h) that cannot be carried out
     InvalidInset,           ///< an inset outside its view, less dense than it, or an output size out of range
     InvalidRateMap,         ///< a rate map of the wrong size for its view, or a texel size that is not 1..64, 2^k
+    InvalidSampleOffset,    ///< a view's or an inset's sample offset not finite or outside its pixel ([-0.5, 0.5])
 };
 
 std::string_view toString(SubmitError e);

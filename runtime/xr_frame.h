@@ -58,6 +58,45 @@ inline bool movesLayerSpace(XrPosef d) {
            std::abs(std::abs(d.orientation.w) - 1.0f) > 1e-6f;
 }
 
+/// A view rendered at the located field of view `located` shifted by at most half a pixel, as an
+/// engine jitters for temporal upsampling (TAAU, FSR 2) and submits the shifted field of view: the
+/// shift in the view's pixels (+x right, +y down), which is its ProjectionView::sampleOffset. nullopt
+/// for the located field of view itself and for any other one (another size, a larger shift, a
+/// non-finite angle): such a view is composed in its own field of view, as submitted. A shift moves
+/// both sides of an axis together, to a thousandth of a pixel. `w` x `h`: the view's image size.
+inline std::optional<glm::vec2> jitterOf(const layers::Fov& submitted, const layers::Fov& located, uint32_t w,
+                                         uint32_t h) {
+    const double s[4] = {std::tan(double(submitted.angleLeft)), std::tan(double(submitted.angleRight)),
+                         std::tan(double(submitted.angleUp)), std::tan(double(submitted.angleDown))};
+    const double l[4] = {std::tan(double(located.angleLeft)), std::tan(double(located.angleRight)),
+                         std::tan(double(located.angleUp)), std::tan(double(located.angleDown))};
+    for (int i = 0; i < 4; ++i)
+        if (!std::isfinite(s[i]) || !std::isfinite(l[i])) return std::nullopt;
+    const double spanX = l[1] - l[0], spanY = l[2] - l[3];
+    if (!(spanX > 0.0) || !(spanY > 0.0) || w == 0 || h == 0) return std::nullopt;
+    const double px = spanX / w, py = spanY / h;  // one pixel in tangent units
+    const double dl = s[0] - l[0], dr = s[1] - l[1], du = s[2] - l[2], dd = s[3] - l[3];
+    if (std::abs(dl - dr) > 1e-3 * px || std::abs(du - dd) > 1e-3 * py) return std::nullopt;
+    const double ox = 0.5 * (dl + dr) / px, oy = -0.5 * (du + dd) / py;
+    if (ox == 0.0 && oy == 0.0) return std::nullopt;
+    constexpr double kEdge = 0.5 + 1e-4;
+    if (std::abs(ox) > kEdge || std::abs(oy) > kEdge) return std::nullopt;
+    return glm::vec2(float(std::clamp(ox, -0.5, 0.5)), float(std::clamp(oy, -0.5, 0.5)));
+}
+
+/// A wide (or stereo) view submitted at its located field of view shifted by a sub-pixel jitter
+/// (jitterOf): composed on the located field of view's grid with its samples placed where they were
+/// taken (ProjectionView::sampleOffset), so that the output does not move with the jitter. Returns
+/// whether it was jittered. (An inset needs no such step: it is placed by the field of view it was
+/// rendered with, wherever that lies.)
+inline bool placeJitter(layers::ProjectionView& v, const layers::Fov& located) {
+    const std::optional<glm::vec2> o = jitterOf(v.fov, located, v.color.rect.width, v.color.rect.height);
+    if (!o) return false;
+    v.fov = located;
+    v.sampleOffset = *o;
+    return true;
+}
+
 /// What projectionView found beside a view's images.
 struct ViewExtras {
     bool depthRangeUnused = false;  ///< depth came with a range other than [0, 1]: not used

@@ -1138,9 +1138,13 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
         // the wide views' where an application renders them larger).
         std::array<layers::ProjectionView, 4> v;
         for (uint32_t i = 0; i < 4; ++i) v[i] = viewOf(proj->views[i]);
+        const RuntimeConfig& c = s->instance->config;
+        // Wide views rendered jittered (the located field of view shifted by under half a pixel) are
+        // composed on the located grid, their samples where they were taken (placeJitter); the insets
+        // are placed by the field of view they were rendered with.
+        for (uint32_t e = 0; e < 2; ++e) placeJitter(v[e], c.fov[e]);
         // Depth (and motion) is used where all four views have it with one range per eye; else it is
         // not used, and the frame is composited without it.
-        const RuntimeConfig& c = s->instance->config;
         bool dropped = false;
         layer = layers::quadLayer(v, c.width, c.height, &dropped);
         if (dropped && s->refusalsLogged.insert(-4).second)
@@ -1149,6 +1153,8 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
                 "between a wide view and its inset) are not used");
     } else {
         for (uint32_t v = 0; v < 2; ++v) layer.views.push_back(viewOf(proj->views[v]));
+        // (A jittered full-resolution view is composed in its own field of view: the passes read it at
+        // its pixels; ProjectionView::sampleOffset.)
     }
     f.layers.push_back(std::move(layer));
     const auto gaze = frameGaze(*s, plan.displayTime, f.layers[0].views[0]);

@@ -288,7 +288,7 @@ TEST_F(FrameValidation, InconsistentViews) {
 
 TEST_F(FrameValidation, EveryCodeHasItsOwnName) {
     std::vector<std::string> names;
-    for (int c = int(SubmitError::LayerCount); c <= int(SubmitError::InvalidRateMap); ++c) {
+    for (int c = int(SubmitError::LayerCount); c <= int(SubmitError::InvalidSampleOffset); ++c) {
         std::string n(toString(SubmitError(c)));
         EXPECT_NE(n, "?") << c;
         for (const std::string& m : names) EXPECT_NE(n, m);
@@ -389,6 +389,29 @@ TEST_F(QuadValidation, EveryRefusalNamesEyeFieldAndValue) {
     frame.layers[0].outputWidth = 128;
     frame.layers[0].outputHeight = 96;
     expectRefused(SubmitError::SizeMismatch, {"128x96", "64x48", "only quad views"});
+}
+
+// Jittered views (ProjectionView::sampleOffset, InsetView::sampleOffset): inside the pixel, finite,
+// each refusal naming the eye, the view, the axis and the value.
+TEST_F(QuadValidation, SampleOffsetsInsideThePixelOnly) {
+    view(0).sampleOffset = {0.5f, -0.5f};  // the pixel's edges are inside
+    view(1).inset->sampleOffset = {-0.25f, 0.125f};
+    EXPECT_TRUE(validator.validate(frame).ok());
+    view(1).sampleOffset.y = 0.75f;
+    expectRefused(SubmitError::InvalidSampleOffset, {"right view", "offset y", "0.75", "outside its pixel"});
+    frame = quad(11);
+    view(0).inset->sampleOffset.x = -0.51f;
+    expectRefused(SubmitError::InvalidSampleOffset, {"left inset", "offset x", "-0.51"});
+    frame = quad(11);
+    view(0).sampleOffset.x = kNaN;
+    expectRefused(SubmitError::InvalidSampleOffset, {"left view", "offset x", "not finite"});
+    frame = quad(11);
+    view(1).inset->sampleOffset.y = kInf;
+    expectRefused(SubmitError::InvalidSampleOffset, {"right inset", "offset y", "not finite"});
+    // A full-resolution frame's offset is checked the same way (it is not used).
+    frame = valid(11);
+    view(0).sampleOffset.x = 2.0f;
+    expectRefused(SubmitError::InvalidSampleOffset, {"left view", "offset x"});
 }
 
 class RateValidation : public FrameValidation {

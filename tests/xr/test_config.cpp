@@ -9,6 +9,7 @@
 
 #include "compositor/host_app.h"
 #include "runtime/xr_config.h"
+#include "runtime/xr_frame.h"
 #include "runtime/xr_inset.h"
 
 namespace wrsfov::xr {
@@ -202,6 +203,55 @@ TEST(XrInset, PlacedOnTheGazeInsideTheView) {
     // An inset wider than the view is the view.
     const layers::Fov all = insetFov(view, 120.0f, glm::vec3(0.3f, 0.0f, -1.0f));
     EXPECT_NEAR(std::tan(all.angleRight) - std::tan(all.angleLeft), tr - tl, 1e-5);
+}
+
+}  // namespace
+}  // namespace wrsfov::xr
+
+namespace wrsfov::xr {
+namespace {
+
+// xr::jitterOf: a submitted field of view that is the located one shifted by at most half a pixel is a
+// jittered render (its shift is the sample offset); any other is composed as submitted.
+TEST(XrJitter, ASubPixelShiftIsTheSampleOffsetAndNothingElseIs) {
+    const layers::Fov located{-0.8f, 0.7f, 0.75f, -0.82f};
+    constexpr uint32_t W = 640, H = 720;
+    auto shifted = [&](double ox, double oy, double scaleX = 1.0) {
+        const double l = std::tan(double(located.angleLeft)), r = std::tan(double(located.angleRight));
+        const double u = std::tan(double(located.angleUp)), d = std::tan(double(located.angleDown));
+        const double px = (r - l) / W, py = (u - d) / H;
+        return layers::Fov{float(std::atan(l + ox * px)), float(std::atan(l + (r - l) * scaleX + ox * px)),
+                           float(std::atan(u - oy * py)), float(std::atan(d - oy * py))};
+    };
+    for (auto [ox, oy] : {std::pair{0.25, -0.375}, std::pair{-0.5, 0.5}, std::pair{0.0, 0.1}, std::pair{0.4999, -0.0625}}) {
+        const auto o = jitterOf(shifted(ox, oy), located, W, H);
+        ASSERT_TRUE(o) << ox << ", " << oy;
+        EXPECT_NEAR(o->x, ox, 2e-3) << "float angles: a few thousandths of a pixel at 640 px";
+        EXPECT_NEAR(o->y, oy, 2e-3);
+    }
+    EXPECT_FALSE(jitterOf(located, located, W, H)) << "not jittered";
+    EXPECT_FALSE(jitterOf(shifted(0.6, 0.0), located, W, H)) << "more than half a pixel";
+    EXPECT_FALSE(jitterOf(shifted(0.0, -3.0), located, W, H)) << "a different view";
+    EXPECT_FALSE(jitterOf(shifted(0.2, 0.0, 1.01), located, W, H)) << "a different size";
+    layers::Fov bad = shifted(0.2, 0.1);
+    bad.angleUp = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_FALSE(jitterOf(bad, located, W, H)) << "not finite";
+    EXPECT_FALSE(jitterOf(shifted(0.2, 0.1), located, 0, H)) << "no image";
+    // placeJitter: the located grid with the offset, or the view untouched.
+    layers::ProjectionView v;
+    v.fov = shifted(-0.3, 0.2);
+    v.color.rect = {0, 0, W, H};
+    EXPECT_TRUE(placeJitter(v, located));
+    EXPECT_EQ(v.fov.angleLeft, located.angleLeft);
+    EXPECT_NEAR(v.sampleOffset.x, -0.3f, 2e-3f);
+    EXPECT_NEAR(v.sampleOffset.y, 0.2f, 2e-3f);
+    layers::ProjectionView w;
+    w.fov = shifted(0.0, 2.0);
+    w.color.rect = {0, 0, W, H};
+    const layers::Fov before = w.fov;
+    EXPECT_FALSE(placeJitter(w, located));
+    EXPECT_EQ(w.fov.angleUp, before.angleUp);
+    EXPECT_EQ(w.sampleOffset, glm::vec2(0.0f));
 }
 
 }  // namespace

@@ -24,6 +24,8 @@
 #include "eval/sequence.h"
 #include "gaze/gaze_file.h"
 #include "runtime/xr_config.h"
+#include "layers/jitter.h"
+#include "runtime/xr_frame.h"
 #include "runtime/xr_inset.h"
 #include "tests/xr/xr_client.h"
 
@@ -147,6 +149,16 @@ XrResult locate(Client& c, XrTime t, bool foveated, XrView (&views)[4], XrViewSt
 
 layers::Fov toFov(const XrFovf& f) { return {f.angleLeft, f.angleRight, f.angleUp, f.angleDown}; }
 
+// The field of view `f` of a w x h view shifted by `o` of its pixels (+y down): what an engine that
+// jitters for temporal upsampling renders with and submits.
+XrFovf jittered(const XrFovf& f, glm::vec2 o, uint32_t w, uint32_t h) {
+    const double l = std::tan(double(f.angleLeft)), r = std::tan(double(f.angleRight));
+    const double u = std::tan(double(f.angleUp)), d = std::tan(double(f.angleDown));
+    const double px = (r - l) / w, py = (u - d) / h;
+    return {float(std::atan(l + o.x * px)), float(std::atan(r + o.x * px)), float(std::atan(u - o.y * py)),
+            float(std::atan(d - o.y * py))};
+}
+
 void expectFovNear(const XrFovf& got, const layers::Fov& want, float tol, const std::string& what) {
     EXPECT_NEAR(got.angleLeft, want.angleLeft, tol) << what;
     EXPECT_NEAR(got.angleRight, want.angleRight, tol) << what;
@@ -245,7 +257,8 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
 
     struct Submitted {
         std::array<std::vector<uint8_t>, 4> color, depth;  // wide L, R, inset L, R
-        std::array<XrFovf, 4> fov;
+        std::array<XrFovf, 4> fov;                         // as submitted (the wide views jittered)
+        std::array<XrFovf, 2> located;                     // the wide views as located
     };
     constexpr int kFrames = 300;
     std::vector<Submitted> frames;
@@ -278,6 +291,12 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
                         v[e + 2].fov.angleRight >= v[e].fov.angleRight - 1e-6f;
             }
             Submitted s;
+            // The wide views rendered jittered as an engine does for temporal upsampling (Halton 2, 3
+            // over 8 phases), submitted with the shifted field of view; the insets where located.
+            for (int e = 0; e < 2; ++e) {
+                s.located[e] = v[e].fov;
+                v[e].fov = jittered(v[e].fov, layers::haltonJitter(uint64_t(f), 8), sizes.wide.x, sizes.wide.y);
+            }
             for (int i = 0; i < 4; ++i) {
                 const glm::uvec2 size = i < 2 ? sizes.wide : sizes.inset;
                 s.fov[i] = v[i].fov;
@@ -335,7 +354,7 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
     auto lid = make(layers::Usage::Depth, layers::Format::D32F, sizes.inset);
     ASSERT_TRUE(lw && li && lwd && lid);
     uint64_t differing = 0, pixels = 0;
-    int maxDiff = 0;
+    int maxDiff = 0, jitteredViews = 0;
     for (int f = 0; f < kFrames; ++f) {
         const Submitted& s = frames[f];
         auto put = [&](layers::Swapchain& sc, int first, const std::array<std::vector<uint8_t>, 4>& imgs) {
@@ -359,6 +378,8 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
             pv.fov = toFov(s.fov[e]);
             pv.color = {lw.get(), {0, 0, sizes.wide.x, sizes.wide.y}, e};
             pv.depth = layers::DepthInfo{{lwd.get(), {0, 0, sizes.wide.x, sizes.wide.y}, e}, 0.1f, 100.0f, false};
+            // The library is told where the samples were taken: the located grid and the jitter.
+            jitteredViews += xr::placeJitter(pv, toFov(s.located[e]));
             layers::InsetView in;
             in.fov = toFov(s.fov[2 + e]);
             in.color = {li.get(), {0, 0, sizes.inset.x, sizes.inset.y}, e};
@@ -389,9 +410,11 @@ TEST(XrQuadViews, GazeFollowingInsetMatchesTheLibrary) {
                 }
         }
     }
-    std::printf("[quad views] runtime output against the library's: %llu of %llu pixels differ, max %d / 255\n",
+    std::printf("[quad views] jittered wide views, runtime output against the library's: %llu of %llu pixels "
+                "differ, max %d / 255\n",
                 (unsigned long long)differing, (unsigned long long)pixels, maxDiff);
     EXPECT_EQ(differing, 0u);
+    EXPECT_EQ(jitteredViews, 2 * kFrames) << "every wide view was submitted jittered";
     EXPECT_EQ((*ctx)->validationErrors() + (*ctx)->validationWarnings(), 0u);
 }
 
@@ -868,7 +891,8 @@ TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
     ASSERT_EQ(c->begin(XR_VIEW_CONFIGURATION_TYPE_PRIMARY_QUAD_VARJO), XR_SUCCESS);
     struct Submitted {
         std::array<std::vector<uint8_t>, 4> color;
-        std::array<XrFovf, 4> fov;
+        std::array<XrFovf, 4> fov;      // as submitted (the wide views jittered)
+        std::array<XrFovf, 2> located;  // the wide views as located
     };
     std::vector<Submitted> frames;
     constexpr int kFrames = 60;
@@ -877,6 +901,11 @@ TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
             XrView lv[4];
             EXPECT_EQ(locate(*c, fs.predictedDisplayTime, true, lv), XR_SUCCESS);
             Submitted s;
+            // Wide views jittered (Halton 2, 3 over 8 phases) and submitted with the shifted field of view.
+            for (int e = 0; e < 2; ++e) {
+                s.located[e] = lv[e].fov;
+                lv[e].fov = jittered(lv[e].fov, layers::haltonJitter(uint64_t(f), 8), 64, 64);
+            }
             for (int i = 0; i < 4; ++i) {
                 s.fov[i] = lv[i].fov;
                 s.color[i] = i < 2 ? render(64, 64, lv[i].fov, f) : render(43, 43, lv[i].fov, f);
@@ -933,6 +962,7 @@ TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
             layers::ProjectionView pv;
             pv.fov = toFov(s.fov[e]);
             pv.color = {lw.get(), {0, 0, 64, 64}, e};
+            EXPECT_TRUE(xr::placeJitter(pv, toFov(s.located[e]))) << "frame " << f;
             layers::InsetView in;
             in.fov = toFov(s.fov[2 + e]);
             in.color = {li.get(), {0, 0, 43, 43}, e};
