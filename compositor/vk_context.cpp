@@ -499,7 +499,7 @@ PipelineLayout Context::createPipelineLayout(VkDescriptorSetLayout set, uint32_t
 }
 
 void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspect, uint32_t layers,
-                      VkImageLayout from, VkImageLayout to) {
+                      VkImageLayout from, VkImageLayout to, uint32_t baseLayer) {
     if (from == to) return;
     VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
     b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
@@ -508,7 +508,7 @@ void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspe
     b.newLayout = to;
     b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.image = image;
-    b.subresourceRange = {aspect, 0, 1, 0, layers};
+    b.subresourceRange = {aspect, 0, 1, baseLayer, layers};
     vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
                          nullptr, 1, &b);
 }
@@ -530,26 +530,13 @@ Result<std::vector<std::byte>> Context::readImageRegion(VkImage image, VkImageAs
         // Copied from TRANSFER_SRC_OPTIMAL, the layout a copy source is meant to be in (from GENERAL a
         // device may read it slower; the validation layer's best practices say so).
         // (The layer read alone: callers may pass a layout that holds for it only.)
-        auto transition = [&](VkImageLayout from, VkImageLayout to) {
-            if (from == to) return;
-            VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-            b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-            b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-            b.oldLayout = from;
-            b.newLayout = to;
-            b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-            b.image = image;
-            b.subresourceRange = {aspect, 0, 1, layer, 1};
-            vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0,
-                                 nullptr, 0, nullptr, 1, &b);
-        };
-        transition(layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        layoutTransition(cb, image, aspect, 1, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layer);
         VkBufferImageCopy region{};
         region.imageSubresource = {aspect, 0, layer, 1};
         region.imageOffset = {offset.x, offset.y, 0};
         region.imageExtent = {extent.width, extent.height, 1};
         vkCmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging->handle(), 1, &region);
-        transition(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout);
+        layoutTransition(cb, image, aspect, 1, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, layer);
         memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                       VK_ACCESS_HOST_READ_BIT);
     });

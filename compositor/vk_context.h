@@ -179,10 +179,11 @@ using CommandPool = Handle<VkCommandPool, vkDestroyCommandPool>;
 void memoryBarrier(VkCommandBuffer cb, VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                    VkPipelineStageFlags dstStage, VkAccessFlags dstAccess);
 
-/// Moves all `layers` of an image's first mip level from one layout to another, after all earlier
-/// work and before all later work (a full barrier: for hand-overs, not inner loops). No-op if equal.
+/// Moves `layers` layers from `baseLayer` of an image's first mip level from one layout to another, after
+/// all earlier work and before all later work (a full barrier: for hand-overs, not inner loops). No-op
+/// if equal.
 void layoutTransition(VkCommandBuffer cb, VkImage image, VkImageAspectFlags aspect, uint32_t layers,
-                      VkImageLayout from, VkImageLayout to);
+                      VkImageLayout from, VkImageLayout to, uint32_t baseLayer = 0);
 
 /// One descriptor write for `count` buffers or images at `binding` of `set`.
 VkWriteDescriptorSet bufferWrite(VkDescriptorSet set, uint32_t binding, VkDescriptorType type,

@@ -16,6 +16,7 @@
 
 #include "compositor/host_app.h"
 #include "compositor/reference.h"
+#include "layers/jitter.h"
 #include "eval/chart.h"
 #include "eval/metrics.h"
 #include "scenes/atrium.h"
@@ -50,6 +51,15 @@ layers::Fov fovOfTangents(glm::dvec4 t) {
 // about `deg` across at the view's centre, centred on the gaze's tangent point (the view's centre
 // without a valid gaze), shifted to stay inside the wide view, and placed on whole display pixels, so
 // that its pixels are the display's (a compositor resamples it without blurring it).
+// `fov` of a w x h view shifted by `o` of its pixels (+y down): the field of view a jittered view is
+// rendered through.
+layers::Fov shiftedFov(const layers::Fov& fov, glm::vec2 o, uint32_t w, uint32_t h) {
+    const glm::dvec4 t(std::tan(double(fov.angleLeft)), std::tan(double(fov.angleRight)), std::tan(double(fov.angleUp)),
+                       std::tan(double(fov.angleDown)));
+    const double px = (t.y - t.x) / w, py = (t.z - t.w) / h;
+    return fovOfTangents(t + glm::dvec4(o.x * px, o.x * px, -o.y * py, -o.y * py));
+}
+
 glm::dvec4 insetTangents(const layers::Fov& wide, const layers::EyeGaze& g, uint32_t w_px, uint32_t h_px,
                          glm::dvec2 density) {
     const glm::dvec4 w = glm::dvec4(tangents(wide));
@@ -134,7 +144,7 @@ public:
     // Both eyes through `fovs` at w x h; `ms` gets the render's device time (timestamps around its render
     // passes), or where the queue has no timestamps its time from submission to completion.
     Status render(double t, double prevT, const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, Views& out,
-                  double* ms) {
+                  double* ms, float footprint = 1.0f) {
         auto it = apps_.find({w, h});
         if (it == apps_.end()) {
             HostStereoApp::Options ao;
@@ -151,7 +161,7 @@ public:
         return app.drawInPlace([&](const HostStereoApp::Images& im) {
             const auto t0 = std::chrono::steady_clock::now();
             Status s = renderer_->renderViews(t, prevT, fovs, app.color(), im.color, *app.depth(), im.depth,
-                                              *app.motion(), im.motion);
+                                              *app.motion(), im.motion, footprint);
             if (ms) *ms = std::isfinite(renderer_->lastGpuMs()) ? renderer_->lastGpuMs() : msSince(t0);
             for (uint32_t e = 0; e < 2 && s; ++e)
                 s = app.readBack(im, e, out.color[e], &out.depth[e], &out.motion[e].emplace());
@@ -180,6 +190,7 @@ struct Run {
     int scored = 0;
     double pixelSum = 0;  // over the frames: pixels (or shaded samples) rendered
     int frames = 0;
+    std::array<TemporalInstability, 2> instability;
     std::unique_ptr<Reference> ref;  // SavingOptions::outcomes
     SavingOutcomes outcomes;
     std::array<std::vector<glm::uvec4>, 2> history;  // the compositor's reservoirs after the last frame
@@ -298,9 +309,9 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
     std::map<std::tuple<float, float, float, float, uint32_t, uint32_t>, Views> textCache;
     int frameIndex = 0;  // the photo's frame (its motion is per frame)
     auto render = [&](const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, double t, double prevT,
-                      Views& out, double* ms) -> Status {
+                      Views& out, double* ms, float footprint = 1.0f) -> Status {
         if (ms) *ms = std::numeric_limits<double>::quiet_NaN();
-        if (atriumViews) return atriumViews->render(t, prevT, fovs, w, h, out, ms);
+        if (atriumViews) return atriumViews->render(t, prevT, fovs, w, h, out, ms, footprint);
         if (photo) {
             const double f = frameIndex, pf = frameIndex > 0 ? frameIndex - 1 : 0;
             for (int e = 0; e < 2; ++e) {
@@ -421,7 +432,14 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         }
         Views wide, half, quarter;
         double ms = 0;
-        if (Status s = render(fullFov, wideW, wideH, t, pt, wide, &ms); !s) return s;
+        // Jittered wide views (SavingOptions::jitterPhases): the projection shifted by this frame's phase,
+        // materials filtered over the display's pixel; submitted with the shift as their sample offset.
+        const glm::vec2 jitter = layers::haltonJitter(uint64_t(f), so.jitterPhases);
+        std::array<layers::Fov, 2> wideFov = fullFov;
+        if (so.jitterPhases > 1)
+            for (int e = 0; e < 2; ++e) wideFov[e] = shiftedFov(fullFov[e], jitter, wideW, wideH);
+        const float footprint = so.jitterPhases > 1 ? so.wideScale : 1.0f;
+        if (Status s = render(wideFov, wideW, wideH, t, pt, wide, &ms, footprint); !s) return s;
         if (scored) wideRenderMs.push_back(ms);
         if (so.rate) {
             if (Status s = render(fullFov, (W + 1) / 2, (H + 1) / 2, t, pt, half, nullptr); !s) return s;
@@ -505,6 +523,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
                 layers::ProjectionView v;
                 v.fov = fullFov[e];
                 v.color = {r.color.get(), {0, 0, cw, ch}, e};
+                if (r.input == SavingInput::Quad) v.sampleOffset = jitter;
                 if (r.depth) v.depth = layers::DepthInfo{{r.depth.get(), {0, 0, cw, ch}, e}, app.nearZ, app.farZ, app.reversedZ};
                 if (r.motion) v.motion = layers::MotionInfo{{r.motion.get(), {0, 0, cw, ch}, e}};
                 if (r.input == SavingInput::Quad) {
@@ -555,6 +574,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
                 const gpu::EyeParams& ep = r.comp->lastParams().eye[e];
                 r.mseSum += meanSquaredError(reference[e], test);
                 r.nearMseSum += mseFromPsnr(nearGazePsnr(reference[e], test, eccentricityMap(W, H, ep)));
+                r.instability[e].addFrame(reference[e], test);
                 if (!r.jod[e]) continue;
                 if (Status js = r.jod[e]->push(test, reference[e], gazePixelF(ep, W, H)); !js) return js;
             }
@@ -581,6 +601,10 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         if (atriumViews && r.input == SavingInput::Quad) row.renderMs = median(wideRenderMs) + median(insetRenderMs[r.insetDeg]);
         const double n = double(std::max(1, r.scored * evalEyes));
         row.mse = r.mseSum / n;
+        double ti = 0;
+        for (int e = 0; e < evalEyes; ++e) ti += r.instability[e].mean();
+        row.temporalInstability = ti / evalEyes;
+        if (r.input == SavingInput::Quad) row.wideScale = so.wideScale, row.jitterPhases = so.jitterPhases;
         row.nearGazePsnr = psnrFromMse(r.nearMseSum / n);
         if (so.jod) {
             double jod = 0;
@@ -664,12 +688,13 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     {
         std::ofstream csv(dir + "/saving.csv");
         if (!csv) return savingError("cannot write " + dir + "/saving.csv");
-        csv << "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr\n";
+        csv << "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr,wide_density,jitter,"
+               "temporal_instability\n";
         csv << std::setprecision(6);
         for (const SavingRow& r : rows)
             csv << toString(r.scene) << ',' << toString(r.input) << ',' << toString(r.method) << ',' << r.insetDeg << ','
                 << std::llround(r.pixelsRendered) << ',' << r.renderMs << ',' << r.composeMs << ',' << r.jod << ','
-                << r.nearGazePsnr << '\n';
+                << r.nearGazePsnr << ',' << r.wideScale << ',' << r.jitterPhases << ',' << r.temporalInstability << '\n';
     }
     const SavingRow* full = nullptr;
     for (const SavingRow& r : rows)
@@ -761,7 +786,11 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     if (!md) return savingError("cannot write " + dir + "/saving.md");
     md << "# Rendering saved: " << toString(scene) << "\n\n";
     md << "The scene rendered as an application would submit it — at full resolution, as quad views (wide views at "
-       << fmt("%.2f", so.wideScale) << " of the display's pixel density, an inset on the gaze at the display's density), "
+       << fmt("%.2f", so.wideScale) << " of the display's pixel density"
+       << (so.jitterPhases > 1 ? ", jittered over " + std::to_string(so.jitterPhases) +
+                                     " Halton (2, 3) phases with textures sampled at the display's density"
+                               : std::string())
+       << ", an inset on the gaze at the display's density), "
        << "and at gaze-centred shading rates (1×1 within half the inset size of the gaze, 2×2 out to the inset size, "
        << "4×4 beyond, " << so.rateTexel << "-pixel rate texels) — composed without (`fov`) and with retention (`wrs`), "
        << "with the oracle as the bound of any retention rule, against the full-resolution render. "
@@ -807,15 +836,15 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     md << "## Every composition\n\n";
     const bool hasEtaQ = !quadOf(Method::OracleQ).empty();
     md << "| input | method | inset | pixels rendered (M) | × full | render ms | × full | compose ms | JOD | "
-          "near-gaze PSNR (dB) | η |"
-       << (hasEtaQ ? " η_q |" : "") << "\n|---|---|---|---|---|---|---|---|---|---|---|" << (hasEtaQ ? "---|" : "") << "\n";
+          "near-gaze PSNR (dB) | temporal instability | η |"
+       << (hasEtaQ ? " η_q |" : "") << "\n|---|---|---|---|---|---|---|---|---|---|---|---|" << (hasEtaQ ? "---|" : "") << "\n";
     for (const SavingRow& r : rows) {
         md << "| " << toString(r.input) << " | " << toString(r.method) << " | "
            << (r.input == SavingInput::Full ? std::string("–") : fmt("%.1f°", r.insetDeg)) << " | "
            << fmt("%.3f", r.pixelsRendered / 1e6) << " | " << fmt("%.3f", full ? r.pixelsRendered / full->pixelsRendered : NAN)
            << " | " << fmt("%.2f", r.renderMs) << " | " << fmt("%.2f", full ? r.renderMs / full->renderMs : NAN) << " | "
            << fmt("%.2f", r.composeMs) << " | " << fmt("%.2f", r.jod) << " | " << fmt("%.2f", r.nearGazePsnr) << " | "
-           << fmt("%.2f", r.eta) << " |";
+           << fmt("%.5f", r.temporalInstability) << " | " << fmt("%.2f", r.eta) << " |";
         if (hasEtaQ) md << ' ' << fmt("%.2f", r.etaQ) << " |";
         md << "\n";
     }
@@ -826,7 +855,8 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
                        "study emulates it by rendering at half and a quarter of the resolution"
                      : "n/a: the scene is rendered on the CPU, and its cost is its pixels")
        << "); compose ms: the compositor's time per frame (PassTimes::total, with the compose pass); JOD and near-gaze "
-          "PSNR against the full-resolution render; η: (MSE_fov − MSE) / (MSE_fov − MSE_oracle) for the same input and "
+          "PSNR against the full-resolution render; temporal instability: the output's mean frame-to-frame change (sRGB, "
+          "0..1) where the full-resolution render does not change (docs/metrics.md); η: (MSE_fov − MSE) / (MSE_fov − MSE_oracle) for the same input and "
           "inset (n/a where the oracle removes less than 1 % of fov's MSE)"
        << (hasEtaQ ? "; η_q: the same against the retention oracle (`oracle-q`), the bound of a rule that keeps only "
                      "sharper samples"

@@ -335,7 +335,8 @@ Status AtriumRenderer::render(double t, double prevT, layers::Swapchain& color, 
 
 Status AtriumRenderer::renderViews(double t, double prevT, const std::array<layers::Fov, 2>& fovs,
                                    layers::Swapchain& color, uint32_t colorIndex, layers::Swapchain& depth,
-                                   uint32_t depthIndex, layers::Swapchain& motion, uint32_t motionIndex) {
+                                   uint32_t depthIndex, layers::Swapchain& motion, uint32_t motionIndex,
+                                   float footprint) {
     const auto &ci = color.info(), &di = depth.info(), &mi = motion.info();
     if (ci.usage != layers::Usage::Color || di.usage != layers::Usage::Depth || mi.usage != layers::Usage::Motion)
         return err("atrium: needs a colour, a depth and a motion swapchain");
@@ -464,7 +465,8 @@ Status AtriumRenderer::renderViews(double t, double prevT, const std::array<laye
         cam.prev_view_proj = proj * cam.prev_view;
         cam.viewport = glm::vec4(W, H, options_.nearZ, options_.farZ);
         cam.eye_pos = glm::vec4(glm::vec3(glm::inverse(cam.view)[3]), options_.reversedZ ? 1.0f : 0.0f);
-        cam.light = glm::vec4(atriumLight(options_, t), float(options_.materialSamples), 0.0f, 0.0f);
+        cam.light = glm::vec4(atriumLight(options_, t), float(options_.materialSamples),
+                              std::isfinite(footprint) && footprint > 0.0f ? std::min(footprint, 1.0f) : 1.0f, 0.0f);
         std::memcpy(cameras_[e].mapped(), &cam, sizeof(cam));
     }
     VkFormat colorViewFormat = cf;

@@ -93,9 +93,12 @@ public:
     /// swapchains' size, e.g. a quad view's wide view at a low density or its inset around the gaze.
     /// Materials are filtered over each pixel's footprint at that size (AtriumOptions::materialSamples),
     /// as a renderer with mip-mapped textures does at that density; motion in that image's pixels.
+    /// `footprint` < 1 filters them over that fraction of the pixel (the poster with a LOD bias of its
+    /// log2): a view rendered for temporal upsampling samples its textures at the display's density,
+    /// the wide view's density over the display's, so that each pixel is a sharp point sample.
     Status renderViews(double t, double prevT, const std::array<layers::Fov, 2>& fovs, layers::Swapchain& color,
                        uint32_t colorIndex, layers::Swapchain& depth, uint32_t depthIndex, layers::Swapchain& motion,
-                       uint32_t motionIndex);
+                       uint32_t motionIndex, float footprint = 1.0f);
 
     const AtriumOptions& options() const { return options_; }
 

@@ -43,7 +43,7 @@ vec3 material(vec2 uv) {
         float s = step(0.5, fract(uv.y * 40.0));
         base = mix(vec3(0.2, 0.35, 0.7), vec3(0.9, 0.9, 0.8), s);           // columns: fine stripes
     } else if (v_material == 3u) {
-        base = texture(poster, uv).rgb;                                    // posters with text
+        base = texture(poster, uv, log2(cam.light.z)).rgb;                 // posters with text
     } else if (v_material == 4u) {
         base = mix(vec3(0.9, 0.3, 0.1), vec3(0.1, 0.1, 0.1), checker(uv, 6.0));  // moving objects
     } else {
@@ -58,7 +58,7 @@ void main() {
     // colour. With one sample the material is point-sampled at the pixel centre (aliased).
     vec3 base;
     if (cam.light.y > 1.5) {
-        vec2 dx = dFdx(v_uv), dy = dFdy(v_uv);
+        vec2 dx = dFdx(v_uv) * cam.light.z, dy = dFdy(v_uv) * cam.light.z;
         const vec2 o[4] = vec2[4](vec2(-0.375, -0.125), vec2(0.125, -0.375), vec2(0.375, 0.125), vec2(-0.125, 0.375));
         base = vec3(0.0);
         for (int i = 0; i < 4; ++i) base += material(v_uv + dx * o[i].x + dy * o[i].y);

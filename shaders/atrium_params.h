@@ -15,7 +15,10 @@ struct AtriumCamera {
     mat4 view;            // world -> view, this frame (linear depth)
     mat4 prev_view;       // world -> view, previous frame
     vec4 light;           // x: scale of the room light (the `dynamic` scene dims it), y: shading samples
-                          // per pixel of the procedural materials (1 or 4, AtriumOptions::materialSamples), zw: pad
+                          // per pixel of the procedural materials (1 or 4, AtriumOptions::materialSamples),
+                          // z: the footprint the materials and the poster are filtered over, as a fraction of
+                          // the view's pixel (1; a wide view rendered for temporal upsampling: the display's
+                          // density over its own, a texture LOD bias of log2 z), w: pad
 };
 
 // Per draw: object transform now and one frame ago, material.

@@ -458,6 +458,11 @@ int main(int argc, char** argv) {
         ->default_str("5,10,15,20,30");
     cli::option(app, "--wide-scale", savingOptions.wideScale, cli::number<float>(0, 1, cli::Ends::OpenLow),
                 "--saving: the wide views' pixel density relative to the display's (default 0.4, i.e. 1/2.5).");
+    cli::option(app, "--jitter", savingOptions.jitterPhases, cli::integer<uint32_t>(0, 64),
+                "--saving: render the wide views jittered for temporal upsampling: each frame's projection shifted by "
+                "a sub-pixel offset, Halton (2, 3) over N phases (0: none), the atrium's textures sampled at the "
+                "display's density; the compositor places each sample where it was taken.")
+        ->type_name("N");
     app.add_flag("--no-rate", noRate, "--saving: quad views only, no shading-rate rows.");
     app.add_flag("--outcomes", savingOptions.outcomes,
                  "--saving: count what the retention rule did at each pixel (kept, changed, merged, ...) for wrs and "

@@ -40,6 +40,9 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
     EXPECT_GT(full.jod, 9.9) << "the full-resolution row is the reference itself";
     EXPECT_TRUE(std::isinf(full.nearGazePsnr));
     EXPECT_GT(full.renderMs, 0.0);
+    // The reference against itself: only the changes within the metric's threshold (one 8-bit step).
+    EXPECT_LT(full.temporalInstability, 1.0 / 255.0);
+    EXPECT_EQ(full.wideScale, 0.0f);
     // Quad views: 51x51 wide views (0.4 of 128) and an inset of 2 tan(deg / 2) tangent units at the
     // display's 128 / (2 tan 20°) pixels per tangent unit, both eyes.
     const double density = 128.0 / (2.0 * std::tan(20.0 * M_PI / 180.0));
@@ -49,6 +52,9 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
             EXPECT_EQ(r.pixelsRendered, 2.0 * (51.0 * 51.0 + inset * inset)) << r.insetDeg;
             EXPECT_GT(r.renderMs, 0.0);
             EXPECT_LT(r.pixelsRendered, full.pixelsRendered);
+            EXPECT_GT(r.temporalInstability, 0.0);
+            EXPECT_EQ(r.wideScale, 0.4f);
+            EXPECT_EQ(r.jitterPhases, 0u);
         }
         if (r.input == eval::SavingInput::Rate) {
             // Between a 4x4 rate everywhere and full rate: the 1x1 region and its 2x2 ring around the gaze.
@@ -95,12 +101,48 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
     std::ifstream csv(dir + "/saving.csv");
     std::string header, line;
     std::getline(csv, header);
-    EXPECT_EQ(header, "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr");
+    EXPECT_EQ(header, "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr,"
+                      "wide_density,jitter,temporal_instability");
     int n = 0;
     while (std::getline(csv, line)) n++;
     EXPECT_EQ(n, int(rows->size()));
     EXPECT_GT(std::filesystem::file_size(dir + "/saving.png"), 5000u);
     EXPECT_NE(headline.find("matches composition alone at a 20° inset"), std::string::npos) << headline;
+}
+
+// Jittered wide views (SavingOptions::jitterPhases): the same pixels rendered, each frame's wide views
+// shifted by a new Halton phase with their textures sampled at the display's density and placed where
+// they were taken. Composed without temporal reuse (fov), the sharper point samples flicker: the
+// temporal instability rises against the same views without jitter, which is what temporal upsampling and
+// WRS over the jittered history must take back (docs/metrics.md, "Jittered wide views").
+TEST_F(Saving, JitteredWideViewsRenderTheSamePixelsAndFlickerWithoutReuse) {
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 128;
+    o.height = 128;
+    o.hmdFovDeg = 40.0f;
+    o.frames = 16;
+    o.warmup = 4;
+    o.jodFrames = 8;
+    o.path = scenes::CameraPath::Static;
+    so.insetDegs = {10.0f};
+    so.rate = false;
+    so.methods = {Method::Fov};
+    auto still = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_TRUE(still.ok()) << still.error().message;
+    so.jitterPhases = 8;
+    auto jittered = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_TRUE(jittered.ok()) << jittered.error().message;
+    ASSERT_EQ(still->size(), 2u);
+    ASSERT_EQ(jittered->size(), 2u);
+    const eval::SavingRow &a = (*still)[1], &b = (*jittered)[1];
+    EXPECT_EQ(b.jitterPhases, 8u);
+    EXPECT_EQ(a.pixelsRendered, b.pixelsRendered);
+    std::printf("[saving] fov on still wide views: instability %.5f, JOD %.2f; jittered: %.5f, JOD %.2f\n",
+                a.temporalInstability, a.jod, b.temporalInstability, b.jod);
+    // A still camera: the unjittered views do not change at all, the jittered ones every frame.
+    EXPECT_LT(a.temporalInstability, 1e-4);
+    EXPECT_GT(b.temporalInstability, 10.0 * std::max(a.temporalInstability, 1e-4));
 }
 
 // The photo (natural texture, a head panning) as quad views, without JOD: pixels and times only, no
