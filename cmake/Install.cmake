@@ -7,7 +7,7 @@ include(CMakePackageConfigHelpers)
 # The public API: the layers submission API, the compositor with its Vulkan context and CPU
 # reference, the shader-shared parameter and math headers they include, and the gaze sources.
 set(WRSFOV_PUBLIC_HEADERS
-  layers/formats.h layers/frame.h layers/status.h layers/swapchain.h
+  layers/formats.h layers/frame.h layers/jitter.h layers/status.h layers/swapchain.h
   compositor/compositor.h compositor/vk_context.h compositor/host_image.h compositor/host_app.h
   compositor/reference.h compositor/swapchain_vk.h compositor/input.h compositor/compose.h
   shaders/glsl_cpp.h shaders/device_rounding.h shaders/config.h shaders/wrs_common.h shaders/wrs_params.h

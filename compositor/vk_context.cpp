@@ -443,10 +443,13 @@ Status Context::createViews(Image& img, VkFormat viewFormat) {
     VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     vci.image = img.image_;
     vci.format = viewFormat == VK_FORMAT_UNDEFINED ? info.format : viewFormat;
-    // An sRGB view cannot be a storage view: a view of one asks for the image's other usage only
-    // (an image made with STORAGE for a UNORM alias of it, or an application's UNORDERED_ACCESS).
+    // An sRGB view cannot be a storage view: a view of an image of ours made with STORAGE (for a UNORM
+    // alias of it) asks for the image's other usage only. VkImageViewUsageCreateInfo is Vulkan 1.1's: on
+    // a device of our own (1.2) only, not an adopted one, whose application may have enabled 1.0 (an
+    // sRGB image with STORAGE is then not viewed as sRGB: the API layer leaves such swapchains alone).
     VkImageViewUsageCreateInfo viewUsage{VK_STRUCTURE_TYPE_IMAGE_VIEW_USAGE_CREATE_INFO};
-    if (vci.format == VK_FORMAT_R8G8B8A8_SRGB && (info.usage & VK_IMAGE_USAGE_STORAGE_BIT)) {
+    if (!adopted_ && img.ownsImage_ && vci.format == VK_FORMAT_R8G8B8A8_SRGB &&
+        (info.usage & VK_IMAGE_USAGE_STORAGE_BIT)) {
         viewUsage.usage = info.usage & ~VkImageUsageFlags(VK_IMAGE_USAGE_STORAGE_BIT);
         vci.pNext = &viewUsage;
     }

@@ -47,10 +47,6 @@ layers::Fov fovOfTangents(glm::dvec4 t) {
     return {float(std::atan(t.x)), float(std::atan(t.y)), float(std::atan(t.z)), float(std::atan(t.w))};
 }
 
-// The inset of a quad view: w x h pixels at the display's density (`density`, pixels per tangent unit),
-// about `deg` across at the view's centre, centred on the gaze's tangent point (the view's centre
-// without a valid gaze), shifted to stay inside the wide view, and placed on whole display pixels, so
-// that its pixels are the display's (a compositor resamples it without blurring it).
 // `fov` of a w x h view shifted by `o` of its pixels (+y down): the field of view a jittered view is
 // rendered through.
 layers::Fov shiftedFov(const layers::Fov& fov, glm::vec2 o, uint32_t w, uint32_t h) {
@@ -60,6 +56,10 @@ layers::Fov shiftedFov(const layers::Fov& fov, glm::vec2 o, uint32_t w, uint32_t
     return fovOfTangents(t + glm::dvec4(o.x * px, o.x * px, -o.y * py, -o.y * py));
 }
 
+// The inset of a quad view: w x h pixels at the display's density (`density`, pixels per tangent unit),
+// about `deg` across at the view's centre, centred on the gaze's tangent point (the view's centre
+// without a valid gaze), shifted to stay inside the wide view, and placed on whole display pixels, so
+// that its pixels are the display's (a compositor resamples it without blurring it).
 glm::dvec4 insetTangents(const layers::Fov& wide, const layers::EyeGaze& g, uint32_t w_px, uint32_t h_px,
                          glm::dvec2 density) {
     const glm::dvec4 w = glm::dvec4(tangents(wide));
@@ -306,7 +306,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         text = std::make_unique<scenes::TextScene>(to);
     }
     // The scene through any views; the text page is static, so its views depend on the views alone.
-    std::map<std::tuple<float, float, float, float, uint32_t, uint32_t>, Views> textCache;
+    std::map<std::tuple<float, float, float, float, uint32_t, uint32_t, float>, Views> textCache;
     int frameIndex = 0;  // the photo's frame (its motion is per frame)
     auto render = [&](const std::array<layers::Fov, 2>& fovs, uint32_t w, uint32_t h, double t, double prevT,
                       Views& out, double* ms, float footprint = 1.0f) -> Status {
@@ -327,12 +327,13 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             }
             return {};
         }
-        const auto key = std::make_tuple(fovs[0].angleLeft, fovs[0].angleUp, fovs[1].angleLeft, fovs[1].angleUp, w, h);
+        const auto key =
+            std::make_tuple(fovs[0].angleLeft, fovs[0].angleUp, fovs[1].angleLeft, fovs[1].angleUp, w, h, footprint);
         if (auto it = textCache.find(key); it != textCache.end()) {
             out = it->second;
             return {};
         }
-        text->renderViews(fovs, w, h, out.color, out.depth);
+        text->renderViews(fovs, w, h, out.color, out.depth, footprint);
         if (textCache.size() > 64) textCache.clear();  // the insets move with the gaze: keep a few
         textCache.emplace(key, out);
         return {};

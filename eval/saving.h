@@ -35,9 +35,10 @@ struct SavingOptions {
     float wideScale = 0.4f;
     /// The wide views rendered as an engine renders for temporal upsampling: each frame's projection
     /// shifted by a sub-pixel jitter, Halton (2, 3) over this many phases (layers::haltonJitter; 0 or 1:
-    /// none), submitted as ProjectionView::sampleOffset; the atrium's materials then filtered over the
-    /// display's pixel rather than the wide view's (a texture LOD bias of log2 wideScale), so each wide
-    /// pixel is a sharp point sample (`wrsfov-bench --saving --jitter N`).
+    /// none), submitted as ProjectionView::sampleOffset; the atrium's materials and the text page then
+    /// filtered over the display's pixel rather than the wide view's (a texture LOD bias of log2
+    /// wideScale), so each wide pixel is a sharp point sample; the photo is point-sampled at the
+    /// texture's density in every view already (`wrsfov-bench --saving --jitter N`).
     uint32_t jitterPhases = 0;
     /// Composed with each of these (fov: composition alone; the oracle bounds any retention rule, the
     /// retention oracle `oracle-q` any rule that keeps only sharper samples).
@@ -107,7 +108,7 @@ struct SavingRow {
     double etaQ = std::numeric_limits<double>::quiet_NaN();
     /// SavingOptions::outcomes, quad views with `wrs` or the oracle only.
     std::optional<SavingOutcomes> outcomes;
-    /// Temporal instability over the JOD frames (eval/metrics.h: the output's frame-to-frame change where
+    /// Temporal instability over the scored frames (eval/metrics.h: the output's frame-to-frame change where
     /// the full-resolution render does not change), evaluated eyes averaged.
     double temporalInstability = std::numeric_limits<double>::quiet_NaN();
     float wideScale = 0.0f;     ///< the wide views' density (quad views; 0 otherwise)

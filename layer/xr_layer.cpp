@@ -738,8 +738,14 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateSwapchainImages(XrSwapchain swapcha
     for (uint32_t i = 0; i < *countOutput; ++i) sc.images.push_back(vkImages[i].image);
     SessionState& s = g_sessions.at(sc.session);
     const auto fmt = colorFormat(sc.info.format);
-    const bool usable = fmt && (sc.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT) && sc.info.faceCount == 1 &&
-                        sc.info.mipCount == 1 && sc.info.sampleCount == 1 && sc.images.size() <= 8;
+    // An sRGB swapchain with UNORDERED_ACCESS usage is not read: its images carry STORAGE usage, which an
+    // sRGB view may not inherit, and narrowing a view's usage needs Vulkan 1.1, which the application's
+    // device may not have enabled.
+    const bool srgbStorage = fmt && *fmt == layers::Format::RGBA8_SRGB &&
+                             (sc.info.usageFlags & XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT);
+    const bool usable = fmt && (sc.info.usageFlags & XR_SWAPCHAIN_USAGE_SAMPLED_BIT) && !srgbStorage &&
+                        sc.info.faceCount == 1 && sc.info.mipCount == 1 && sc.info.sampleCount == 1 &&
+                        sc.images.size() <= 8;
     if (s.comp && usable) {
         layers::SwapchainCreateInfo info;
         info.format = *fmt;
@@ -1341,6 +1347,12 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
     patched = proj;
     for (uint32_t e = 0; e < 2; ++e) {
         views[e] = proj.views[e];  // pose, fov and the chained depth info stay the application's
+        // ... except a jittered wide view's field of view: the output was composed on the located grid
+        // (xr::placeJitter), and the runtime places the image by the field of view it is given.
+        if (quad) {
+            const layers::Fov& f = layer.views[e].fov;
+            views[e].fov = {f.angleLeft, f.angleRight, f.angleUp, f.angleDown};
+        }
         views[e].subImage.swapchain = s.out;
         views[e].subImage.imageRect = {{0, 0}, {int32_t(w), int32_t(h)}};
         views[e].subImage.imageArrayIndex = e;
@@ -1376,9 +1388,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
     if (it == g_sessions.end()) return XR_ERROR_HANDLE_INVALID;
     SessionState& s = it->second;
     const Next& n = g_instances.at(s.instance).next;
-    if (info && info->type == XR_TYPE_FRAME_END_INFO) ++s.frames;
     // Quad views the layer offers: a projection layer has the configuration's four views (the runtime
-    // below would count them against its stereo configuration).
+    // below would count them against its stereo configuration). A refused frame end is no frame.
     if (s.quad && info && info->type == XR_TYPE_FRAME_END_INFO && info->layers)
         for (uint32_t i = 0; i < info->layerCount; ++i)
             if (info->layers[i] && info->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION) {
@@ -1390,6 +1401,7 @@ XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEnd
                     return XR_ERROR_VALIDATION_FAILURE;
                 }
             }
+    if (info && info->type == XR_TYPE_FRAME_END_INFO) ++s.frames;
     if (!info || info->type != XR_TYPE_FRAME_END_INFO || !info->layers) return endDown(s, n, session, info);
     uint32_t projIndex = info->layerCount;
     for (uint32_t i = 0; i < info->layerCount; ++i)

@@ -114,7 +114,8 @@ TextScene::TextScene(const TextOptions& o) : options_(o) {
 }
 
 void TextScene::renderViews(const std::array<layers::Fov, 2>& fovs, uint32_t width, uint32_t height,
-                            std::array<HostImage, 2>& color, std::array<HostImage, 2>& depth) const {
+                            std::array<HostImage, 2>& color, std::array<HostImage, 2>& depth, float footprint) const {
+    const float fp = std::isfinite(footprint) && footprint > 0.0f ? std::min(footprint, 1.0f) : 1.0f;
     // Per eye: rays through 2x2 subsamples of each pixel meet the plane z = -distance.
     const TextOptions& o = options_;
     const cv::Mat& lin = page_;
@@ -139,7 +140,8 @@ void TextScene::renderViews(const std::array<layers::Fov, 2>& fovs, uint32_t wid
             for (uint32_t x = 0; x < width; ++x) {
                 cv::Vec3f acc(0, 0, 0);
                 for (int s = 0; s < 4; ++s) {
-                    float sx = float(x) + 0.25f + 0.5f * float(s & 1), sy = float(y) + 0.25f + 0.5f * float(s >> 1);
+                    float sx = float(x) + 0.5f + fp * (0.5f * float(s & 1) - 0.25f);
+                    float sy = float(y) + 0.5f + fp * (0.5f * float(s >> 1) - 0.25f);
                     float tx = tl + sx / float(width) * (tr - tl);
                     float ty = tu - sy / float(height) * (tu - td);
                     double X = tx + eyeX / d, Y = ty;  // plane point in cyclopean tangent units

@@ -54,8 +54,11 @@ public:
     /// e.g. a quad view's wide view at a low density or its inset around the gaze. The renderer is the
     /// same at any size (2x2 samples per pixel of a page texture made for TextOptions' density), so a
     /// sparser view aliases as a renderer at that density would.
+    /// `footprint` < 1 gathers each pixel's 2x2 subsamples from that fraction of it around its centre: a
+    /// view rendered for temporal upsampling samples the page at the display's density (the view's
+    /// density over the display's), so each pixel is a sharp sample at its centre.
     void renderViews(const std::array<layers::Fov, 2>& fovs, uint32_t width, uint32_t height,
-                     std::array<HostImage, 2>& color, std::array<HostImage, 2>& depth) const;
+                     std::array<HostImage, 2>& color, std::array<HostImage, 2>& depth, float footprint = 1.0f) const;
 
 private:
     TextOptions options_;

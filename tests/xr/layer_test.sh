@@ -44,8 +44,8 @@ CLI_FIXED=1 cli_check layer 0 "session ended: 60 of 60 frames foveated" run laye
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation
 # The same over the runtime in its strict swapchain setting (swapchains = strict: sRGB images never
 # MUTABLE_FORMAT, as Monado 21 makes them; four images): the layer reads them through sRGB views, with
-# no validation message. (That those views give the same bits as UNORM ones: Import.* in the GPU suite,
-# and XrQuadViews.GazeFollowingInsetMatchesTheLibrary over the strict runtime.)
+# no validation message. (That those views give the same bits as UNORM ones: Import.* in the GPU suite;
+# over the strict runtime, XrQuadViews.OfferedByTheLayerOnAStereoRuntime in xr_quad_through_layer.)
 CLI_FIXED=1 cli_check strict 0 "session ended: 60 of 60 frames foveated" run strict \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation:XR_APILAYER_LUNARG_core_validation WRSFOV_XR_SWAPCHAINS=strict
 CLI_FIXED=1 cli_check disabled 0 "60 shown as submitted" run disabled \

@@ -991,6 +991,9 @@ TEST(XrQuadViews, OfferedByTheLayerOnAStereoRuntime) {
         "pixels differ\n",
         (unsigned long long)differing, (unsigned long long)pixels);
     EXPECT_EQ(differing, 0u);
+    // The layer hands the runtime the field of view it composed over: the located one, not the jittered
+    // one the application submitted (the runtime places the image by it).
+    for (int e = 0; e < 2; ++e) expectFovNear(frames[0].located[e], reader->info().fov[e], 1e-6f, "recorded field of view");
 }
 
 }  // namespace
