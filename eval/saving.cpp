@@ -47,15 +47,6 @@ layers::Fov fovOfTangents(glm::dvec4 t) {
     return {float(std::atan(t.x)), float(std::atan(t.y)), float(std::atan(t.z)), float(std::atan(t.w))};
 }
 
-// `fov` of a w x h view shifted by `o` of its pixels (+y down): the field of view a jittered view is
-// rendered through.
-layers::Fov shiftedFov(const layers::Fov& fov, glm::vec2 o, uint32_t w, uint32_t h) {
-    const glm::dvec4 t(std::tan(double(fov.angleLeft)), std::tan(double(fov.angleRight)), std::tan(double(fov.angleUp)),
-                       std::tan(double(fov.angleDown)));
-    const double px = (t.y - t.x) / w, py = (t.z - t.w) / h;
-    return fovOfTangents(t + glm::dvec4(o.x * px, o.x * px, -o.y * py, -o.y * py));
-}
-
 // The inset of a quad view: w x h pixels at the display's density (`density`, pixels per tangent unit),
 // about `deg` across at the view's centre, centred on the gaze's tangent point (the view's centre
 // without a valid gaze), shifted to stay inside the wide view, and placed on whole display pixels, so
@@ -438,7 +429,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         const glm::vec2 jitter = layers::haltonJitter(uint64_t(f), so.jitterPhases);
         std::array<layers::Fov, 2> wideFov = fullFov;
         if (so.jitterPhases > 1)
-            for (int e = 0; e < 2; ++e) wideFov[e] = shiftedFov(fullFov[e], jitter, wideW, wideH);
+            for (int e = 0; e < 2; ++e) wideFov[e] = layers::jitteredFov(fullFov[e], jitter, wideW, wideH);
         const float footprint = so.jitterPhases > 1 ? so.wideScale : 1.0f;
         if (Status s = render(wideFov, wideW, wideH, t, pt, wide, &ms, footprint); !s) return s;
         if (scored) wideRenderMs.push_back(ms);

@@ -2,9 +2,12 @@
 // projection from a low-discrepancy sequence, which a view reports as ProjectionView::sampleOffset.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include <glm/glm.hpp>
+
+#include "layers/frame.h"
 
 namespace wrsfov::layers {
 
@@ -24,6 +27,16 @@ inline glm::vec2 haltonJitter(uint64_t frame, uint32_t phases) {
     if (phases <= 1) return glm::vec2(0.0f);
     const uint64_t i = frame % phases + 1;
     return glm::vec2(float(halton(i, 2) - 0.5), float(halton(i, 3) - 0.5));
+}
+
+/// `fov` of a w x h view shifted by `o` of its pixels (+x right, +y down): the field of view a view
+/// jittered by `o` is rendered through and, in OpenXR, submitted with (the inverse of xr::jitterOf).
+inline Fov jitteredFov(const Fov& fov, glm::vec2 o, uint32_t w, uint32_t h) {
+    const double l = std::tan(double(fov.angleLeft)), r = std::tan(double(fov.angleRight));
+    const double u = std::tan(double(fov.angleUp)), d = std::tan(double(fov.angleDown));
+    const double px = (r - l) / w, py = (u - d) / h;
+    return {float(std::atan(l + o.x * px)), float(std::atan(r + o.x * px)), float(std::atan(u - o.y * py)),
+            float(std::atan(d - o.y * py))};
 }
 
 }  // namespace wrsfov::layers

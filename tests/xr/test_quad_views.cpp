@@ -152,11 +152,8 @@ layers::Fov toFov(const XrFovf& f) { return {f.angleLeft, f.angleRight, f.angleU
 // The field of view `f` of a w x h view shifted by `o` of its pixels (+y down): what an engine that
 // jitters for temporal upsampling renders with and submits.
 XrFovf jittered(const XrFovf& f, glm::vec2 o, uint32_t w, uint32_t h) {
-    const double l = std::tan(double(f.angleLeft)), r = std::tan(double(f.angleRight));
-    const double u = std::tan(double(f.angleUp)), d = std::tan(double(f.angleDown));
-    const double px = (r - l) / w, py = (u - d) / h;
-    return {float(std::atan(l + o.x * px)), float(std::atan(r + o.x * px)), float(std::atan(u - o.y * py)),
-            float(std::atan(d - o.y * py))};
+    const layers::Fov j = layers::jitteredFov(toFov(f), o, w, h);
+    return {j.angleLeft, j.angleRight, j.angleUp, j.angleDown};
 }
 
 void expectFovNear(const XrFovf& got, const layers::Fov& want, float tol, const std::string& what) {
