@@ -693,6 +693,12 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
     composeParams_ = gpu::ComposeParams{};
     if (work.kind != layers::SubmittedFoveation::Full) {
         composeParams_ = makeComposeParams(layer, glm::uvec2(work.w, work.h), work.next.insetBlendPx);
+        // Landed wide samples: only retention reads them (the oracles do not: wrs_offer_landed).
+        const bool landed = work.kind == layers::SubmittedFoveation::Quad && work.next.landedSamples &&
+                            usesRetainPass(work.next.method) && work.next.method != Method::Oracle &&
+                            work.next.method != Method::OracleQ;
+        for (gpu::ComposeEye& e : composeParams_.eye)
+            e.landed.z = landed && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
         for (int eye = 0; eye < 2; ++eye) {
             const layers::ProjectionView& v = layer.views[eye];
             work.srcColor[eye] = sampledView(v.color);
@@ -705,7 +711,9 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
             }
             if (v.rateMap) work.srcRate[eye] = sampledView(v.rateMap->subImage);
         }
-        if (Status s = prepareSubmitted(work.w, work.h); !s)
+        if (Status s = prepareSubmitted(work.w, work.h, composeParams_.eye[0].landed.z != 0.0f ||
+                                                            composeParams_.eye[1].landed.z != 0.0f);
+            !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
         const ComposePass::Sources sources{work.srcColor, work.srcDepth, work.srcMotion, work.srcRate};
         if (Status s = compose_->prepare(work.kind, composeParams_, sources, quality_.handle(), sampler_.get(),
@@ -750,6 +758,15 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     stats_.usedMotion = work.hasMotion && work.passes.temporal;
     stats_.historyReset = work.passes.temporal && !historyValid_;
     params_ = makeFrameParams(frame_, frame, work.w, work.h, stats_.gazeFallback);
+    // Landed wide samples and jitter (EyeParams::motion_rect zw): whether retention reads the eye's
+    // landed samples, and whether its views' sample offsets moved since the frame before.
+    for (int eye = 0; eye < 2; ++eye) {
+        const layers::ProjectionView& v = frame.layers[0].views[eye];
+        const glm::vec4 offsets(v.sampleOffset, v.inset ? v.inset->sampleOffset : glm::vec2(0.0f));
+        params_.eye[eye].motion_rect.z = composeParams_.eye[eye].landed.z != 0.0f ? 1u : 0u;
+        params_.eye[eye].motion_rect.w = offsets != lastOffsets_[eye] ? 1u : 0u;
+        lastOffsets_[eye] = offsets;
+    }
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
     work.sparse = work.passes.sparse;
     work.tilesPerEye = groups(work.w, gpu::WRS_TILE) * groups(work.h, gpu::WRS_TILE);
@@ -945,7 +962,7 @@ void Compositor::keepFrame(const layers::FrameEndInfo& frame, const FrameWork& w
     validator_.accept(frame);
 }
 
-Status Compositor::prepareSubmitted(uint32_t width, uint32_t height) {
+Status Compositor::prepareSubmitted(uint32_t width, uint32_t height, bool landed) {
     // Made on the first frame submitted foveated, so that a compositor of full-resolution frames
     // allocates and submits nothing more than before.
     if (!compose_) {
@@ -970,9 +987,9 @@ Status Compositor::prepareSubmitted(uint32_t width, uint32_t height) {
         if (!st) return st;
         dummyUint_ = std::move(*img);
     }
-    // Each pixel's quality, then each tile's largest (compose.comp).
+    // Each pixel's quality, then each tile's largest, then each pixel's landed sample (compose.comp).
     const uint64_t tiles = uint64_t(groups(width, gpu::WRS_TILE)) * groups(height, gpu::WRS_TILE);
-    const uint64_t bytes = (uint64_t(width) * height + tiles) * WRS_EYES * 4;
+    const uint64_t bytes = (uint64_t(width) * height * (landed ? 3 : 1) + tiles) * WRS_EYES * 4;
     if (quality_.size() != bytes) {
         auto q = ctx_.createBuffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
         if (!q) return named("rendered qualities", q.error());

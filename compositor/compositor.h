@@ -134,6 +134,13 @@ struct CompositorConfig {
     /// which the output blends from the wide view to the inset (and the quality from the wide view's to
     /// 1). 0: a hard edge.
     float insetBlendPx = 8.0f;
+    /// Quad views, `wrs`: the wide sample nearest each output pixel's centre is offered to retention
+    /// as a candidate of its own, with the quality of where it landed (wrs_landed_quality; docs/retention.md
+    /// "Landed wide samples"), so that reservoirs gather the wide views' samples a jittered (or moving)
+    /// sample lattice places near each pixel. It assumes, as temporal upsampling does, that the wide
+    /// views sample texture detail at the display's density (a LOD bias of log2 of their density); an
+    /// application that filters its wide views over their own pixels should turn it off.
+    bool landedSamples = true;
 };
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
@@ -397,6 +404,9 @@ private:
     layers::SubmittedFoveation submitted_ = layers::SubmittedFoveation::Full;
     FoveationMode lastFoveation_ = FoveationMode::Mip;  // frame_.foveation of the last frame (history)
     gpu::ComposeParams composeParams_{};
+    /// Each eye's sample offsets of the last frame planned (wide xy, inset zw): a view whose offset
+    /// changed was jittered (EyeParams::motion_rect.w).
+    std::array<glm::vec4, 2> lastOffsets_{};
     std::unique_ptr<ComposePass> compose_;
     vk::Buffer quality_;  // submitted foveation: each pixel's rendered quality (binding 15)
     vk::Image dummyUint_;  // bound where a view has no rate map (usampler2D)
@@ -482,7 +492,7 @@ private:
     void recordCompose(const FramePlan& plan);
     /// The compose pass, the rate-map placeholder and the rendered qualities for an output of
     /// width x height, made on the first frame submitted foveated (and the qualities again on a resize).
-    Status prepareSubmitted(uint32_t width, uint32_t height);
+    Status prepareSubmitted(uint32_t width, uint32_t height, bool landed);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
     void recordHistoryStart(const FramePlan& plan);
     /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention). Its

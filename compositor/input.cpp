@@ -65,6 +65,9 @@ gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::
         // (Rate maps: the colour is read at its own pixels, which are the output's; no offset.)
         const glm::vec2 wideOffset = v.inset ? v.sampleOffset : glm::vec2(0.0f);
         e.wide_map = map(outTan, v.color.rect.width, v.color.rect.height, wideOffset);
+        // Output pixels per wide pixel (wrs_landed_offset); whether landed samples are written is the
+        // compositor's (CompositorConfig::landedSamples).
+        e.landed = glm::vec4(float(1.0 / double(e.wide_map.x)), float(1.0 / double(e.wide_map.y)), 0.0f, 0.0f);
         e.sizes = glm::uvec4(v.color.rect.width, v.color.rect.height, 0u, 0u);
         e.wide_color = glm::uvec4(v.color.rect.x, v.color.rect.y, colorEncoding(v.color), 0u);
         if (v.rateMap) {

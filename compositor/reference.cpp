@@ -85,6 +85,16 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             const vec4 c = wrs_quad_color(wide, inset, t);
             out.quality[std::size_t(y) * size.x + x] = wrs_quad_quality(ce.wide_motion.w, t);
             out.color.store(x, y, roundF16(c));
+            if (ce.landed.z != 0.0f) {
+                // As compose.comp: the wide sample nearest the centre, not read where the inset alone shows.
+                const bool insetOnly = t == 1.0f && inset.w != 0.0f;
+                const uvec2 k = nearestTexel(wpos, wsize);
+                float ql = insetOnly ? 0.0f : wrs_landed_quality(wrs_landed_offset(wpos, k, vec2(ce.landed)));
+                const vec4 s = ql > 0.0f ? sourceTexel(src.wideColor, k, ce.wide_color.z) : vec4(0.0f);
+                if (s.w == 0.0f) ql = 0.0f;
+                if (out.landed.empty()) out.landed.resize(std::size_t(size.x) * size.y);
+                out.landed[std::size_t(y) * size.x + x] = wrs_unpack_landed(wrs_pack_landed(vec3(s), ql));
+            }
             const bool fromInset = t >= 0.5f;
             const uvec2 q = fromInset ? nearestTexel(ipos, isize) : nearestTexel(wpos, wsize);
             if (out.depth) {
@@ -339,7 +349,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         float q_max = 0.0f;
                         for (uint y = ty * WRS_TILE; y < std::min((ty + 1u) * WRS_TILE, H); ++y)
                             for (uint x = tx * WRS_TILE; x < std::min((tx + 1u) * WRS_TILE, W); ++x)
-                                q_max = std::max(q_max, in.quality[std::size_t(y) * W + x]);
+                                q_max = std::max({q_max, in.quality[std::size_t(y) * W + x],
+                                                  in.landed.empty() ? 0.0f : in.landed[std::size_t(y) * W + x].w});
                         cls = wrs_submitted_tile_class(q_max, params.tuning.w);
                     } else {
                         cls = wrs_tile_class(mode, t, size0, ep.fov_tan, ep.tile, vec3(ep.gaze), ep.gaze.w,
@@ -368,6 +379,11 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     RetainInput c = wrs_candidate_at(pyramid, mode, p, ref, lv, e, r_f, q_sub, true).rule;
                     c.z = hasDepth ? zlin[idx] : 0.0f;
                     c.q_floor = params.tuning.w;
+                    if (mode == WRS_FOV_SUBMITTED) {  // as retain.comp
+                        c.jittered = ep.motion_rect.w != 0u;
+                        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(rule) && !in.landed.empty())
+                            wrs_offer_landed(c, in.landed[idx]);
+                    }
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);
                     vec2 pos;

@@ -26,6 +26,9 @@ public:
         /// what the compose pass makes of the submission (composeQuadViews, rateMapQualities). Empty
         /// for a full-resolution frame.
         std::vector<float> quality;
+        /// Quad views with landed samples (ComposeEye::landed.z): each pixel's landed wide sample as the
+        /// compose pass stores it (wrs_unpack_landed: colour, quality; W*H). Empty otherwise.
+        std::vector<glm::vec4> landed;
         /// Submitted foveation, the oracles: the full-resolution reference (ProjectionView::reference).
         std::optional<HostImage> reference;
     };

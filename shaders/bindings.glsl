@@ -15,6 +15,7 @@ layout(constant_id = 7) const bool HARDWARE_HALF = false;
 // its code or registers (the retain pass: 72 -> 60 VGPRs on ACO).
 layout(constant_id = 8) const bool TRACK_BIRTH = false;
 #include "wrs_common.h"
+#include "wrs_submitted.h"
 #include "wrs_params.h"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
@@ -40,9 +41,10 @@ layout(std430, set = 0, binding = 13) buffer Tiles { uvec4 tile_args[WRS_TILE_LI
 // previous frame's at frame.held.x, this frame's at frame.held.y; from frame.held.w, per superblock
 // (WRS_SUPERBLOCK^2 tiles) and eye the largest of the previous frame's (classify.comp, phase 1).
 layout(std430, set = 0, binding = 14) buffer TileHeld { uint tile_held[]; };
-// Submitted foveation (FOV_MODE WRS_FOV_SUBMITTED): each pixel's rendered quality, written by the
-// compose pass (compose.comp), eye-major like the reservoirs.
-layout(std430, set = 0, binding = 15) readonly buffer Quality { float submitted_quality[]; };
+// Submitted foveation (FOV_MODE WRS_FOV_SUBMITTED), written by the compose pass (compose.comp) as
+// words: each pixel's rendered quality (float bits, eye-major like the reservoirs), each tile's
+// largest, then each pixel's landed wide sample (wrs_pack_landed, two words) where EyeParams says so.
+layout(std430, set = 0, binding = 15) readonly buffer Quality { uint submitted_words[]; };
 // Evaluation only: the full-resolution reference of a frame submitted foveated, which the oracles
 // compare with (EyeParams::ref_rect; a placeholder otherwise).
 layout(set = 0, binding = 16) uniform sampler2D referenceIn[2];
@@ -57,7 +59,15 @@ uint tile_index(uint eye, uvec2 t) { uvec2 n = tile_count(); return (eye * n.y +
 // Submitted foveation: the largest rendered quality of tile t's pixels, which the compose pass writes
 // after the pixels' (at 2 W H, tile_index order).
 float submitted_tile_quality(uint eye, uvec2 t) {
-    return submitted_quality[2u * frame.size.x * frame.size.y + tile_index(eye, t)];
+    return uintBitsToFloat(submitted_words[2u * frame.size.x * frame.size.y + tile_index(eye, t)]);
+}
+// Submitted foveation: pixel idx's rendered quality.
+float submitted_quality(uint idx) { return uintBitsToFloat(submitted_words[idx]); }
+// Quad views with landed samples (EyeParams::motion_rect.z): the wide sample that landed in pixel idx,
+// colour and quality (0: none).
+vec4 submitted_landed(uint idx) {
+    uint at = 2u * (frame.size.x * frame.size.y + tile_capacity() / 2u) + 2u * idx;
+    return wrs_unpack_landed(uvec2(submitted_words[at], submitted_words[at + 1u]));
 }
 // The held quality of tile t in the previous frame.
 float held_prev(uint eye, uvec2 t) { return uintBitsToFloat(tile_held[frame.held.x + tile_index(eye, t)]); }

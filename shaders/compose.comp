@@ -5,6 +5,9 @@
 //     validity in alpha), depth and motion (nearest texel of the source that weighs more, motion in
 //     output pixels), which every later pass reads in place of the submitted images; the quality
 //     wrs_quad_quality.
+//   With ComposeEye::landed.z, each pixel's landed wide sample too (wrs_landed_offset): the wide texel
+//   nearest its centre and its quality, packed (wrs_pack_landed) after the tiles' largest qualities,
+//   for retention's own candidate; the composed colour is the same either way.
 //   KIND 2 (a rate map): the submitted colour is the candidate as it is; the quality
 //     wrs_rate_quality of the pixel's texel.
 // Each group is one 8x8 tile (WRS_TILE): after the pixels' qualities (eye-major, 2 W H of them) it
@@ -28,7 +31,9 @@ layout(set = 0, binding = 1) uniform sampler2D srcColor[4];
 layout(set = 0, binding = 2) uniform sampler2D srcDepth[4];
 layout(set = 0, binding = 3) uniform sampler2D srcMotion[4];
 layout(set = 0, binding = 4) uniform usampler2D rateMap[2];
-layout(std430, set = 0, binding = 5) writeonly buffer Quality { float quality[]; };
+// Float bits: each pixel's quality (eye-major, 2 W H), each tile's largest (2 tiles), then with
+// landed samples two words a pixel (eye-major).
+layout(std430, set = 0, binding = 5) writeonly buffer Quality { uint quality[]; };
 layout(std430, set = 0, binding = 6) readonly buffer SrgbTable { float srgb_table[256]; };
 // The group's copy of the sRGB table: each decoded tap reads it from shared memory, not from a buffer
 // load that depends on the texel fetch before it (as the pyramid pass does).
@@ -51,6 +56,12 @@ vec4 source_bilinear(uint k, vec2 pos, uvec2 size, uvec4 rect) {
                               source_texel(k, uvec2(i0.x, i1.y), rect), source_texel(k, i1, rect), f);
 }
 
+uvec2 tile_count(uvec2 size) { return (size + uvec2(WRS_GROUP_X - 1u, WRS_GROUP_Y - 1u)) / uvec2(WRS_GROUP_X, WRS_GROUP_Y); }
+uint landed_base(uvec2 size) {
+    uvec2 tiles = tile_count(size);
+    return 2u * (size.x * size.y + tiles.x * tiles.y);
+}
+
 uvec2 nearest(vec2 pos, uvec2 size) { return uvec2(clamp(ivec2(floor(pos)), ivec2(0), ivec2(size) - ivec2(1))); }
 
 vec4 round_f16(vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); }
@@ -64,7 +75,7 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     if (KIND == 2u) {
         uvec2 t = p / ce.rate.zw;
         float q = wrs_rate_quality(texelFetch(rateMap[eye], ivec2(t + ce.rate.xy), 0).r);
-        quality[idx] = q;
+        quality[idx] = floatBitsToUint(q);
         return q;
     }
     uvec2 wsize = ce.sizes.xy, isize = ce.sizes.zw;
@@ -78,8 +89,20 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     t = wrs_quad_weight(t, inset.w != 0.0, wide.w != 0.0);
     vec4 c = wrs_quad_color(wide, inset, t);
     float q = wrs_quad_quality(ce.wide_motion.w, t);
-    quality[idx] = q;
+    quality[idx] = floatBitsToUint(q);
     imageStore(composedColor, ivec3(p, eye), round_f16(c));
+    if (ce.landed.z != 0.0) {
+        // The wide sample nearest the pixel's centre (not read where the inset alone shows).
+        uvec2 k = nearest(wpos, wsize);
+        float ql = inset_only ? 0.0 : wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));
+        vec4 s = ql > 0.0 ? source_texel(eye, k, ce.wide_color) : vec4(0.0);
+        if (s.w == 0.0) ql = 0.0;
+        uvec2 words = wrs_pack_landed(s.rgb, ql);
+        uint at = landed_base(size) + 2u * idx;
+        quality[at] = words.x;
+        quality[at + 1u] = words.y;
+        q = max(q, ql);  // the tile's largest quality counts what retention may take
+    }
     bool from_inset = t >= 0.5;
     if (HAS_DEPTH) {
         uvec2 q = from_inset ? nearest(ipos, isize) : nearest(wpos, wsize);
@@ -108,8 +131,8 @@ void main() {
     if (all(lessThan(p, size))) atomicMax(tile_q, floatBitsToUint(compose_pixel(eye, p, size)));
     barrier();
     if (gl_LocalInvocationIndex == 0u) {
-        uvec2 tiles = (size + uvec2(WRS_GROUP_X - 1u, WRS_GROUP_Y - 1u)) / uvec2(WRS_GROUP_X, WRS_GROUP_Y);
+        uvec2 tiles = tile_count(size);
         uvec2 t = gl_WorkGroupID.xy;
-        quality[2u * size.x * size.y + (eye * tiles.y + t.y) * tiles.x + t.x] = uintBitsToFloat(tile_q);
+        quality[2u * size.x * size.y + (eye * tiles.y + t.y) * tiles.x + t.x] = tile_q;
     }
 }

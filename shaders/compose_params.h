@@ -20,6 +20,8 @@ struct ComposeEye {
                         // wide px on x, y); w: q_wide, the wide view's quality (density ratio squared)
     vec4 inset_motion;  // xyz: the same for the inset; w: 1 / the blend width in inset pixels (0: hard edge)
     uvec4 rate;         // rate map: xy offset of the map in its image; zw: pixels per texel
+    vec4 landed;        // landed wide samples (wrs_landed_offset): xy: output pixels per wide pixel
+                        // (1 / wide_map.xy); z: 1 where they are offered to retention; w: pad
 };
 
 struct ComposeParams {
@@ -30,8 +32,8 @@ struct ComposeParams {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::ComposeEye) == 160);
-static_assert(sizeof(wrsfov::gpu::ComposeParams) == 2 * 160 + 16);
+static_assert(sizeof(wrsfov::gpu::ComposeEye) == 176);
+static_assert(sizeof(wrsfov::gpu::ComposeParams) == 2 * 176 + 16);
 #endif
 
 #endif

@@ -39,10 +39,14 @@ float retain_pixel(uint eye, uvec2 p) {
     float e;
     vec3 lv = pixel_levels(TILE, FOV_MODE, eye, p, e);
     vec4 ref = load_color(eye, p);
-    float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality[idx] : 0.0;
+    float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality(idx) : 0.0;
     RetainInput c = wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, ref, lv, e, ep.gaze.w, q_sub, true).rule;
     c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
     c.q_floor = frame.tuning.w;
+    if (FOV_MODE == WRS_FOV_SUBMITTED) {
+        c.jittered = ep.motion_rect.w != 0u;
+        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) wrs_offer_landed(c, submitted_landed(idx));
+    }
 
     // Tracked reprojection of the kept sample.
     vec3 mv = vec3(0.0);

@@ -72,6 +72,8 @@ WRS_FN WrsCandidate wrs_candidate_at(WrsPyramid s, uint mode, uvec2 p, vec4 leve
         }
     }
     c.moved = false;
+    c.jittered = false;
+    c.flags = 0u;
     c.z = 0.0f;
     c.q_floor = 0.0f;
     WrsCandidate r;

@@ -796,6 +796,7 @@ const float WRS_OFFSET_SCALE = 254.0f;
 
 // Flags of a tracked reservoir.
 const uint WRS_FLAG_MOVED = 1u;  // the sample has moved relative to the pixel grid since it was taken
+const uint WRS_FLAG_LANDED = 2u;  // a landed wide sample (wrs_landed_quality): a wide view's, taken near the pixel
 
 struct Tracked {
     vec3 color;   // the kept sample (or the mean of equal-quality samples), linear RGB
@@ -1133,6 +1134,11 @@ struct RetainInput {
     bool moved;   // this pixel has non-zero motion this frame
     float z;      // linear depth now (0 unknown)
     float q_floor;  // the floor rule's quality (wrs_rule_floor; 0: no floor rule)
+    // The view the pixel's samples come from was jittered (a sample lattice that moves from frame to
+    // frame by up to a source pixel): the change test allows the fingerprint taps' range, as for motion,
+    // so that a new phase of the same content is not read as a change.
+    bool jittered;
+    uint flags;  // WRS_FLAG_* a fresh sample is stored with (WRS_FLAG_LANDED)
 };
 
 // Whether a gap's sample (wrs_track_gap) is shown: where the retention rule would keep it as sharper
@@ -1140,7 +1146,7 @@ struct RetainInput {
 // candidate is of lower quality, or invalid with the history above the floor).
 WRS_FN bool wrs_gap_shows(Tracked h, RetainInput c) {
     if (!(c.q > 0.0f)) return h.q > c.q_floor * (1.0f + WRS_Q_EQUAL);
-    bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved;
+    bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved || c.jittered;
     float tol = WRS_FP_TOL + (moved ? c.fp_range : 0.0f);
     if (abs(h.fp - c.fp) > tol) return false;
     return c.q < h.q * (1.0f - WRS_Q_EQUAL);
@@ -1162,7 +1168,7 @@ WRS_FN Tracked wrs_tracked_from(RetainInput c, float w_sum) {
     r.q = c.q;
     r.w_sum = w_sum;
     r.fp = wrs_fp_value(wrs_fp_code(c.fp));
-    r.flags = 0u;
+    r.flags = c.flags;
     r.z = c.z;
     r.d = vec2(0.0f, 0.0f);
     return r;
@@ -1211,7 +1217,7 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
         return keep ? kept : fresh;
     }
     // Change test against the fingerprint the sample was taken with.
-    bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved;
+    bool moved = (h.flags & WRS_FLAG_MOVED) != 0u || c.moved || c.jittered;
     float tol = WRS_FP_TOL + (moved ? c.fp_range : 0.0f);
     float diff = abs(h.fp - c.fp);
     margin = abs(diff - tol) / 100.0f;

@@ -96,6 +96,58 @@ WRS_FN float wrs_quad_quality(float q_wide, float t) {
     return q;
 }
 
+// Landed wide samples (docs/retention.md "Landed wide samples"): a wide view's pixel holds a sample
+// of the scene at its position on the view's sample lattice (the centre of the pixel, moved by the
+// view's jitter: InsetView/ProjectionView::sampleOffset), taken with texture detail at the display's
+// density (an engine's LOD bias for temporal upsampling). For an output pixel, the wide sample
+// nearest its centre is offered to retention as a candidate of its own, with a quality that says how
+// much of the output pixel it tells: the overlap of its footprint, one output pixel wide, with the
+// pixel, (1 - |dx|)(1 - |dy|), and 0 for a sample that landed outside the pixel. A sample that landed
+// on the centre is worth what the inset's is (1); the bilinear wide view keeps its quality q_wide.
+//
+// Offset, in output pixels, of sample k of the wide view (its texel, as wrs_source_pos's `pos` counts
+// them) from the centre of the output pixel that maps to `pos`: (k + 0.5 - pos) times the output's
+// pixels per source pixel (`inv_scale`, worked out on the host; no division here).
+WRS_FN vec2 wrs_landed_offset(vec2 pos, uvec2 k, vec2 inv_scale) {
+    WRS_PRECISE vec2 centre = vec2(k) + vec2(0.5f, 0.5f);
+    WRS_PRECISE vec2 ds = centre - pos;
+    WRS_PRECISE vec2 d = ds * inv_scale;
+    return d;
+}
+// The quality of a sample that landed at offset d from an output pixel's centre.
+WRS_FN float wrs_landed_quality(vec2 d) {
+    if (!(abs(d.x) < 0.5f && abs(d.y) < 0.5f)) return 0.0f;
+    WRS_PRECISE float ox = 1.0f - abs(d.x);
+    WRS_PRECISE float oy = 1.0f - abs(d.y);
+    WRS_PRECISE float q = ox * oy;
+    return q;
+}
+// A landed sample as the compose pass stores it for retention (two words a pixel after the qualities
+// and the tiles' largest): fp16 R | G, fp16 B | quality; colour rounded by hand as every stored value.
+// Quality 0: none landed in the pixel (or its texel was not finite), the words read back as no sample.
+WRS_FN uvec2 wrs_pack_landed(vec3 c, float q) {
+    if (!(q > 0.0f)) return uvec2(0u, 0u);
+    return uvec2(wrs_f32_to_f16(c.x) | (wrs_f32_to_f16(c.y) << 16u), wrs_f32_to_f16(c.z) | (wrs_f32_to_f16(q) << 16u));
+}
+WRS_FN vec4 wrs_unpack_landed(uvec2 w) {
+    return vec4(wrs_f16_to_f32(w.x & 0xffffu), wrs_f16_to_f32(w.x >> 16u), wrs_f16_to_f32(w.y & 0xffffu),
+                wrs_f16_to_f32(w.y >> 16u));
+}
+
+// Retention's candidate at a pixel where a wide sample landed (wrs_unpack_landed: colour, quality):
+// the landed sample where it tells more of the pixel than the composed candidate, as a sample of its
+// own (its colour the box of its taps, flagged WRS_FLAG_LANDED); the composed one otherwise. The
+// fingerprint stays the composed frame's. The oracles are not offered it (they bound what any
+// retention of the composed candidates can reach).
+WRS_FN void wrs_offer_landed(WRS_INOUT(RetainInput) c, vec4 landed) {
+    if (!(landed.w > c.q)) return;
+    c.color = vec3(landed);
+    c.q = landed.w;
+    c.lo = c.color;
+    c.hi = c.color;
+    c.flags = WRS_FLAG_LANDED;
+}
+
 // Quality of a pixel shaded at rate texel v (VK_KHR_fragment_shading_rate: w = 2^((v >> 2) & 3),
 // h = 2^(v & 3); bits 4..7 ignored): 1 / (w h). A size of 8 (field 3), absent from Vulkan's table of
 // fragment sizes, is taken as 4.

@@ -38,6 +38,8 @@ std::vector<RetainStats> runRetainStress(uint64_t frames, uint32_t pixels, uint3
                     c.fp = wrs_linear_to_lab(c.color).x;
                     c.fp_range = 0.0f;
                     c.moved = false;
+                    c.jittered = false;
+                    c.flags = 0u;
                     c.z = wrs_linear_depth(in.depth, kNearZ, kFarZ, false);
                     c.q_floor = 0.0f;  // streams of arbitrary weights: no floor quality
                     const Tracked h = wrs_unpack_tracked(stored);

@@ -33,22 +33,24 @@ layers::Fov outputFov() { return fovOf(-kTanX, kTanX, kTanY, -kTanY); }
 // The scene, continuous in tangent space: a fine pattern (periods of 3 to 4 output pixels) over a slow
 // ramp. A view sparser than the pattern's Nyquist rate renders it as a renderer with mip-mapped
 // textures does: without the fine pattern (`fine` false), which the inset keeps.
-glm::vec4 scene(float tx, float ty, float brightness = 1.0f, bool fine = true) {
+// `edges`: a checker of hard edges (squares of 0.17 tangent units) darkens the pattern in alternate squares.
+glm::vec4 scene(float tx, float ty, float brightness = 1.0f, bool fine = true, bool edges = false) {
     const float u = tx * 100.0f, v = ty * 100.0f;
     const float c = 0.5f + (fine ? 0.35f * std::sin(u * 2.1f) * std::sin(v * 1.7f) : 0.0f) + 0.1f * std::sin(u * 0.05f);
+    if (edges && (int(std::floor(tx / 0.17f)) + int(std::floor(ty / 0.17f))) % 2 != 0) brightness *= 0.05f;
     return glm::vec4(c * brightness, (1.0f - c) * 0.8f * brightness, 0.3f * brightness, 1.0f);
 }
 
 // An image rendered over a tangent rectangle, one sample at each pixel's centre moved by `offset`
 // pixels (a jittered render: ProjectionView::sampleOffset), RGBA16F.
 HostImage render(uint32_t w, uint32_t h, glm::vec4 tan, float brightness = 1.0f, bool fine = true,
-                 glm::vec2 offset = {0, 0}) {
+                 glm::vec2 offset = {0, 0}, bool edges = false) {
     HostImage img = HostImage::make(layers::Format::RGBA16F, w, h);
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             const float tx = tan.x + (x + 0.5f + offset.x) / w * (tan.y - tan.x);
             const float ty = tan.z - (y + 0.5f + offset.y) / h * (tan.z - tan.w);
-            img.store(x, y, scene(tx, ty, brightness, fine));
+            img.store(x, y, scene(tx, ty, brightness, fine, edges));
         }
     return img;
 }
@@ -116,10 +118,10 @@ public:
             f.inset[e] = insetTan(gx, gy);
             const glm::vec4 s(shift.x, shift.x, shift.y, shift.y);
             QuadSources& q = f.sources[e];
-            q.wideColor = render(WW, WH, wide + s, brightness, false, wideOffset);
-            q.insetColor = render(IW, IH, f.inset[e] + s, brightness, true, insetOffset);
+            q.wideColor = render(WW, WH, wide + s, brightness, wideFine, wideOffset, edges);
+            q.insetColor = render(IW, IH, f.inset[e] + s, brightness, true, insetOffset, edges);
             if (wideDepth) q.wideDepth = depthOf(WW, WH, wide), q.insetDepth = depthOf(IW, IH, f.inset[e]);
-            f.reference = render(W, H, wide + s, brightness);
+            f.reference = render(W, H, wide + s, brightness, true, {0, 0}, edges);
             if (wideMotion) {
                 // Previous position = current + mv: a view moved right (up) by delta shows what was delta
                 // to its right (below) a frame ago.
@@ -190,13 +192,18 @@ public:
     /// Where the next frames' samples are taken, in each view's pixels (make() renders there, submit()
     /// says so).
     glm::vec2 wideOffset{0, 0}, insetOffset{0, 0};
+    /// The wide views sample the fine pattern too, at their own density, as a renderer that biases its
+    /// texture LOD to the display's density for temporal upsampling does (aliased per frame).
+    bool wideFine = false;
+    bool edges = false;  ///< the scene's checker of hard edges (scene)
 };
 
-std::unique_ptr<Compositor> compositor(Method m, bool sparse = true) {
+std::unique_ptr<Compositor> compositor(Method m, bool sparse = true, bool landed = true) {
     CompositorConfig cfg;
     cfg.method = m;
     cfg.seed = 5;
     cfg.sparseRetention = sparse;
+    cfg.landedSamples = landed;
     auto c = Compositor::create(context(), cfg);
     EXPECT_TRUE(c.ok());
     return c.ok() ? std::move(*c) : nullptr;
@@ -369,7 +376,8 @@ TEST_F(Submitted, JitteredViewsArePlacedWhereTheirSamplesWereTaken) {
 }
 
 TEST_F(Submitted, EachPixelKeepsTheQualityItWasRenderedAt) {
-    auto c = compositor(Method::Wrs);
+    // Without landed wide samples (their qualities: LandedWideSamples* below).
+    auto c = compositor(Method::Wrs, true, false);
     QuadApp app(*c, false, false);
     const QuadApp::Frame f = app.make(0.0f, 0.0f);
     app.submit(*c, 1, f);
@@ -421,6 +429,133 @@ TEST_F(Submitted, EachPixelKeepsTheQualityItWasRenderedAt) {
     EXPECT_EQ(skipped, 2 * (W * H - 48 * 40));
 }
 
+// Landed wide samples (wrs_landed_quality): where a wide sample landed inside an output pixel, `wrs`
+// stores it, flagged, with the quality of where it landed, (1 - |dx|)(1 - |dy|) for an offset of
+// (dx, dy) output pixels from the pixel's centre, worked out here from the views' geometry alone; the
+// bilinear wide view's 0.16 elsewhere.
+TEST_F(Submitted, LandedWideSamplesCarryTheQualityOfWhereTheyLanded) {
+    auto c = compositor(Method::Wrs);
+    QuadApp app(*c, false, false);
+    app.wideOffset = {0.37f, -0.29f};
+    const QuadApp::Frame f = app.make(0.0f, 0.0f);
+    app.submit(*c, 1, f);
+    const double step = double(W) / WW;  // output pixels per wide pixel, 2.5 on both axes
+    ASSERT_EQ(double(H) / WH, step);
+    // The wide sample nearest an output pixel's centre along one axis, and its offset from that centre.
+    auto landedAt = [&](uint32_t x, float o, uint32_t n) {
+        const double c = x + 0.5;
+        const double k = std::clamp(std::floor(c / step - o), 0.0, double(n - 1));
+        return std::pair<uint32_t, double>(uint32_t(k), (k + 0.5 + o) * step - c);
+    };
+    auto res = c->readReservoirs(0);
+    ASSERT_TRUE(res.ok());
+    int wide = 0, landed = 0, checked = 0;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            if (!(x < 60 || x >= 100 || y < 40 || y >= 80)) continue;  // the inset and its blend band
+            const auto [kx, dx] = landedAt(x, app.wideOffset.x, WW);
+            const auto [ky, dy] = landedAt(y, app.wideOffset.y, WH);
+            // Offsets within rounding of the pixel's edge could land either way.
+            if (std::abs(std::abs(dx) - 0.5) < 1e-3 || std::abs(std::abs(dy) - 0.5) < 1e-3) continue;
+            const bool inside = std::abs(dx) < 0.5 && std::abs(dy) < 0.5;
+            const double q = inside ? (1 - std::abs(dx)) * (1 - std::abs(dy)) : 0.0;
+            const glm::uvec4 r = (*res)[std::size_t(y) * W + x];
+            const bool flagged = ((r.z >> 24) & gpu::WRS_FLAG_LANDED) != 0u;
+            ++wide;
+            ASSERT_EQ(flagged, q > 0.16) << x << "," << y << " offset " << dx << "," << dy;
+            ASSERT_NEAR(gpu::wrs_packed_quality(r), std::max(q, 0.16), 2e-3) << x << "," << y;
+            if (!flagged) continue;
+            ++landed;
+            // The sample itself: the wide texel it came from, to fp16.
+            const glm::vec3 texel(f.sources[0].wideColor.fetch(kx, ky));
+            const glm::vec3 stored = gpu::wrs_packed_color(r);
+            for (int k = 0; k < 3; ++k) ASSERT_EQ(stored[k], gpu::wrs_round_f16(texel[k])) << x << "," << y;
+            ++checked;
+        }
+    std::printf("[landed] %d of %d wide-only pixels hold a landed sample\n", landed, wide);
+    // One wide sample per 2.5 x 2.5 output pixels lands in one of them, and above 0.16 in most.
+    EXPECT_GT(landed, wide / 10);
+    EXPECT_LT(landed, wide / 4);
+    EXPECT_EQ(checked, landed);
+}
+
+// A still view whose wide views are rendered jittered (8 phases of Halton 2, 3) with texture detail at
+// the display's density, which at 0.4 of it aliases every frame: `wrs` gathers the samples that land
+// near each pixel and rebuilds the detail the inset never rendered there, where `fov` shows each
+// frame's bilinear wide view; the change test reads no new phase as a change (the CPU reference, run
+// from the GPU's history, counts the outcomes).
+TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
+    auto fov = compositor(Method::Fov), wrs = compositor(Method::Wrs);
+    QuadApp fovApp(*fov, false, false), wrsApp(*wrs, false, false);
+    fovApp.wideFine = wrsApp.wideFine = true;
+    fovApp.edges = wrsApp.edges = true;  // edges whose bilinear reconstruction moves with the phase
+    Reference ref(wrs->config());
+    const glm::vec2 g(-0.4f, 0.2f);
+    const glm::vec4 t = insetTan(g.x, g.y);
+    auto wideOnly = [&](uint32_t x, uint32_t y) {
+        const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
+        const bool nearInset = tx > t.x - 0.02f && tx < t.y + 0.02f && ty < t.z + 0.02f && ty > t.w - 0.02f;
+        return !nearInset && x >= 4 && x < W - 4 && y >= 4 && y < H - 4;
+    };
+    uint64_t changed = 0, decided = 0;
+    QuadApp::Frame f;
+    constexpr uint64_t kFrames = 16;
+    for (uint64_t i = 0; i < kFrames; ++i) {
+        fovApp.wideOffset = wrsApp.wideOffset = layers::haltonJitter(i, 8);
+        f = wrsApp.make(g.x, g.y);
+        if (i > 0)
+            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *wrs->readReservoirs(e), *wrs->readTileHeld(e));
+        fovApp.submit(*fov, i + 1, fovApp.make(g.x, g.y));
+        wrsApp.submit(*wrs, i + 1, f);
+        ASSERT_EQ(wrs->lastParams().eye[0].motion_rect.w, 1u) << "each frame a new phase";
+        Agreement a;
+        stepAndCompare(*wrs, ref, composed(*wrs, f), a, "frame " + std::to_string(i + 1));
+        EXPECT_EQ(a.differing, 0u) << "frame " << i + 1;
+        if (i == 0) continue;
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                if (!wideOnly(x, y)) continue;
+                const Reference::Trace& tr = ref.trace(0)[std::size_t(y) * W + x];
+                ++decided;
+                changed += tr.outcome == gpu::WRS_OUT_CHANGED;
+            }
+    }
+    auto mse = [&](Compositor& c) {
+        auto out = c.readOutput(0);
+        EXPECT_TRUE(out.ok());
+        double se = 0;
+        int n = 0;
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                if (!wideOnly(x, y)) continue;
+                const glm::u8vec4 r = encodeOutput(glm::vec3(f.reference.fetch(x, y)));
+                for (int k = 0; k < 3; ++k) {
+                    const double d = (int(uint8_t(out->data[(y * W + x) * 4 + k])) - int(r[k])) / 255.0;
+                    se += d * d;
+                }
+                n += 3;
+            }
+        return se / n;
+    };
+    auto res = wrs->readReservoirs(0);
+    ASSERT_TRUE(res.ok());
+    int wide = 0, sharp = 0;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            if (!wideOnly(x, y)) continue;
+            ++wide;
+            sharp += gpu::wrs_packed_quality((*res)[std::size_t(y) * W + x]) > 0.5f;
+        }
+    const double mFov = mse(*fov), mWrs = mse(*wrs);
+    std::printf("[landed] after %d phases: wide-only MSE fov %.5f, wrs %.5f; %.1f %% hold a sample above 0.5; "
+                "%llu of %llu decisions read a change\n",
+                int(kFrames), mFov, mWrs, 100.0 * sharp / wide, (unsigned long long)changed, (unsigned long long)decided);
+    EXPECT_LT(mWrs, 0.5 * mFov);
+    EXPECT_GT(sharp, wide / 2);
+    // Without the jitter's allowance (RetainInput::jittered) two thirds of these decisions read a change.
+    EXPECT_LT(double(changed), 5e-3 * double(decided)) << "a new phase read as a change";
+}
+
 // The method's point: the inset moves on, and `wrs` keeps showing the detail it rendered where it was,
 // while composition alone (`fov`) shows the wide view's resampled pixels there.
 TEST_F(Submitted, WrsKeepsTheInsetsDetailAfterTheInsetMovedOn) {
@@ -462,7 +597,9 @@ TEST_F(Submitted, WrsKeepsTheInsetsDetailAfterTheInsetMovedOn) {
 // the inset and its blend band) skip retention wherever nothing sharper can reach them, with the same
 // outputs and stored samples as running retention in every tile, while the gaze and the head move.
 TEST_F(Submitted, SparseRetentionSkipsWideOnlyTilesWithTheSameOutput) {
-    auto sparse = compositor(Method::Wrs), dense = compositor(Method::Wrs, false);
+    // Without landed wide samples, which leave few tiles at the floor quality (their tiles:
+    // LandedWideSamplesKeepWhereTheyLandedAndRebuildTheDetail).
+    auto sparse = compositor(Method::Wrs, true, false), dense = compositor(Method::Wrs, false, false);
     QuadApp sApp(*sparse, true, true), dApp(*dense, true, true);
     double firstShare = 0, lastShare = 0, insetShare = 0;
     for (uint64_t i = 1; i <= 12; ++i) {

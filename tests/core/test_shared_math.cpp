@@ -672,6 +672,8 @@ RetainInput retainInput(vec3 c, float q, float fp, float range = 0.0f, bool move
     in.fp = fp;
     in.fp_range = range;
     in.moved = moved;
+    in.jittered = false;
+    in.flags = 0u;
     in.z = 0.0f;
     in.q_floor = 0.0f;  // no floor rule unless a test asks for it
     return in;
