@@ -82,8 +82,11 @@ Status checkConfig(const CompositorConfig& c) {
     if (!std::isfinite(c.motionReachDeg) || c.motionReachDeg < 0.0f || c.motionReachDeg > 180.0f)
         return refuse("motion reach must be in [0°, 180°] (0: no limit)");
     // Enums may come from casts of file or command-line values: out-of-range ones are refused, not guessed.
-    if (uint8_t(c.method) > uint8_t(Method::OracleQ))
-        return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle or oracle-q");
+    if (uint8_t(c.method) > uint8_t(Method::Taau))
+        return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle, oracle-q or taau");
+    if (bad(c.taau.radius, 0.0f, 8.0f)) return refuse("taau radius must be in (0, 8] output pixels");
+    if (bad(c.taau.maxWeight, 0.0f, 1024.0f)) return refuse("taau weight cap must be in (0, 1024]");
+    if (bad(c.taau.clipGamma, 0.0f, 64.0f)) return refuse("taau clip box must be in (0, 64] sigmas");
     if (uint8_t(c.equalQuality) > uint8_t(EqualQuality::Reservoir)) return refuse("equal-quality rule must be merge or reservoir");
     if (uint8_t(c.foveation) > uint8_t(FoveationMode::Gauss))
         return refuse("foveation mode must be none, mip or gauss (submitted foveation comes with the frame: quad "
@@ -697,8 +700,12 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
         const bool landed = work.kind == layers::SubmittedFoveation::Quad && work.next.landedSamples &&
                             usesRetainPass(work.next.method) && work.next.method != Method::Oracle &&
                             work.next.method != Method::OracleQ;
-        for (gpu::ComposeEye& e : composeParams_.eye)
-            e.landed.z = landed && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
+        // Method taau: the compose pass gathers the wide samples in their place (landed.z 2).
+        const bool gather = work.kind == layers::SubmittedFoveation::Quad && work.next.method == Method::Taau;
+        for (gpu::ComposeEye& e : composeParams_.eye) {
+            e.landed.z = gather ? 2.0f : landed && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
+            e.landed.w = float(1.0 / (double(work.next.taau.radius) * work.next.taau.radius));
+        }
         for (int eye = 0; eye < 2; ++eye) {
             const layers::ProjectionView& v = layer.views[eye];
             work.srcColor[eye] = sampledView(v.color);
@@ -764,6 +771,12 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
         const layers::ProjectionView& v = frame.layers[0].views[eye];
         const glm::vec4 offsets(v.sampleOffset, v.inset ? v.inset->sampleOffset : glm::vec2(0.0f));
         params_.eye[eye].motion_rect.z = composeParams_.eye[eye].landed.z != 0.0f ? 1u : 0u;
+        if (frame_.method == Method::Taau)
+        {
+            params_.eye[eye].depth_range = glm::vec4(glm::vec2(params_.eye[eye].depth_range),
+                                                     frame_.taau.maxWeight, frame_.taau.clipGamma);
+            params_.eye[eye].tile.w = composeParams_.eye[eye].wide_motion.w;  // where the inset shows: above it
+        }
         params_.eye[eye].motion_rect.w = offsets != lastOffsets_[eye] ? 1u : 0u;
         lastOffsets_[eye] = offsets;
     }

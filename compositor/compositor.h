@@ -48,8 +48,10 @@ namespace wrsfov {
 /// the oracle restricted to retention, keeping the history only when it is closer and of higher
 /// quality than the candidate (the ceiling of keeping what foveation throws away, without choosing
 /// among equally sharp samples). The oracles exist for evaluation only: they need the full-rate
-/// image, which a foveated renderer never has.
-enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle, OracleQ };
+/// image, which a foveated renderer never has. taau: the field's temporal upsampling of jittered wide
+/// views (quad views; wrs_taau_step, docs/retention.md "The field's baseline: taau"), composed with the
+/// inset as fov is; on other frames TAA by accumulated weight.
+enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle, OracleQ, Taau };
 /// The evaluation-only methods (Oracle, OracleQ).
 constexpr bool isOracle(Method m) { return m == Method::Oracle || m == Method::OracleQ; }
 /// Methods whose foveation and retention run fused in the retain pass (wrs and the oracles).
@@ -141,6 +143,15 @@ struct CompositorConfig {
     /// views sample texture detail at the display's density (a LOD bias of log2 of their density); an
     /// application that filters its wide views over their own pixels should turn it off.
     bool landedSamples = true;
+    /// Method taau's parameters (docs/retention.md "The field's baseline: taau", chosen for its best
+    /// JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
+    /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas
+    /// of the composed neighbourhood.
+    struct Taau {
+        float radius = 1.0f;
+        float maxWeight = 4.0f;
+        float clipGamma = 1.0f;
+    } taau;
 };
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.

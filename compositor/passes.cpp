@@ -28,12 +28,15 @@ std::string_view toString(Method m) {
             return "oracle";
         case Method::OracleQ:
             return "oracle-q";
+        case Method::Taau:
+            return "taau";
     }
     return "?";
 }
 std::string_view toString(EqualQuality e) { return e == EqualQuality::Merge ? "merge" : "reservoir"; }
 std::optional<Method> parseMethod(std::string_view name) {
-    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle, Method::OracleQ})
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle, Method::OracleQ,
+                     Method::Taau})
         if (name == toString(m)) return m;
     return std::nullopt;
 }
@@ -152,7 +155,7 @@ PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth) {
     PassPlan p;
     p.retain = usesRetainPass(c.method);
     p.wrsPaper = c.method == Method::WrsPaper;
-    p.taa = c.method == Method::FovTaa;
+    p.taa = c.method == Method::FovTaa || c.method == Method::Taau;
     p.temporal = p.retain || p.wrsPaper || p.taa;
     p.pyramid = simulatesFoveation(c.foveation) || p.retain;
     // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles. A

@@ -156,7 +156,7 @@ void Compositor::recordTemporal(const FramePlan& plan) {
                           pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli}));
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else if (plan.taa) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, 0, 0, 0}));
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, frame_.method == Method::Taau, 0, 0}));
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else {
         return;

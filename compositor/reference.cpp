@@ -85,9 +85,25 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             const vec4 c = wrs_quad_color(wide, inset, t);
             out.quality[std::size_t(y) * size.x + x] = wrs_quad_quality(ce.wide_motion.w, t);
             out.color.store(x, y, roundF16(c));
-            if (ce.landed.z != 0.0f) {
+            const bool insetOnly = t == 1.0f && inset.w != 0.0f;
+            if (ce.landed.z == 2.0f) {
+                // As compose.comp: taau's gather of the four wide samples of the pixel's bilinear cell.
+                vec4 acc(0.0f);
+                if (!insetOnly) {
+                    uvec2 i0, i1;
+                    wrs_bilinear_taps(wpos, wsize, i0, i1);
+                    for (uint j = 0; j < 4u; ++j) {
+                        const uvec2 k((j & 1u) ? i1.x : i0.x, (j & 2u) ? i1.y : i0.y);
+                        if (((j & 1u) && i1.x == i0.x) || ((j & 2u) && i1.y == i0.y)) continue;
+                        acc = wrs_taau_add(acc, sourceTexel(src.wideColor, k, ce.wide_color.z),
+                                           wrs_landed_offset(wpos, k, vec2(ce.landed)), ce.landed.w);
+                    }
+                }
+                const vec4 g = wrs_taau_gathered(acc);
+                if (out.landed.empty()) out.landed.resize(std::size_t(size.x) * size.y);
+                out.landed[std::size_t(y) * size.x + x] = wrs_unpack_landed(wrs_pack_landed(vec3(g), g.w));
+            } else if (ce.landed.z != 0.0f) {
                 // As compose.comp: the wide sample nearest the centre, not read where the inset alone shows.
-                const bool insetOnly = t == 1.0f && inset.w != 0.0f;
                 const uvec2 k = nearestTexel(wpos, wsize);
                 float ql = insetOnly ? 0.0f : wrs_landed_quality(wrs_landed_offset(wpos, k, vec2(ce.landed)));
                 const vec4 s = ql > 0.0f ? sourceTexel(src.wideColor, k, ce.wide_color.z) : vec4(0.0f);
@@ -136,7 +152,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const uint mode = uint(cfg.foveation);
     const bool wrs = config_.method == Method::WrsPaper;
     const bool retain = usesRetainPass(config_.method);
-    const bool taa = config_.method == Method::FovTaa;
+    const bool taau = config_.method == Method::Taau;
+    const bool taa = config_.method == Method::FovTaa || taau;
     motionTiles_ = 0;
 
     for (uint eye = 0; eye < 2; ++eye) {
@@ -283,9 +300,21 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                                  histAt(i1), f));
                         has = wrs_finite3(hist);
                     }
-                    vec3 c = wrs_taa(nb, hist, has);
                     std::size_t idx = std::size_t(y) * W + x;
-                    res_[eye][idx] = uvec4(floatBitsToUint(c.x), floatBitsToUint(c.y), floatBitsToUint(c.z), 1u);
+                    vec3 c;
+                    if (taau) {  // as taa.comp's UPSAMPLE
+                        const bool gathered = ep.motion_rect.z != 0u && !in.landed.empty();
+                        const vec4 g = gathered ? in.landed[idx] : vec4(vec3(cand_[eye][idx]), 1.0f);
+                        const bool inset = gathered && in.quality[idx] > ep.tile.w * (1.0f + WRS_Q_EQUAL);
+                        const float acc = has ? uintBitsToFloat(prev_[eye][idx].w) : 0.0f;
+                        const vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
+                        c = vec3(r);
+                        res_[eye][idx] = uvec4(floatBitsToUint(c.x), floatBitsToUint(c.y), floatBitsToUint(c.z),
+                                               floatBitsToUint(std::max(r.w, WRS_TAAU_PRIOR)));
+                    } else {
+                        c = wrs_taa(nb, hist, has);
+                        res_[eye][idx] = uvec4(floatBitsToUint(c.x), floatBitsToUint(c.y), floatBitsToUint(c.z), 1u);
+                    }
                     glm::u8vec4 o = encodeOutput(c);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                 }

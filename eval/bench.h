@@ -47,6 +47,11 @@ struct BenchOptions {
     /// CompositorConfig::sparseRetention (--dense-retention turns it off: the same output, retention in
     /// every tile).
     bool sparseRetention = true;
+    /// CompositorConfig::landedSamples (--no-landed: retention of quad views keeps the composed
+    /// candidates only).
+    bool landedSamples = true;
+    /// CompositorConfig::taau (--taau R,W,G).
+    CompositorConfig::Taau taau;
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in
     /// every tile).
     bool floorMerge = false;

@@ -93,6 +93,7 @@ cv::Scalar methodColour(Method m) {
     case Method::Wrs: return {200, 90, 20};
     case Method::Oracle: return {170, 40, 170};
     case Method::OracleQ: return {120, 170, 230};
+    case Method::Taau: return {20, 200, 200};
     }
     return {0, 0, 0};
 }

@@ -216,9 +216,11 @@ Status tallyOutcomes(Run& r, const std::array<QuadSources, 2>& sources, const st
             const auto& trace = r.ref->trace(e);
             for (std::size_t i = 0; i < trace.size(); ++i) {
                 const Reference::Trace& t = trace[i];
-                const bool sharp = t.hadHistory && t.source < r.history[e].size() &&
-                                   gpu::wrs_unpack_tracked(r.history[e][t.source]).q > sharper;
-                const int cls = !sharp ? 0 : in[e].quality[i] > sharper ? 1 : 2;
+                const bool held = t.hadHistory && t.source < r.history[e].size();
+                const gpu::Tracked h = held ? gpu::wrs_unpack_tracked(r.history[e][t.source]) : gpu::Tracked{};
+                const bool sharp = held && h.q > sharper;
+                const bool landed = sharp && (h.flags & gpu::WRS_FLAG_LANDED) != 0u;
+                const int cls = !sharp ? 0 : landed ? 3 : in[e].quality[i] > sharper ? 1 : 2;
                 const uint32_t k = t.skipped ? SavingOutcomes::kOutcomes - 1 : t.outcome;
                 if (k < uint32_t(SavingOutcomes::kOutcomes)) ++r.outcomes.count[cls][k];
                 if (t.gapShown) ++r.outcomes.gapShown;
@@ -358,6 +360,8 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             cfg.foveation = FoveationMode::None;  // the full-resolution row: composed as submitted
             cfg.seed = o.seed;
             cfg.sparseRetention = o.sparseRetention;  // --dense-retention: retention in every tile
+            cfg.landedSamples = o.landedSamples;      // --no-landed
+            cfg.taau = o.taau;                        // --taau
             auto c = Compositor::create(ctx, cfg);
             if (!c) return c.error();
             r.comp = std::move(*c);
@@ -770,6 +774,11 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
                  << " % of the pixels whose history is the wide views' own: a pick among the wide views' samples "
                     "of other frames by their distance to the full-resolution render, which a rule that keeps only "
                     "sharper samples does not make";
+        if (w.pixels(3) > 0)
+            head << "; `wrs` holds a landed wide sample of an earlier frame at "
+                 << fmt("%.1f", 100.0 * double(w.pixels(3)) / double(w.pixels(0) + w.pixels(1) + w.pixels(2) + w.pixels(3)))
+                 << " % of the pixels and keeps it at " << fmt("%.1f", 100.0 * w.share(3, int(gpu::WRS_OUT_KEPT)))
+                 << " % of those (" << fmt("%.1f", 100.0 * w.share(3, int(gpu::WRS_OUT_CHANGED))) << " % read as a change)";
         head << ".\n";
     }
     if (headline) *headline = head.str();
@@ -859,7 +868,7 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     static constexpr const char* kOutcomeNames[SavingOutcomes::kOutcomes] = {
         "fresh", "changed", "better", "kept", "merged", "outside", "floor", "skipped"};
     static constexpr const char* kClassNames[SavingOutcomes::kClasses] = {"floor history", "inset still there",
-                                                                          "inset left"};
+                                                                          "inset left", "landed wide sample"};
     bool anyOutcomes = false;
     for (const SavingRow& r : rows) anyOutcomes = anyOutcomes || r.outcomes.has_value();
     if (anyOutcomes) {
@@ -871,7 +880,9 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
               "the same composed frames from the compositor's own history, `--outcomes`), per class of pixel: its "
               "history at the wide views' quality or none (**floor history**); a history sharper than that where the "
               "candidate is sharper too (**inset still there**); a sharper history where the candidate is the wide "
-              "views' (**inset left**: where retention can gain). Outcomes (WRS_OUT_*, shaders/wrs_common.h): fresh "
+              "views' (**inset left**: where retention can gain); a wide sample of an earlier frame that landed near "
+              "the pixel, sharper than the wide views (**landed wide sample**: another phase of a jittered view, or "
+              "another position of a moving one; docs/retention.md \"Landed wide samples\"). Outcomes (WRS_OUT_*, shaders/wrs_common.h): fresh "
               "(no usable history), changed (the change test dropped the history), better (the candidate is sharper), "
               "kept (the history is sharper, or the oracle kept it), merged and outside (equal quality: merged, "
               "clipped first), floor (a floor-quality history against a floor-quality candidate: the candidate, by the "

@@ -67,8 +67,10 @@ struct SavingOutcomes {
     static constexpr int kOutcomes = 8;
     /// Classes: the history was at the wide views' quality or none (0); sharper, and the candidate is
     /// sharper than the wide views too: the inset is still there (1); sharper, and the candidate is the
-    /// wide views': the inset has left the pixel (2). Class 2 is where retention can gain.
-    static constexpr int kClasses = 3;
+    /// wide views': the inset has left the pixel (2); a landed wide sample (WRS_FLAG_LANDED) sharper
+    /// than the wide views, of an earlier frame, so of another phase of a jittered view or another
+    /// position of a moving one (3). Classes 2 and 3 are where retention can gain.
+    static constexpr int kClasses = 4;
     std::array<std::array<uint64_t, kOutcomes>, kClasses> count{};
     uint64_t gapShown = 0;        ///< pixels where a gap's kept sample was shown (wrs_track_gap)
     uint64_t differing = 0;       ///< reservoirs where the reference and the GPU disagree

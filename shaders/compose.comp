@@ -7,7 +7,8 @@
 //     wrs_quad_quality.
 //   With ComposeEye::landed.z, each pixel's landed wide sample too (wrs_landed_offset): the wide texel
 //   nearest its centre and its quality, packed (wrs_pack_landed) after the tiles' largest qualities,
-//   for retention's own candidate; the composed colour is the same either way.
+//   for retention's own candidate; the composed colour is the same either way. With landed.z == 2
+//   (method taau) in their place the pixel's gathered wide samples (wrs_taau_add), colour and weight.
 //   KIND 2 (a rate map): the submitted colour is the candidate as it is; the quality
 //     wrs_rate_quality of the pixel's texel.
 // Each group is one 8x8 tile (WRS_TILE): after the pixels' qualities (eye-major, 2 W H of them) it
@@ -91,7 +92,27 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     float q = wrs_quad_quality(ce.wide_motion.w, t);
     quality[idx] = floatBitsToUint(q);
     imageStore(composedColor, ivec3(p, eye), round_f16(c));
-    if (ce.landed.z != 0.0) {
+    if (ce.landed.z == 2.0) {
+        // Method taau: the four wide samples of the pixel's bilinear cell gathered by the kernel of
+        // their distance (wrs_taau_add), radius 1 / sqrt(landed.w) output pixels.
+        vec4 acc = vec4(0.0);
+        if (!inset_only) {
+            uvec2 i0, i1;
+            wrs_bilinear_taps(wpos, wsize, i0, i1);
+            for (uint j = 0u; j < 4u; ++j) {
+                uvec2 k = uvec2((j & 1u) != 0u ? i1.x : i0.x, (j & 2u) != 0u ? i1.y : i0.y);
+                if ((j & 1u) != 0u && i1.x == i0.x) continue;  // a clamped tap is the same sample
+                if ((j & 2u) != 0u && i1.y == i0.y) continue;
+                acc = wrs_taau_add(acc, source_texel(eye, k, ce.wide_color), wrs_landed_offset(wpos, k, ce.landed.xy),
+                                   ce.landed.w);
+            }
+        }
+        vec4 g = wrs_taau_gathered(acc);
+        uvec2 words = wrs_pack_landed(g.rgb, g.w);
+        uint at = landed_base(size) + 2u * idx;
+        quality[at] = words.x;
+        quality[at + 1u] = words.y;
+    } else if (ce.landed.z != 0.0) {
         // The wide sample nearest the pixel's centre (not read where the inset alone shows).
         uvec2 k = nearest(wpos, wsize);
         float ql = inset_only ? 0.0 : wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));

@@ -21,7 +21,8 @@ struct ComposeEye {
     vec4 inset_motion;  // xyz: the same for the inset; w: 1 / the blend width in inset pixels (0: hard edge)
     uvec4 rate;         // rate map: xy offset of the map in its image; zw: pixels per texel
     vec4 landed;        // landed wide samples (wrs_landed_offset): xy: output pixels per wide pixel
-                        // (1 / wide_map.xy); z: 1 where they are offered to retention; w: pad
+                        // (1 / wide_map.xy); z: 1 where they are offered to retention, 2 where the
+                        // wide samples are gathered for method taau instead; w: taau's 1 / r^2
 };
 
 struct ComposeParams {

@@ -6,6 +6,10 @@
 #include "bindings.glsl"
 
 layout(constant_id = 0) const bool HAS_MOTION = false;
+// Method taau (wrs_taau_step): this frame's gathered wide samples accumulated with the history by weight
+// (EyeParams::motion_rect.z: the compose pass gathered them; depth_range.zw: the weight cap, the clip
+// box's sigmas); the history's alpha holds its accumulated weight.
+layout(constant_id = 1) const bool UPSAMPLE = false;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 vec3 history_at(uint eye, uvec2 q) { return uintBitsToFloat(res_prev[pixel_index(eye, q)].xyz); }
@@ -33,6 +37,19 @@ void main() {
         hist = wrs_bilinear(vec4(history_at(eye, i0), 0.0), vec4(history_at(eye, uvec2(i1.x, i0.y)), 0.0),
                             vec4(history_at(eye, uvec2(i0.x, i1.y)), 0.0), vec4(history_at(eye, i1), 0.0), f).rgb;
         has = wrs_finite3(hist);
+    }
+    if (UPSAMPLE) {
+        uint idx = pixel_index(eye, p);
+        bool gathered = ep.motion_rect.z != 0u;
+        vec4 g = gathered ? submitted_landed(idx) : vec4(0.0);
+        // Without gathered samples (a frame not of quad views): the composed colour is the sample, weight 1.
+        if (!gathered) g = vec4(candidate[idx].rgb, 1.0);
+        bool inset = gathered && submitted_quality(idx) > ep.tile.w * (1.0 + WRS_Q_EQUAL);
+        float acc = has ? uintBitsToFloat(res_prev[idx].w) : 0.0;
+        vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
+        res_cur[idx] = uvec4(floatBitsToUint(r.xyz), floatBitsToUint(max(r.w, WRS_TAAU_PRIOR)));
+        store_output(eye, p, r.xyz);
+        return;
     }
     vec3 c = wrs_taa(nb, hist, has);
     res_cur[pixel_index(eye, p)] = uvec4(floatBitsToUint(c), 1u);

@@ -1394,9 +1394,9 @@ WRS_FN vec3 wrs_clip_box(vec3 h, vec3 centre, vec3 extent) {
 
 // One TAA step: `nb` holds the 3x3 neighbourhood of the current (foveated) colour in YCoCg, the
 // centre at index 4; `hist` the reprojected history in linear RGB, `has_history` whether it exists.
-WRS_FN vec3 wrs_taa_step(vec3 nb[9], vec3 hist, bool has_history, float alpha) {
-    vec3 cur = wrs_ycocg_to_rgb(nb[4]);
-    if (!has_history) return cur;
+// The history `hist` (linear RGB) clipped to the variance box (mean ± gamma sigma) of the 3x3
+// neighbourhood `nb` (YCoCg, centre at 4), in YCoCg.
+WRS_FN vec3 wrs_taa_clip(vec3 nb[9], vec3 hist, float gamma) {
     WRS_PRECISE vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
     WRS_PRECISE vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
     for (int i = 0; i < 9; ++i) {
@@ -1408,7 +1408,12 @@ WRS_FN vec3 wrs_taa_step(vec3 nb[9], vec3 hist, bool has_history, float alpha) {
     WRS_PRECISE vec3 mu = m1 * 0.111111112f;
     WRS_PRECISE vec3 var = m2 * 0.111111112f - mu * mu;
     vec3 sigma = wrs_sqrt(max(var, vec3(0.0f, 0.0f, 0.0f)));
-    vec3 h = wrs_clip_box(wrs_rgb_to_ycocg(hist), mu, WRS_TAA_GAMMA * sigma);
+    return wrs_clip_box(wrs_rgb_to_ycocg(hist), mu, gamma * sigma);
+}
+WRS_FN vec3 wrs_taa_step(vec3 nb[9], vec3 hist, bool has_history, float alpha) {
+    vec3 cur = wrs_ycocg_to_rgb(nb[4]);
+    if (!has_history) return cur;
+    vec3 h = wrs_taa_clip(nb, hist, WRS_TAA_GAMMA);
     WRS_PRECISE vec3 out_ycocg = h + (nb[4] - h) * alpha;
     return max(wrs_ycocg_to_rgb(out_ycocg), vec3(0.0f, 0.0f, 0.0f));
 }

@@ -148,6 +148,71 @@ WRS_FN void wrs_offer_landed(WRS_INOUT(RetainInput) c, vec4 landed) {
     c.flags = WRS_FLAG_LANDED;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Method `taau` (docs/retention.md "The field's baseline: taau"): temporal upsampling of jittered wide
+// views as engines ship it (FSR 2, TAAU). Each frame, each output pixel gathers the wide samples
+// around it (the four of its bilinear cell) weighted by a kernel of their distance from its centre in
+// output pixels; the reprojected history, clipped to the variance box of the composed neighbourhood,
+// is accumulated with them by weight, its accumulated weight capped so that it keeps following the
+// scene. Where the inset shows, the composed frame as it is (what `fov` shows there).
+// ---------------------------------------------------------------------------------------------
+
+// The gather's kernel: (1 - d^2 / r^2)^2 inside radius r (inv_r2 = 1 / r^2), 0 outside; smooth, compact,
+// and multiplications only, so that the GPU and the reference agree on every weight.
+WRS_FN float wrs_taau_kernel(vec2 d, float inv_r2) {
+    WRS_PRECISE float dx2 = d.x * d.x;
+    WRS_PRECISE float dy2 = d.y * d.y;
+    WRS_PRECISE float d2 = dx2 + dy2;
+    WRS_PRECISE float s = d2 * inv_r2;
+    WRS_PRECISE float t = 1.0f - s;
+    if (!(t > 0.0f)) return 0.0f;
+    WRS_PRECISE float w = t * t;
+    return w;
+}
+// Adds a decoded wide texel (validity in alpha) at offset d from the pixel's centre to the gather
+// (xyz: the weighted sum of colours, w: the sum of weights).
+WRS_FN vec4 wrs_taau_add(vec4 acc, vec4 texel, vec2 d, float inv_r2) {
+    if (!(texel.w > 0.5f)) return acc;
+    float w = wrs_taau_kernel(d, inv_r2);
+    WRS_PRECISE vec3 s = vec3(texel) * w;
+    WRS_PRECISE vec4 r = vec4(acc.x + s.x, acc.y + s.y, acc.z + s.z, acc.w + w);
+    return r;
+}
+// The gathered colour and its weight (packed by the compose pass as a landed sample, wrs_pack_landed:
+// nothing where no sample was within the radius).
+WRS_FN vec4 wrs_taau_gathered(vec4 acc) {
+    if (!(acc.w > 0.0f)) return vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    vec3 c = wrs_div(vec3(acc), acc.w);
+    return vec4(c.x, c.y, c.z, acc.w);
+}
+
+// The weight the composed (bilinear) candidate is always given: it decides a pixel no sample came near
+// and that has no history, and steadies one the history alone would decide. Small against a sample's
+// (up to 1 at the centre, 0.17 a frame on average at 0.4 density with radius 1).
+const float WRS_TAAU_PRIOR = 0.02f;
+
+// One TAAU step at a pixel. nb: the composed neighbourhood (YCoCg, centre 4); gathered: this frame's
+// gathered samples (colour, weight; weight 0: none); inset: the inset shows here (the composed colour is
+// taken as it is, with the full history weight); hist, acc: the reprojected history and its accumulated
+// weight (has_history); max_acc: the accumulated weight's cap; gamma: the clip box's width in sigmas.
+// Returns the colour (linear RGB) and the accumulated weight to store.
+WRS_FN vec4 wrs_taau_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, float acc, bool has_history,
+                          float max_acc, float gamma) {
+    vec3 cand = wrs_ycocg_to_rgb(nb[4]);
+    if (inset) return vec4(cand.x, cand.y, cand.z, max_acc);
+    float a = 0.0f;
+    vec3 h = vec3(0.0f, 0.0f, 0.0f);
+    if (has_history) {
+        a = min(acc, max_acc);
+        h = max(wrs_ycocg_to_rgb(wrs_taa_clip(nb, hist, gamma)), vec3(0.0f, 0.0f, 0.0f));
+    }
+    float w = gathered.w > 0.0f ? gathered.w : 0.0f;
+    WRS_PRECISE float den = a + w + WRS_TAAU_PRIOR;
+    WRS_PRECISE vec3 num = h * a + vec3(gathered) * w + cand * WRS_TAAU_PRIOR;
+    vec3 c = max(wrs_div(num, den), vec3(0.0f, 0.0f, 0.0f));
+    return vec4(c.x, c.y, c.z, min(den, max_acc));
+}
+
 // Quality of a pixel shaded at rate texel v (VK_KHR_fragment_shading_rate: w = 2^((v >> 2) & 3),
 // h = 2^(v & 3); bits 4..7 ignored): 1 / (w h). A size of 8 (field 3), absent from Vulkan's table of
 // fragment sizes, is taken as 4.

@@ -83,6 +83,8 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         CompositorConfig c;
         c.method = m;
         c.sparseRetention = o.sparseRetention;
+        c.landedSamples = o.landedSamples;
+        c.taau = o.taau;
         c.floorMerge = o.floorMerge;
         c.steadyFloor = o.steadyFloor;
         c.motionReachDeg = o.motionReachDeg;
@@ -290,7 +292,9 @@ int main(int argc, char** argv) {
     std::vector<cli::Size> scaling;  // --scaling: sizes per eye
     cli::Size size{o.width, o.height};
     bool flicker = false, noJod = false;
-    bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false;
+    bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false,
+         noLanded = false;
+    std::vector<float> taauParams;
     bool steadyFloor = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
     bool saving = false, noRate = false;
@@ -323,12 +327,13 @@ int main(int argc, char** argv) {
         ->type_name("PX");
     cli::listOption(app, "--methods", o.methods,
                 cli::list(cli::oneOf(named({Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs,
-                                            Method::Oracle, Method::OracleQ}))),
+                                            Method::Oracle, Method::OracleQ, Method::Taau}))),
                 "Methods: fov (foveation only), fov+taa (foveation and TAA), wrs-paper (WRS as published), wrs "
                 "(quality-aware retention), oracle (keeps whichever of history and candidate is closer to the "
                 "reference: the ceiling of a keep-or-replace rule, evaluation only), oracle-q (the oracle keeping "
                 "the history only where it is also of higher quality than the candidate: the ceiling of retention "
-                "alone, evaluation only).");
+                "alone, evaluation only), taau (temporal upsampling of jittered quad views as engines ship it, "
+                "--taau).");
     cli::listOption(app, "--fovea", o.foveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
                 "Fovea diameters in degrees, each in (0, 60].")
         ->type_name("DEG,...");
@@ -382,6 +387,9 @@ int main(int argc, char** argv) {
                  "Retention in every tile (no sparse retention, docs/retention.md \"Sparse retention\"): the "
                  "same output bit for bit; the time and bytes show what skipping the far tiles that hold "
                  "nothing sharper saves.");
+    app.add_flag("--no-landed", noLanded,
+                 "Quad views: retention keeps the composed candidates only, without the wide samples that landed "
+                 "near each pixel (CompositorConfig::landedSamples, docs/retention.md \"Landed wide samples\").");
     app.add_flag("--steady-floor", steadyFloor,
                  "Filter the floor level (level 4, the far periphery's candidate under wrs's floor rule) over time at "
                  "its own resolution: a steadier far periphery under motion, a softer one, and a lower FovVideoVDP "
@@ -390,6 +398,11 @@ int main(int argc, char** argv) {
                  "wrs merges equal-quality samples at the floor quality too (the far periphery's running mean, "
                  "which smooths its flicker under motion), with retention in every tile: the rule before sparse "
                  "retention (docs/retention.md \"Sparse retention\").");
+    cli::listOption(app, "--taau", taauParams, cli::list(cli::number<float>(0, 1024, cli::Ends::OpenLow)),
+                    "Method taau's gather radius (output pixels), cap of the history's accumulated weight and clip "
+                    "box (sigmas) (CompositorConfig::taau; docs/retention.md \"The field's baseline: taau\").")
+        ->type_name("R,W,G")
+        ->default_str("1,4,1");
     cli::option(app, "--motion-reach", o.motionReachDeg, cli::number<float>(0, 180),
                 "Degrees per frame (at the view's centre) beyond which a pixel's motion tracks no kept sample "
                 "(docs/retention.md \"Motion reach\"); 0: no limit, the classification reads every far tile's "
@@ -485,6 +498,14 @@ int main(int argc, char** argv) {
     o.staleStats = !noStale;
     o.skipTiles = !noSkip;
     o.sparseRetention = !dense;
+    o.landedSamples = !noLanded;
+    if (!taauParams.empty()) {
+        if (taauParams.size() != 3) {
+            std::fprintf(stderr, "wrsfov-bench: --taau takes three values: radius, weight cap, clip box\n");
+            return 2;
+        }
+        o.taau = {taauParams[0], taauParams[1], taauParams[2]};
+    }
     o.floorMerge = floorMerge;
     o.steadyFloor = steadyFloor;
     o.jod = !noJod;

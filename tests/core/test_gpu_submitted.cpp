@@ -269,7 +269,7 @@ std::array<Reference::EyeInput, 2> composed(const Compositor& c, const QuadApp::
 class Submitted : public GpuTest {};
 
 TEST_F(Submitted, QuadViewsMatchTheReferenceForEveryMethod) {
-    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs}) {
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Taau}) {
         for (bool withDepthMotion : {false, true}) {
             SCOPED_TRACE(std::string(toString(m)) + (withDepthMotion ? " with depth and motion" : ""));
             auto c = compositor(m);
@@ -352,8 +352,8 @@ TEST_F(Submitted, JitteredViewsArePlacedWhereTheirSamplesWereTaken) {
     std::printf("[jitter] ramp error placed %.5f, offsets ignored %.5f\n", worstPlaced, worstCentred);
 
     // The GPU against the reference on jittered frames: each frame a new phase (Halton 2, 3), the gaze
-    // moving, for fov and wrs.
-    for (Method m : {Method::Fov, Method::Wrs}) {
+    // moving, for fov, wrs and taau.
+    for (Method m : {Method::Fov, Method::Wrs, Method::Taau}) {
         SCOPED_TRACE(toString(m));
         auto g = compositor(m);
         QuadApp q(*g, true, true);
@@ -485,10 +485,12 @@ TEST_F(Submitted, LandedWideSamplesCarryTheQualityOfWhereTheyLanded) {
 // frame's bilinear wide view; the change test reads no new phase as a change (the CPU reference, run
 // from the GPU's history, counts the outcomes).
 TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
-    auto fov = compositor(Method::Fov), wrs = compositor(Method::Wrs);
-    QuadApp fovApp(*fov, false, false), wrsApp(*wrs, false, false);
-    fovApp.wideFine = wrsApp.wideFine = true;
-    fovApp.edges = wrsApp.edges = true;  // edges whose bilinear reconstruction moves with the phase
+    auto fov = compositor(Method::Fov), wrs = compositor(Method::Wrs), taau = compositor(Method::Taau);
+    QuadApp fovApp(*fov, false, false), wrsApp(*wrs, false, false), taauApp(*taau, false, false);
+    fovApp.wideFine = wrsApp.wideFine = taauApp.wideFine = true;
+    fovApp.edges = wrsApp.edges = taauApp.edges = true;  // edges whose bilinear reconstruction moves with the phase
+    Reference taauRef(taau->config());
+    Agreement taauAgree;
     Reference ref(wrs->config());
     const glm::vec2 g(-0.4f, 0.2f);
     const glm::vec4 t = insetTan(g.x, g.y);
@@ -501,12 +503,18 @@ TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
     QuadApp::Frame f;
     constexpr uint64_t kFrames = 16;
     for (uint64_t i = 0; i < kFrames; ++i) {
-        fovApp.wideOffset = wrsApp.wideOffset = layers::haltonJitter(i, 8);
+        fovApp.wideOffset = wrsApp.wideOffset = taauApp.wideOffset = layers::haltonJitter(i, 8);
         f = wrsApp.make(g.x, g.y);
         if (i > 0)
-            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *wrs->readReservoirs(e), *wrs->readTileHeld(e));
+            for (uint32_t e = 0; e < 2; ++e) {
+                ref.setHistory(e, *wrs->readReservoirs(e), *wrs->readTileHeld(e));
+                taauRef.setHistory(e, *taau->readReservoirs(e));
+            }
         fovApp.submit(*fov, i + 1, fovApp.make(g.x, g.y));
         wrsApp.submit(*wrs, i + 1, f);
+        taauApp.submit(*taau, i + 1, f);
+        // taau's gather and accumulation: the reference from the GPU's history, outputs within a step.
+        stepAndCompare(*taau, taauRef, composed(*taau, f), taauAgree, "taau frame " + std::to_string(i + 1));
         ASSERT_EQ(wrs->lastParams().eye[0].motion_rect.w, 1u) << "each frame a new phase";
         Agreement a;
         stepAndCompare(*wrs, ref, composed(*wrs, f), a, "frame " + std::to_string(i + 1));
@@ -546,11 +554,14 @@ TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
             ++wide;
             sharp += gpu::wrs_packed_quality((*res)[std::size_t(y) * W + x]) > 0.5f;
         }
-    const double mFov = mse(*fov), mWrs = mse(*wrs);
-    std::printf("[landed] after %d phases: wide-only MSE fov %.5f, wrs %.5f; %.1f %% hold a sample above 0.5; "
-                "%llu of %llu decisions read a change\n",
-                int(kFrames), mFov, mWrs, 100.0 * sharp / wide, (unsigned long long)changed, (unsigned long long)decided);
+    const double mFov = mse(*fov), mWrs = mse(*wrs), mTaau = mse(*taau);
+    std::printf("[landed] after %d phases: wide-only MSE fov %.5f, taau %.5f, wrs %.5f; %.1f %% hold a sample above "
+                "0.5; %llu of %llu decisions read a change\n",
+                int(kFrames), mFov, mTaau, mWrs, 100.0 * sharp / wide, (unsigned long long)changed,
+                (unsigned long long)decided);
+    EXPECT_LE(taauAgree.maxOutputDiff, 1);
     EXPECT_LT(mWrs, 0.5 * mFov);
+    EXPECT_LT(mTaau, mFov) << "taau gathers the phases too";
     EXPECT_GT(sharp, wide / 2);
     // Without the jitter's allowance (RetainInput::jittered) two thirds of these decisions read a change.
     EXPECT_LT(double(changed), 5e-3 * double(decided)) << "a new phase read as a change";

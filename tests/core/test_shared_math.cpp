@@ -15,6 +15,7 @@
 
 #include "shaders/wrs_common.h"
 #include "shaders/wrs_input.h"
+#include "shaders/wrs_submitted.h"
 
 namespace wrsfov::gpu {
 namespace {
@@ -1159,6 +1160,90 @@ TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
     // A skipped tile is foveated with the far tiles' levels.
     EXPECT_TRUE(wrs_tile_levels(WRS_TILE_SKIP) == wrs_tile_levels(WRS_TILE_FAR));
     EXPECT_EQ(wrs_level_quality(wrs_tile_levels(WRS_TILE_FAR)), floorQ);
+}
+
+// ---- Landed wide samples (shaders/wrs_submitted.h) ----
+
+// The quality of a landed sample is the overlap of its footprint, one output pixel wide, with the
+// pixel: 1 on the centre, falling linearly per axis, 0 from half a pixel out, 0 for a non-finite offset.
+TEST(Landed, QualityIsTheOverlapOfItsFootprintWithThePixel) {
+    EXPECT_EQ(wrs_landed_quality(vec2(0.0f)), 1.0f);
+    EXPECT_EQ(wrs_landed_quality(vec2(0.25f, 0.0f)), 0.75f);
+    EXPECT_EQ(wrs_landed_quality(vec2(-0.25f, 0.5f)), 0.0f);
+    EXPECT_FLOAT_EQ(wrs_landed_quality(vec2(-0.3f, 0.2f)), 0.7f * 0.8f);
+    EXPECT_FLOAT_EQ(wrs_landed_quality(vec2(0.49f, -0.49f)), 0.51f * 0.51f);
+    EXPECT_EQ(wrs_landed_quality(vec2(0.5f, 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_quality(vec2(std::nanf(""), 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_quality(vec2(0.0f, std::numeric_limits<float>::infinity())), 0.0f);
+    // Never below a quarter inside the pixel: above the wide views' quality at densities up to 0.5.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-0.4999f, 0.4999f);
+    for (int i = 0; i < 1000; ++i) EXPECT_GT(wrs_landed_quality(vec2(u(rng), u(rng))), 0.25f);
+}
+
+// The offset of sample k from the centre of the output pixel that maps to `pos`, in output pixels.
+TEST(Landed, OffsetIsTheSamplesCentreLessThePositionInOutputPixels) {
+    const vec2 d = wrs_landed_offset(vec2(3.7f, 10.1f), uvec2(3u, 10u), vec2(2.5f, 2.0f));
+    EXPECT_NEAR(d.x, (3.5f - 3.7f) * 2.5f, 1e-6f);
+    EXPECT_NEAR(d.y, (10.5f - 10.1f) * 2.0f, 1e-6f);
+    EXPECT_EQ(wrs_landed_offset(vec2(0.5f, 7.5f), uvec2(0u, 7u), vec2(2.5f)), vec2(0.0f));
+}
+
+// Packed as the compose pass stores it: the colour and quality to fp16, and no sample as zeros.
+TEST(Landed, PackedSamplesRoundTripAndNoneReadsAsNone) {
+    const vec3 c(0.123456f, 2.5f, 0.0f);
+    const vec4 r = wrs_unpack_landed(wrs_pack_landed(c, 0.6543f));
+    EXPECT_EQ(r, vec4(wrs_round_f16(c.x), wrs_round_f16(c.y), 0.0f, wrs_round_f16(0.6543f)));
+    EXPECT_EQ(wrs_pack_landed(c, 0.0f), uvec2(0u));
+    EXPECT_EQ(wrs_unpack_landed(uvec2(0u)), vec4(0.0f));
+}
+
+// Retention is offered a landed sample only where it tells more than the composed candidate; then as a
+// sample of its own (its box itself), stored fresh with its flag, so that the flag and the quality
+// follow it while it is kept.
+TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
+    RetainInput c = retainInput(vec3(0.3f), 0.16f, 50.0f);
+    RetainInput same = c;
+    wrs_offer_landed(same, vec4(0.9f, 0.1f, 0.2f, 0.16f));
+    EXPECT_EQ(same.color, c.color);
+    EXPECT_EQ(same.flags, 0u);
+    wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 0.64f));
+    EXPECT_EQ(c.color, vec3(0.9f, 0.1f, 0.2f));
+    EXPECT_EQ(c.q, 0.64f);
+    EXPECT_EQ(c.lo, c.color);
+    EXPECT_EQ(c.hi, c.color);
+    EXPECT_EQ(c.flags, WRS_FLAG_LANDED);
+    EXPECT_EQ(c.fp, 50.0f) << "the fingerprint stays the composed frame's";
+    uint outcome;
+    float margin;
+    // Against a history of the wide views' quality: taken, flagged, and the flag survives packing.
+    Tracked h = tracked(vec3(0.3f), 0.16f, 50.0f);
+    Tracked r = wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), c, vec3(0.0f), 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_BETTER);
+    EXPECT_EQ(wrs_unpack_tracked(wrs_pack_tracked(r, vec2(0.5f))).flags, WRS_FLAG_LANDED);
+    // The next frame's composed candidate (0.16) keeps it.
+    r = wrs_retain(WRS_RULE_MERGE, true, r, vec2(0.0f), retainInput(vec3(0.3f), 0.16f, 50.0f), vec3(0.0f), 0.5f,
+                   outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    EXPECT_EQ(r.flags, WRS_FLAG_LANDED);
+}
+
+// A new phase of a jittered view moves the composed fingerprint as sub-pixel motion does: the change
+// test allows the fingerprint taps' range for it, and only for it.
+TEST(Landed, AJitteredViewsNewPhaseIsNotAChange) {
+    const Tracked h = tracked(vec3(0.3f), 0.64f, 50.0f);
+    RetainInput c = retainInput(vec3(0.3f), 0.16f, 53.0f, 4.0f);
+    uint outcome;
+    float margin;
+    wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), c, vec3(0.0f), 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_CHANGED) << "3 L* is a change of a still, unjittered view";
+    c.jittered = true;
+    wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), c, vec3(0.0f), 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_KEPT);
+    EXPECT_TRUE(wrs_gap_shows(h, c));
+    c.fp = 56.0f;  // beyond the taps' range too
+    wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), c, vec3(0.0f), 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_CHANGED);
 }
 
 }  // namespace
