@@ -148,9 +148,9 @@ struct CompositorConfig {
     /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas
     /// of the composed neighbourhood.
     struct Taau {
-        float radius = 1.0f;
-        float maxWeight = 4.0f;
-        float clipGamma = 1.0f;
+        float radius = 1.25f;
+        float maxWeight = 2.0f;
+        float clipGamma = 20.0f;
     } taau;
 };
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:

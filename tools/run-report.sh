@@ -16,6 +16,12 @@
 #   out/report/steady/   fov and wrs at 512^2 per eye at steady state: timed over frames 300-329, after
 #                        3.3 s of gaze, so the area the gaze visited (where wrs runs retention) is a
 #                        user's (the sweep above times frames 5-19)
+#   out/report/headset/  the same at a headset's field of view (100 degrees per eye, 768x768, the atrium):
+#                        the target, quad views at 0.4 of the density with a 30-degree inset composed
+#                        without temporal reuse (fov, unjittered), against wide views at 0.3 rendered
+#                        jittered over 8 phases with a 10-degree inset (9.5 % of full resolution's pixels)
+#                        composed with fov, taau (temporal upsampling as engines ship it) and wrs;
+#                        the index says whether wrs reaches the target's JOD (the wide-views issue's goal)
 #   out/report/saving/   what rendering foveated saves (wrsfov-bench --saving): the atrium at the HMD
 #                        cell's density (12.6 px/deg, 504x504 over 40x40 degrees) and the text page at the
 #                        monitor's, each rendered at full resolution, as quad views (wide views at 0.4 of
@@ -50,24 +56,30 @@ common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
 # take the job well past its time on this machine (docs/metrics.md, "In the benchmark").
 jod_frames=30
 worth=(--jod-frames "$jod_frames" --fovea-worth 7.5,10,12.5,15)
-echo "== 1/6: monitor mode, text, 1024x768"
+echo "== 1/7: monitor mode, text, 1024x768"
 "$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
   "${worth[@]}" --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 2/6: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
+echo "== 2/7: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" "${worth[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 3/6: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
+echo "== 3/7: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
 "$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --cost-model --out out/report/speed \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 4/6: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
+echo "== 4/7: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
 "$bench" --scaling 512 --frames 330 --warmup 300 --methods fov,wrs --out out/report/steady \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 5/6: rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
+echo "== 5/7: rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
 "$bench" --saving --scenes atrium --hmd-fov 40 --size 504x504 --path lateral --frames 60 --warmup 10 --jod-frames 30 \
   --inset-degs 5,10,20,30 --rate-degs 20 --outcomes --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
-echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
+echo "== 6/7: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
 "$bench" --saving --scenes text --monitor --size 1024x768 --frames 45 --warmup 5 --jod-frames 30 \
   --inset-degs 5,10,20,30 --no-rate --out out/report/saving/text | grep --line-buffered -E '^saving|^wrsfov-bench'
+echo "== 7/7: a headset's field of view, atrium, 100 degrees per eye at 768x768, jittered wide views"
+headset=(--saving --scenes atrium --hmd-fov 100 --size 768x768 --frames 60 --jod-frames 20 --no-rate)
+"$bench" "${headset[@]}" --inset-degs 30 --methods fov --out out/report/headset/target \
+  | grep --line-buffered -E '^saving|^wrsfov-bench'
+"$bench" "${headset[@]}" --inset-degs 10 --wide-scale 0.3 --jitter 8 --methods fov,taau,wrs \
+  --out out/report/headset/jittered | grep --line-buffered -E '^saving|^wrsfov-bench'
 {
   echo "# wrsfov report"
   echo
@@ -80,12 +92,38 @@ echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
   echo "- [speed at steady state: fov and wrs at 512^2 per eye after 3.3 s of gaze](steady/scaling.md)"
   echo "- [rendering saved: quad views and shading rates, atrium at 12.6 px/deg](saving/atrium/saving.md) and"
   echo "  [text at the monitor's density](saving/text/saving.md)"
+  echo "- [a headset's field of view: jittered wide views, fov, taau and wrs](headset/jittered/saving.md) against"
+  echo "  [the unjittered 30° target](headset/target/saving.md)"
   echo
   echo "## rendering saved"
   echo
   for s in atrium text; do
     sed -n '/^## Headline/,/^## Every composition/p' "out/report/saving/$s/saving.md" | sed '1d;$d'
   done
+  echo
+  echo "## a headset's field of view (100° per eye, atrium, 768x768: 5.6 px/deg at the centre)"
+  echo
+  echo "| method | wide density | jitter | inset | pixels × full | JOD | near-gaze PSNR | temporal instability |"
+  echo "|---|---|---|---|---|---|---|---|"
+  awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["input"] == "full" { full = $c["pixels_rendered"]; next }
+    { printf "| %s | %s | %s | %s° | %.3f | %.2f | %.2f | %.4f |\n", $c["method"], $c["wide_density"], $c["jitter"],
+        $c["inset_deg"], $c["pixels_rendered"] / full, $c["jod"], $c["near_gaze_psnr"], $c["temporal_instability"] }' \
+    out/report/headset/target/saving.csv out/report/headset/jittered/saving.csv
+  echo
+  awk -F, 'FNR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["input"] == "full" { full = $c["pixels_rendered"]; next }
+    FILENAME ~ /target/ { target = $c["jod"]; next }
+    { jod[$c["method"]] = $c["jod"]; inst[$c["method"]] = $c["temporal_instability"]; px = $c["pixels_rendered"] / full }
+    END {
+      met = jod["wrs"] >= target && px <= 0.10
+      printf "Goal (wrs reaches the 30°/0.4 target without temporal reuse, JOD %.2f, with at most 10 %% of full " \
+             "resolution'"'"'s pixels): **%s**: wrs %.2f JOD with %.1f %% of the pixels.", target, met ? "met" : "not met",
+             jod["wrs"], 100 * px
+      printf " At equal pixels wrs %.2f against taau %.2f JOD (fov on the same jittered views %.2f); temporal " \
+             "instability wrs %.4f, taau %.4f (%+.0f %%).\n", jod["wrs"], jod["taau"], jod["fov"], inst["wrs"],
+             inst["taau"], 100 * (inst["wrs"] / inst["taau"] - 1)
+    }' out/report/headset/target/saving.csv out/report/headset/jittered/saving.csv
   echo
   for cell in monitor hmd; do
     echo "## $cell"
@@ -110,4 +148,4 @@ echo "== 6/6: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
   sed -n '/^| size per eye/,/^$/p' out/report/steady/scaling.md
 } > out/report/index.md
 cat out/report/index.md
-echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/, speed/, steady/, saving/)"
+echo "== report in $(pwd)/out/report (index.md, monitor/, hmd/, speed/, steady/, saving/, headset/)"

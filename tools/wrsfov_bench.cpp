@@ -402,7 +402,7 @@ int main(int argc, char** argv) {
                     "Method taau's gather radius (output pixels), cap of the history's accumulated weight and clip "
                     "box (sigmas) (CompositorConfig::taau; docs/retention.md \"The field's baseline: taau\").")
         ->type_name("R,W,G")
-        ->default_str("1,4,1");
+        ->default_str("1.25,2,20");
     cli::option(app, "--motion-reach", o.motionReachDeg, cli::number<float>(0, 180),
                 "Degrees per frame (at the view's centre) beyond which a pixel's motion tracks no kept sample "
                 "(docs/retention.md \"Motion reach\"); 0: no limit, the classification reads every far tile's "

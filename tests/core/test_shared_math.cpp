@@ -1164,21 +1164,37 @@ TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
 
 // ---- Landed wide samples (shaders/wrs_submitted.h) ----
 
-// The quality of a landed sample is the overlap of its footprint, one output pixel wide, with the
-// pixel: 1 on the centre, falling linearly per axis, 0 from half a pixel out, 0 for a non-finite offset.
-TEST(Landed, QualityIsTheOverlapOfItsFootprintWithThePixel) {
+// How much of a pixel a landed sample tells is the overlap of its footprint, one output pixel wide,
+// with the pixel: 1 on the centre, falling linearly per axis, 0 from half a pixel out, 0 for a
+// non-finite offset. Its quality is the overlap's class of a quarter, rounded down, at least 0.25.
+TEST(Landed, QualityIsTheClassOfTheOverlapOfItsFootprintWithThePixel) {
+    EXPECT_EQ(wrs_landed_overlap(vec2(0.0f)), 1.0f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(0.25f, 0.0f)), 0.75f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(-0.25f, 0.5f)), 0.0f);
+    EXPECT_FLOAT_EQ(wrs_landed_overlap(vec2(-0.3f, 0.2f)), 0.7f * 0.8f);
+    EXPECT_FLOAT_EQ(wrs_landed_overlap(vec2(0.49f, -0.49f)), 0.51f * 0.51f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(0.5f, 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(std::nanf(""), 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(0.0f, std::numeric_limits<float>::infinity())), 0.0f);
     EXPECT_EQ(wrs_landed_quality(vec2(0.0f)), 1.0f);
     EXPECT_EQ(wrs_landed_quality(vec2(0.25f, 0.0f)), 0.75f);
-    EXPECT_EQ(wrs_landed_quality(vec2(-0.25f, 0.5f)), 0.0f);
-    EXPECT_FLOAT_EQ(wrs_landed_quality(vec2(-0.3f, 0.2f)), 0.7f * 0.8f);
-    EXPECT_FLOAT_EQ(wrs_landed_quality(vec2(0.49f, -0.49f)), 0.51f * 0.51f);
+    EXPECT_EQ(wrs_landed_quality(vec2(-0.3f, 0.2f)), 0.5f);     // 0.56
+    EXPECT_EQ(wrs_landed_quality(vec2(0.49f, -0.49f)), 0.25f);  // 0.26
     EXPECT_EQ(wrs_landed_quality(vec2(0.5f, 0.0f)), 0.0f);
     EXPECT_EQ(wrs_landed_quality(vec2(std::nanf(""), 0.0f)), 0.0f);
-    EXPECT_EQ(wrs_landed_quality(vec2(0.0f, std::numeric_limits<float>::infinity())), 0.0f);
-    // Never below a quarter inside the pixel: above the wide views' quality at densities up to 0.5.
+    // Inside the pixel always a class, never above the overlap, never below a quarter: above the wide
+    // views' quality at any density below 0.5.
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-0.4999f, 0.4999f);
-    for (int i = 0; i < 1000; ++i) EXPECT_GT(wrs_landed_quality(vec2(u(rng), u(rng))), 0.25f);
+    for (int i = 0; i < 1000; ++i) {
+        const vec2 d(u(rng), u(rng));
+        const float q = wrs_landed_quality(d), o = wrs_landed_overlap(d);
+        EXPECT_GT(o, 0.25f);
+        EXPECT_LE(q, o);
+        EXPECT_GT(q, o - 0.25f);
+        EXPECT_EQ(q * 4.0f, std::floor(q * 4.0f)) << "a class of a quarter";
+        EXPECT_GE(q, 0.25f);
+    }
 }
 
 // The offset of sample k from the centre of the output pixel that maps to `pos`, in output pixels.
@@ -1210,8 +1226,8 @@ TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
     wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 0.64f));
     EXPECT_EQ(c.color, vec3(0.9f, 0.1f, 0.2f));
     EXPECT_EQ(c.q, 0.64f);
-    EXPECT_EQ(c.lo, c.color);
-    EXPECT_EQ(c.hi, c.color);
+    EXPECT_EQ(c.lo, vec3(0.3f, 0.1f, 0.2f)) << "the box spans the landed sample and the composed colour";
+    EXPECT_EQ(c.hi, vec3(0.9f, 0.3f, 0.3f));
     EXPECT_EQ(c.flags, WRS_FLAG_LANDED);
     EXPECT_EQ(c.fp, 50.0f) << "the fingerprint stays the composed frame's";
     uint outcome;
