@@ -49,7 +49,23 @@ std::vector<ConfigRow> refusedRows() {
                      [m = f.member, v = f.tooLarge](CompositorConfig& c) { c.*m = v; }, f.message});
     }
     // The first value past each enum's last, and 255.
-    for (uint8_t v : {uint8_t(uint8_t(Method::OracleQ) + 1), uint8_t(255)})
+    // Method taau's parameters (CompositorConfig::Taau): non-finite, zero, negative and too large.
+    struct TaauField {
+        const char* name;
+        float CompositorConfig::Taau::*member;
+        const char* message;
+        float tooLarge;
+    };
+    const TaauField taauFields[] = {
+        {"taau_radius", &CompositorConfig::Taau::radius, "taau radius must be in (0, 8] output pixels", 8.5f},
+        {"taau_weight", &CompositorConfig::Taau::maxWeight, "taau weight cap must be in (0, 1024]", 2048.0f},
+        {"taau_clip", &CompositorConfig::Taau::clipGamma, "taau clip box must be in (0, 64] sigmas", 65.0f},
+    };
+    for (const TaauField& f : taauFields)
+        for (float v : {kNaN, kInf, 0.0f, -1.0f, f.tooLarge})
+            r.push_back({std::string(f.name) + "_" + std::to_string(int(r.size())),
+                         [m = f.member, v](CompositorConfig& c) { c.taau.*m = v; }, f.message});
+    for (uint8_t v : {uint8_t(uint8_t(Method::Taau) + 1), uint8_t(255)})
         r.push_back({"method_" + std::to_string(v), [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
     for (uint8_t v : {uint8_t(5), uint8_t(255)}) {
         const std::string n = std::to_string(v);
