@@ -696,10 +696,9 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
     composeParams_ = gpu::ComposeParams{};
     if (work.kind != layers::SubmittedFoveation::Full) {
         composeParams_ = makeComposeParams(layer, glm::uvec2(work.w, work.h), work.next.insetBlendPx);
-        // Landed wide samples: only retention reads them (the oracles do not: wrs_offer_landed).
+        // Landed wide samples: only `wrs`'s retention reads them (the oracles do not: wrs_offer_landed).
         const bool landed = work.kind == layers::SubmittedFoveation::Quad && work.next.landedSamples &&
-                            usesRetainPass(work.next.method) && work.next.method != Method::Oracle &&
-                            work.next.method != Method::OracleQ;
+                            work.next.method == Method::Wrs;
         // Method taau: the compose pass gathers the wide samples in their place (landed.z 2).
         const bool gather = work.kind == layers::SubmittedFoveation::Quad && work.next.method == Method::Taau;
         for (gpu::ComposeEye& e : composeParams_.eye) {
@@ -771,8 +770,7 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
         const layers::ProjectionView& v = frame.layers[0].views[eye];
         const glm::vec4 offsets(v.sampleOffset, v.inset ? v.inset->sampleOffset : glm::vec2(0.0f));
         params_.eye[eye].motion_rect.z = composeParams_.eye[eye].landed.z != 0.0f ? 1u : 0u;
-        if (frame_.method == Method::Taau)
-        {
+        if (frame_.method == Method::Taau) {
             params_.eye[eye].depth_range = glm::vec4(glm::vec2(params_.eye[eye].depth_range),
                                                      frame_.taau.maxWeight, frame_.taau.clipGamma);
             params_.eye[eye].tile.w = composeParams_.eye[eye].wide_motion.w;  // where the inset shows: above it

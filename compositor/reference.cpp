@@ -93,8 +93,8 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
                     uvec2 i0, i1;
                     wrs_bilinear_taps(wpos, wsize, i0, i1);
                     for (uint j = 0; j < 4u; ++j) {
-                        const uvec2 k((j & 1u) ? i1.x : i0.x, (j & 2u) ? i1.y : i0.y);
-                        if (((j & 1u) && i1.x == i0.x) || ((j & 2u) && i1.y == i0.y)) continue;
+                        uvec2 k;
+                        if (!wrs_taau_cell_tap(i0, i1, j, k)) continue;
                         acc = wrs_taau_add(acc, sourceTexel(src.wideColor, k, ce.wide_color.z),
                                            wrs_landed_offset(wpos, k, vec2(ce.landed)), ce.landed.w);
                     }

@@ -100,9 +100,8 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
             uvec2 i0, i1;
             wrs_bilinear_taps(wpos, wsize, i0, i1);
             for (uint j = 0u; j < 4u; ++j) {
-                uvec2 k = uvec2((j & 1u) != 0u ? i1.x : i0.x, (j & 2u) != 0u ? i1.y : i0.y);
-                if ((j & 1u) != 0u && i1.x == i0.x) continue;  // a clamped tap is the same sample
-                if ((j & 2u) != 0u && i1.y == i0.y) continue;
+                uvec2 k;
+                if (!wrs_taau_cell_tap(i0, i1, j, k)) continue;
                 acc = wrs_taau_add(acc, source_texel(eye, k, ce.wide_color), wrs_landed_offset(wpos, k, ce.landed.xy),
                                    ce.landed.w);
             }

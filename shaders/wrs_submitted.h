@@ -190,6 +190,12 @@ WRS_FN float wrs_taau_kernel(vec2 d, float inv_r2) {
     WRS_PRECISE float w = t * t;
     return w;
 }
+// Tap j (0..3) of the bilinear cell [i0, i1] (wrs_bilinear_taps) that the gather reads: false for a
+// tap a clamp made the same sample as another.
+WRS_FN bool wrs_taau_cell_tap(uvec2 i0, uvec2 i1, uint j, WRS_OUT(uvec2) k) {
+    k = uvec2((j & 1u) != 0u ? i1.x : i0.x, (j & 2u) != 0u ? i1.y : i0.y);
+    return !(((j & 1u) != 0u && i1.x == i0.x) || ((j & 2u) != 0u && i1.y == i0.y));
+}
 // Adds a decoded wide texel (validity in alpha) at offset d from the pixel's centre to the gather
 // (xyz: the weighted sum of colours, w: the sum of weights).
 WRS_FN vec4 wrs_taau_add(vec4 acc, vec4 texel, vec2 d, float inv_r2) {
