@@ -748,6 +748,29 @@ TEST_F(Submitted, RateMapsMatchTheReferenceAndGiveEachPixelItsRate) {
 }
 
 TEST_F(Submitted, NonFiniteTexelsNeverReachAReservoirOrAnOutput) {
+    // taau: its gather skips the poisoned texels, and its history (colour and accumulated weight as
+    // float bits) stays finite.
+    {
+        auto t = compositor(Method::Taau);
+        QuadApp app(*t, true, true);
+        const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+        for (uint64_t i = 1; i <= 3; ++i) {
+            app.wideOffset = layers::haltonJitter(i, 8);
+            QuadApp::Frame f = app.make(-0.2f, 0.0f);
+            for (int e = 0; e < 2; ++e)
+                for (uint32_t y = 30; y < 36; ++y)
+                    for (uint32_t x = 50; x < 56; ++x) f.sources[e].wideColor.store(x, y, glm::vec4(nan, inf, 0, 1));
+            app.submit(*t, i, f);
+            for (uint32_t e = 0; e < 2; ++e) {
+                auto res = t->readReservoirs(e);
+                ASSERT_TRUE(res.ok());
+                for (const glm::uvec4& r : *res)
+                    ASSERT_TRUE(gpu::wrs_finite3(glm::uintBitsToFloat(glm::uvec3(r))) &&
+                                gpu::wrs_finite(glm::uintBitsToFloat(r.w)))
+                        << "taau frame " << i;
+            }
+        }
+    }
     auto c = compositor(Method::Wrs);
     QuadApp app(*c, true, true);
     Reference ref(c->config());
