@@ -11,6 +11,7 @@
 #include "compositor/compositor_internal.h"
 #include "compositor/input.h"
 #include "compositor/swapchain_vk.h"
+#include "shaders/wrs_submitted.h"
 #include "classify_spv.h"
 #include "copy_spv.h"
 #include "foveate_spv.h"
@@ -778,6 +779,19 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
         params_.eye[eye].motion_rect.w = offsets != lastOffsets_[eye] ? 1u : 0u;
         lastOffsets_[eye] = offsets;
     }
+    // Every phase merged (wrs_submitted.h): on a frame of `wrs` whose wide views were jittered, no floor
+    // rule (so no tile skips it) and each eye's wide box, one wide pixel apart.
+    const bool jittered = params_.eye[0].motion_rect.w != 0u || params_.eye[1].motion_rect.w != 0u;
+    if (frame_.method == Method::Wrs && frame_.phaseMerge && jittered &&
+        (params_.eye[0].motion_rect.z != 0u || params_.eye[1].motion_rect.z != 0u)) {
+        params_.tuning.w = 0.0f;
+        for (int eye = 0; eye < 2; ++eye) {
+            const gpu::ComposeEye& ce = composeParams_.eye[eye];
+            params_.eye[eye].depth_rect.w = gpu::wrs_wide_box_steps(glm::vec2(ce.landed));
+            params_.eye[eye].tile.w = ce.wide_motion.w;  // the wide views' quality: up to it, the wide box
+        }
+    }
+    stats_.phaseMerge = params_.eye[0].depth_rect.w != 0u;
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.
     work.sparse = work.passes.sparse;
     work.tilesPerEye = groups(work.w, gpu::WRS_TILE) * groups(work.h, gpu::WRS_TILE);

@@ -143,6 +143,11 @@ struct CompositorConfig {
     /// views sample texture detail at the display's density (a LOD bias of log2 of their density); an
     /// application that filters its wide views over their own pixels should turn it off.
     bool landedSamples = true;
+    /// Quad views, `wrs`, on a frame whose wide views were jittered: no floor rule, so that a pixel's
+    /// wide candidates of equal quality merge over the phases, the history clipped to the wide view
+    /// around the pixel (docs/retention.md "Every phase merged"), instead of each phase being taken
+    /// fresh. Such a frame skips no tile (sparse retention has nothing to skip there).
+    bool phaseMerge = true;
     /// Method taau's parameters (docs/retention.md "The field's baseline: taau", chosen for its best
     /// JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
     /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas
@@ -258,6 +263,9 @@ struct FrameStats {
     bool sparse = false;
     /// The floor level was filtered over time (steadyFloorActive).
     bool steadyFloor = false;
+    /// The frame merged its wide candidates over the phases (CompositorConfig::phaseMerge: `wrs`, quad
+    /// views jittered since the frame before).
+    bool phaseMerge = false;
     /// Tiled frames (Wait and Submit modes): tiles of both eyes on each list (WRS_TILE_FOVEA, MID,
     /// FAR, ANY and SKIP), read back after the frame; all zero otherwise.
     std::array<uint32_t, gpu::WRS_TILE_LISTS> tiles{};

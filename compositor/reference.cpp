@@ -410,6 +410,9 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     c.q_floor = params.tuning.w;
                     if (mode == WRS_FOV_SUBMITTED) {  // as retain.comp
                         c.jittered = ep.motion_rect.w != 0u;
+                        if (ep.depth_rect.w != 0u && wrs_wide_box_applies(c.q, ep.tile.w))
+                            for (uint k = 0; k < 9u; ++k)
+                                wrs_wide_box_add(c.lo, c.hi, at(0u, wrs_wide_box_tap(p, k, ep.depth_rect.w, size0)));
                         if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(rule) && !in.landed.empty())
                             wrs_offer_landed(c, in.landed[idx]);
                     }

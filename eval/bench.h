@@ -50,6 +50,8 @@ struct BenchOptions {
     /// CompositorConfig::landedSamples (--no-landed: retention of quad views keeps the composed
     /// candidates only).
     bool landedSamples = true;
+    /// CompositorConfig::phaseMerge (--no-phase-merge: each phase's wide candidate taken fresh).
+    bool phaseMerge = true;
     /// CompositorConfig::taau (--taau R,W,G).
     CompositorConfig::Taau taau;
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in

@@ -45,6 +45,10 @@ float retain_pixel(uint eye, uvec2 p) {
     c.q_floor = frame.tuning.w;
     if (FOV_MODE == WRS_FOV_SUBMITTED) {
         c.jittered = ep.motion_rect.w != 0u;
+        // Every phase merged: a wide candidate's box spans the wide view around the pixel.
+        if (ep.depth_rect.w != 0u && wrs_wide_box_applies(c.q, ep.tile.w))
+            for (uint k = 0u; k < 9u; ++k)
+                wrs_wide_box_add(c.lo, c.hi, load_color(eye, wrs_wide_box_tap(p, k, ep.depth_rect.w, size)));
         if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) wrs_offer_landed(c, submitted_landed(idx));
     }
 

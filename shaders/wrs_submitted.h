@@ -154,19 +154,59 @@ WRS_FN vec4 wrs_unpack_landed(uvec2 w) {
 
 // Retention's candidate at a pixel where a wide sample landed (wrs_unpack_landed: colour, quality):
 // the landed sample where it tells more of the pixel than the composed candidate, as a sample of its
-// own (flagged WRS_FLAG_LANDED; its tap box spans it and the composed colour, the bilinear wide view
-// at the pixel, so that an equal-quality history within the local variation merges and one outside
-// is clipped to it first); the composed one otherwise. The
-// fingerprint stays the composed frame's. The oracles are not offered it (they bound what any
-// retention of the composed candidates can reach).
+// own (flagged WRS_FLAG_LANDED). Its tap box spans it and the composed candidate's box (the composed
+// colour, the bilinear wide view at the pixel; on a frame that merges every phase, the wide box around
+// it), so that an equal-quality history within the local variation merges and one outside is clipped
+// to it first; the composed candidate otherwise. The fingerprint stays the composed frame's. The
+// oracles are not offered it (they bound what any retention of the composed candidates can reach).
 WRS_FN void wrs_offer_landed(WRS_INOUT(RetainInput) c, vec4 landed) {
     if (!(landed.w > c.q)) return;
-    vec3 composed = c.color;
     c.color = vec3(landed);
     c.q = landed.w;
-    c.lo = min(c.color, composed);
-    c.hi = max(c.color, composed);
+    c.lo = min(c.lo, c.color);  // the composed candidate's box: its colour, or the wide box around it
+    c.hi = max(c.hi, c.color);
     c.flags = WRS_FLAG_LANDED;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Every phase merged (docs/retention.md "Every phase merged"). On a frame whose wide views were
+// jittered (their sample offsets moved since the frame before), `wrs` has no floor rule: a pixel's
+// wide candidates of equal quality, the composed one or a landed sample's class, merge over the phases
+// as every equal-quality sample merges (a running mean of up to WRS_MERGE_CAP candidates), instead of
+// each frame's phase being taken fresh and flickering as `fov` on jittered views does. The history is
+// first clipped to the box of the wide view around the pixel: the composed image's 3x3 taps one wide
+// pixel apart (wrs_wide_box_tap), which spans the wide lattice's local range. A box of adjacent output
+// pixels spans a fraction of one wide pixel's variation (the bilinear interpolation between two wide
+// samples) and clipped a history of other phases back to this phase's colour: on the headset cell
+// (0.25 density, 10° inset, 8 phases) temporal instability 0.0187 with it, 0.0148 one wide pixel apart,
+// against 0.0250 without merging.
+// ---------------------------------------------------------------------------------------------
+
+// The wide box's tap spacing in output pixels along x and y, packed x | y << 16 (EyeParams
+// depth_rect.w; 0: no wide box): the output pixels per wide pixel (ComposeEye landed.xy), rounded, at
+// least 1.
+WRS_FN uint wrs_wide_box_steps(vec2 per_wide) {
+    uint sx = uint(max(floor(per_wide.x + 0.5f), 1.0f));
+    uint sy = uint(max(floor(per_wide.y + 0.5f), 1.0f));
+    return min(sx, 0xffffu) | (min(sy, 0xffffu) << 16u);
+}
+// Whether a candidate of quality q is a wide one (the composed wide view, or a landed sample's class
+// up to it) whose box is the wide box: q_wide is the wide view's quality (ComposeEye wide_motion.w).
+// Candidates of the inset and of its blend keep their own box (the fovea stays exact).
+WRS_FN bool wrs_wide_box_applies(float q, float q_wide) { return q <= q_wide * (1.0f + WRS_Q_EQUAL); }
+// Tap k (0..8, row-major) of the wide box at pixel p: p offset by -1, 0 or +1 spacing per axis,
+// clamped to the image.
+WRS_FN uvec2 wrs_wide_box_tap(uvec2 p, uint k, uint steps, uvec2 size) {
+    ivec2 step = ivec2(int(steps & 0xffffu), int(steps >> 16u));
+    ivec2 d = ivec2(int(k % 3u) - 1, int(k / 3u) - 1);
+    ivec2 q = clamp(ivec2(p) + d * step, ivec2(0, 0), ivec2(size) - ivec2(1, 1));
+    return uvec2(q);
+}
+// Widens [lo, hi] by a tap's colour; a tap that was not finite (validity 0 in w) is left out.
+WRS_FN void wrs_wide_box_add(WRS_INOUT(vec3) lo, WRS_INOUT(vec3) hi, vec4 tap) {
+    if (!(tap.w > 0.5f)) return;
+    lo = min(lo, vec3(tap));
+    hi = max(hi, vec3(tap));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -56,25 +56,25 @@ common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
 # take the job well past its time on this machine (docs/metrics.md, "In the benchmark").
 jod_frames=30
 worth=(--jod-frames "$jod_frames" --fovea-worth 7.5,10,12.5,15)
-echo "== 1/7: monitor mode, text, 1024x768"
+echo "== 1/7 (at $(($(date +%s) - start)) s): monitor mode, text, 1024x768"
 "$bench" --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
   "${worth[@]}" --out out/report/monitor | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 2/7: HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
+echo "== 2/7 (at $(($(date +%s) - start)) s): HMD stereo, dynamic, 504x504 per eye over 40x40 degrees"
 "$bench" --hmd-fov 40 --size 504x504 --scenes dynamic --path lateral --methods fov,fov+taa,wrs-paper,wrs,oracle,oracle-q \
   "${common[@]}" "${worth[@]}" --out out/report/hmd | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 3/7: speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
+echo "== 3/7 (at $(($(date +%s) - start)) s): speed, HMD stereo, atrium, 512^2 to 2048^2 per eye"
 "$bench" --scaling 512,1024,2048 --methods fov,fov+taa,wrs-paper,wrs --cost-model --out out/report/speed \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 4/7: speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
+echo "== 4/7 (at $(($(date +%s) - start)) s): speed at steady state, HMD stereo, atrium, 512^2 per eye, frames 300-329"
 "$bench" --scaling 512 --frames 330 --warmup 300 --methods fov,wrs --out out/report/steady \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
-echo "== 5/7: rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
+echo "== 5/7 (at $(($(date +%s) - start)) s): rendering saved, atrium, HMD stereo at 12.6 px/deg (504x504 over 40x40 degrees)"
 "$bench" --saving --scenes atrium --hmd-fov 40 --size 504x504 --path lateral --frames 60 --warmup 10 --jod-frames 30 \
   --inset-degs 5,10,20,30 --rate-degs 20 --outcomes --out out/report/saving/atrium | grep --line-buffered -E '^saving|^wrsfov-bench'
-echo "== 6/7: rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
+echo "== 6/7 (at $(($(date +%s) - start)) s): rendering saved, text, monitor mode at 13.5 px/deg (1024x768)"
 "$bench" --saving --scenes text --monitor --size 1024x768 --frames 45 --warmup 5 --jod-frames 30 \
   --inset-degs 5,10,20,30 --no-rate --out out/report/saving/text | grep --line-buffered -E '^saving|^wrsfov-bench'
-echo "== 7/7: a headset's field of view, atrium, 100 degrees per eye at 768x768, jittered wide views"
+echo "== 7/7 (at $(($(date +%s) - start)) s): a headset's field of view, atrium, 100 degrees per eye at 768x768, jittered wide views"
 headset=(--saving --scenes atrium --hmd-fov 100 --size 768x768 --frames 60 --jod-frames 20 --no-rate)
 "$bench" "${headset[@]}" --inset-degs 30 --methods fov --out out/report/headset/target \
   | grep --line-buffered -E '^saving|^wrsfov-bench'

@@ -84,6 +84,7 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         c.method = m;
         c.sparseRetention = o.sparseRetention;
         c.landedSamples = o.landedSamples;
+        c.phaseMerge = o.phaseMerge;
         c.taau = o.taau;
         c.floorMerge = o.floorMerge;
         c.steadyFloor = o.steadyFloor;
@@ -293,7 +294,7 @@ int main(int argc, char** argv) {
     cli::Size size{o.width, o.height};
     bool flicker = false, noJod = false;
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false,
-         noLanded = false;
+         noLanded = false, noPhaseMerge = false;
     std::vector<float> taauParams;
     bool steadyFloor = false;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
@@ -390,6 +391,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-landed", noLanded,
                  "Quad views: retention keeps the composed candidates only, without the wide samples that landed "
                  "near each pixel (CompositorConfig::landedSamples, docs/retention.md \"Landed wide samples\").");
+    app.add_flag("--no-phase-merge", noPhaseMerge,
+                 "Quad views jittered, wrs: each phase's wide candidate taken fresh under the floor rule instead of "
+                 "merged over the phases (CompositorConfig::phaseMerge, docs/retention.md \"Every phase merged\").");
     app.add_flag("--steady-floor", steadyFloor,
                  "Filter the floor level (level 4, the far periphery's candidate under wrs's floor rule) over time at "
                  "its own resolution: a steadier far periphery under motion, a softer one, and a lower FovVideoVDP "
@@ -499,6 +503,7 @@ int main(int argc, char** argv) {
     o.skipTiles = !noSkip;
     o.sparseRetention = !dense;
     o.landedSamples = !noLanded;
+    o.phaseMerge = !noPhaseMerge;
     if (!taauParams.empty()) {
         if (taauParams.size() != 3) {
             std::fprintf(stderr, "wrsfov-bench: --taau takes three values: radius, weight cap, clip box\n");

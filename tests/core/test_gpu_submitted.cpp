@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <optional>
 
@@ -198,12 +199,13 @@ public:
     bool edges = false;  ///< the scene's checker of hard edges (scene)
 };
 
-std::unique_ptr<Compositor> compositor(Method m, bool sparse = true, bool landed = true) {
+std::unique_ptr<Compositor> compositor(Method m, bool sparse = true, bool landed = true, bool phaseMerge = true) {
     CompositorConfig cfg;
     cfg.method = m;
     cfg.seed = 5;
     cfg.sparseRetention = sparse;
     cfg.landedSamples = landed;
+    cfg.phaseMerge = phaseMerge;
     auto c = Compositor::create(context(), cfg);
     EXPECT_TRUE(c.ok());
     return c.ok() ? std::move(*c) : nullptr;
@@ -567,6 +569,91 @@ TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
     EXPECT_GT(sharp, wide / 2);
     // Without the jitter's allowance (RetainInput::jittered) two thirds of these decisions read a change.
     EXPECT_LT(double(changed), 5e-3 * double(decided)) << "a new phase read as a change";
+}
+
+// Every phase merged (CompositorConfig::phaseMerge): on jittered frames `wrs` has no floor rule and
+// clips its wide candidates' history to the wide box one wide pixel apart, so a still view's wide-only
+// pixels change less from frame to frame than when each phase's composed candidate is taken fresh,
+// and no less sharply (MSE against full resolution). An unjittered frame keeps the floor rule (and
+// sparse retention's skips). The GPU agrees with the reference on every frame (from its history).
+TEST_F(Submitted, EveryPhaseMergesTheWideCandidatesOfAJitteredView) {
+    auto on = compositor(Method::Wrs), off = compositor(Method::Wrs, true, true, false);
+    QuadApp onApp(*on, false, false), offApp(*off, false, false);
+    onApp.wideFine = offApp.wideFine = true;
+    onApp.edges = offApp.edges = true;
+    Reference ref(on->config());
+    const glm::vec2 g(-0.4f, 0.2f);
+    const glm::vec4 t = insetTan(g.x, g.y);
+    auto wideOnly = [&](uint32_t x, uint32_t y) {
+        const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
+        const bool nearInset = tx > t.x - 0.02f && tx < t.y + 0.02f && ty < t.z + 0.02f && ty > t.w - 0.02f;
+        return !nearInset && x >= 4 && x < W - 4 && y >= 4 && y < H - 4;
+    };
+    // The mean frame-to-frame change of the wide-only pixels (8-bit sRGB, 0..1), and the MSE against
+    // full resolution of the last frame.
+    struct Run {
+        std::vector<uint8_t> last;
+        double change = 0, mse = 0;
+        int pairs = 0;
+    } rOn, rOff;
+    auto measure = [&](Compositor& c, Run& r, const QuadApp::Frame& f, bool count) {
+        auto out = c.readOutput(0);
+        ASSERT_TRUE(out.ok());
+        std::vector<uint8_t> now(out->data.size());
+        std::memcpy(now.data(), out->data.data(), now.size());
+        double d = 0, se = 0;
+        int n = 0;
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                if (!wideOnly(x, y)) continue;
+                const glm::u8vec4 ref8 = encodeOutput(glm::vec3(f.reference.fetch(x, y)));
+                for (int k = 0; k < 3; ++k) {
+                    const std::size_t i = (std::size_t(y) * W + x) * 4 + k;
+                    if (!r.last.empty()) d += std::abs(int(now[i]) - int(r.last[i])) / 255.0;
+                    const double e = (int(now[i]) - int(ref8[k])) / 255.0;
+                    se += e * e;
+                }
+                n += 3;
+            }
+        if (count && !r.last.empty()) {
+            r.change += d / n;
+            ++r.pairs;
+        }
+        r.mse = se / n;
+        r.last = std::move(now);
+    };
+    constexpr uint64_t kFrames = 16;
+    for (uint64_t i = 0; i < kFrames; ++i) {
+        onApp.wideOffset = offApp.wideOffset = layers::haltonJitter(i, 8);
+        const QuadApp::Frame f = onApp.make(g.x, g.y);
+        if (i > 0)
+            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *on->readReservoirs(e), *on->readTileHeld(e));
+        onApp.submit(*on, i + 1, f);
+        offApp.submit(*off, i + 1, f);
+        ASSERT_TRUE(on->stats().phaseMerge) << "frame " << i + 1;
+        ASSERT_FALSE(off->stats().phaseMerge);
+        EXPECT_EQ(on->lastParams().tuning.w, 0.0f) << "no floor rule on a jittered frame";
+        EXPECT_GT(off->lastParams().tuning.w, 0.0f);
+        EXPECT_NE(on->lastParams().eye[0].depth_rect.w, 0u);
+        Agreement a;
+        stepAndCompare(*on, ref, composed(*on, f), a, "frame " + std::to_string(i + 1));
+        EXPECT_EQ(a.differing, 0u) << "frame " << i + 1;
+        EXPECT_LE(a.maxOutputDiff, 1);
+        measure(*on, rOn, f, i >= kFrames / 2);
+        measure(*off, rOff, f, i >= kFrames / 2);
+    }
+    const double cOn = rOn.change / rOn.pairs, cOff = rOff.change / rOff.pairs;
+    std::printf("[phases] wide-only frame-to-frame change over the last %d frames: merged %.5f, each phase fresh "
+                "%.5f; MSE %.5f and %.5f\n",
+                rOn.pairs, cOn, cOff, rOn.mse, rOff.mse);
+    EXPECT_LT(cOn, 0.75 * cOff) << "merging the phases steadies the wide view";
+    EXPECT_LE(rOn.mse, rOff.mse * 1.05) << "and keeps its detail";
+    // The same view unjittered: the floor rule and sparse retention as before.
+    onApp.wideOffset = layers::haltonJitter(kFrames - 1, 8);
+    for (uint64_t i = kFrames; i < kFrames + 3; ++i) onApp.submit(*on, i + 1, onApp.make(g.x, g.y));
+    EXPECT_FALSE(on->stats().phaseMerge);
+    EXPECT_GT(on->lastParams().tuning.w, 0.0f);
+    EXPECT_EQ(on->lastParams().eye[0].depth_rect.w, 0u);
 }
 
 // The method's point: the inset moves on, and `wrs` keeps showing the detail it rendered where it was,
