@@ -75,6 +75,17 @@ glm::vec4 insetTan(float cx, float cy) {
     return {cx - h, cx + h, cy + h, cy - h};
 }
 
+// The pixels only the wide view shows with the inset at tangents t (insetTan): away from the inset,
+// its blend and the image's edges.
+struct WideOnly {
+    glm::vec4 t;
+    bool operator()(uint32_t x, uint32_t y) const {
+        const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
+        const bool nearInset = tx > t.x - 0.02f && tx < t.y + 0.02f && ty < t.z + 0.02f && ty > t.w - 0.02f;
+        return !nearInset && x >= 4 && x < W - 4 && y >= 4 && y < H - 4;
+    }
+};
+
 // A quad-view application: per kind one swapchain with two layers (layer = eye) for the wide views and
 // one for the insets.
 class QuadApp {
@@ -497,12 +508,7 @@ TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
     Agreement taauAgree;
     Reference ref(wrs->config());
     const glm::vec2 g(-0.4f, 0.2f);
-    const glm::vec4 t = insetTan(g.x, g.y);
-    auto wideOnly = [&](uint32_t x, uint32_t y) {
-        const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
-        const bool nearInset = tx > t.x - 0.02f && tx < t.y + 0.02f && ty < t.z + 0.02f && ty > t.w - 0.02f;
-        return !nearInset && x >= 4 && x < W - 4 && y >= 4 && y < H - 4;
-    };
+    const WideOnly wideOnly{insetTan(g.x, g.y)};
     uint64_t changed = 0, decided = 0;
     QuadApp::Frame f;
     constexpr uint64_t kFrames = 16;
@@ -583,12 +589,7 @@ TEST_F(Submitted, EveryPhaseMergesTheWideCandidatesOfAJitteredView) {
     onApp.edges = offApp.edges = true;
     Reference ref(on->config());
     const glm::vec2 g(-0.4f, 0.2f);
-    const glm::vec4 t = insetTan(g.x, g.y);
-    auto wideOnly = [&](uint32_t x, uint32_t y) {
-        const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
-        const bool nearInset = tx > t.x - 0.02f && tx < t.y + 0.02f && ty < t.z + 0.02f && ty > t.w - 0.02f;
-        return !nearInset && x >= 4 && x < W - 4 && y >= 4 && y < H - 4;
-    };
+    const WideOnly wideOnly{insetTan(g.x, g.y)};
     // The mean frame-to-frame change of the wide-only pixels (8-bit sRGB, 0..1), and the MSE against
     // full resolution of the last frame.
     struct Run {

@@ -1215,7 +1215,7 @@ TEST(Landed, PackedSamplesRoundTripAndNoneReadsAsNone) {
 }
 
 // Retention is offered a landed sample only where it tells more than the composed candidate; then as a
-// sample of its own (its box itself), stored fresh with its flag, so that the flag and the quality
+// sample of its own (its box the composed candidate's, widened by it), stored fresh with its flag, so that the flag and the quality
 // follow it while it is kept.
 TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
     RetainInput c = retainInput(vec3(0.3f), 0.16f, 50.0f);
@@ -1223,11 +1223,13 @@ TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
     wrs_offer_landed(same, vec4(0.9f, 0.1f, 0.2f, 0.16f));
     EXPECT_EQ(same.color, c.color);
     EXPECT_EQ(same.flags, 0u);
+    const vec3 lo = c.lo, hi = c.hi;  // the composed candidate's box (its taps, or the wide box)
+    ASSERT_LT(lo.x, 0.3f);
     wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 0.64f));
     EXPECT_EQ(c.color, vec3(0.9f, 0.1f, 0.2f));
     EXPECT_EQ(c.q, 0.64f);
-    EXPECT_EQ(c.lo, vec3(0.3f, 0.1f, 0.2f)) << "the box spans the landed sample and the composed colour";
-    EXPECT_EQ(c.hi, vec3(0.9f, 0.3f, 0.3f));
+    EXPECT_EQ(c.lo, vec3(lo.x, 0.1f, 0.2f)) << "the box spans the landed sample and the composed candidate's box";
+    EXPECT_EQ(c.hi, vec3(0.9f, hi.y, hi.z));
     EXPECT_EQ(c.flags, WRS_FLAG_LANDED);
     EXPECT_EQ(c.fp, 50.0f) << "the fingerprint stays the composed frame's";
     uint outcome;
@@ -1260,6 +1262,30 @@ TEST(Landed, AJitteredViewsNewPhaseIsNotAChange) {
     c.fp = 56.0f;  // beyond the taps' range too
     wrs_retain(WRS_RULE_MERGE, true, h, vec2(0.0f), c, vec3(0.0f), 0.5f, outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_CHANGED);
+}
+
+// Every phase merged: the wide box's taps lie one wide pixel apart (the output pixels per wide pixel,
+// rounded, at least 1), clamped to the image; a tap that was not finite is left out; only wide
+// candidates (up to the wide view's quality) take it.
+TEST(Landed, TheWideBoxSpansTheWideViewAroundThePixel) {
+    const uint s = wrs_wide_box_steps(vec2(4.0f, 2.5f));
+    EXPECT_EQ(s & 0xffffu, 4u);
+    EXPECT_EQ(s >> 16u, 3u) << "2.5 rounds to 3";
+    EXPECT_EQ(wrs_wide_box_steps(vec2(0.8f, 1.0f)), 1u | (1u << 16u)) << "at least one pixel";
+    const uvec2 size(64u, 48u), p(10u, 1u);
+    EXPECT_EQ(wrs_wide_box_tap(p, 0u, s, size), uvec2(6u, 0u)) << "clamped at the top edge";
+    EXPECT_EQ(wrs_wide_box_tap(p, 4u, s, size), p) << "the centre tap is the pixel";
+    EXPECT_EQ(wrs_wide_box_tap(p, 8u, s, size), uvec2(14u, 4u));
+    EXPECT_EQ(wrs_wide_box_tap(uvec2(62u, 47u), 8u, s, size), uvec2(63u, 47u)) << "clamped at the far corner";
+    vec3 lo(0.5f), hi(0.5f);
+    wrs_wide_box_add(lo, hi, vec4(0.2f, 0.7f, 0.5f, 1.0f));
+    wrs_wide_box_add(lo, hi, vec4(100.0f, 100.0f, 100.0f, 0.0f));  // not finite: validity 0
+    EXPECT_EQ(lo, vec3(0.2f, 0.5f, 0.5f));
+    EXPECT_EQ(hi, vec3(0.5f, 0.7f, 0.5f));
+    EXPECT_TRUE(wrs_wide_box_applies(0.16f, 0.16f));
+    EXPECT_TRUE(wrs_wide_box_applies(0.0f, 0.16f)) << "an invalid candidate's box does not matter, but is wide";
+    EXPECT_FALSE(wrs_wide_box_applies(0.5f, 0.16f)) << "the inset's blend keeps its own box";
+    EXPECT_FALSE(wrs_wide_box_applies(1.0f, 0.16f));
 }
 
 }  // namespace
