@@ -771,11 +771,12 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
         const layers::ProjectionView& v = frame.layers[0].views[eye];
         const glm::vec4 offsets(v.sampleOffset, v.inset ? v.inset->sampleOffset : glm::vec2(0.0f));
         params_.eye[eye].motion_rect.z = composeParams_.eye[eye].landed.z != 0.0f ? 1u : 0u;
-        if (frame_.method == Method::Taau) {
+        // The wide views' quality (0 without quad views): taau's inset shows above it, and the wide
+        // box of a frame that merges every phase applies up to it.
+        params_.eye[eye].tile.w = composeParams_.eye[eye].wide_motion.w;
+        if (frame_.method == Method::Taau)
             params_.eye[eye].depth_range = glm::vec4(glm::vec2(params_.eye[eye].depth_range),
                                                      frame_.taau.maxWeight, frame_.taau.clipGamma);
-            params_.eye[eye].tile.w = composeParams_.eye[eye].wide_motion.w;  // where the inset shows: above it
-        }
         params_.eye[eye].motion_rect.w = offsets != lastOffsets_[eye] ? 1u : 0u;
         lastOffsets_[eye] = offsets;
     }
@@ -785,11 +786,8 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     if (frame_.method == Method::Wrs && frame_.phaseMerge && jittered &&
         (params_.eye[0].motion_rect.z != 0u || params_.eye[1].motion_rect.z != 0u)) {
         params_.tuning.w = 0.0f;
-        for (int eye = 0; eye < 2; ++eye) {
-            const gpu::ComposeEye& ce = composeParams_.eye[eye];
-            params_.eye[eye].depth_rect.w = gpu::wrs_wide_box_steps(glm::vec2(ce.landed));
-            params_.eye[eye].tile.w = ce.wide_motion.w;  // the wide views' quality: up to it, the wide box
-        }
+        for (int eye = 0; eye < 2; ++eye)
+            params_.eye[eye].depth_rect.w = gpu::wrs_wide_box_steps(glm::vec2(composeParams_.eye[eye].landed));
     }
     stats_.phaseMerge = params_.eye[0].depth_rect.w != 0u;
     // Sparse retention: this frame reads the held qualities at heldPrev_ and writes the other half.

@@ -146,7 +146,8 @@ struct CompositorConfig {
     /// Quad views, `wrs`, on a frame whose wide views were jittered: no floor rule, so that a pixel's
     /// wide candidates of equal quality merge over the phases, the history clipped to the wide view
     /// around the pixel (docs/retention.md "Every phase merged"), instead of each phase being taken
-    /// fresh. Such a frame skips no tile (sparse retention has nothing to skip there).
+    /// fresh. Such a frame skips no tile (sparse retention has nothing to skip there). It runs on the
+    /// frames that offer landed samples (landedSamples on), whose classes it merges too.
     bool phaseMerge = true;
     /// Method taau's parameters (docs/retention.md "The field's baseline: taau", chosen for its best
     /// JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's

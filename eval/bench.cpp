@@ -378,22 +378,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                         }
                         if (f < o.warmup) continue;
                         const FrameStats& st = run.comp->stats();
-                        run.acc.mono = st.monoViews;
-                        if (st.retained) {
-                            run.acc.retainShare += st.retainShare();
-                            run.acc.motionShare += st.motionShare();
-                            run.acc.shareFrames++;
-                        }
-                        if (st.gpu.valid) {
-                            run.acc.pyramid.push_back(st.gpu.pyramid);
-                            run.acc.foveate.push_back(st.gpu.foveate);
-                            run.acc.temporal.push_back(st.gpu.temporal);
-                            run.acc.total.push_back(st.gpu.total);
-                            if (copyFrame) {
-                                run.acc.copy.push_back(st.gpu.copy);
-                                run.acc.copyFloor.push_back(st.gpu.copyFloor);
-                            }
-                        }
+                        run.acc.addFrameStats(st, copyFrame);
                         if (!o.qualityMetrics) {
                             for (int e = 0; e < evalEyes; ++e) run.acc.shading += shading[e];
                             run.acc.n += evalEyes;

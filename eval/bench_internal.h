@@ -85,8 +85,28 @@ struct Accum {
     std::array<double, kEccBands.size() - 1> bandSe{}, bandPx{};  ///< squared error and pixels per band
     double jodNearMse = 0;  ///< near-gaze MSE summed over the JOD frames' eye-frames
     int jodN = 0;
-};
 
+    /// Adds a counted frame's statistics: the retention shares and the GPU times (the copy kernels'
+    /// on a frame that ran them, copyFrame).
+    void addFrameStats(const FrameStats& st, bool copyFrame) {
+        mono = st.monoViews;
+        if (st.retained) {
+            retainShare += st.retainShare();
+            motionShare += st.motionShare();
+            shareFrames++;
+        }
+        if (st.gpu.valid) {
+            pyramid.push_back(st.gpu.pyramid);
+            foveate.push_back(st.gpu.foveate);
+            temporal.push_back(st.gpu.temporal);
+            total.push_back(st.gpu.total);
+            if (copyFrame) {
+                copy.push_back(st.gpu.copy);
+                copyFloor.push_back(st.gpu.copyFloor);
+            }
+        }
+    }
+};
 
 }  // namespace wrsfov::eval::detail
 

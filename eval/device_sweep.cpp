@@ -165,22 +165,7 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
                         ++st.submitted;
                         if (f < o.warmup) continue;
                         const FrameStats& fs = run.comp->stats();
-                        run.acc.mono = fs.monoViews;
-                        if (fs.retained) {
-                            run.acc.retainShare += fs.retainShare();
-                            run.acc.motionShare += fs.motionShare();
-                            run.acc.shareFrames++;
-                        }
-                        if (fs.gpu.valid) {
-                            run.acc.pyramid.push_back(fs.gpu.pyramid);
-                            run.acc.foveate.push_back(fs.gpu.foveate);
-                            run.acc.temporal.push_back(fs.gpu.temporal);
-                            run.acc.total.push_back(fs.gpu.total);
-                            if (copyFrame) {
-                                run.acc.copy.push_back(fs.gpu.copy);
-                                run.acc.copyFloor.push_back(fs.gpu.copyFloor);
-                            }
-                        }
+                        run.acc.addFrameStats(fs, copyFrame);
                     }
                 }
                 double fovTotal = 0;

@@ -12,15 +12,17 @@ struct EyeParams {
     vec4 fov_tan;       // tan(angleLeft), tan(angleRight), tan(angleUp), tan(angleDown)
     vec4 gaze;          // xyz: unit gaze direction in eye space; w: fovea radius r_f in degrees
     uvec4 color_rect;   // x, y offset of the view in the colour image; z: 1 if sRGB-encoded; w: image layer
-    uvec4 depth_rect;   // x, y offset in the depth image; z: 1 if reversed-Z; w: pad
+    uvec4 depth_rect;   // x, y offset in the depth image; z: 1 if reversed-Z; w: `wrs` merging every phase:
+                        // the wide box's tap spacing (wrs_wide_box_steps); 0 otherwise
     uvec4 motion_rect;  // x, y offset in the motion image; z: 1 where the compose pass wrote landed
                         // samples (or taau's gathered ones); w: 1 where the views' sample offsets moved
     vec4 depth_range;   // near, far (may be +inf), zw: method taau's weight cap and clip box (sigmas)
     vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion);
                         // w: the motion reach in pixels (wrs_within_reach; +inf: no limit)
     vec4 tile;          // the classification's view constants (wrs_tile_geometry): xy: a pixel's width
-                        // and height on the image plane (tangent units); z: rho (degrees); w: method taau on
-                        // quad views: the wide views' quality (above it, the inset shows)
+                        // and height on the image plane (tangent units); z: rho (degrees); w: quad views:
+                        // the wide views' quality (taau: above it the inset shows; wrs merging every
+                        // phase: up to it a candidate takes the wide box); 0 otherwise
     uvec4 ref_rect;     // evaluation only (the oracles with submitted foveation): x, y offset of the
                         // full-resolution reference in its image; z: its encoding (WRS_INPUT_*); w: layer
 };
