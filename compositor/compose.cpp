@@ -7,6 +7,9 @@
 namespace wrsfov {
 
 namespace {
+// The compose pass's pipelines among the context's shared ones (vk::Context::sharedPipeline).
+constexpr uint32_t kSharedPipelineTag = 2;
+
 enum Binding : uint32_t {
     kParams = 0,
     kSrcColor = 1,
@@ -59,23 +62,26 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
 }
 
 VkPipeline ComposePass::pipeline(uint32_t kind, bool depth, bool motion) {
-    vk::Pipeline& slot = pipelines_[(kind - 1) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
-    if (slot) return slot.get();
+    VkPipeline& slot = pipelines_[(kind - 1) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
+    if (slot) return slot;
     const uint32_t constants[3] = {kind, depth, motion};
-    VkSpecializationMapEntry entries[3];
-    for (uint32_t i = 0; i < 3; ++i) entries[i] = {i, i * 4, 4};
-    VkSpecializationInfo spec{3, entries, sizeof(constants), constants};
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = module_.get();
-    ci.stage.pName = "main";
-    ci.stage.pSpecializationInfo = &spec;
-    ci.layout = pipelineLayout_.get();
-    VkPipeline p;
-    VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
-    slot = vk::Pipeline(ctx_.device(), p);
-    return p;
+    // Shared on the context: every compose pass defines its pipeline layout the same way (create).
+    slot = ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion}, [&] {
+        VkSpecializationMapEntry entries[3];
+        for (uint32_t i = 0; i < 3; ++i) entries[i] = {i, i * 4, 4};
+        VkSpecializationInfo spec{3, entries, sizeof(constants), constants};
+        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        ci.stage.module = module_.get();
+        ci.stage.pName = "main";
+        ci.stage.pSpecializationInfo = &spec;
+        ci.layout = pipelineLayout_.get();
+        VkPipeline p;
+        VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
+        return p;
+    });
+    return slot;
 }
 
 Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,

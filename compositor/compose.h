@@ -47,7 +47,7 @@ private:
     vk::DescriptorPool pool_;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
     vk::ShaderModule module_;
-    std::array<vk::Pipeline, 8> pipelines_;  // kind - 1, depth, motion
+    std::array<VkPipeline, 8> pipelines_{};  // kind - 1, depth, motion; the context's (vk::Context::sharedPipeline)
     vk::Buffer params_;
     VkBuffer srgbTable_ = VK_NULL_HANDLE;
     vk::Image color_, depth_, motion_;

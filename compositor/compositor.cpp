@@ -28,6 +28,9 @@ using namespace detail;
 
 namespace {
 
+// The compositor's pipelines among the context's shared ones (vk::Context::sharedPipeline).
+constexpr uint32_t kSharedPipelineTag = 1;
+
 enum Binding : uint32_t {
     kFrame = 0,
     kColor = 1,
@@ -384,20 +387,26 @@ VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstant
     std::array<uint32_t, 10> key{uint32_t(shader)};
     std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
-    if (it != pipelines_.end()) return it->second.get();
-    VkSpecializationMapEntry entries[std::tuple_size_v<decltype(constants)>];
-    for (uint32_t i = 0; i < constants.size(); ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-    VkSpecializationInfo spec{uint32_t(constants.size()), entries, sizeof(constants), constants.data()};
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = modules_[shader].get();
-    ci.stage.pName = "main";
-    ci.stage.pSpecializationInfo = &spec;
-    ci.layout = shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get();
-    VkPipeline p;
-    VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
-    return pipelines_.emplace(key, vk::Pipeline(ctx_.device(), p)).first->second.get();
+    if (it != pipelines_.end()) return it->second;
+    // Shared on the context: every compositor defines its two pipeline layouts the same way (init).
+    std::vector<uint32_t> shared{kSharedPipelineTag};
+    shared.insert(shared.end(), key.begin(), key.end());
+    const VkPipeline made = ctx_.sharedPipeline(shared, [&] {
+        VkSpecializationMapEntry entries[std::tuple_size_v<decltype(constants)>];
+        for (uint32_t i = 0; i < constants.size(); ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+        VkSpecializationInfo spec{uint32_t(constants.size()), entries, sizeof(constants), constants.data()};
+        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        ci.stage.module = modules_[shader].get();
+        ci.stage.pName = "main";
+        ci.stage.pSpecializationInfo = &spec;
+        ci.layout = shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get();
+        VkPipeline p;
+        VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
+        return p;
+    });
+    return pipelines_.emplace(key, made).first->second;
 }
 
 Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {

@@ -448,7 +448,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 10>, vk::Pipeline> pipelines_;
+    std::map<std::array<uint32_t, 10>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;

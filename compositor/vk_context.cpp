@@ -348,6 +348,7 @@ Result<std::unique_ptr<Context>> Context::adopt(const AdoptedDevice& d) {
 Context::~Context() {
     if (device_) {
         vkDeviceWaitIdle(device_);
+        for (auto& [key, p] : pipelines_) vkDestroyPipeline(device_, p, nullptr);
         if (fence_) vkDestroyFence(device_, fence_, nullptr);
         if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
         if (!adopted_) vkDestroyDevice(device_, nullptr);
@@ -468,6 +469,18 @@ Status Context::createViews(Image& img, VkFormat viewFormat) {
     if (VkResult r = vkCreateImageView(device_, &vci, nullptr, &img.arrayView_); r != VK_SUCCESS)
         return vkError("vkCreateImageView", r);
     return {};
+}
+
+VkPipeline Context::sharedPipeline(const std::vector<uint32_t>& key, const std::function<VkPipeline()>& make) {
+    std::lock_guard lock(pipelinesMutex_);
+    auto it = pipelines_.find(key);
+    if (it == pipelines_.end()) it = pipelines_.emplace(key, make()).first;
+    return it->second;
+}
+
+size_t Context::sharedPipelineCount() const {
+    std::lock_guard lock(pipelinesMutex_);
+    return pipelines_.size();
 }
 
 ShaderModule Context::createShaderModule(const uint32_t* code, size_t bytes) {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <initializer_list>
 #include <memory>
@@ -236,6 +237,15 @@ public:
     /// the Image destroys its views only.
     Result<Image> wrapImage(VkImage image, const ImageCreateInfo& info, VkFormat viewFormat = VK_FORMAT_UNDEFINED);
     ShaderModule createShaderModule(const uint32_t* code, size_t bytes);
+    /// A compute pipeline shared by everything on this context that makes the same one: `make` runs
+    /// only on the first request for `key` (the maker's tag, shader and specialization constants; the
+    /// maker must create it with a pipeline layout it always defines the same way, so that any of its
+    /// instances can bind it), and the pipeline lives until the context is destroyed. A compositor
+    /// made after another on the context then compiles only the variants none has used before (on
+    /// lavapipe each takes ~70 ms, most of a short test's time). Thread-safe.
+    VkPipeline sharedPipeline(const std::vector<uint32_t>& key, const std::function<VkPipeline()>& make);
+    /// How many pipelines sharedPipeline has made on this context.
+    size_t sharedPipelineCount() const;
     DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
     /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
     PipelineLayout createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes, VkShaderStageFlags pushStages);
@@ -296,6 +306,8 @@ private:
     bool adopted_ = false;  // instance and device belong to the caller of adopt()
     std::atomic<uint32_t> validationErrors_{0};
     std::atomic<uint32_t> validationWarnings_{0};
+    mutable std::mutex pipelinesMutex_;
+    std::map<std::vector<uint32_t>, VkPipeline> pipelines_;  // sharedPipeline's, destroyed with the context
     mutable std::mutex messagesMutex_;
     std::vector<std::string> messages_;
     FaultInjection faults_;
