@@ -13,18 +13,22 @@ cd "$(dirname "$0")/.."
 fast=0
 [ "${1:-}" = "--fast" ] && fast=1
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+start=$(date +%s)
+at() { echo "(at $(($(date +%s) - start)) s)"; }
 
-echo "== [1/3] release build, validation layer on (with synchronization validation)"
+echo "== [1/3] release build, validation layer on (with synchronization validation) $(at)"
 bash tools/setup.sh build
+echo "== release suites $(at)"
 # Synchronization validation finds missing barriers that a CPU driver, which runs the commands in
 # order, never shows (it costs this stage no measurable time).
 WRSFOV_VALIDATION=1 VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT \
     ctest --test-dir build --output-on-failure -j 2 --timeout 600
 [ $fast -eq 1 ] && exit 0
 
-echo "== [2/3] AddressSanitizer + UndefinedBehaviorSanitizer build"
+echo "== [2/3] AddressSanitizer + UndefinedBehaviorSanitizer build $(at)"
 # -O1, as the sanitizers' documentation suggests: 35-45 % less compile time than -O2 under
-# instrumentation (eval/bench.cpp 12.8 s against 23.0 s), the largest part of this stage.
+# instrumentation (eval/bench.cpp 12.8 s against 23.0 s), the largest part of this stage; the tests' and
+# tools' own code at -O0 there (tests/CMakeLists.txt, tools/CMakeLists.txt).
 bash tools/setup.sh build-asan -DWRSFOV_SANITIZE=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
 # Any ASan report or any undefined behaviour fails. Leak checking is on for the suites that do not
@@ -32,6 +36,7 @@ bash tools/setup.sh build-asan -DWRSFOV_SANITIZE=ON -DCMAKE_CXX_FLAGS_RELWITHDEB
 # Vulkan suites and the command-line scripts that run Vulkan tools it is off: the loader unloads
 # the driver at vkDestroyInstance, so the driver's own leaks can only be reported from an
 # "<unknown module>" that no suppression can name.
+echo "== sanitizer suites $(at)"
 asan="abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export LSAN_OPTIONS="suppressions=$(pwd)/tools/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
@@ -65,6 +70,6 @@ if [ "$gpu_rc" -ne 0 ] || [ "$scripts_rc" -ne 0 ]; then
   exit 1
 fi
 
-echo "== [3/3] fuzz targets, ${WRSFOV_FUZZ_SECONDS:-30} s each"
+echo "== [3/3] fuzz targets, ${WRSFOV_FUZZ_SECONDS:-30} s each $(at)"
 bash tools/fuzz.sh "${WRSFOV_FUZZ_SECONDS:-30}"
-echo "== all test stages passed"
+echo "== all test stages passed $(at)"

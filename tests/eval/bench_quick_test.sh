@@ -1,11 +1,12 @@
 #!/bin/sh
 # wrsfov-bench --quick end to end: every output file is written and the table has every cell.
-# usage: bench_quick_test.sh WRSFOV_BENCH OUT_DIR
+# usage: bench_quick_test.sh WRSFOV_BENCH OUT_DIR [MORE wrsfov-bench OPTIONS]
 set -eu
 bench="$1"
 out="$2"
+shift 2
 rm -rf "$out"
-"$bench" --quick --out "$out" > "$out.log" 2>&1 || { cat "$out.log"; exit 1; }
+"$bench" --quick --out "$out" "$@" > "$out.log" 2>&1 || { cat "$out.log"; exit 1; }
 grep -q "cell 4/4" "$out.log" || { echo "no progress lines"; cat "$out.log"; exit 1; }
 for f in results.csv table.md jod_vs_time_text_mip.png error_vs_time_text_mip.png error_vs_time_atrium_mip.png error_vs_fovea_text_mip.png \
          error_vs_fovea_atrium_mip.png eta_text_mip.png eta_atrium_mip.png crops_text_mip_5.png crops_atrium_mip_5.png; do
