@@ -103,6 +103,19 @@ struct RandomScene {
     /// Motion: a random global shift (integer and fractional) plus per-patch jitter, some off-screen.
     HostImage motion(layers::Format f, uint32_t w, uint32_t h);
     glm::vec3 gaze(const layers::Fov& fov);
+    /// Both eyes of an HMD frame (hmdFov): sRGB colour, R32F depth, RGBA16F motion and this scene's
+    /// gaze, valid or not.
+    std::array<EyeFrame, 2> stereoFrame(uint32_t w, uint32_t h, bool gazeValid = true) {
+        std::array<EyeFrame, 2> eyes;
+        for (int e = 0; e < 2; ++e) {
+            eyes[e].fov = hmdFov(e);
+            eyes[e].color = color(layers::Format::RGBA8_SRGB, w, h);
+            eyes[e].depth = depth(layers::Format::R32F, w, h);
+            eyes[e].motion = motion(layers::Format::RGBA16F, w, h);
+            eyes[e].gaze = {gaze(eyes[e].fov), gazeValid, 1.0f};
+        }
+        return eyes;
+    }
 };
 
 }  // namespace wrsfov::test

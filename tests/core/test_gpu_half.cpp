@@ -39,14 +39,7 @@ TEST_F(HardwareHalf, SameBitsAsTheHandConversion) {
             StereoApp appB(**b, W, H, layers::Format::RGBA8_SRGB, layers::Format::R32F, layers::Format::RGBA16F);
             RandomScene scene(77);
             for (uint64_t n = 1; n <= 4; ++n) {
-                std::array<EyeFrame, 2> eyes;
-                for (int e = 0; e < 2; ++e) {
-                    eyes[e].fov = hmdFov(e);
-                    eyes[e].color = scene.color(layers::Format::RGBA8_SRGB, W, H);
-                    eyes[e].depth = scene.depth(layers::Format::R32F, W, H);
-                    eyes[e].motion = scene.motion(layers::Format::RGBA16F, W, H);
-                    eyes[e].gaze = {scene.gaze(eyes[e].fov), n != 3, 1.0f};
-                }
+                const std::array<EyeFrame, 2> eyes = scene.stereoFrame(W, H, n != 3);
                 ASSERT_TRUE(appA.submit(n, eyes).ok());
                 ASSERT_TRUE(appB.submit(n, eyes).ok());
                 const std::string what = "frame " + std::to_string(n);

@@ -20,17 +20,7 @@ TEST_F(SharedPipelines, MadeOncePerContextAndUsedByEveryCompositor) {
     cfg.foveation = FoveationMode::Mip;
     cfg.seed = 5;
     RandomScene scene(31);
-    auto frame = [&] {
-        std::array<EyeFrame, 2> eyes;
-        for (int e = 0; e < 2; ++e) {
-            eyes[e].fov = hmdFov(e);
-            eyes[e].color = scene.color(layers::Format::RGBA8_SRGB, W, H);
-            eyes[e].depth = scene.depth(layers::Format::R32F, W, H);
-            eyes[e].motion = scene.motion(layers::Format::RGBA16F, W, H);
-            eyes[e].gaze = {scene.gaze(eyes[e].fov), true, 1.0f};
-        }
-        return eyes;
-    };
+    auto frame = [&] { return scene.stereoFrame(W, H); };
     // A context of its own, so that the counts start at zero whatever ran before in this program.
     auto own = vk::Context::create();
     ASSERT_TRUE(own.ok()) << own.error().message;

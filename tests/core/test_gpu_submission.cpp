@@ -64,17 +64,7 @@ protected:
         ASSERT_EQ(vkResetFences(context().device(), 1, &fence_), VK_SUCCESS);
     }
 
-    static std::array<EyeFrame, 2> frame(RandomScene& scene) {
-        std::array<EyeFrame, 2> eyes;
-        for (int e = 0; e < 2; ++e) {
-            eyes[e].fov = hmdFov(e);
-            eyes[e].color = scene.color(layers::Format::RGBA8_SRGB, W, H);
-            eyes[e].depth = scene.depth(layers::Format::R32F, W, H);
-            eyes[e].motion = scene.motion(layers::Format::RGBA16F, W, H);
-            eyes[e].gaze = {scene.gaze(eyes[e].fov), true, 1.0f};
-        }
-        return eyes;
-    }
+    static std::array<EyeFrame, 2> frame(RandomScene& scene) { return scene.stereoFrame(W, H); }
 
     static void expectSame(Compositor& a, Compositor& b, const std::string& what) {
         expectSameOutputs(a, b, what);
