@@ -66,21 +66,8 @@ VkPipeline ComposePass::pipeline(uint32_t kind, bool depth, bool motion) {
     if (slot) return slot;
     const uint32_t constants[3] = {kind, depth, motion};
     // Shared on the context: every compose pass defines its pipeline layout the same way (create).
-    slot = ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion}, [&] {
-        VkSpecializationMapEntry entries[3];
-        for (uint32_t i = 0; i < 3; ++i) entries[i] = {i, i * 4, 4};
-        VkSpecializationInfo spec{3, entries, sizeof(constants), constants};
-        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        ci.stage.module = module_.get();
-        ci.stage.pName = "main";
-        ci.stage.pSpecializationInfo = &spec;
-        ci.layout = pipelineLayout_.get();
-        VkPipeline p;
-        VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
-        return p;
-    });
+    slot = ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion},
+                               [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); });
     return slot;
 }
 

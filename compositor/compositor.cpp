@@ -392,19 +392,9 @@ VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstant
     std::vector<uint32_t> shared{kSharedPipelineTag};
     shared.insert(shared.end(), key.begin(), key.end());
     const VkPipeline made = ctx_.sharedPipeline(shared, [&] {
-        VkSpecializationMapEntry entries[std::tuple_size_v<decltype(constants)>];
-        for (uint32_t i = 0; i < constants.size(); ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
-        VkSpecializationInfo spec{uint32_t(constants.size()), entries, sizeof(constants), constants.data()};
-        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        ci.stage.module = modules_[shader].get();
-        ci.stage.pName = "main";
-        ci.stage.pSpecializationInfo = &spec;
-        ci.layout = shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get();
-        VkPipeline p;
-        VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &p));
-        return p;
+        return ctx_.createComputePipeline(
+            modules_[shader].get(),
+            shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get(), constants);
     });
     return pipelines_.emplace(key, made).first->second;
 }

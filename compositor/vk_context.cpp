@@ -478,6 +478,23 @@ VkPipeline Context::sharedPipeline(const std::vector<uint32_t>& key, const std::
     return it->second;
 }
 
+VkPipeline Context::createComputePipeline(VkShaderModule module, VkPipelineLayout layout,
+                                          std::span<const uint32_t> constants) {
+    std::vector<VkSpecializationMapEntry> entries(constants.size());
+    for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
+    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), constants.size_bytes(), constants.data()};
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module;
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = &spec;
+    ci.layout = layout;
+    VkPipeline p;
+    VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &p));
+    return p;
+}
+
 size_t Context::sharedPipelineCount() const {
     std::lock_guard lock(pipelinesMutex_);
     return pipelines_.size();

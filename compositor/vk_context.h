@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <initializer_list>
 #include <memory>
 #include <mutex>
@@ -244,6 +245,10 @@ public:
     /// made after another on the context then compiles only the variants none has used before (on
     /// lavapipe each takes ~70 ms, most of a short test's time). Thread-safe.
     VkPipeline sharedPipeline(const std::vector<uint32_t>& key, const std::function<VkPipeline()>& make);
+    /// A compute pipeline of `module`'s "main" with `constants` as specialization constants 0, 1, ...
+    /// (32-bit each), for `layout`; the caller owns it.
+    VkPipeline createComputePipeline(VkShaderModule module, VkPipelineLayout layout,
+                                     std::span<const uint32_t> constants);
     /// How many pipelines sharedPipeline has made on this context.
     size_t sharedPipelineCount() const;
     DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
