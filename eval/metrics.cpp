@@ -10,6 +10,7 @@
 #include <opencv2/quality/qualityssim.hpp>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "shaders/wrs_common.h"
@@ -524,8 +525,11 @@ FlipResult flip(const cv::Mat& reference, const cv::Mat& test, const FlipOptions
     cv::Mat lum_ref, lum_tst;
     ref[0].convertTo(lum_ref, CV_64F, 1.0 / 116.0, 16.0 / 116.0);
     tst[0].convertTo(lum_tst, CV_64F, 1.0 / 116.0, 16.0 / 116.0);
-    auto [edge_ref, point_ref] = features(lum_ref, k);
-    auto [edge_tst, point_tst] = features(lum_tst, k);
+    // Named matrices rather than structured bindings: the row lambda below captures them, which
+    // clang before 16 refuses for bindings.
+    cv::Mat edge_ref, point_ref, edge_tst, point_tst;
+    std::tie(edge_ref, point_ref) = features(lum_ref, k);
+    std::tie(edge_tst, point_tst) = features(lum_tst, k);
 
     FlipResult result;
     result.map.create(p.ref.size(), CV_32F);

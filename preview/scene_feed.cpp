@@ -39,7 +39,7 @@ SceneKind nextScene(SceneKind s) {
 
 Result<std::unique_ptr<SceneFeed>> SceneFeed::create(vk::Context& ctx, const SceneFeedOptions& o) {
     if (o.width < 32 || o.height < 32) return Error{1, "scene: images must be at least 32x32 per eye"};
-    std::unique_ptr<SceneFeed> f(new SceneFeed(ctx, o));
+    std::unique_ptr<SceneFeed> f(new SceneFeed(o));
     if (o.scene == SceneKind::Text) {
         scenes::TextOptions to;
         to.width = o.width;

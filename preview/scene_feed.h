@@ -53,10 +53,9 @@ public:
     scenes::TextLayout textLayout() const;
 
 private:
-    SceneFeed(vk::Context& ctx, const SceneFeedOptions& o) : ctx_(ctx), options_(o) {}
+    explicit SceneFeed(const SceneFeedOptions& o) : options_(o) {}
     Result<HostStereoApp*> app(Compositor& target);
 
-    vk::Context& ctx_;
     SceneFeedOptions options_;
     std::unique_ptr<scenes::TextScene> text_;
     std::unique_ptr<scenes::AtriumRenderer> atrium_;

@@ -67,6 +67,9 @@ TEST_P(Rounding, EveryPermittedRoundingAgreesWithThisDevice) {
 
 TEST_P(Rounding, OddSizesToo) {
     std::vector<Variant> devices = permittedDevices();
+    // Under the sanitizers (host code checked) the last model alone: it takes each permitted result
+    // of every clause per value, so every path of the models' code runs.
+    if (kSanitized) devices.erase(devices.begin(), devices.end() - 1);
     for (auto [w, h] : {std::pair{87u, 69u}, std::pair{33u, 17u}}) {
         for (Variant& v : devices) v.t = {}, v.rt = {}, v.st = {};
         runAgainstReferences(GetParam(), w, h, 6, devices);

@@ -34,7 +34,8 @@ void runAgainstReference(const Case& c, uint32_t W, uint32_t H, int frames, bool
         if (!isOracle(c.method) && c.mode != FoveationMode::None) {
             EXPECT_GT(rt.outcomes[gpu::WRS_OUT_FLOOR], rt.decisions / 200) << "floor rule";
             if (c.rule == EqualQuality::Merge) {
-                EXPECT_GE(rt.outcomes[gpu::WRS_OUT_MERGED], 20u) << "merges above the floor";
+                // One merge per three frames (20 over the sixty).
+                EXPECT_GE(rt.outcomes[gpu::WRS_OUT_MERGED], uint64_t(frames) / 3) << "merges above the floor";
             }
         }
     }
@@ -47,8 +48,10 @@ void runAgainstReference(const Case& c, uint32_t W, uint32_t H, int frames, bool
 }
 
 TEST_P(GpuVsCpu, SixtyRandomFramesMatchReference) {
-    // 88 x 72: not multiples of the 8x8 workgroup: exercises bounds checks.
-    runAgainstReference(GetParam(), 88, 72, 60, true);
+    // 88 x 72: not multiples of the 8x8 workgroup: exercises bounds checks. Under the sanitizers, which
+    // check the host code, 20 frames: four colour and two depth changes (the content's periods, vs_cpu.cpp)
+    // take every host path the sixty take, at a third of the instrumented reference's time.
+    runAgainstReference(GetParam(), 88, 72, kSanitized ? 20 : 60, true);
 }
 
 // Sizes whose levels are odd where the mip pyramid's groups clamp their taps: level 0 (87, 69, 33),

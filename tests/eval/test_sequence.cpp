@@ -91,7 +91,8 @@ void writeTestExr(const std::string& path, int w, int h, const std::vector<ExrCh
             for (int x = 0; x < sw; ++x) {
                 const float v = value(int(c), x, y);
                 char* p = planes[c].data() + size * (std::size_t(y) * std::size_t(sw) + std::size_t(x));
-                const uint32_t u = uint32_t(v);
+                // Converted only for a UINT channel: a float channel may hold NaN or values beyond uint32.
+                const uint32_t u = type == Imf::UINT ? uint32_t(v) : 0u;
                 const half hv(v);
                 std::memcpy(p, type == Imf::FLOAT ? static_cast<const void*>(&v)
                                : type == Imf::UINT ? static_cast<const void*>(&u)
