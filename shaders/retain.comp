@@ -118,6 +118,9 @@ float retain_pixel(uint eye, uvec2 p) {
     uvec4 packed_r = wrs_pack_tracked(r, wrs_offset_dither(frame.size.z, frame.size.w));
     if (!IN_PLACE || any(notEqual(packed_r, res_prev[idx]))) res_cur[idx] = packed_r;
     vec3 shown = kept ? h_shown : r.color;
+    // Landed display (wrs_landed_shown): under motion, one reconstruction of the landed samples kept.
+    if (FOV_MODE == WRS_FOV_SUBMITTED && ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE) && c.moved && on_screen)
+        shown = wrs_landed_shown(tap[0], tap[1], tap[2], tap[3], tap_w, kept, gap ? hg : h, r, ep.tile.w, c, shown);
     store_output(eye, p, shown);
     if (TRACK_BIRTH) {
         vec4 b = vec4(ref.rgb, 0.0);

@@ -1152,6 +1152,58 @@ WRS_FN bool wrs_gap_shows(Tracked h, RetainInput c) {
     return c.q < h.q * (1.0f - WRS_Q_EQUAL);
 }
 
+// Landed display (docs/retention.md "Landed display"). Under motion a pixel of the wide views shows
+// either the landed samples it keeps (each moved by the tracked lookup) or, where none is inside its
+// footprint, the wide candidate: as the lattice of kept samples drifts over the pixels, a pixel turns
+// from one to the other and its colour jumps between two reconstructions (on the headset cell at 0.25
+// density, 13 % of the stable pixel pairs, half of `wrs`'s temporal instability). So where landed
+// samples are kept, what is shown is one reconstruction of them, continuous in where they sit: the
+// tent-weighted mean (max(0, 1 - |d|) per axis, wrs_shown_weight) of the landed samples of the 2x2
+// lookup, each also weighted by its quality. Shown at a pixel that keeps a landed sample, and at one
+// that shows a wide sample where a landed tap of a sharper class passes the change test against the
+// candidate (as a gap's does, wrs_gap_shows). Display only: the reservoirs are unchanged.
+//
+// A landed tap's contribution to acc = (sum w q c, sum w q), for a display weight w (wrs_shown_weight).
+WRS_FN void wrs_landed_add(WRS_INOUT(vec4) acc, uvec4 pk, float w) {
+    if (!(w > 0.0f)) return;
+    Tracked t = wrs_unpack_tracked(pk);
+    if ((t.flags & WRS_FLAG_LANDED) == 0u) return;
+    WRS_PRECISE float wq = w * t.q;
+    acc += vec4(t.color.x * wq, t.color.y * wq, t.color.z * wq, wq);
+}
+// Of the taps t0..t3 with display weights w, the one of the highest quality above q, the first in tap
+// order among equals; 4 where none is.
+WRS_FN uint wrs_landed_fill_tap(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, vec4 w, float q) {
+    uint best = 4u;
+    float bq = q * (1.0f + WRS_Q_EQUAL);
+    if (w.x > 0.0f && wrs_packed_quality(t0) > bq) { best = 0u; bq = wrs_packed_quality(t0); }
+    if (w.y > 0.0f && wrs_packed_quality(t1) > bq) { best = 1u; bq = wrs_packed_quality(t1); }
+    if (w.z > 0.0f && wrs_packed_quality(t2) > bq) { best = 2u; bq = wrs_packed_quality(t2); }
+    if (w.w > 0.0f && wrs_packed_quality(t3) > bq) { best = 3u; bq = wrs_packed_quality(t3); }
+    return best;
+}
+// The colour shown at a pixel of a frame with landed samples, under motion (the taps were read), from
+// the colour the rule would show (`shown`): `kept` whether a sharper sample is shown (the rule kept h,
+// or a gap shows h), r the sample stored, q_wide the wide views' quality, c the candidate.
+WRS_FN vec3 wrs_landed_shown(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, vec4 w, bool kept, Tracked h, Tracked r,
+                             float q_wide, RetainInput c, vec3 shown) {
+    bool wide_px = !kept && r.q <= q_wide * (1.0f + WRS_Q_EQUAL);
+    bool landed_px = kept && (h.flags & WRS_FLAG_LANDED) != 0u;
+    if (!(wide_px || landed_px)) return shown;
+    if (wide_px) {
+        uint k = wrs_landed_fill_tap(t0, t1, t2, t3, w, r.q);
+        if (k == 4u) return shown;
+        uvec4 tk = k == 0u ? t0 : k == 1u ? t1 : k == 2u ? t2 : t3;
+        if (!wrs_gap_shows(wrs_unpack_tracked(tk), c)) return shown;
+    }
+    vec4 acc = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    wrs_landed_add(acc, t0, w.x);
+    wrs_landed_add(acc, t1, w.y);
+    wrs_landed_add(acc, t2, w.z);
+    wrs_landed_add(acc, t3, w.w);
+    return wrs_shown_end(acc, shown);
+}
+
 // Outcomes of wrs_retain, for statistics and tests.
 const uint WRS_OUT_FRESH = 0u;     // no usable history: the candidate
 const uint WRS_OUT_CHANGED = 1u;   // the change test flushed the history: the candidate

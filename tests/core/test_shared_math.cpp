@@ -1051,6 +1051,59 @@ TEST(TrackedLookup, AGapBetweenUnevenlyDriftedSamplesShowsTheNearest) {
     EXPECT_FALSE(wrs_track_gap(lone, h, d, q));
 }
 
+TEST(Retention, LandedDisplayIsContinuousAsASampleCrossesIntoTheNextPixel) {
+    // wrs_landed_shown: under motion a landed sample A drifts from pixel p's footprint into the next
+    // one's. Inside, p keeps it; just outside, p's history is its wide sample. Either way p shows the
+    // quality-weighted tent mean of the landed taps of its 2x2 lookup, so its colour moves with A's
+    // weight (1 - |dx|) instead of jumping to the wide view's colour.
+    const uvec2 p(10u, 10u), size(64u, 64u);
+    vec2 pos;
+    ivec2 base;
+    ASSERT_TRUE(wrs_track_start(p, size, vec3(0.3f, 0.0f, 0.0f), kInf, pos, base));
+    ASSERT_EQ(base, ivec2(10, 10));
+    const float qWide = 0.0625f;
+    auto landed = [](float colour, float dx) {
+        Tracked t = tracked(vec3(colour), 0.5f, 50.0f);
+        t.flags = WRS_FLAG_LANDED;
+        t.d = vec2(dx, 0.0f);
+        return wrs_pack_tracked(t, vec2(0.5f));
+    };
+    // Tap 0 (pixel 10,10) holds B, 0.7 px left of p's centre; tap 1 (11,10) holds A; the row below none.
+    const uvec4 B = landed(0.2f, -0.4f);
+    const Tracked wide = tracked(vec3(0.5f), qWide, 50.0f);
+    RetainInput c = retainInput(vec3(0.5f), qWide, 50.0f, 0.0f, true);
+    auto shownWith = [&](float dA, bool inside) {
+        const uvec4 A = landed(0.8f, dA);
+        const uvec4 taps[4] = {B, A, uvec4(0u), uvec4(0u)};
+        vec4 w;
+        for (uint k = 0; k < 4u; ++k)
+            w[int(k)] = wrs_shown_weight(taps[k], uvec2(base) + uvec2(k & 1u, k >> 1u), pos, 0.0f, 0.0f, 0.05f);
+        const Tracked h = wrs_unpack_tracked(A);
+        EXPECT_EQ(wrs_track_inside(wrs_track_offset(uvec2(11u, 10u), h.d, pos)), inside);
+        // Inside: the rule keeps A (stored as it is). Outside: p holds its wide sample, shown as it is.
+        return inside ? wrs_landed_shown(taps[0], taps[1], taps[2], taps[3], w, true, h, h, qWide, c, h.color)
+                      : wrs_landed_shown(taps[0], taps[1], taps[2], taps[3], w, false, wide, wide, qWide, c, wide.color);
+    };
+    const vec3 in = shownWith(-0.21f, true), out = shownWith(-0.19f, false);  // A 0.49 px, then 0.51 px right
+    const float wB = 0.3f, wIn = 0.51f, wOut = 0.49f;
+    EXPECT_NEAR(in.x, (0.2f * wB + 0.8f * wIn) / (wB + wIn), 2e-3f);
+    EXPECT_NEAR(out.x, (0.2f * wB + 0.8f * wOut) / (wB + wOut), 2e-3f);
+    EXPECT_LT(std::abs(in.x - out.x), 0.01f) << "a step of 0.02 px moves the colour a little";
+    EXPECT_GT(std::abs(out.x - 0.5f), 0.05f) << "not the wide view's colour";
+    // A landed tap that fails the change test against the candidate is not shown at a wide pixel.
+    RetainInput other = retainInput(vec3(0.5f), qWide, 80.0f, 0.0f, true);
+    const uvec4 A = landed(0.8f, -0.19f);
+    const vec4 w(wrs_shown_weight(B, uvec2(base), pos, 0.0f, 0.0f, 0.05f),
+                 wrs_shown_weight(A, uvec2(base) + uvec2(1u, 0u), pos, 0.0f, 0.0f, 0.05f), 0.0f, 0.0f);
+    EXPECT_EQ(wrs_landed_shown(B, A, uvec4(0u), uvec4(0u), w, false, wide, wide, qWide, other, wide.color), wide.color);
+    // Nor where none of the taps is landed: an inset sample (quality 1, not flagged) leaves the pixel as it was.
+    Tracked inset = tracked(vec3(0.9f), 1.0f, 50.0f);
+    const uvec4 I = wrs_pack_tracked(inset, vec2(0.5f));
+    const vec4 wi(0.0f, wrs_shown_weight(I, uvec2(base) + uvec2(1u, 0u), pos, 0.0f, 0.0f, 0.05f), 0.0f, 0.0f);
+    EXPECT_EQ(wrs_landed_shown(uvec4(0u), I, uvec4(0u), uvec4(0u), wi, false, wide, wide, qWide, c, wide.color),
+              wide.color);
+}
+
 TEST(SparseRetention, FloorSampleIsAFloorQualitySampleAtThePixelCentre) {
     // What a lookup reads from a tile that stored nothing: valid, of the floor quality, at offset 0,
     // exactly as a fresh floor-quality candidate is stored (the lookup's preference uses only these).
