@@ -1223,17 +1223,23 @@ TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
 TEST(Landed, QualityIsTheClassOfTheOverlapOfItsFootprintWithThePixel) {
     EXPECT_EQ(wrs_landed_overlap(vec2(0.0f)), 1.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(0.25f, 0.0f)), 0.75f);
-    EXPECT_EQ(wrs_landed_overlap(vec2(-0.25f, 0.5f)), 0.0f);
+    // The footprint, one pixel wide, reaches into the neighbouring pixels: next door it still overlaps.
+    EXPECT_EQ(wrs_landed_overlap(vec2(-0.25f, 0.5f)), 0.375f);
     EXPECT_FLOAT_EQ(wrs_landed_overlap(vec2(-0.3f, 0.2f)), 0.7f * 0.8f);
     EXPECT_FLOAT_EQ(wrs_landed_overlap(vec2(0.49f, -0.49f)), 0.51f * 0.51f);
-    EXPECT_EQ(wrs_landed_overlap(vec2(0.5f, 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(0.5f, 0.0f)), 0.5f);
+    EXPECT_FLOAT_EQ(wrs_landed_overlap(vec2(0.8f, -0.1f)), 0.2f * 0.9f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(1.0f, 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_overlap(vec2(0.0f, -1.5f)), 0.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(std::nanf(""), 0.0f)), 0.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(0.0f, std::numeric_limits<float>::infinity())), 0.0f);
     EXPECT_EQ(wrs_landed_quality(vec2(0.0f)), 1.0f);
     EXPECT_EQ(wrs_landed_quality(vec2(0.25f, 0.0f)), 0.75f);
     EXPECT_EQ(wrs_landed_quality(vec2(-0.3f, 0.2f)), 0.5f);     // 0.56
     EXPECT_EQ(wrs_landed_quality(vec2(0.49f, -0.49f)), 0.25f);  // 0.26
-    EXPECT_EQ(wrs_landed_quality(vec2(0.5f, 0.0f)), 0.0f);
+    EXPECT_EQ(wrs_landed_quality(vec2(0.5f, 0.0f)), 0.5f);   // next door, half the pixel covered
+    EXPECT_EQ(wrs_landed_quality(vec2(0.7f, 0.0f)), 0.25f);  // 0.3
+    EXPECT_EQ(wrs_landed_quality(vec2(0.8f, -0.1f)), 0.0f);  // 0.18: under a quarter, not offered
     EXPECT_EQ(wrs_landed_quality(vec2(std::nanf(""), 0.0f)), 0.0f);
     // Inside the pixel always a class, never above the overlap, never below a quarter: above the wide
     // views' quality at any density below 0.5.
@@ -1247,6 +1253,16 @@ TEST(Landed, QualityIsTheClassOfTheOverlapOfItsFootprintWithThePixel) {
         EXPECT_GT(q, o - 0.25f);
         EXPECT_EQ(q * 4.0f, std::floor(q * 4.0f)) << "a class of a quarter";
         EXPECT_GE(q, 0.25f);
+    }
+    // Beyond the pixel: a class where the footprint covers a quarter or more, else none.
+    std::uniform_real_distribution<float> v(-1.2f, 1.2f);
+    for (int i = 0; i < 1000; ++i) {
+        const vec2 d(v(rng), v(rng));
+        const float q = wrs_landed_quality(d), o = wrs_landed_overlap(d);
+        EXPECT_EQ(o, std::abs(d.x) < 1.0f && std::abs(d.y) < 1.0f ? (1 - std::abs(d.x)) * (1 - std::abs(d.y)) : 0.0f);
+        EXPECT_EQ(q > 0.0f, o >= 0.25f);
+        EXPECT_LE(q, o);
+        EXPECT_EQ(q * 4.0f, std::floor(q * 4.0f));
     }
 }
 
