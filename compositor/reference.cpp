@@ -484,11 +484,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     // (wrs_landed_shown), with the taps' display weights.
                     if (mode == WRS_FOV_SUBMITTED && ep.motion_rect.z != 0u && !wrs_rule_is_oracle(rule) && c.moved &&
                         on_screen) {
-                        const uvec2 b = uvec2(base);  // as wrs_shown_color: off-screen taps were not read
-                        const vec4 w(wrs_shown_weight(tap[0], b, pos, c.z, dz, params.tuning.y),
-                                     wrs_shown_weight(tap[1], b + uvec2(1u, 0u), pos, c.z, dz, params.tuning.y),
-                                     wrs_shown_weight(tap[2], b + uvec2(0u, 1u), pos, c.z, dz, params.tuning.y),
-                                     wrs_shown_weight(tap[3], b + uvec2(1u, 1u), pos, c.z, dz, params.tuning.y));
+                        const vec4 w = wrs_shown_weights(tap[0], tap[1], tap[2], tap[3], base, pos, c.z, dz,
+                                                         params.tuning.y);
                         shown = wrs_landed_shown(tap[0], tap[1], tap[2], tap[3], w, t.outcome == WRS_OUT_KEPT || gap,
                                                  gap ? hg : h, r, ep.tile.w, c, shown);
                     }

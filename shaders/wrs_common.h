@@ -1090,13 +1090,17 @@ WRS_FN vec3 wrs_shown_mean(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, vec4 w, float
 // The same from the taps alone, at the 2x2 lookup at `base` (all-zero where a tap was not read), as the
 // CPU reference computes it. A tap off the screen was not read, so it is invalid and weighs 0 before its
 // pixel is used: the pixels are base + (k & 1, k >> 1) unclamped (wrs_track_tap's clamp is not needed).
+// The four taps' weights (wrs_shown_weight) at the 2x2 lookup at `base`.
+WRS_FN vec4 wrs_shown_weights(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, vec2 pos, float z_cur, float dz,
+                              float tau) {
+    uvec2 b = uvec2(base);  // modular for a negative base: only read for on-screen taps
+    return vec4(wrs_shown_weight(t0, b, pos, z_cur, dz, tau), wrs_shown_weight(t1, b + uvec2(1u, 0u), pos, z_cur, dz, tau),
+                wrs_shown_weight(t2, b + uvec2(0u, 1u), pos, z_cur, dz, tau),
+                wrs_shown_weight(t3, b + uvec2(1u, 1u), pos, z_cur, dz, tau));
+}
 WRS_FN vec3 wrs_shown_color(uvec4 t0, uvec4 t1, uvec4 t2, uvec4 t3, ivec2 base, vec2 pos, Tracked h,
                             float z_cur, float dz, float tau) {
-    uvec2 b = uvec2(base);  // modular for a negative base: only read for on-screen taps
-    vec4 w = vec4(wrs_shown_weight(t0, b, pos, z_cur, dz, tau),
-                  wrs_shown_weight(t1, b + uvec2(1u, 0u), pos, z_cur, dz, tau),
-                  wrs_shown_weight(t2, b + uvec2(0u, 1u), pos, z_cur, dz, tau),
-                  wrs_shown_weight(t3, b + uvec2(1u, 1u), pos, z_cur, dz, tau));
+    vec4 w = wrs_shown_weights(t0, t1, t2, t3, base, pos, z_cur, dz, tau);
     return wrs_shown_mean(t0, t1, t2, t3, w, h.q, h.color);
 }
 
