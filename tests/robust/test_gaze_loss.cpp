@@ -163,7 +163,7 @@ class FakeConnection final : public hid::Connection {
 public:
     explicit FakeConnection(FakeTracker& t) : t_(t) {}
     g::Result<Bytes> descriptor() override {
-        return readHex(std::string(WRSFOV_GAZE_TEST_DATA) + "/eyetracker_descriptor.hex");
+        return readHex(WRSFOV_GAZE_TEST_DATA "/eyetracker_descriptor.hex");
     }
     int read(std::span<uint8_t> buf) override {
         if (!t_.plugged) return -1;  // hidapi's answer for a device that went away
@@ -174,7 +174,7 @@ public:
         return static_cast<int>(r.size());
     }
     g::Result<Bytes> get_feature(uint8_t, size_t) override {
-        return readHex(std::string(WRSFOV_GAZE_TEST_DATA) + "/eyetracker_feature.hex");
+        return readHex(WRSFOV_GAZE_TEST_DATA "/eyetracker_feature.hex");
     }
 
 private:
