@@ -100,15 +100,17 @@ WRS_FN float wrs_quad_quality(float q_wide, float t) {
 // of the scene at its position on the view's sample lattice (the centre of the pixel, moved by the
 // view's jitter: InsetView/ProjectionView::sampleOffset), taken with texture detail at the display's
 // density (an engine's LOD bias for temporal upsampling). For an output pixel, the wide sample
-// nearest its centre is offered to retention as a candidate of its own, with a quality that says how
-// much of the output pixel it tells: the overlap of its footprint, one output pixel wide, with the
-// pixel, (1 - |dx|)(1 - |dy|), in classes of a quarter; a sample whose footprint covers less than a
-// quarter of the pixel is not offered. So a sample that landed in a neighbouring pixel, within 3/4 of a
-// pixel of this one's centre on one axis, is offered too, at a quarter: at 0.25 density with 8 phases
-// that left 7 % of the stable pixel pairs without a landed sample in two frames running, against 15 %
-// with only the pixel it landed in (JOD 7.84 against 7.81, docs/retention.md "Landed display"). A
-// sample that landed on the centre is worth what the inset's is (1); the bilinear wide view keeps its
-// quality q_wide.
+// nearest its centre is offered to retention as a candidate of its own where its footprint, one output
+// pixel wide, covers at least a quarter of the pixel ((1 - |dx|)(1 - |dy|) >= 1/4): so a sample that
+// landed in a neighbouring pixel, within 3/4 of a pixel of this one's centre on one axis, is offered too
+// (at 0.25 density with 8 phases that left 7 % of the stable pixel pairs without a landed sample in two
+// frames running, against 15 % with only the pixel it landed in). Every landed sample is of one class,
+// WRS_LANDED_Q, above the bilinear wide view's quality q_wide and below the inset's (1): the rule merges
+// them into a running mean (clipped to the box of the landed sample and the composed colour), a
+// supersampled estimate of the pixel from the sample positions the jitter and the head's motion put
+// near it, where classes by overlap (quarters) let the nearer sample replace the mean (docs/retention.md
+// "One class of landed samples": on the headset cell with 8 phases, JOD +0.11 at 0.4 density, +0.39 at
+// 0.25).
 //
 // Offset, in output pixels, of sample k of the wide view (its texel, as wrs_source_pos's `pos` counts
 // them) from the centre of the output pixel that maps to `pos`: (k + 0.5 - pos) times the output's
@@ -128,21 +130,14 @@ WRS_FN float wrs_landed_overlap(vec2 d) {
     WRS_PRECISE float q = ox * oy;
     return q;
 }
-// The overlap's classes of equal quality: quarters (0.25, 0.5, 0.75, 1), each overlap rounded down.
-// Samples of one class are equal for the rule, which merges them (a running mean, clipped to the box
-// of the landed sample and the composed colour) rather than letting the next slightly closer one
-// replace the last: on the headset cell (0.4 density, 10° inset, 8 phases) JOD 8.16 against 8.10 with
-// the overlap itself, and 8.15 with halves.
-const float WRS_LANDED_CLASSES = 4.0f;
-const float WRS_LANDED_CLASS = 0.25f;  // 1 / WRS_LANDED_CLASSES
-// The quality of a sample that landed at offset d from an output pixel's centre: its overlap's class,
-// 0 below the first class (not offered).
+// The least overlap at which a landed sample is offered, and the one quality every landed sample has.
+const float WRS_LANDED_MIN_OVERLAP = 0.25f;
+const float WRS_LANDED_Q = 0.75f;
+// The quality of a sample that landed at offset d from an output pixel's centre: WRS_LANDED_Q where its
+// footprint covers at least WRS_LANDED_MIN_OVERLAP of the pixel, 0 below (not offered).
 WRS_FN float wrs_landed_quality(vec2 d) {
     float o = wrs_landed_overlap(d);
-    if (!(o >= WRS_LANDED_CLASS)) return 0.0f;
-    WRS_PRECISE float steps = o * WRS_LANDED_CLASSES;
-    WRS_PRECISE float q = floor(steps) * WRS_LANDED_CLASS;
-    return q;
+    return o >= WRS_LANDED_MIN_OVERLAP ? WRS_LANDED_Q : 0.0f;
 }
 // A landed sample as the compose pass stores it for retention (two words a pixel after the qualities
 // and the tiles' largest): fp16 R | G, fp16 B | quality; colour rounded by hand as every stored value.

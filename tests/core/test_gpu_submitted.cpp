@@ -444,9 +444,9 @@ TEST_F(Submitted, EachPixelKeepsTheQualityItWasRenderedAt) {
 
 // Landed wide samples (wrs_landed_quality): where the wide sample nearest an output pixel's centre
 // landed near enough that its footprint, one output pixel wide, covers a quarter of the pixel or more,
-// `wrs` stores it, flagged, with the quality of where it landed, the overlap (1 - |dx|)(1 - |dy|) for
-// an offset of (dx, dy) output pixels from the pixel's centre in classes of a quarter, worked out here
-// from the views' geometry alone; the bilinear wide view's 0.16 elsewhere.
+// `wrs` stores it, flagged, with the one quality of landed samples (WRS_LANDED_Q), where the overlap
+// (1 - |dx|)(1 - |dy|) for an offset of (dx, dy) output pixels from the pixel's centre, worked out here
+// from the views' geometry alone, is a quarter or more; the bilinear wide view's 0.16 elsewhere.
 TEST_F(Submitted, LandedWideSamplesCarryTheQualityOfWhereTheyLanded) {
     auto c = compositor(Method::Wrs);
     QuadApp app(*c, false, false);
@@ -469,11 +469,11 @@ TEST_F(Submitted, LandedWideSamplesCarryTheQualityOfWhereTheyLanded) {
             if (!(x < 60 || x >= 100 || y < 40 || y >= 80)) continue;  // the inset and its blend band
             const auto [kx, dx] = landedAt(x, app.wideOffset.x, WW);
             const auto [ky, dy] = landedAt(y, app.wideOffset.y, WH);
-            // Overlaps within rounding of a class's edge could go either way.
+            // Overlaps within rounding of a quarter could go either way.
             const bool near = std::abs(dx) < 1.0 && std::abs(dy) < 1.0;
             const double overlap = near ? (1 - std::abs(dx)) * (1 - std::abs(dy)) : 0.0;
-            if (std::abs(overlap * 4 - std::round(overlap * 4)) < 1e-3 && overlap > 0.1) continue;
-            const double q = overlap >= 0.25 ? std::floor(overlap * 4) / 4 : 0.0;
+            if (std::abs(overlap - 0.25) < 1e-3) continue;
+            const double q = overlap >= 0.25 ? double(gpu::WRS_LANDED_Q) : 0.0;
             const glm::uvec4 r = (*res)[std::size_t(y) * W + x];
             const bool flagged = ((r.z >> 24) & gpu::WRS_FLAG_LANDED) != 0u;
             ++wide;

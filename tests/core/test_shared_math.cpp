@@ -1220,7 +1220,7 @@ TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
 // How much of a pixel a landed sample tells is the overlap of its footprint, one output pixel wide,
 // with the pixel: 1 on the centre, falling linearly per axis, 0 from half a pixel out, 0 for a
 // non-finite offset. Its quality is the overlap's class of a quarter, rounded down, at least 0.25.
-TEST(Landed, QualityIsTheClassOfTheOverlapOfItsFootprintWithThePixel) {
+TEST(Landed, OneQualityWhereTheFootprintCoversAQuarterOfThePixel) {
     EXPECT_EQ(wrs_landed_overlap(vec2(0.0f)), 1.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(0.25f, 0.0f)), 0.75f);
     // The footprint, one pixel wide, reaches into the neighbouring pixels: next door it still overlaps.
@@ -1233,36 +1233,34 @@ TEST(Landed, QualityIsTheClassOfTheOverlapOfItsFootprintWithThePixel) {
     EXPECT_EQ(wrs_landed_overlap(vec2(0.0f, -1.5f)), 0.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(std::nanf(""), 0.0f)), 0.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(0.0f, std::numeric_limits<float>::infinity())), 0.0f);
-    EXPECT_EQ(wrs_landed_quality(vec2(0.0f)), 1.0f);
-    EXPECT_EQ(wrs_landed_quality(vec2(0.25f, 0.0f)), 0.75f);
-    EXPECT_EQ(wrs_landed_quality(vec2(-0.3f, 0.2f)), 0.5f);     // 0.56
-    EXPECT_EQ(wrs_landed_quality(vec2(0.49f, -0.49f)), 0.25f);  // 0.26
-    EXPECT_EQ(wrs_landed_quality(vec2(0.5f, 0.0f)), 0.5f);   // next door, half the pixel covered
-    EXPECT_EQ(wrs_landed_quality(vec2(0.7f, 0.0f)), 0.25f);  // 0.3
-    EXPECT_EQ(wrs_landed_quality(vec2(0.8f, -0.1f)), 0.0f);  // 0.18: under a quarter, not offered
+    // One class: every sample whose footprint covers a quarter of the pixel or more has WRS_LANDED_Q,
+    // whether it landed on the centre or next door; below a quarter it is not offered.
+    EXPECT_EQ(wrs_landed_quality(vec2(0.0f)), WRS_LANDED_Q);
+    EXPECT_EQ(wrs_landed_quality(vec2(0.25f, 0.0f)), WRS_LANDED_Q);
+    EXPECT_EQ(wrs_landed_quality(vec2(0.49f, -0.49f)), WRS_LANDED_Q);  // 0.26
+    EXPECT_EQ(wrs_landed_quality(vec2(0.7f, 0.0f)), WRS_LANDED_Q);    // 0.3, next door
+    EXPECT_EQ(wrs_landed_quality(vec2(0.5f, 0.5f)), WRS_LANDED_Q);    // exactly a quarter
+    EXPECT_EQ(wrs_landed_quality(vec2(0.8f, -0.1f)), 0.0f);           // 0.18: under a quarter, not offered
     EXPECT_EQ(wrs_landed_quality(vec2(std::nanf(""), 0.0f)), 0.0f);
-    // Inside the pixel always a class, never above the overlap, never below a quarter: above the wide
-    // views' quality at any density below 0.5.
+    EXPECT_EQ(wrs_landed_quality(vec2(0.0f, std::numeric_limits<float>::infinity())), 0.0f);
+    // Above the bilinear wide view's quality (density squared) at every density below sqrt(0.75), and
+    // below the inset's (1), which a landed sample never replaces.
+    EXPECT_GT(WRS_LANDED_Q, 0.4f * 0.4f);
+    EXPECT_LT(WRS_LANDED_Q, 1.0f);
+    // Inside the pixel always offered; beyond it, offered exactly where the footprint covers a quarter.
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-0.4999f, 0.4999f);
     for (int i = 0; i < 1000; ++i) {
         const vec2 d(u(rng), u(rng));
-        const float q = wrs_landed_quality(d), o = wrs_landed_overlap(d);
-        EXPECT_GT(o, 0.25f);
-        EXPECT_LE(q, o);
-        EXPECT_GT(q, o - 0.25f);
-        EXPECT_EQ(q * 4.0f, std::floor(q * 4.0f)) << "a class of a quarter";
-        EXPECT_GE(q, 0.25f);
+        EXPECT_GT(wrs_landed_overlap(d), 0.25f);
+        EXPECT_EQ(wrs_landed_quality(d), WRS_LANDED_Q);
     }
-    // Beyond the pixel: a class where the footprint covers a quarter or more, else none.
     std::uniform_real_distribution<float> v(-1.2f, 1.2f);
     for (int i = 0; i < 1000; ++i) {
         const vec2 d(v(rng), v(rng));
         const float q = wrs_landed_quality(d), o = wrs_landed_overlap(d);
         EXPECT_EQ(o, std::abs(d.x) < 1.0f && std::abs(d.y) < 1.0f ? (1 - std::abs(d.x)) * (1 - std::abs(d.y)) : 0.0f);
-        EXPECT_EQ(q > 0.0f, o >= 0.25f);
-        EXPECT_LE(q, o);
-        EXPECT_EQ(q * 4.0f, std::floor(q * 4.0f));
+        EXPECT_EQ(q, o >= 0.25f ? WRS_LANDED_Q : 0.0f);
     }
 }
 
