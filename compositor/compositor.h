@@ -138,8 +138,8 @@ struct CompositorConfig {
     float insetBlendPx = 8.0f;
     /// Quad views, `wrs`: the wide sample nearest each output pixel's centre is offered to retention
     /// as a candidate of its own where its footprint covers a quarter of the pixel, all such samples of
-    /// one quality (wrs_landed_quality; docs/retention.md "Landed wide samples"), so that reservoirs gather the wide views' samples a jittered (or moving)
-    /// sample lattice places near each pixel. It assumes, as temporal upsampling does, that the wide
+    /// one quality (wrs_landed_quality; docs/retention.md "Landed wide samples"), so that reservoirs
+    /// gather the wide views' samples a jittered (or moving) sample lattice places near each pixel. It assumes, as temporal upsampling does, that the wide
     /// views sample texture detail at the display's density (a LOD bias of log2 of their density); an
     /// application that filters its wide views over their own pixels should turn it off.
     bool landedSamples = true;

@@ -1218,8 +1218,9 @@ TEST(SparseRetention, OnlyFarTilesWithNothingSharperSkip) {
 // ---- Landed wide samples (shaders/wrs_submitted.h) ----
 
 // How much of a pixel a landed sample tells is the overlap of its footprint, one output pixel wide,
-// with the pixel: 1 on the centre, falling linearly per axis, 0 from half a pixel out, 0 for a
-// non-finite offset. Its quality is the overlap's class of a quarter, rounded down, at least 0.25.
+// with the pixel: 1 on the centre, falling linearly per axis, 0 a pixel or more out, 0 for a
+// non-finite offset. Its quality is WRS_LANDED_Q where the overlap is WRS_LANDED_MIN_OVERLAP (a
+// quarter) or more, and 0 (not offered) below.
 TEST(Landed, OneQualityWhereTheFootprintCoversAQuarterOfThePixel) {
     EXPECT_EQ(wrs_landed_overlap(vec2(0.0f)), 1.0f);
     EXPECT_EQ(wrs_landed_overlap(vec2(0.25f, 0.0f)), 0.75f);
