@@ -47,7 +47,8 @@ enum Binding : uint32_t {
     kTiles = 13,
     kTileHeld = 14,
     kQuality = 15,
-    kReference = 16
+    kReference = 16,
+    kDisplay = 17
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 
@@ -97,6 +98,8 @@ Status checkConfig(const CompositorConfig& c) {
                       "views or a rate map)");
     if (!std::isfinite(c.insetBlendPx) || c.insetBlendPx < 0.0f || c.insetBlendPx > 1024.0f)
         return refuse("inset blend width must be in [0, 1024] inset pixels");
+    if (!std::isfinite(c.steadyDisplay) || c.steadyDisplay < 0.0f || c.steadyDisplay > 1.0f)
+        return refuse("steady display weight must be in [0, 1] (0: off)");
     if (uint8_t(c.change) > uint8_t(ChangeMetric::DeltaE94)) return refuse("change metric must be off, lstar or de94");
     return {};
 }
@@ -211,7 +214,8 @@ Status Compositor::init() {
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
          binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
-         binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2)});
+         binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2),
+         binding(kDisplay, ssbo)});
     pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
     copyPipelineLayout_ =
@@ -221,7 +225,7 @@ Status Compositor::init() {
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
                                     {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 32},
-                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 42},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 46},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 5;
@@ -399,7 +403,7 @@ VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstant
     return pipelines_.emplace(key, made).first->second;
 }
 
-Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
+Status Compositor::resize(uint32_t width, uint32_t height, bool birth, bool display) {
     vkDeviceWaitIdle(ctx_.device());
     // Everything of the new size is made before anything old is released: when an allocation fails
     // (out of device memory), the compositor keeps its old size, history and output untouched. The
@@ -413,7 +417,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     const uint64_t pyramidTexels =
         (uint64_t(gpu::wrs_pyramid_texels(glm::uvec2(width, height))) - uint64_t(width) * height) * WRS_EYES +
         2ull * WRS_EYES * level4.x * level4.y;
-    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts;
+    vk::Buffer pyramid, candidate, reservoirs[2], births[2], tiles, held, counts, displayed;
     struct Alloc {
         vk::Buffer* buffer;
         uint64_t bytes;
@@ -422,7 +426,8 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     for (const Alloc& a :
          {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"},
           Alloc{&reservoirs[0], pixels * 16, "reservoirs"}, Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
-          Alloc{&births[1], birth ? pixels * 16 : 16, "births"}}) {
+          Alloc{&births[1], birth ? pixels * 16 : 16, "births"},
+          Alloc{&displayed, display ? 2 * pixels * 16 : 16, "steady display"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
         *a.buffer = std::move(*r);
@@ -483,6 +488,9 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
     held_ = Held::Unknown;
     lastTiled_ = false;
     birthAllocated_ = birth;
+    display_ = std::move(displayed);
+    displayAllocated_ = display;
+    displayValid_ = false;
     for (uint32_t set = 0; set < 4; ++set) {
         // Sets 0, 1 read reservoirs[i] and write reservoirs[1 - i]; sets 2, 3 read and write reservoirs[i].
         const uint32_t i = set % 2, o = set < 2 ? 1 - i : i;
@@ -492,7 +500,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
             {reservoirs_[o].handle(), 0, VK_WHOLE_SIZE}, {birth_[i].handle(), 0, VK_WHOLE_SIZE},
             {birth_[o].handle(), 0, VK_WHOLE_SIZE}};
         const uint32_t bindings[7] = {kFrame, kPyramidBuf, kCandidate, kResPrev, kResCur, kBirthPrev, kBirthCur};
-        VkWriteDescriptorSet w[11];
+        VkWriteDescriptorSet w[12];
         for (int k = 0; k < 7; ++k)
             w[k] =
                 vk::bufferWrite(sets_[set], bindings[k],
@@ -507,7 +515,9 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth) {
         // (prepareSubmitted); until then any buffer keeps the set valid.
         VkDescriptorBufferInfo qi{srgbTable_.handle(), 0, VK_WHOLE_SIZE};
         w[10] = vk::bufferWrite(sets_[set], kQuality, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &qi);
-        vkUpdateDescriptorSets(ctx_.device(), 11, w, 0, nullptr);
+        VkDescriptorBufferInfo di{display_.handle(), 0, VK_WHOLE_SIZE};
+        w[11] = vk::bufferWrite(sets_[set], kDisplay, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &di);
+        vkUpdateDescriptorSets(ctx_.device(), 12, w, 0, nullptr);
     }
     width_ = width;
     height_ = height;
@@ -727,8 +737,12 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
             !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
     }
-    if (work.w != width_ || work.h != height_ || work.next.trackBirth != birthAllocated_) {
-        if (Status s = resize(work.w, work.h, work.next.trackBirth); !s)
+    // The steady display's history, where a quad-view frame runs it (kept while the configuration does).
+    const bool display = work.kind == layers::SubmittedFoveation::Quad && work.next.method == Method::Wrs &&
+                         work.next.landedSamples && work.next.steadyDisplay > 0.0f;
+    if (work.w != width_ || work.h != height_ || work.next.trackBirth != birthAllocated_ ||
+        (display && !displayAllocated_)) {
+        if (Status s = resize(work.w, work.h, work.next.trackBirth, display || (displayAllocated_ && work.next.steadyDisplay > 0.0f)); !s)
             return submitError(SubmitError::DeviceFailure,
                                ctx_.deviceLost() ? std::string(kDeviceLost)
                                                  : "resizing to " + std::to_string(work.w) + "x" +
@@ -779,6 +793,11 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
         params_.eye[eye].motion_rect.w = offsets != lastOffsets_[eye] ? 1u : 0u;
         lastOffsets_[eye] = offsets;
     }
+    // The steady display: on frames whose quad views offer landed samples (which only `wrs`'s do).
+    work.passes.display = work.passes.display && displayAllocated_ &&
+                          (params_.eye[0].motion_rect.z != 0u || params_.eye[1].motion_rect.z != 0u);
+    if (work.passes.display) params_.tuning.z = frame_.steadyDisplay;
+    stats_.steadyDisplay = work.passes.display;
     // Every phase merged (wrs_submitted.h): on a frame of `wrs` whose wide views were jittered, no floor
     // rule (so no tile skips it) and each eye's wide box, one wide pixel apart.
     const bool jittered = params_.eye[0].motion_rect.w != 0u || params_.eye[1].motion_rect.w != 0u;
@@ -914,8 +933,8 @@ VkCommandBuffer Compositor::recordFrame(const layers::FrameEndInfo& frame, const
     const PassPlan& p = work.passes;
     const FramePlan plan{cb,         work.w,     work.h,      work.eyes,    work.hasDepth, work.hasMotion,
                          p.retain,   p.wrsPaper, p.taa,       p.temporal,   p.pyramid,     work.tiled,
-                         work.sparse, work.inPlace, work.mono, timing,       work.steady,   work.written,
-                         work.tilesPerEye};
+                         work.sparse, work.inPlace, work.mono, timing,       work.steady,   p.display,
+                         work.written, work.tilesPerEye};
     // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
     recordHistoryStart(plan);
     stamp(plan, 0);
@@ -929,6 +948,7 @@ VkCommandBuffer Compositor::recordFrame(const layers::FrameEndInfo& frame, const
     recordFoveate(plan);
     stamp(plan, 3);
     recordTemporal(plan);
+    recordDisplay(plan);
     recordMonoCopies(plan);
     stamp(plan, 4);
     transitionInputs(false);
@@ -980,6 +1000,8 @@ void Compositor::keepFrame(const layers::FrameEndInfo& frame, const FrameWork& w
     held_ = work.sparse ? Held::Valid : Held::Unknown;
     if (work.steady) steadySlot_ = 1 - steadySlot_;
     steadyValid_ = work.steady;
+    if (work.passes.display) displaySlot_ = 1 - displaySlot_;
+    displayValid_ = work.passes.display;
     lastSparse_ = work.sparse;
     validator_.accept(frame);
 }

@@ -149,6 +149,13 @@ struct CompositorConfig {
     /// fresh. Such a frame skips no tile (sparse retention has nothing to skip there). It runs on the
     /// frames that offer landed samples (landedSamples on), whose classes it merges too.
     bool phaseMerge = true;
+    /// Quad views, `wrs`, on frames that offer landed samples (landedSamples on): the steady display
+    /// (wrs_display_step; docs/retention.md "Steady display"). What retention shows at a pixel of the wide
+    /// views is filtered over time as TAA filters a frame, the display's previous colour reprojected with
+    /// the motion and clipped to the neighbourhood of what retention shows now; this is the weight of
+    /// the current frame, in [0, 1] (0: off; the default is shaders/wrs_submitted.h's WRS_DISPLAY_ALPHA,
+    /// which a test checks). Display only: the reservoirs do not change. 32 B/px more.
+    float steadyDisplay = 0.15f;
     /// Method taau's parameters (docs/retention.md "The field's baseline: taau", chosen for its best
     /// JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
     /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas
@@ -172,6 +179,9 @@ bool runsSparse(const CompositorConfig& c);
 /// Whether frames with config `c` filter the floor level over time (CompositorConfig::steadyFloor
 /// where the floor rule applies: floorQuality > 0).
 bool steadyFloorActive(const CompositorConfig& c);
+/// Whether frames with config `c` may run the steady display (CompositorConfig::steadyDisplay; `wrs` on
+/// frames submitted foveated with landed samples: it runs where they are quad views).
+bool displayActive(const CompositorConfig& c);
 
 /// Which passes a frame runs, and how. One pure function of the frame's configuration (foveation
 /// Submitted for a frame submitted foveated) and inputs serves Compositor::endFrame, which records
@@ -187,6 +197,9 @@ struct PassPlan {
     bool sparse = false;    ///< sparse retention: far tiles with nothing sharper in reach skip it
     bool inPlace = false;   ///< reservoirs updated in place (retain without motion or birth buffers)
     bool steady = false;    ///< the steady floor after the pyramid
+    /// The steady display after the retain pass (CompositorConfig::steadyDisplay), where the frame's quad
+    /// views offer landed samples: a frame of another kind does not run it (Compositor::planFrame).
+    bool display = false;
 };
 /// `hasMotion`: the frame's views carry motion; `birth`: birth buffers exist (stale tracking).
 PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth);
@@ -264,6 +277,8 @@ struct FrameStats {
     bool sparse = false;
     /// The floor level was filtered over time (steadyFloorActive).
     bool steadyFloor = false;
+    /// The steady display ran (CompositorConfig::steadyDisplay; quad views offering landed samples).
+    bool steadyDisplay = false;
     /// The frame merged its wide candidates over the phases (CompositorConfig::phaseMerge: `wrs`, quad
     /// views jittered since the frame before).
     bool phaseMerge = false;
@@ -405,7 +420,7 @@ public:
 private:
     explicit Compositor(vk::Context& context) : ctx_(context) {}
     Status init();
-    Status resize(uint32_t width, uint32_t height, bool birth);
+    Status resize(uint32_t width, uint32_t height, bool birth, bool display);
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
     /// `count` 32-bit words of a buffer from word `first`.
     Result<std::vector<uint32_t>> readWords(const vk::Buffer& buffer, uint64_t first, uint64_t count);
@@ -468,6 +483,13 @@ private:
     // steadyValid_ says it did (for both eyes).
     uint32_t steadySlot_ = 0;
     bool steadyValid_ = false;
+    // The steady display's history (CompositorConfig::steadyDisplay): two slots of every pixel's displayed
+    // colour, allocated with the other buffers where a quad-view frame of `wrs` runs it (16 B otherwise);
+    // the last frame wrote displaySlot_, and displayValid_ says it did.
+    vk::Buffer display_;
+    bool displayAllocated_ = false;
+    uint32_t displaySlot_ = 0;
+    bool displayValid_ = false;
     // What the half at heldPrev_ says: written by the last frame (Valid), all zero after a history
     // reset (nothing held), or unknown (the last frame did not run sparse retention, or reservoirs were
     // written from outside: the next sparse frame first marks every tile as holding anything).
@@ -504,6 +526,7 @@ private:
         bool retain, wrsPaper, taa, temporal, pyramid;  ///< which passes (temporal: a pass with history)
         bool tiled, sparse, inPlace, mono, timing;
         bool steady;           ///< the steady floor (steadyFloorActive)
+        bool display;          ///< the steady display (PassPlan::display)
         uint32_t written;      ///< the reservoir buffer the frame writes
         uint32_t tilesPerEye;  ///< 8x8 tiles of one eye
     };
@@ -528,6 +551,8 @@ private:
     void recordFoveate(const FramePlan& plan);
     /// Pass 3 (or 2+3): retain, wrs-paper or taa.
     void recordTemporal(const FramePlan& plan);
+    /// Pass 3b (`wrs` on quad views with landed samples): the steady display.
+    void recordDisplay(const FramePlan& plan);
     /// Mono views: the right eye's output, reservoirs, births and held qualities from the left's.
     void recordMonoCopies(const FramePlan& plan);
     /// The tile lists' counts into host memory (FrameStats::tiles).

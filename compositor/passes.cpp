@@ -170,7 +170,12 @@ PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth) {
     // as they do with stale tracking's birth buffers.
     p.inPlace = p.retain && !hasMotion && !birth;
     p.steady = p.pyramid && steadyFloorActive(c);
+    p.display = displayActive(c);
     return p;
+}
+
+bool displayActive(const CompositorConfig& c) {
+    return c.method == Method::Wrs && c.foveation == FoveationMode::Submitted && c.landedSamples && c.steadyDisplay > 0.0f;
 }
 
 bool steadyFloorActive(const CompositorConfig& c) {
@@ -234,10 +239,17 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
         t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
                             history + output + birth});
     if (plan.taa) t.passes.push_back({"taa", 16 + history + motion, history + output});
+    // The steady display: the retain pass's colour in the candidate buffer instead of the output, then per
+    // pixel its 3x3 neighbourhood (each read by nine, once from memory), the display's history (bilinear,
+    // once), the motion; the history and the output out. Quad views only (a rate map's compose pass
+    // writes its qualities alone, 4 bytes).
+    const bool display = plan.display && in.composeWrite > 4;
     if (retain)  // the fingerprint level is among the stored ones in every mode
         t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth + quality),
-                            share * (history + output + birth)});
-    if (sparse) t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * (output + birth)});
+                            share * (history + (display ? 16 : output) + birth)});
+    if (display) t.passes.push_back({"display", 16 + history + motion, history + output});
+    if (sparse)
+        t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * ((display ? 16 : output) + birth)});
     t.floor = in.colorBytes + output + (temporal ? share * (2 * history + depth + motion) : 0);
     return t;
 }

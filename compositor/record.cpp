@@ -156,12 +156,27 @@ void Compositor::recordTemporal(const FramePlan& plan) {
                           pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli}));
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else if (plan.taa) {
+        // taa.comp declares the steady display's push constants (recordDisplay); unused here, but set.
+        const gpu::LevelPush none{0, 0, 0, 0};
+        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(none), &none);
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, frame_.method == Method::Taau, 0, 0}));
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else {
         return;
     }
     computeBarrier(cb);
+}
+
+void Compositor::recordDisplay(const FramePlan& plan) {
+    if (!plan.display) return;
+    // Written: the slot the last frame did not write; read: the last frame's, where it wrote one (a
+    // history reset starts the display anew, as it does the reservoirs).
+    const uint32_t slot = 1 - displaySlot_;
+    const gpu::LevelPush push{0, slot, displaySlot_, displayValid_ && historyValid_ ? 1u : 0u};
+    vkCmdPushConstants(plan.cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdBindPipeline(plan.cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, 0, 1, 0}));
+    vkCmdDispatch(plan.cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
+    computeBarrier(plan.cb);
 }
 
 void Compositor::recordMonoCopies(const FramePlan& plan) {
@@ -184,6 +199,11 @@ void Compositor::recordMonoCopies(const FramePlan& plan) {
     const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + plan.tilesPerEye) * 4,
                           VkDeviceSize(plan.tilesPerEye) * 4};
     if (plan.sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
+    if (plan.display) {  // the right eye's displayed colour in the slot this frame wrote
+        const VkDeviceSize slot = VkDeviceSize(1 - displaySlot_) * 2 * eyeBytes;
+        const VkBufferCopy dc{slot, slot + eyeBytes, eyeBytes};
+        vkCmdCopyBuffer(cb, display_.handle(), display_.handle(), 1, &dc);
+    }
     if (plan.steady) {  // the right eye's steady floor, which its next stereo frame reads
         const glm::uvec4 l4 = params_.levels[gpu::WRS_STEADY_LEVEL];
         const VkDeviceSize left = gpu::wrs_steady_offset(l4, 1 - steadySlot_, 0);

@@ -390,6 +390,10 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 }
             auto tileOf = [&](uvec2 q) { return std::size_t(q.y / WRS_TILE) * tiles.x + q.x / WRS_TILE; };
             trace_[eye].assign(std::size_t(W) * H, Trace{});
+            // What the pass shows at each pixel, linear (a skipped tile: the foveating pass's candidate),
+            // which the steady display filters where it runs.
+            std::vector<vec3> shownAt(std::size_t(W) * H);
+            for (std::size_t i = 0; i < shownAt.size(); ++i) shownAt[i] = vec3(cand_[eye][i]);
             for (uint y = 0; y < H; ++y)
                 for (uint x = 0; x < W; ++x) {
                     uvec2 p(x, y);
@@ -489,10 +493,43 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         shown = wrs_landed_shown(tap[0], tap[1], tap[2], tap[3], w, t.outcome == WRS_OUT_KEPT || gap,
                                                  gap ? hg : h, r, ep.tile.w, c, shown);
                     }
+                    shownAt[idx] = shown;
                     glm::u8vec4 o = encodeOutput(shown);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                 }
             held_[eye] = sparse ? std::move(heldCur) : std::vector<float>{};
+            // The steady display (taa.comp's DISPLAY), where the frame runs it (its weight in tuning.z).
+            const bool display = params.tuning.z > 0.0f;
+            const bool displayHistory = display && history_ && displayed_ && display_[eye].size() == std::size_t(W) * H;
+            std::vector<vec4> prevDisplay = displayHistory ? std::move(display_[eye]) : std::vector<vec4>{};
+            display_[eye].clear();
+            if (display) {
+                display_[eye].assign(std::size_t(W) * H, vec4(0.0f));
+                for (uint y = 0; y < H; ++y)
+                    for (uint x = 0; x < W; ++x) {
+                        const uvec2 p(x, y);
+                        const std::size_t idx = std::size_t(y) * W + x;
+                        vec3 nb[9];
+                        for (int j = 0; j < 3; ++j)
+                            for (int i = 0; i < 3; ++i) {
+                                const uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size0);
+                                nb[j * 3 + i] = wrs_rgb_to_ycocg(shownAt[std::size_t(q.y) * W + q.x]);
+                            }
+                        const vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
+                        uvec2 i0, i1;
+                        vec2 f;
+                        bool has = displayHistory && wrs_taa_reproject(p, size0, mv, i0, i1, f) && prevDisplay[idx].w != 0.0f;
+                        vec3 hist(0.0f);
+                        auto dAt = [&](uvec2 q) { return vec4(vec3(prevDisplay[std::size_t(q.y) * W + q.x]), 0.0f); };
+                        if (has) hist = vec3(wrs_bilinear(dAt(i0), dAt(uvec2(i1.x, i0.y)), dAt(uvec2(i0.x, i1.y)), dAt(i1), f));
+                        const bool wide = ep.motion_rect.z != 0u && !in.quality.empty() &&
+                                          in.quality[idx] <= ep.tile.w * (1.0f + WRS_Q_EQUAL);
+                        const vec3 c = wrs_display_step(nb, shownAt[idx], hist, has, wide, params.tuning.z);
+                        display_[eye][idx] = vec4(c, 1.0f);
+                        glm::u8vec4 o = encodeOutput(c);
+                        std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
+                    }
+            }
             continue;
         }
 
@@ -532,6 +569,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             }
     }
     history_ = wrs || taa || retain;
+    displayed_ = retain && params.tuning.z > 0.0f;
 }
 
 }  // namespace wrsfov

@@ -57,6 +57,8 @@ public:
 
     void setConfig(const CompositorConfig& config) { config_ = config; }
     void resetHistory() { history_ = false; }
+    /// The steady display's colour after the last step (linear RGB, alpha 1; W*H; empty where it did not run).
+    const std::vector<glm::vec4>& displayed(uint32_t eye) const { return display_[eye]; }
     /// Replaces the steady floor the next step reads as its history (Compositor::readSteadyFloor).
     void setSteadyFloor(uint32_t eye, std::vector<glm::vec4> steady) { steady_[eye] = std::move(steady); }
     /// The steady floor after the last step (empty where it did not filter the floor).
@@ -83,6 +85,9 @@ private:
     std::array<std::vector<glm::uvec4>, 2> prev_, res_;
     std::array<std::vector<float>, 2> held_;
     std::array<std::vector<glm::vec4>, 2> steady_;
+    // The steady display's colour after the last step (where it ran: displayed_), as the Display buffer.
+    std::array<std::vector<glm::vec4>, 2> display_;
+    bool displayed_ = false;
     uint32_t motionTiles_ = 0;
     std::array<std::vector<glm::vec4>, 2> cand_;
     std::array<std::vector<Trace>, 2> trace_;

@@ -271,6 +271,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                     cc.sparseRetention = o.sparseRetention;
                     cc.floorMerge = o.floorMerge;
                     cc.steadyFloor = o.steadyFloor;
+                    cc.steadyDisplay = o.steadyDisplay;
                     cc.motionReachDeg = o.motionReachDeg;
                     cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);

@@ -52,6 +52,8 @@ struct BenchOptions {
     bool landedSamples = true;
     /// CompositorConfig::phaseMerge (--no-phase-merge: each phase's wide candidate taken fresh).
     bool phaseMerge = true;
+    /// CompositorConfig::steadyDisplay (--steady-display A; 0: off).
+    float steadyDisplay = CompositorConfig{}.steadyDisplay;
     /// CompositorConfig::taau (--taau R,W,G).
     CompositorConfig::Taau taau;
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in

@@ -186,6 +186,11 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
         v.push_back({"skip", ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}, int(gpu::WRS_TILE_SKIP), 0,
                      WRS_GROUP_X * WRS_GROUP_Y, bytesOf(skipped, "skip"), phase});
     }
+    // The steady display (recordDisplay) after the retain pass's barrier, on quad views (traffic() counts it there).
+    if (plan.display && bytes("display") > 0) {
+        barrier();
+        add("display", ShaderId::Taa, {hasMotion, 0u, 1u}, whole, bytes("display"));
+    }
     // Constant 7 (HARDWARE_HALF) of every pass: the device's fp16 conversion, which the compositor uses
     // where its probe finds round to nearest even, as AMD's v_cvt_f16_f32 does in the default mode (the
     // null device runs nothing, so the probe cannot run there).

@@ -117,6 +117,7 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
                     cc.sparseRetention = o.sparseRetention;
                     cc.floorMerge = o.floorMerge;
                     cc.steadyFloor = o.steadyFloor;
+                    cc.steadyDisplay = o.steadyDisplay;
                     cc.motionReachDeg = o.motionReachDeg;
                     cc.trackBirth = o.staleStats && tracksBirth(m);
                     auto c = Compositor::create(ctx, cc);

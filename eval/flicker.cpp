@@ -83,6 +83,7 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
                 cc.sparseRetention = o.sparseRetention;
                 cc.floorMerge = o.floorMerge;
                 cc.steadyFloor = o.steadyFloor;
+                cc.steadyDisplay = o.steadyDisplay;
                 cc.motionReachDeg = o.motionReachDeg;
                 auto c = Compositor::create(ctx, cc);
                 if (!c) return c.error();

@@ -362,6 +362,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             cfg.sparseRetention = o.sparseRetention;  // --dense-retention: retention in every tile
             cfg.landedSamples = o.landedSamples;      // --no-landed
             cfg.phaseMerge = o.phaseMerge;            // --no-phase-merge
+            cfg.steadyDisplay = o.steadyDisplay;      // --steady-display
             cfg.taau = o.taau;                        // --taau
             cfg.floorMerge = o.floorMerge;            // --floor-merge
             auto c = Compositor::create(ctx, cfg);

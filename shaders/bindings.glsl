@@ -48,6 +48,9 @@ layout(std430, set = 0, binding = 15) readonly buffer Quality { uint submitted_w
 // Evaluation only: the full-resolution reference of a frame submitted foveated, which the oracles
 // compare with (EyeParams::ref_rect; a placeholder otherwise).
 layout(set = 0, binding = 16) uniform sampler2D referenceIn[2];
+// Method wrs, the steady display (wrs_display_step, taa.comp): two slots of every pixel's displayed linear
+// colour (alpha 1 where written), slot-major then as the reservoirs; a placeholder where it does not run.
+layout(std430, set = 0, binding = 17) buffer Display { vec4 display_history[]; };
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 
@@ -98,6 +101,8 @@ vec3 pixel_levels(uint tile, uint mode, uint eye, uvec2 p, out float e) {
     return wrs_foveation_levels(mode, e, ep.gaze.w, frame.tuning.x);
 }
 uint pixel_index(uint eye, uvec2 p) { return (eye * frame.size.y + p.y) * frame.size.x + p.x; }
+// Pixel p of an eye in slot `slot` of the steady display's history.
+uint display_index(uint slot, uint eye, uvec2 p) { return slot * 2u * frame.size.x * frame.size.y + pixel_index(eye, p); }
 // Size of a pyramid level (wrs_level_size of the frame, from the parameter block).
 uvec2 level_size(uint level) { return frame.levels[level].xy; }
 uint pyramid_index(uint eye, uint level, uvec2 q) {
@@ -146,7 +151,13 @@ float load_depth(uint eye, uvec2 p) {
     float d = texelFetch(depthIn[eye], ivec2(p + ep.depth_rect.xy), 0).r;
     return wrs_linear_depth(d, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
 }
+// What a pass shows at pixel p: the output image, or, where the steady display follows (frame.tuning.z,
+// its weight, above 0), the candidate buffer it filters.
 void store_output(uint eye, uvec2 p, vec3 linear_rgb) {
+    if (frame.tuning.z > 0.0) {
+        candidate[pixel_index(eye, p)] = vec4(linear_rgb, 1.0);
+        return;
+    }
     imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_output_value(linear_rgb), 1.0));
 }
 

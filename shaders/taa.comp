@@ -10,9 +10,34 @@ layout(constant_id = 0) const bool HAS_MOTION = false;
 // (EyeParams::motion_rect.z: the compose pass gathered them; depth_range.zw: the weight cap, the clip
 // box's sigmas); the history's alpha holds its accumulated weight.
 layout(constant_id = 1) const bool UPSAMPLE = false;
+// Method wrs, the steady display (wrs_display_step): the neighbourhood is what the retain pass showed
+// (it wrote the candidate buffer, frame.tuning.z being the filter's weight); the display's history is
+// slot push.pad1 of the Display buffer, valid where push.pad2 says so, and this frame's is written to
+// slot push.pad0.
+layout(constant_id = 2) const bool DISPLAY = false;
+layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 vec3 history_at(uint eye, uvec2 q) { return uintBitsToFloat(res_prev[pixel_index(eye, q)].xyz); }
+// The steady display's history at pixel q: colour, and 1 where written.
+vec4 display_at(uint eye, uvec2 q) { return display_history[display_index(push.pad1, eye, q)]; }
+
+void display_pixel(uint eye, uvec2 p, vec3 nb[9], vec3 mv) {
+    uvec2 size = frame.size.xy;
+    EyeParams ep = frame.eye[eye];
+    uint idx = pixel_index(eye, p);
+    uvec2 i0, i1;
+    vec2 f;
+    bool has = push.pad2 != 0u && wrs_taa_reproject(p, size, mv, i0, i1, f) && display_at(eye, p).w != 0.0;
+    vec3 hist = vec3(0.0);
+    if (has)
+        hist = wrs_bilinear(vec4(display_at(eye, i0).rgb, 0.0), vec4(display_at(eye, uvec2(i1.x, i0.y)).rgb, 0.0),
+                            vec4(display_at(eye, uvec2(i0.x, i1.y)).rgb, 0.0), vec4(display_at(eye, i1).rgb, 0.0), f).rgb;
+    bool wide = ep.motion_rect.z != 0u && submitted_quality(idx) <= ep.tile.w * (1.0 + WRS_Q_EQUAL);
+    vec3 c = wrs_display_step(nb, candidate[idx].rgb, hist, has, wide, frame.tuning.z);
+    display_history[display_index(push.pad0, eye, p)] = vec4(c, 1.0);
+    imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_output_value(c), 1.0));
+}
 
 void main() {
     uint eye = gl_WorkGroupID.z;
@@ -31,6 +56,10 @@ void main() {
                          : vec3(0.0);
     uvec2 i0, i1;
     vec2 f;
+    if (DISPLAY) {
+        display_pixel(eye, p, nb, mv);
+        return;
+    }
     bool has = wrs_taa_reproject(p, size, mv, i0, i1, f) && res_prev[pixel_index(eye, p)].w != 0u;
     vec3 hist = vec3(0.0);
     if (has) {

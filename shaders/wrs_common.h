@@ -1448,11 +1448,8 @@ WRS_FN vec3 wrs_clip_box(vec3 h, vec3 centre, vec3 extent) {
     return m > 1.0f ? centre + wrs_div(d, m) : h;
 }
 
-// One TAA step: `nb` holds the 3x3 neighbourhood of the current (foveated) colour in YCoCg, the
-// centre at index 4; `hist` the reprojected history in linear RGB, `has_history` whether it exists.
-// The history `hist` (linear RGB) clipped to the variance box (mean ± gamma sigma) of the 3x3
-// neighbourhood `nb` (YCoCg, centre at 4), in YCoCg.
-WRS_FN vec3 wrs_taa_clip(vec3 nb[9], vec3 hist, float gamma) {
+// The mean and standard deviation of the 3x3 neighbourhood `nb` (YCoCg), per channel.
+WRS_FN void wrs_taa_moments(vec3 nb[9], WRS_OUT(vec3) mu, WRS_OUT(vec3) sigma) {
     WRS_PRECISE vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
     WRS_PRECISE vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
     for (int i = 0; i < 9; ++i) {
@@ -1461,11 +1458,20 @@ WRS_FN vec3 wrs_taa_clip(vec3 nb[9], vec3 hist, float gamma) {
     }
     // The variance cancels (m2 / 9 - mu^2): its terms multiply by a literal 1/9 and stay unfused, so that
     // every device computes the same box before the square root.
-    WRS_PRECISE vec3 mu = m1 * 0.111111112f;
-    WRS_PRECISE vec3 var = m2 * 0.111111112f - mu * mu;
-    vec3 sigma = wrs_sqrt(max(var, vec3(0.0f, 0.0f, 0.0f)));
+    WRS_PRECISE vec3 m = m1 * 0.111111112f;
+    WRS_PRECISE vec3 var = m2 * 0.111111112f - m * m;
+    mu = m;
+    sigma = wrs_sqrt(max(var, vec3(0.0f, 0.0f, 0.0f)));
+}
+// The history `hist` (linear RGB) clipped to the variance box (mean ± gamma sigma) of the 3x3
+// neighbourhood `nb` (YCoCg, centre at 4), in YCoCg.
+WRS_FN vec3 wrs_taa_clip(vec3 nb[9], vec3 hist, float gamma) {
+    vec3 mu, sigma;
+    wrs_taa_moments(nb, mu, sigma);
     return wrs_clip_box(wrs_rgb_to_ycocg(hist), mu, gamma * sigma);
 }
+// One TAA step: `nb` holds the 3x3 neighbourhood of the current (foveated) colour in YCoCg, the
+// centre at index 4; `hist` the reprojected history in linear RGB, `has_history` whether it exists.
 WRS_FN vec3 wrs_taa_step(vec3 nb[9], vec3 hist, bool has_history, float alpha) {
     vec3 cur = wrs_ycocg_to_rgb(nb[4]);
     if (!has_history) return cur;

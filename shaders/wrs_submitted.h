@@ -279,6 +279,41 @@ WRS_FN vec4 wrs_taau_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, floa
     return vec4(c.x, c.y, c.z, min(den, max_acc));
 }
 
+// The steady display (docs/retention.md "Steady display"; `wrs` on quad views with landed samples,
+// CompositorConfig::steadyDisplay): what retention shows at a pixel of the wide views is filtered over
+// time as TAA filters a frame, the display's previous colour reprojected with the pixel's motion
+// (bilinear), clipped to the variance box of the 3x3 neighbourhood of what retention shows now, and
+// blended with it by weight `alpha`. Retention keeps a sharp estimate per pixel, but where the head's
+// motion carries landed samples across the pixels each pixel's estimate moves as samples arrive and
+// leave; the filter keeps that movement from reading as flicker. Display only: the reservoirs and the
+// rule are unchanged, and the inset's pixels (rendered sharper than the wide views) show retention's
+// colour as it is.
+// The default weight of the current frame. Headset cell, 8 phases, 10-degree inset, an experiment
+// filtering the shown frames (docs/metrics.md "Steady display"): 0.1 blurs the 0.4 row (JOD -0.08),
+// 0.2 leaves the 0.2 row 3 % above taau's instability, 0.3 and 0.5 steady less.
+const float WRS_DISPLAY_ALPHA = 0.15f;
+// One step of the steady display at a pixel: `nb` the 3x3 neighbourhood of what retention shows (YCoCg,
+// centre at 4), `shown` the centre in linear RGB, `hist` the display's previous colour reprojected
+// (linear RGB) where `has_history`, `wide` whether the pixel shows the wide views (its rendered quality
+// at or below theirs). Returns the colour displayed, which is also the display's history.
+// The history is clipped to the neighbourhood's variance box (mean ± sigma) grown to hold the current
+// colour: the variance box alone can leave out a pixel of fine detail that differs from its
+// neighbours, and the filter would then pull it towards their mean on every frame, a blur that never
+// settles (a kept inset sample shown over a fine pattern lost a seventh of its contrast); with the
+// current colour inside, a still pixel converges to what retention shows.
+WRS_FN vec3 wrs_display_step(vec3 nb[9], vec3 shown, vec3 hist, bool has_history, bool wide, float alpha) {
+    if (!wide || !has_history || !wrs_finite3(hist)) return shown;
+    vec3 mu, sigma;
+    wrs_taa_moments(nb, mu, sigma);
+    vec3 lo = min(mu - sigma, nb[4]);
+    vec3 hi = max(mu + sigma, nb[4]);
+    WRS_PRECISE vec3 centre = (lo + hi) * 0.5f;
+    WRS_PRECISE vec3 extent = (hi - lo) * 0.5f;
+    vec3 h = wrs_clip_box(wrs_rgb_to_ycocg(hist), centre, extent);
+    WRS_PRECISE vec3 out_ycocg = h + (nb[4] - h) * alpha;
+    return max(wrs_ycocg_to_rgb(out_ycocg), vec3(0.0f, 0.0f, 0.0f));
+}
+
 // Quality of a pixel shaded at rate texel v (VK_KHR_fragment_shading_rate: w = 2^((v >> 2) & 3),
 // h = 2^(v & 3); bits 4..7 ignored): 1 / (w h). A size of 8 (field 3), absent from Vulkan's table of
 // fragment sizes, is taken as 4.

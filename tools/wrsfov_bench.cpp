@@ -88,6 +88,7 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         c.taau = o.taau;
         c.floorMerge = o.floorMerge;
         c.steadyFloor = o.steadyFloor;
+        c.steadyDisplay = o.steadyDisplay;
         c.motionReachDeg = o.motionReachDeg;
         c.foveation = mode;
         c.foveaDeg = fovea;
@@ -394,6 +395,11 @@ int main(int argc, char** argv) {
     app.add_flag("--no-phase-merge", noPhaseMerge,
                  "Quad views jittered, wrs: each phase's wide candidate taken fresh under the floor rule instead of "
                  "merged over the phases (CompositorConfig::phaseMerge, docs/retention.md \"Every phase merged\").");
+    app.add_option("--steady-display", o.steadyDisplay,
+                   "Quad views, wrs: weight of the current frame in the steady display, which filters what retention "
+                   "shows in the wide views over time (CompositorConfig::steadyDisplay, docs/retention.md \"Steady "
+                   "display\"); 0 turns it off.")
+        ->capture_default_str();
     app.add_flag("--steady-floor", steadyFloor,
                  "Filter the floor level (level 4, the far periphery's candidate under wrs's floor rule) over time at "
                  "its own resolution: a steadier far periphery under motion, a softer one, and a lower FovVideoVDP "

@@ -86,6 +86,46 @@ struct WideOnly {
     }
 };
 
+// The wide-only pixels' mean frame-to-frame change (8-bit sRGB, 0..1) over the frames counted, and the
+// MSE against full resolution of the last frame. Under a pan of `pan` output pixels a frame to the right,
+// each pixel is compared with the last frame's pixel it came from (its right neighbour for 1).
+struct WideChange {
+    WideOnly wideOnly;
+    uint32_t pan = 0;
+    std::vector<uint8_t> last;
+    double change = 0, mse = 0;
+    int pairs = 0;
+    void measure(Compositor& c, const HostImage& reference, bool count) {
+        auto out = c.readOutput(0);
+        ASSERT_TRUE(out.ok());
+        std::vector<uint8_t> now(out->data.size());
+        std::memcpy(now.data(), out->data.data(), now.size());
+        double d = 0, se = 0;
+        int n = 0, nd = 0;
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                if (!wideOnly(x, y)) continue;
+                const glm::u8vec4 ref8 = encodeOutput(glm::vec3(reference.fetch(x, y)));
+                for (int k = 0; k < 3; ++k) {
+                    const std::size_t i = (std::size_t(y) * W + x) * 4 + k;
+                    const double e = (int(now[i]) - int(ref8[k])) / 255.0;
+                    se += e * e;
+                    if (last.empty() || !wideOnly(x + pan, y)) continue;
+                    d += std::abs(int(now[i]) - int(last[i + 4 * pan])) / 255.0;
+                    ++nd;
+                }
+                n += 3;
+            }
+        if (count && nd > 0) {
+            change += d / nd;
+            ++pairs;
+        }
+        mse = se / n;
+        last = std::move(now);
+    }
+    double mean() const { return change / pairs; }
+};
+
 // A quad-view application: per kind one swapchain with two layers (layer = eye) for the wide views and
 // one for the insets.
 class QuadApp {
@@ -590,40 +630,7 @@ TEST_F(Submitted, EveryPhaseMergesTheWideCandidatesOfAJitteredView) {
     onApp.edges = offApp.edges = true;
     Reference ref(on->config());
     const glm::vec2 g(-0.4f, 0.2f);
-    const WideOnly wideOnly{insetTan(g.x, g.y)};
-    // The mean frame-to-frame change of the wide-only pixels (8-bit sRGB, 0..1), and the MSE against
-    // full resolution of the last frame.
-    struct Run {
-        std::vector<uint8_t> last;
-        double change = 0, mse = 0;
-        int pairs = 0;
-    } rOn, rOff;
-    auto measure = [&](Compositor& c, Run& r, const QuadApp::Frame& f, bool count) {
-        auto out = c.readOutput(0);
-        ASSERT_TRUE(out.ok());
-        std::vector<uint8_t> now(out->data.size());
-        std::memcpy(now.data(), out->data.data(), now.size());
-        double d = 0, se = 0;
-        int n = 0;
-        for (uint32_t y = 0; y < H; ++y)
-            for (uint32_t x = 0; x < W; ++x) {
-                if (!wideOnly(x, y)) continue;
-                const glm::u8vec4 ref8 = encodeOutput(glm::vec3(f.reference.fetch(x, y)));
-                for (int k = 0; k < 3; ++k) {
-                    const std::size_t i = (std::size_t(y) * W + x) * 4 + k;
-                    if (!r.last.empty()) d += std::abs(int(now[i]) - int(r.last[i])) / 255.0;
-                    const double e = (int(now[i]) - int(ref8[k])) / 255.0;
-                    se += e * e;
-                }
-                n += 3;
-            }
-        if (count && !r.last.empty()) {
-            r.change += d / n;
-            ++r.pairs;
-        }
-        r.mse = se / n;
-        r.last = std::move(now);
-    };
+    WideChange rOn{WideOnly{insetTan(g.x, g.y)}}, rOff{WideOnly{insetTan(g.x, g.y)}};
     constexpr uint64_t kFrames = 16;
     for (uint64_t i = 0; i < kFrames; ++i) {
         onApp.wideOffset = offApp.wideOffset = layers::haltonJitter(i, 8);
@@ -641,10 +648,10 @@ TEST_F(Submitted, EveryPhaseMergesTheWideCandidatesOfAJitteredView) {
         stepAndCompare(*on, ref, composed(*on, f), a, "frame " + std::to_string(i + 1));
         EXPECT_EQ(a.differing, 0u) << "frame " << i + 1;
         EXPECT_LE(a.maxOutputDiff, 1);
-        measure(*on, rOn, f, i >= kFrames / 2);
-        measure(*off, rOff, f, i >= kFrames / 2);
+        rOn.measure(*on, f.reference, i >= kFrames / 2);
+        rOff.measure(*off, f.reference, i >= kFrames / 2);
     }
-    const double cOn = rOn.change / rOn.pairs, cOff = rOff.change / rOff.pairs;
+    const double cOn = rOn.mean(), cOff = rOff.mean();
     std::printf("[phases] wide-only frame-to-frame change over the last %d frames: merged %.5f, each phase fresh "
                 "%.5f; MSE %.5f and %.5f\n",
                 rOn.pairs, cOn, cOff, rOn.mse, rOff.mse);
@@ -656,6 +663,73 @@ TEST_F(Submitted, EveryPhaseMergesTheWideCandidatesOfAJitteredView) {
     EXPECT_FALSE(on->stats().phaseMerge);
     EXPECT_GT(on->lastParams().tuning.w, 0.0f);
     EXPECT_EQ(on->lastParams().eye[0].depth_rect.w, 0u);
+}
+
+// The steady display (CompositorConfig::steadyDisplay): on jittered views under a pan, the landed samples
+// that retention shows in the wide views move across the pixels with the head, and each pixel's estimate
+// moves as they arrive and leave. Filtered over time, the wide views change less from frame to frame
+// (motion compensated: the pan is one output pixel a frame, so the full-resolution render of a pixel
+// is the last frame's of its right neighbour), without losing their detail; the reservoirs and the
+// inset's pixels are exactly those of the unfiltered display, and the GPU agrees with the reference.
+TEST_F(Submitted, SteadyDisplayStillsTheWideViewsOfAJitteredPan) {
+    auto on = compositor(Method::Wrs), off = compositor(Method::Wrs);
+    CompositorConfig offConfig = off->config();
+    offConfig.steadyDisplay = 0.0f;
+    ASSERT_TRUE(off->setConfig(offConfig).ok());
+    EXPECT_EQ(on->config().steadyDisplay, gpu::WRS_DISPLAY_ALPHA) << "the default is the shared header's";
+    QuadApp onApp(*on, false, true), offApp(*off, false, true);
+    onApp.wideFine = offApp.wideFine = true;
+    onApp.edges = offApp.edges = true;
+    Reference ref(on->config());
+    const glm::vec2 g(-0.4f, 0.2f);
+    const float px = 2 * kTanX / W;  // one output pixel in tangent units
+    WideChange rOn{WideOnly{insetTan(g.x, g.y)}, 1}, rOff{WideOnly{insetTan(g.x, g.y)}, 1};
+    constexpr uint64_t kFrames = 16;
+    Agreement a;
+    for (uint64_t i = 0; i < kFrames; ++i) {
+        onApp.wideOffset = offApp.wideOffset = layers::haltonJitter(i, 8);
+        const glm::vec2 shift(px * float(i), 0.0f), delta(i > 0 ? px : 0.0f, 0.0f);
+        const QuadApp::Frame f = onApp.make(g.x, g.y, 1.0f, shift, delta);
+        if (i > 0)
+            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *on->readReservoirs(e), *on->readTileHeld(e));
+        onApp.submit(*on, i + 1, f);
+        offApp.submit(*off, i + 1, f);
+        ASSERT_TRUE(on->stats().steadyDisplay) << "frame " << i + 1;
+        ASSERT_FALSE(off->stats().steadyDisplay);
+        EXPECT_GT(on->lastParams().tuning.z, 0.0f);
+        stepAndCompare(*on, ref, composed(*on, f), a, "frame " + std::to_string(i + 1));
+        // Display only: the same reservoirs, and the inset's pixels shown as retention shows them.
+        if (i + 1 == kFrames) {
+            for (uint32_t e = 0; e < 2; ++e) EXPECT_EQ(*on->readReservoirs(e), *off->readReservoirs(e));
+        }
+        auto outOn = on->readOutput(0), outOff = off->readOutput(0);
+        ASSERT_TRUE(outOn.ok() && outOff.ok());
+        const glm::vec4 t = insetTan(g.x, g.y);
+        int insetPixels = 0;
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                const float tx = -kTanX + (x + 0.5f) / W * 2 * kTanX, ty = kTanY - (y + 0.5f) / H * 2 * kTanY;
+                if (tx < t.x + 0.05f || tx > t.y - 0.05f || ty > t.z - 0.05f || ty < t.w + 0.05f) continue;
+                ++insetPixels;
+                for (int k = 0; k < 4; ++k)
+                    if (outOn->data[(y * W + x) * 4 + k] != outOff->data[(y * W + x) * 4 + k]) {
+                        ADD_FAILURE() << "inset pixel " << x << "," << y << " filtered on frame " << i + 1;
+                        y = H;
+                        break;
+                    }
+            }
+        EXPECT_GT(insetPixels, 100);
+        rOn.measure(*on, f.reference, i >= kFrames / 2);
+        rOff.measure(*off, f.reference, i >= kFrames / 2);
+    }
+    EXPECT_EQ(a.differing, 0u) << "of " << a.reservoirs;
+    EXPECT_LE(a.maxOutputDiff, 1);
+    const double cOn = rOn.mean(), cOff = rOff.mean();
+    std::printf("[display] wide-only motion-compensated change over the last %d frames: filtered %.5f, unfiltered "
+                "%.5f; MSE %.5f and %.5f\n",
+                rOn.pairs, cOn, cOff, rOn.mse, rOff.mse);
+    EXPECT_LT(cOn, 0.8 * cOff) << "the filter steadies the wide views under the pan";
+    EXPECT_LE(rOn.mse, rOff.mse * 1.1) << "and keeps their detail";
 }
 
 // The method's point: the inset moves on, and `wrs` keeps showing the detail it rendered where it was,

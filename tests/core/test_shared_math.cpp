@@ -1430,3 +1430,59 @@ TEST(Input, BothViewsOfAnSrgbImageDecodeToTheSameBits) {
 
 }  // namespace
 }  // namespace wrsfov::gpu
+
+namespace wrsfov::gpu {
+namespace {
+
+// The steady display (wrs_display_step): the inset's pixels, a pixel without history and a history that
+// is not finite show retention's colour as it is; a still pixel converges to it, also where it stands out
+// of its neighbourhood's variance box (the box grows to hold it); a history far outside is clipped to
+// the box before the blend, so a change shows within a frame.
+struct DisplayNeighbourhood {
+    vec3 nb[9];
+    explicit DisplayNeighbourhood(vec3 centre, vec3 around) {
+        for (int i = 0; i < 9; ++i) nb[i] = wrs_rgb_to_ycocg(i == 4 ? centre : around);
+    }
+};
+
+TEST(SteadyDisplay, InsetPixelsNoHistoryAndNonFiniteHistoryShowRetentionsColour) {
+    const vec3 shown(0.6f, 0.3f, 0.2f), hist(0.1f, 0.1f, 0.1f);
+    DisplayNeighbourhood n(shown, vec3(0.5f, 0.3f, 0.2f));
+    for (vec3 r : {wrs_display_step(n.nb, shown, hist, true, false, 0.15f),
+                   wrs_display_step(n.nb, shown, hist, false, true, 0.15f),
+                   wrs_display_step(n.nb, shown, vec3(std::nanf(""), 0.0f, 0.0f), true, true, 0.15f),
+                   wrs_display_step(n.nb, shown, vec3(0.0f, std::numeric_limits<float>::infinity(), 0.0f), true, true,
+                                    0.15f)})
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(r[k], shown[k]);
+}
+
+TEST(SteadyDisplay, AStillPixelConvergesToWhatRetentionShowsEvenOutsideTheVarianceBox) {
+    // A bright pixel of fine detail among dark neighbours: outside mean ± sigma of its neighbourhood.
+    const vec3 shown(0.9f), around(0.05f);
+    DisplayNeighbourhood n(shown, around);
+    vec3 mu, sigma;
+    wrs_taa_moments(n.nb, mu, sigma);
+    ASSERT_GT(n.nb[4].x, mu.x + sigma.x) << "the case the grown box is for";
+    vec3 d = vec3(0.5f);  // a history halfway
+    for (int i = 0; i < 200; ++i) d = wrs_display_step(n.nb, shown, d, true, true, 0.15f);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(d[k], shown[k], 1e-4f);
+    // The variance box alone would hold it below: the step towards the history stays bounded by the box's
+    // edge, which a plain TAA clip puts at mean + sigma.
+    vec3 t = vec3(0.9f);
+    for (int i = 0; i < 200; ++i) t = wrs_taa_step(n.nb, t, true, 0.15f);
+    EXPECT_LT(t.x, 0.8f) << "the blur the grown box removes";
+}
+
+TEST(SteadyDisplay, AHistoryFarOutsideIsClippedBeforeTheBlend) {
+    const vec3 shown(0.2f);
+    DisplayNeighbourhood n(shown, vec3(0.2f));  // a flat neighbourhood: the box is one 8-bit step wide
+    const vec3 r = wrs_display_step(n.nb, shown, vec3(1.0f), true, true, 0.15f);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.2f, 2.0f / 255.0f) << "a white history does not ghost";
+    // Inside the box, the blend weighs the current colour by alpha.
+    DisplayNeighbourhood m(vec3(0.5f), vec3(0.3f));
+    const vec3 inside = wrs_display_step(m.nb, vec3(0.5f), vec3(0.45f), true, true, 0.25f);
+    EXPECT_NEAR(inside.x, 0.45f + 0.25f * (0.5f - 0.45f), 1e-5f);
+}
+
+}  // namespace
+}  // namespace wrsfov::gpu

@@ -65,6 +65,10 @@ std::vector<ConfigRow> refusedRows() {
         for (float v : {kNaN, kInf, 0.0f, -1.0f, f.tooLarge})
             r.push_back({std::string(f.name) + "_" + std::to_string(int(r.size())),
                          [m = f.member, v](CompositorConfig& c) { c.taau.*m = v; }, f.message});
+    // The steady display's weight: [0, 1] (0 turns it off).
+    for (float v : {kNaN, kInf, -0.5f, 1.5f})
+        r.push_back({"steady_display_" + std::to_string(int(r.size())), [v](CompositorConfig& c) { c.steadyDisplay = v; },
+                     "steady display weight must be in [0, 1]"});
     for (uint8_t v : {uint8_t(uint8_t(Method::Taau) + 1), uint8_t(255)})
         r.push_back({"method_" + std::to_string(v), [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
     for (uint8_t v : {uint8_t(5), uint8_t(255)}) {

@@ -146,8 +146,9 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(OomRow{"colour_pyramid", 1, "colour pyramid"}, OomRow{"candidates", 2, "candidates"},
                       OomRow{"reservoirs_first", 3, "reservoirs"}, OomRow{"reservoirs_second", 4, "reservoirs"},
                       OomRow{"births_first", 5, "births"}, OomRow{"births_second", 6, "births"},
-                      OomRow{"tile_lists", 7, "tile lists"}, OomRow{"held_qualities", 8, "held qualities"},
-                      OomRow{"tile_counts", 9, "tile counts"}, OomRow{"output_image", 10, "output image"}),
+                      OomRow{"steady_display", 7, "steady display"}, OomRow{"tile_lists", 8, "tile lists"},
+                      OomRow{"held_qualities", 9, "held qualities"}, OomRow{"tile_counts", 10, "tile counts"},
+                      OomRow{"output_image", 11, "output image"}),
     [](const ::testing::TestParamInfo<OomRow>& i) { return i.param.name; });
 
 class DeviceFaultOom : public GpuTest {};
