@@ -684,7 +684,9 @@ TEST_F(Submitted, SteadyDisplayStillsTheWideViewsOfAJitteredPan) {
     const glm::vec2 g(-0.4f, 0.2f);
     const float px = 2 * kTanX / W;  // one output pixel in tangent units
     WideChange rOn{WideOnly{insetTan(g.x, g.y)}, 1}, rOff{WideOnly{insetTan(g.x, g.y)}, 1};
-    constexpr uint64_t kFrames = 16;
+    // Under the sanitizers (tools/run-tests.sh, stage 2), which check the host paths, 6 frames and no
+    // figures: the steadiness is the release stage's to measure.
+    const uint64_t kFrames = kSanitized ? 6 : 16;
     Agreement a;
     for (uint64_t i = 0; i < kFrames; ++i) {
         onApp.wideOffset = offApp.wideOffset = layers::haltonJitter(i, 8);
@@ -728,6 +730,7 @@ TEST_F(Submitted, SteadyDisplayStillsTheWideViewsOfAJitteredPan) {
     std::printf("[display] wide-only motion-compensated change over the last %d frames: filtered %.5f, unfiltered "
                 "%.5f; MSE %.5f and %.5f\n",
                 rOn.pairs, cOn, cOff, rOn.mse, rOff.mse);
+    if (kSanitized) return;
     EXPECT_LT(cOn, 0.8 * cOff) << "the filter steadies the wide views under the pan";
     EXPECT_LE(rOn.mse, rOff.mse * 1.1) << "and keeps their detail";
 }

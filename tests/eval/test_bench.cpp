@@ -77,7 +77,11 @@ TEST_F(Bench, FlickerAnalysisAccountsForEveryStablePixelPair) {
     o.height = 96;
     o.frames = 24;
     o.warmup = 4;
-    for (scenes::PhotoMotion m : {scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan}) {
+    // Under the sanitizers (tools/run-tests.sh, stage 2), which check the host paths, the pan alone: it
+    // takes every path the still head does, and the loss patches' too.
+    std::vector<scenes::PhotoMotion> motions{scenes::PhotoMotion::Static, scenes::PhotoMotion::Pan};
+    if (kSanitized) motions.erase(motions.begin());
+    for (scenes::PhotoMotion m : motions) {
         SCOPED_TRACE(std::string(scenes::toString(m)));
         o.photoMotion = m;
         if (m == scenes::PhotoMotion::Pan) {  // large and long enough for the fovea's blend band to lose patches
