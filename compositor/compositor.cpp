@@ -740,9 +740,10 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
     // The steady display's history, where a quad-view frame runs it (kept while the configuration does).
     const bool display = work.kind == layers::SubmittedFoveation::Quad && work.next.method == Method::Wrs &&
                          work.next.landedSamples && work.next.steadyDisplay > 0.0f;
+    const bool keepDisplay = display || (displayAllocated_ && work.next.steadyDisplay > 0.0f);
     if (work.w != width_ || work.h != height_ || work.next.trackBirth != birthAllocated_ ||
         (display && !displayAllocated_)) {
-        if (Status s = resize(work.w, work.h, work.next.trackBirth, display || (displayAllocated_ && work.next.steadyDisplay > 0.0f)); !s)
+        if (Status s = resize(work.w, work.h, work.next.trackBirth, keepDisplay); !s)
             return submitError(SubmitError::DeviceFailure,
                                ctx_.deviceLost() ? std::string(kDeviceLost)
                                                  : "resizing to " + std::to_string(work.w) + "x" +

@@ -282,15 +282,15 @@ WRS_FN vec4 wrs_taau_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, floa
 // The steady display (docs/retention.md "Steady display"; `wrs` on quad views with landed samples,
 // CompositorConfig::steadyDisplay): what retention shows at a pixel of the wide views is filtered over
 // time as TAA filters a frame, the display's previous colour reprojected with the pixel's motion
-// (bilinear), clipped to the variance box of the 3x3 neighbourhood of what retention shows now, and
+// (bilinear), clipped to the box of the 3x3 neighbourhood of what retention shows now (below), and
 // blended with it by weight `alpha`. Retention keeps a sharp estimate per pixel, but where the head's
 // motion carries landed samples across the pixels each pixel's estimate moves as samples arrive and
 // leave; the filter keeps that movement from reading as flicker. Display only: the reservoirs and the
 // rule are unchanged, and the inset's pixels (rendered sharper than the wide views) show retention's
 // colour as it is.
 // The default weight of the current frame. Headset cell, 8 phases, 10-degree inset, an experiment
-// filtering the shown frames (docs/metrics.md "Steady display"): 0.1 blurs the 0.4 row (JOD -0.08),
-// 0.2 leaves the 0.2 row 3 % above taau's instability, 0.3 and 0.5 steady less.
+// filtering the shown frames (docs/retention.md "Steady display"): 0.1 blurs the 0.4 row (JOD 8.31
+// against 8.38 at 0.3), 0.2 leaves the 0.2 row 3.4 % above taau's instability, 0.3 and 0.5 steady less.
 const float WRS_DISPLAY_ALPHA = 0.15f;
 // One step of the steady display at a pixel: `nb` the 3x3 neighbourhood of what retention shows (YCoCg,
 // centre at 4), `shown` the centre in linear RGB, `hist` the display's previous colour reprojected
