@@ -738,8 +738,7 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
     }
     // The steady display's history, where a quad-view frame runs it (kept while the configuration does).
-    const bool display = work.kind == layers::SubmittedFoveation::Quad && work.next.method == Method::Wrs &&
-                         work.next.landedSamples && work.next.steadyDisplay > 0.0f;
+    const bool display = work.kind == layers::SubmittedFoveation::Quad && displayActive(work.next);
     const bool keepDisplay = display || (displayAllocated_ && work.next.steadyDisplay > 0.0f);
     if (work.w != width_ || work.h != height_ || work.next.trackBirth != birthAllocated_ ||
         (display && !displayAllocated_)) {
