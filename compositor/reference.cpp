@@ -34,6 +34,14 @@ glm::u8vec4 encodeOutput(glm::vec3 linear) {
 
 namespace {
 
+// The 3x3 neighbourhood of pixel p in YCoCg, as taa.comp gathers it (taps clamped to the image of size
+// `size`); `colourAt(q)` gives the linear RGB at pixel q.
+template <typename ColourAt>
+void taaNeighbourhood(uvec2 p, uvec2 size, ColourAt colourAt, vec3 nb[9]) {
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) nb[j * 3 + i] = wrs_rgb_to_ycocg(colourAt(wrs_taa_tap(p, ivec2(i - 1, j - 1), size)));
+}
+
 // What a pass fetches of an input texel read as `encoding` says: HostImage::fetch gives an 8-bit image's
 // code / 255, what a UNORM view returns; through an sRGB view the device returns the code's linear
 // value (the table: the nearest float to it, as a table-driven decode gives).
@@ -220,9 +228,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 for (uint x = 0; x < s4.x; ++x) {
                     uvec2 d(x, y);
                     vec3 nb[9];
-                    for (int j = 0; j < 3; ++j)
-                        for (int i = 0; i < 3; ++i)
-                            nb[j * 3 + i] = wrs_rgb_to_ycocg(vec3(at(WRS_STEADY_LEVEL, wrs_taa_tap(d, ivec2(i - 1, j - 1), s4))));
+                    taaNeighbourhood(d, s4, [&](uvec2 q) { return vec3(at(WRS_STEADY_LEVEL, q)); }, nb);
                     vec3 mv(0.0f);
                     if (hasMotion) {
                         uvec2 p = wrs_steady_motion_pixel(d, size0);
@@ -285,11 +291,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 for (uint x = 0; x < W; ++x) {
                     uvec2 p(x, y);
                     vec3 nb[9];
-                    for (int j = 0; j < 3; ++j)
-                        for (int i = 0; i < 3; ++i) {
-                            uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size0);
-                            nb[j * 3 + i] = wrs_rgb_to_ycocg(vec3(cand_[eye][std::size_t(q.y) * W + q.x]));
-                        }
+                    taaNeighbourhood(p, size0, [&](uvec2 q) { return vec3(cand_[eye][std::size_t(q.y) * W + q.x]); }, nb);
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                     uvec2 i0, i1;
                     vec2 f;
@@ -510,11 +512,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         const uvec2 p(x, y);
                         const std::size_t idx = std::size_t(y) * W + x;
                         vec3 nb[9];
-                        for (int j = 0; j < 3; ++j)
-                            for (int i = 0; i < 3; ++i) {
-                                const uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size0);
-                                nb[j * 3 + i] = wrs_rgb_to_ycocg(shownAt[std::size_t(q.y) * W + q.x]);
-                            }
+                        taaNeighbourhood(p, size0, [&](uvec2 q) { return shownAt[std::size_t(q.y) * W + q.x]; }, nb);
                         const vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                         uvec2 i0, i1;
                         vec2 f;
