@@ -57,11 +57,12 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
     std::vector<cv::Rect> labelBoxes;  // every point and every label drawn: labels go where they overlap none
     for (const auto& s : series)
         for (const auto& p : s.points)
-            if (std::isfinite(p.x) && std::isfinite(p.y)) labelBoxes.push_back(cv::Rect(map(p) - cv::Point(5, 5), cv::Size(11, 11)));
+            if (s.markers && std::isfinite(p.x) && std::isfinite(p.y))
+                labelBoxes.push_back(cv::Rect(map(p) - cv::Point(5, 5), cv::Size(11, 11)));
     for (const auto& s : series) {
         for (std::size_t i = 0; i < s.points.size(); ++i) {
             if (!std::isfinite(s.points[i].y)) continue;
-            cv::circle(img, map(s.points[i]), 5, s.colour, -1, cv::LINE_AA);
+            if (s.markers) cv::circle(img, map(s.points[i]), 5, s.colour, -1, cv::LINE_AA);
             if (s.line && i > 0) cv::line(img, map(s.points[i - 1]), map(s.points[i]), s.colour, 2, cv::LINE_AA);
             // A point label is drawn only where it overlaps no label drawn before it.
             if (i < s.labels.size()) {
@@ -78,7 +79,10 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
                 }
             }
         }
-        cv::circle(img, {lx, 42}, 5, s.colour, -1, cv::LINE_AA);
+        if (s.markers)
+            cv::circle(img, {lx, 42}, 5, s.colour, -1, cv::LINE_AA);
+        else
+            cv::line(img, {lx - 6, 42}, {lx + 6, 42}, s.colour, 2, cv::LINE_AA);
         cv::putText(img, s.name, {lx + 10, 46}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
         lx += 20 + 9 * int(s.name.size()) + 20;
     }

@@ -11,13 +11,14 @@
 namespace wrsfov::eval {
 
 /// One series: its points (non-finite ones are skipped), optional per-point labels (drawn where they
-/// overlap no other label), and whether consecutive points are joined.
+/// overlap no other label), whether consecutive points are joined, and whether each has a dot.
 struct Series {
     std::string name;
     cv::Scalar colour;
     std::vector<cv::Point2d> points;
     std::vector<std::string> labels;
     bool line = false;
+    bool markers = true;  ///< a dot at each point (false: the line alone, e.g. a target level)
 };
 
 /// A 720 x 500 chart with round-valued ticks and a legend row above the plot.

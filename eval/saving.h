@@ -131,4 +131,48 @@ FoveaWorth insetForJod(const std::vector<SavingRow>& rows, SceneKind scene, Meth
 Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions& options, const std::string& dir,
                          const std::string& deviceName, std::string* headline = nullptr);
 
+// --- JOD against pixels across studies (eval/saving_plot.cpp, wrsfov-bench --saving-plot) ---
+
+/// Reads a saving.csv that writeSavingReport wrote (columns by name; a file of a study before the
+/// jittered views, without wide_density, jitter or temporal_instability, reads them as 0, 0 and NaN).
+/// A missing column, a field that is not a number, an unknown scene, method or input, a count of
+/// pixels that is not positive: an error naming the file, the line and the field.
+Result<std::vector<SavingRow>> readSavingCsv(const std::string& path);
+
+/// The row whose JOD the curves are asked to reach: a method's quad views at a wide density and inset,
+/// jittered (more than one phase) or not. Text form "METHOD,DENSITY,INSET[,JITTER]" ("fov,0.4,30").
+struct SavingTarget {
+    Method method = Method::Fov;
+    float wideScale = 0.4f, insetDeg = 30.0f;
+    uint32_t jitterPhases = 0;
+};
+Result<SavingTarget> parseSavingTarget(std::string_view text);
+
+/// A row's curve: the method, "(jittered)" for quad views over more than one phase, "(rate)" for
+/// shading rates ("wrs (jittered)", "fov").
+std::string curveName(const SavingRow& r);
+
+/// A curve's best points: its rows with a JOD, by pixels, each kept only where it scores above every
+/// cheaper one (what a user picking the fewest pixels for a JOD would choose among).
+struct SavingFrontPoint {
+    double pixels = 0, renderMs = 0, jod = 0;
+};
+std::vector<SavingFrontPoint> savingFront(const std::vector<SavingRow>& curve);
+/// The fewest pixels at which a front reaches `targetJod`, linear between its points (FoveaWorth's
+/// bounds: AtMost where its cheapest point already reaches it, MoreThan where none does), and the
+/// render time linear in the pixels there.
+struct SavingReach {
+    double pixels = std::numeric_limits<double>::quiet_NaN(), renderMs = std::numeric_limits<double>::quiet_NaN();
+    FoveaWorth::Bound bound = FoveaWorth::Bound::Unknown;
+};
+SavingReach savingReach(const std::vector<SavingFrontPoint>& front, double targetJod);
+
+/// Writes jod_vs_pixels.png (JOD against the share of full resolution's pixels, one curve per
+/// curveName, the target's JOD as a line) and jod_vs_pixels.md (the fewest pixels at which each curve
+/// reaches the target, the curves at equal pixels, every row) into `dir`; `summary` gets the first two
+/// tables. The rows may come from several studies, which must share the scene and its full-resolution
+/// row (one cell): otherwise an error, as for a target no row matches or a study without JOD.
+Status writeJodAgainstPixels(const std::vector<SavingRow>& rows, const std::optional<SavingTarget>& target,
+                             const std::string& dir, std::string* summary = nullptr);
+
 }  // namespace wrsfov::eval
