@@ -261,6 +261,16 @@ struct CellGeometry {
 Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, FoveationMode mode, float fovea,
                                   uint32_t width, uint32_t height);
 
+/// The same for frames submitted as quad views (wrsfov-bench --cost-model --cost-quad): the atrium's views
+/// as the saving study renders them (eval/saving.cpp), wide views at `wideScale` of the display's pixels
+/// and an inset `insetDeg` across at the display's density, `width` x `height` the output per eye. The
+/// inputs are trafficInputs() of that layer (the compose pass's bytes, the composed images' formats). The
+/// tiles: of class far (every pixel at the wide views' quality) outside the inset, placed at the view's
+/// centre, and any where it lies; `allTilesAny`: every tile any (a frame of `wrs` that merges every phase
+/// of jittered views has no floor rule). No skip share: sparse retention's is not measured here.
+Result<CellGeometry> quadCellGeometry(const BenchOptions& options, SceneKind scene, uint32_t width, uint32_t height,
+                                      float wideScale, float insetDeg, bool allTilesAny);
+
 /// Writes results.csv, table.md, error_vs_time.png and error_vs_fovea.png into `dir`.
 Status writeReport(const std::vector<CellResult>& results, const BenchOptions& options, const std::string& dir,
                    const std::string& deviceName);

@@ -419,4 +419,77 @@ Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, 
     return g;
 }
 
+Result<CellGeometry> quadCellGeometry(const BenchOptions& options, SceneKind scene, uint32_t width, uint32_t height,
+                                      float wideScale, float insetDeg, bool allTilesAny) {
+    if (scene != SceneKind::Atrium && scene != SceneKind::Dynamic)
+        return benchError("bench: the cost model's quad views are the atrium's (HMD stereo), not scene " +
+                          std::string(toString(scene)));
+    if (width < 32 || height < 32) return benchError("bench: images must be at least 32x32 per eye");
+    if (!(wideScale > 0.0f && wideScale <= 1.0f) || !(insetDeg > 0.0f && insetDeg < 170.0f))
+        return benchError("bench: quad views need a wide density in (0, 1] and an inset in (0, 170) degrees");
+    BenchOptions o = options;
+    o.width = width;
+    o.height = height;
+    const scenes::AtriumOptions ao = atriumOptions(o, scene);
+    const HostStereoApp::Options app = atriumAppOptions(ao);
+    const layers::Fov fov = scenes::atriumFov(ao, 0);
+    // The study's views (eval/saving.cpp): the wide view at wideScale of the display's pixels, the inset
+    // at the display's density over insetDeg across at the view's centre.
+    const double tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight), tu = std::tan(fov.angleUp),
+                 td = std::tan(fov.angleDown);
+    const double span = 2.0 * std::tan(0.5 * double(insetDeg) * 3.14159265358979323846 / 180.0);
+    const uint32_t wideW = std::max(1u, uint32_t(std::lround(width * double(wideScale)))),
+                   wideH = std::max(1u, uint32_t(std::lround(height * double(wideScale))));
+    const uint32_t insetW = std::min(width, uint32_t(std::max(1.0, std::round(span * width / (tr - tl))))),
+                   insetH = std::min(height, uint32_t(std::max(1.0, std::round(span * height / (tu - td)))));
+    auto described = [](std::optional<layers::Format> f, uint32_t w, uint32_t h) {
+        layers::SwapchainCreateInfo sci;
+        sci.format = *f;
+        sci.width = w;
+        sci.height = h;
+        return std::make_unique<DescribedSwapchain>(sci);
+    };
+    std::vector<std::unique_ptr<DescribedSwapchain>> images;
+    auto sub = [&](std::optional<layers::Format> f, uint32_t w, uint32_t h) {
+        images.push_back(described(f, w, h));
+        return layers::SubImage{images.back().get(), {0, 0, w, h}, 0};
+    };
+    layers::ProjectionLayer layer;
+    layer.views.resize(2);
+    layer.outputWidth = width;
+    layer.outputHeight = height;
+    layers::ProjectionView& v = layer.views[0];
+    v.fov = fov;
+    v.color = sub(app.color, wideW, wideH);
+    layers::InsetView inset;
+    inset.color = sub(app.color, insetW, insetH);
+    if (app.depth) {
+        v.depth = layers::DepthInfo{};
+        v.depth->subImage = sub(app.depth, wideW, wideH);
+        inset.depth = layers::DepthInfo{};
+        inset.depth->subImage = sub(app.depth, insetW, insetH);
+    }
+    if (app.motion) {
+        v.motion = layers::MotionInfo{};
+        v.motion->subImage = sub(app.motion, wideW, wideH);
+        inset.motion = layers::MotionInfo{};
+        inset.motion->subImage = sub(app.motion, insetW, insetH);
+    }
+    v.inset = inset;
+    layer.views[1] = v;
+    CellGeometry g;
+    g.inputs = trafficInputs(layer);
+    // The tile classes of a frame submitted foveated (wrs_submitted_tile_class): far where every pixel
+    // was rendered at the wide views' quality, any elsewhere; the inset at the view's centre. A frame
+    // that merges every phase of jittered views has no floor rule: every tile is of class any.
+    const uint32_t tx = (width + gpu::WRS_TILE - 1) / gpu::WRS_TILE, ty = (height + gpu::WRS_TILE - 1) / gpu::WRS_TILE;
+    const uint32_t x0 = (width - insetW) / 2, y0 = (height - insetH) / 2;
+    const uint32_t touchedX = (x0 + insetW - 1) / gpu::WRS_TILE - x0 / gpu::WRS_TILE + 1,
+                   touchedY = (y0 + insetH - 1) / gpu::WRS_TILE - y0 / gpu::WRS_TILE + 1;
+    const double any = allTilesAny ? 1.0 : double(touchedX) * touchedY / (double(tx) * ty);
+    g.tileShare[gpu::WRS_TILE_ANY] = any;
+    g.tileShare[gpu::WRS_TILE_FAR] = 1.0 - any;
+    return g;
+}
+
 }  // namespace wrsfov::eval

@@ -133,6 +133,13 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     };
 
     // Every pipeline of a frame, one line each (a new variant is a line here).
+    // Frames submitted foveated: the compose pass first (ComposePass::record, barriers on both sides), quad
+    // views (kind 1, with the views' depth and motion) or a rate map (kind 2); its own constants only.
+    if (in.composeWrite > 0) {
+        const bool quad = in.composeWrite > 4;
+        add("compose", ShaderId::Compose, {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion}, whole, bytes("compose"));
+        barrier();
+    }
     if (tiled) {  // one invocation per tile; each writes its 4-byte list entry (and reads far tiles' motion)
         const uint64_t tx = groupsOf(in.width, gpu::WRS_TILE), ty = groupsOf(in.height, gpu::WRS_TILE);
         if (sparse && hasMotion) {  // phase 1: a superblock's largest held quality from its tiles' (4 bytes each),
@@ -196,6 +203,7 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     // null device runs nothing, so the probe cannot run there).
     // Constant 8 (TRACK_BIRTH): the stale-pixel evaluation's birth colours, where the configuration tracks them.
     for (PipelineVariant& x : v) {
+        if (x.shader == ShaderId::Compose) continue;  // compose.comp declares neither
         x.constants[7] = 1;
         x.constants[8] = c.trackBirth ? 1u : 0u;
     }

@@ -395,6 +395,81 @@ TEST(CostModel, TileSharesFromTheSweepsGaze) {
     EXPECT_FALSE(cellGeometry(o, SceneKind::Sequence, FoveationMode::Mip, 5.0f, 256, 256));
 }
 
+// Frames submitted as quad views (wrsfov-bench --cost-model --cost-quad): the layer's bytes, the tiles
+// the inset covers, and the compose pass first, then each method's passes on the composed images.
+TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
+    BenchOptions o;
+    o.hmdFovDeg = 100.0f;
+    auto g = quadCellGeometry(o, SceneKind::Atrium, 768, 768, 0.3f, 10.0f, false);
+    ASSERT_TRUE(g) << g.error().message;
+    // The composed images: RGBA16F colour, R32F depth, RGBA16F motion, and the 4-byte quality.
+    EXPECT_EQ(g->inputs.colorBytes, 8u);
+    EXPECT_EQ(g->inputs.depthBytes, 4u);
+    EXPECT_EQ(g->inputs.motionBytes, 8u);
+    EXPECT_DOUBLE_EQ(g->inputs.composeWrite, 24.0);
+    // Read: the wide view's 230^2 texels and the inset's of RGBA8, D32F and RGBA16F (16 B), per output pixel.
+    // The inset: 10° across at 768 px over 100°: 2 tan 5° x 768 / (2 tan 50°) = 56 px.
+    const double wide = 230.0 * 230.0 / (768.0 * 768.0), inset = 56.0 * 56.0 / (768.0 * 768.0);
+    EXPECT_NEAR(g->inputs.composeRead, 16.0 * (wide + inset), 1e-9);
+    // 56 px centred in 768: pixels 356..411, tiles 22..25 of 48 per axis.
+    EXPECT_DOUBLE_EQ(g->tileShare[gpu::WRS_TILE_ANY], 16.0 / (48.0 * 48.0));
+    EXPECT_DOUBLE_EQ(g->tileShare[gpu::WRS_TILE_FAR], 1.0 - 16.0 / (48.0 * 48.0));
+    auto merged = quadCellGeometry(o, SceneKind::Atrium, 768, 768, 0.3f, 10.0f, true);
+    ASSERT_TRUE(merged);
+    EXPECT_EQ(merged->tileShare[gpu::WRS_TILE_ANY], 1.0);
+    EXPECT_EQ(merged->tileShare[gpu::WRS_TILE_FAR], 0.0);
+    EXPECT_FALSE(quadCellGeometry(o, SceneKind::Text, 768, 768, 0.3f, 10.0f, false));
+    EXPECT_FALSE(quadCellGeometry(o, SceneKind::Atrium, 768, 768, 0.0f, 10.0f, false));
+    EXPECT_FALSE(quadCellGeometry(o, SceneKind::Atrium, 768, 768, 0.3f, 0.0f, false));
+
+    auto names = [](const std::vector<PipelineVariant>& vs) {
+        std::vector<std::string> out;
+        for (const PipelineVariant& v : vs) out.push_back(v.pass + "/" + tileClassName(v.tileClass));
+        return out;
+    };
+    using V = std::vector<std::string>;
+    auto quadConfig = [](Method m) {
+        CompositorConfig c = config(m);
+        c.foveation = FoveationMode::Submitted;
+        return c;
+    };
+    const auto wrs = pipelineVariants(quadConfig(Method::Wrs), g->inputs);
+    EXPECT_EQ(names(wrs), (V{"compose/whole", "reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea",
+                             "retain/mid", "retain/far", "skip/skip", "display/whole"}));
+    // compose.comp's constants as ComposePass binds them: quad views (1), depth, motion; nothing else.
+    EXPECT_EQ(wrs[0].shader, ShaderId::Compose);
+    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(wrs[0].groups, 96u * 96u * 2u);
+    EXPECT_LT(wrs[0].phase, wrs[1].phase) << "a barrier after the compose pass";
+    EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Fov), g->inputs)), (V{"compose/whole", "foveate/whole"}));
+    EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Taau), g->inputs)),
+              (V{"compose/whole", "foveate/whole", "taa/whole"}));
+    // Every pass of traffic() on these views has its variant with its bytes (the compose pass's among them).
+    for (Method m : {Method::Fov, Method::Taau, Method::Wrs}) {
+        const Traffic t = traffic(quadConfig(m), g->inputs);
+        const auto vs = pipelineVariants(quadConfig(m), g->inputs);
+        for (const PassTraffic& p : t.passes) {
+            // The skip list moves the bytes of no retaining tile, the classification adds its list entries
+            // (VariantsMirrorTheDispatches).
+            if (p.pass == "skip" || p.pass == "classify") continue;
+            bool found = false;
+            for (const PipelineVariant& v : vs)
+                if (v.pass == p.pass) {
+                    found = true;
+                    EXPECT_DOUBLE_EQ(v.bytesPerPx, p.read + p.write) << toString(m) << " " << p.pass;
+                }
+            EXPECT_TRUE(found) << toString(m) << ": no variant for pass " << p.pass;
+        }
+    }
+    // A rate map's compose pass: kind 2, no depth or motion of its own.
+    TrafficInputs rate = kAtrium;
+    rate.composeRead = 1.0 / 256.0;
+    rate.composeWrite = 4;
+    const auto fovRate = pipelineVariants(quadConfig(Method::Fov), rate);
+    ASSERT_FALSE(fovRate.empty());
+    EXPECT_EQ(fovRate[0].constants, (std::array<uint32_t, 9>{2, 0, 0, 0, 0, 0, 0, 0, 0}));
+}
+
 #ifdef WRSFOV_BENCH_EXE
 // The statistics process, which the bench re-executes per target.
 TEST(CostModelDevice, ADeviceWithoutStatisticsIsASkipWithItsReason) {
