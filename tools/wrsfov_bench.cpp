@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,9 +73,15 @@ Result<SparseShares> measuredSparseShares(vk::Context& ctx, eval::BenchOptions o
     return Error{1, "no retention share measured"};
 }
 
+// --cost-quad: the cost model's frames submitted as quad views, as the saving study renders them.
+struct QuadCostCell {
+    float wideScale = 0.4f, insetDeg = 10.0f;
+    uint32_t jitterPhases = 0;
+};
+
 CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::string>& targetNames,
                           const std::vector<std::pair<uint32_t, uint32_t>>& sizes, const std::string& out,
-                          vk::Context* ctx) {
+                          vk::Context* ctx, const std::optional<QuadCostCell>& quad = std::nullopt) {
     CostModelRun run;
     const eval::SceneKind scene = o.scenes.front();
     const FoveationMode mode = o.modes.front();
@@ -90,21 +97,40 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         c.steadyFloor = o.steadyFloor;
         c.steadyDisplay = o.steadyDisplay;
         c.motionReachDeg = o.motionReachDeg;
-        c.foveation = mode;
+        c.foveation = quad ? FoveationMode::Submitted : mode;
         c.foveaDeg = fovea;
         c.change = o.change;
         c.skipTiles = o.skipTiles;
         return c;  // no stale tracking: the passes as an application gets them
     };
+    // The views' bytes and tile shares at a size: the cell's own gaze replayed (simulated foveation), or
+    // the quad views' layer (a frame of wrs that merges every phase of jittered views: every tile any).
+    std::map<std::pair<uint32_t, uint32_t>, eval::CellGeometry> geometry;
+    auto geometryFor = [&](Method m, uint32_t w, uint32_t h) -> Result<eval::CellGeometry> {
+        if (quad) {
+            const CompositorConfig c = configFor(m);
+            const bool merges = m == Method::Wrs && c.phaseMerge && c.landedSamples && quad->jitterPhases > 1;
+            return eval::quadCellGeometry(o, scene, w, h, quad->wideScale, quad->insetDeg, merges);
+        }
+        auto it = geometry.find({w, h});
+        if (it == geometry.end()) {
+            auto g = eval::cellGeometry(o, scene, mode, fovea, w, h);
+            if (!g) return g.error();
+            it = geometry.emplace(std::pair{w, h}, *g).first;
+        }
+        return it->second;
+    };
     std::error_code ec;
     const std::string exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
     std::vector<eval::CostRow> rows;
     std::vector<std::string> skipped;
-    std::map<std::pair<uint32_t, uint32_t>, eval::CellGeometry> geometry;
     std::map<Method, SparseShares> sparseShares;
     std::string shareNote;
+    if (quad)
+        shareNote = "; sparse retention's skipped tiles not measured on quad views: every far tile counted as retaining "
+                    "(with jittered views wrs merges every phase and has no far tiles)";
     for (Method m : o.methods) {
-        if (!runsSparse(configFor(m))) continue;
+        if (quad || !runsSparse(configFor(m))) continue;
         if (!ctx) {
             shareNote = "; no Vulkan device to measure sparse retention's share on: every far tile counted as retaining";
             break;
@@ -144,18 +170,19 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         std::vector<std::pair<uint32_t, uint32_t>> cellSizes{{gpu->eyeWidth, gpu->eyeHeight}};
         for (auto s : sizes)
             if (std::find(cellSizes.begin(), cellSizes.end(), s) == cellSizes.end()) cellSizes.push_back(s);
-        // The pipelines depend on the views (depth, motion), not on their size.
-        auto geo = eval::cellGeometry(o, scene, mode, fovea, cellSizes.front().first, cellSizes.front().second);
-        if (!geo) {
-            std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", geo.error().message.c_str());
-            run.exitCode = 1;
-            return run;
-        }
+        // The pipelines depend on the views (depth, motion, composition), not on their size.
         std::vector<eval::VariantKey> keys;
-        for (Method m : o.methods)
+        for (Method m : o.methods) {
+            auto geo = geometryFor(m, cellSizes.front().first, cellSizes.front().second);
+            if (!geo) {
+                std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", geo.error().message.c_str());
+                run.exitCode = 1;
+                return run;
+            }
             for (const eval::PipelineVariant& v : eval::pipelineVariants(configFor(m), geo->inputs))
                 if (std::find(keys.begin(), keys.end(), eval::VariantKey{v.shader, v.constants}) == keys.end())
                     keys.push_back({v.shader, v.constants});
+        }
         const auto t0 = std::chrono::steady_clock::now();
         auto stats = eval::collectStatistics(exe, *target, keys);
         if (!stats) {
@@ -172,20 +199,16 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
         std::printf("wrsfov-bench: cost model: %zu pipelines compiled for %s in %.1f s\n", keys.size(), name.c_str(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         for (auto [w, h] : cellSizes) {
-            auto it = geometry.find({w, h});
-            if (it == geometry.end()) {
-                auto g = eval::cellGeometry(o, scene, mode, fovea, w, h);
+            for (Method m : o.methods) {
+                auto g = geometryFor(m, w, h);
                 if (!g) {
                     std::fprintf(stderr, "wrsfov-bench: cost model: %s\n", g.error().message.c_str());
                     run.exitCode = 1;
                     return run;
                 }
-                it = geometry.emplace(std::pair{w, h}, *g).first;
-            }
-            for (Method m : o.methods) {
-                eval::TileShares shares = it->second.tileShare;
+                eval::TileShares shares = g->tileShare;
                 // Bytes per pass: without a measurement the classification reads every far tile's motion.
-                TrafficInputs in = it->second.inputs;
+                TrafficInputs in = g->inputs;
                 in.motionShare = shares[gpu::WRS_TILE_FAR];
                 if (auto rs = sparseShares.find(m); rs != sparseShares.end()) {
                     // The skipped tiles are far tiles: they come off the far list.
@@ -200,7 +223,21 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
             }
         }
     }
-    std::string description = "Scene " + std::string(eval::toString(scene)) + " (" +
+    auto num = [](double v, const char* f) {
+        char b[32];
+        std::snprintf(b, sizeof b, f, v);
+        return std::string(b);
+    };
+    std::string description =
+        quad ? "Frames submitted as quad views of the " + std::string(eval::toString(scene)) + " (HMD stereo, " +
+                   (o.hmdFovDeg > 0 ? num(o.hmdFovDeg, "%.0f") + "° per eye" : std::string("the default field of view")) +
+                   "), as the saving study renders them: wide views at " +
+                   num(quad->wideScale, "%.2f") + " of the display's pixels" +
+                   (quad->jitterPhases > 1 ? ", jittered over " + std::to_string(quad->jitterPhases) + " phases" : "") +
+                   ", an inset " + num(quad->insetDeg, "%.0f") + "° across at the display's density; the compose pass "
+                   "first, its bytes those of the layer's images; tile classes far outside the inset (placed at the "
+                   "view's centre), any within it" + shareNote + "."
+             : "Scene " + std::string(eval::toString(scene)) + " (" +
                               (o.monitor ? "monitor mode" : "HMD stereo") + ", camera path " +
                               std::string(toString(o.path)) + "), fovea " + std::to_string(fovea).substr(0, 4) +
                               "°, foveation " + std::string(toString(mode)) + (o.skipTiles ? "" : ", no tile classes") +
@@ -275,6 +312,36 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<cli::Si
     return rc != 0 ? rc : cost.exitCode;
 }
 
+// --saving-plot: the rows of saving.csv files as JOD against pixels (eval::writeJodAgainstPixels).
+int runSavingPlot(const std::vector<std::string>& files, const std::string& targetText, const std::string& out) {
+    std::optional<eval::SavingTarget> target;
+    if (!targetText.empty()) {
+        auto t = eval::parseSavingTarget(targetText);
+        if (!t) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", t.error().message.c_str());
+            return 2;
+        }
+        target = *t;
+    }
+    std::vector<eval::SavingRow> rows;
+    for (const std::string& f : files) {
+        auto r = eval::readSavingCsv(f);
+        if (!r) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
+            return 1;
+        }
+        rows.insert(rows.end(), r->begin(), r->end());
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) {
+        std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
+        return 1;
+    }
+    return printReport(eval::writeJodAgainstPixels(rows, target, out), out + "/jod_vs_pixels.md",
+                       "JOD against pixels in " + out + " (jod_vs_pixels.md, jod_vs_pixels.png)");
+}
+
 // The names an option takes for `values`: the enums' own names.
 template <typename T>
 std::vector<std::pair<std::string, T>> named(std::initializer_list<T> values) {
@@ -298,6 +365,9 @@ int main(int argc, char** argv) {
          noLanded = false, noPhaseMerge = false;
     std::vector<float> taauParams;
     bool steadyFloor = false;
+    bool costQuad = false;
+    std::vector<std::string> savingPlot;
+    std::string savingTarget;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
     bool saving = false, noRate = false;
     eval::SavingOptions savingOptions;
@@ -455,6 +525,10 @@ int main(int argc, char** argv) {
                  "--scaling sizes given. Unless given: scene atrium, methods fov,fov+taa,wrs-paper,wrs, mode mip. "
                  "Writes cost_model.csv and cost_model.md; a target without a device or statistics is skipped "
                  "with the reason.");
+    app.add_flag("--cost-quad", costQuad,
+                 "--cost-model: frames submitted as quad views instead of foveated by the compositor, as --saving renders "
+                 "the atrium: wide views at --wide-scale, an inset of the first --inset-degs, jittered over --jitter "
+                 "phases; the compose pass and the passes after it per method (methods default fov,taau,wrs).");
     cli::listOption(app, "--cost-targets", costTargets, cli::list(cli::text("a target", "T")),
                 "Devices the --cost-model compiles for: a RADV family (gfx1100, vangogh: Mesa's null device, no GPU "
                 "needed) or device:NAME (a Vulkan device whose name contains NAME); each needs an entry with public "
@@ -487,6 +561,15 @@ int main(int argc, char** argv) {
                 "display's density; the compositor places each sample where it was taken.")
         ->type_name("N");
     app.add_flag("--no-rate", noRate, "--saving: quad views only, no shading-rate rows.");
+    cli::listOption(app, "--saving-plot", savingPlot, cli::list(cli::text("a saving.csv path", "CSV")),
+                "Instead of a study: JOD against the share of full resolution's pixels from saving.csv files of "
+                "--saving studies of one scene and size, one curve per method and input (jittered quad views "
+                "apart), and the fewest pixels at which each curve reaches --saving-target. Writes "
+                "jod_vs_pixels.png and jod_vs_pixels.md in --out; needs no device.")
+        ->type_name("CSV,...");
+    cli::option(app, "--saving-target", savingTarget, cli::text("a target", "METHOD,DENSITY,INSET[,JITTER]"),
+                "--saving-plot: the row whose JOD the curves must reach, e.g. fov,0.4,30 (fov on unjittered quad "
+                "views at wide density 0.4 with a 30-degree inset; JITTER > 1: the jittered views' row).");
     app.add_flag("--outcomes", savingOptions.outcomes,
                  "--saving: count what the retention rule did at each pixel (kept, changed, merged, ...) for wrs and "
                  "the oracle on quad views, by whether the history was sharper than the floor: the CPU reference steps "
@@ -555,6 +638,8 @@ int main(int argc, char** argv) {
     if (o.scenes.empty() || o.methods.empty() || o.foveas.empty() || o.modes.empty())
         return cli::usageError(app, "scenes, methods, fovea sizes and modes must not be empty");
     if (writeDir.empty() && o.frames <= o.warmup) return cli::usageError(app, "--frames must exceed --warmup");
+    if (!savingPlot.empty()) return runSavingPlot(savingPlot, savingTarget, out);
+    if (!savingTarget.empty()) return cli::usageError(app, "--saving-target is --saving-plot's: give the files to plot");
     // --write-sequence, --flicker and --saving: one Vulkan context, progress lines on stdout.
     std::unique_ptr<vk::Context> toolCtx;
     if (!writeDir.empty() || flicker || saving) {
@@ -606,9 +691,14 @@ int main(int argc, char** argv) {
                     r->wrsInstability, r->fovInstability, (unsigned long long)r->stablePairs, out.c_str());
         return 0;
     }
+    if (costQuad && savingOptions.insetDegs.empty()) return cli::usageError(app, "--cost-quad needs an --inset-degs size");
+    if (costQuad && (!costModel || !scaling.empty()))
+        return cli::usageError(app, "--cost-quad is a --cost-model cell of its own: not without --cost-model, not with --scaling");
     if (costModel) {
         if (!scenesGiven) o.scenes = {eval::SceneKind::Atrium};
-        if (!methodsGiven) o.methods = {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs};
+        if (!methodsGiven)
+            o.methods = costQuad ? std::vector<Method>{Method::Fov, Method::Taau, Method::Wrs}
+                                 : std::vector<Method>{Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs};
         if (!given("--modes")) o.modes = {FoveationMode::Mip};
     } else {
         costTargets.clear();
@@ -625,7 +715,10 @@ int main(int argc, char** argv) {
         if (sizeGiven) sizes.emplace_back(o.width, o.height);
         // A device of this machine only to measure sparse retention's share of retention tiles.
         auto ctx = vk::Context::create();
-        return runCostModel(o, costTargets, sizes, out, ctx ? ctx->get() : nullptr).exitCode;
+        std::optional<QuadCostCell> quad;
+        if (costQuad)
+            quad = QuadCostCell{savingOptions.wideScale, savingOptions.insetDegs.front(), savingOptions.jitterPhases};
+        return runCostModel(o, costTargets, sizes, out, ctx ? ctx->get() : nullptr, quad).exitCode;
     }
     auto ctx = vk::Context::create();
     if (!ctx) {

@@ -186,6 +186,19 @@ printf 'scenes = ["text", "atrium"]\n' >"$out/scenes_array.toml"
 check bench_config_array_keeps_every_item 2 "--write-sequence writes one scene" "$bench" --config "$out/scenes_array.toml" --write-sequence "$out/ws"
 check bench_no_skip_accepted 2 "--frames must exceed --warmup" "$bench" --no-skip --frames 5 --warmup 5
 check bench_list_option_twice_keeps_both 2 "scene 'sequence' needs --sequence DIR" "$bench" --scenes sequence --scenes text
+# --saving-plot (no device): a missing or malformed saving.csv, a malformed or unmatched target.
+check bench_saving_target_alone 2 "--saving-target is --saving-plot's" "$bench" --saving-target fov,0.4,30
+check bench_saving_plot_missing 1 "cannot read $out/none.csv" "$bench" --saving-plot "$out/none.csv" --out "$out/sp"
+printf 'scene,input,method\natrium,full,fov\n' >"$out/short.csv"
+check bench_saving_plot_not_a_saving_csv 1 "no column \"inset_deg\" (not a saving.csv)" "$bench" --saving-plot "$out/short.csv" --out "$out/sp"
+h=scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr
+printf '%s\natrium,full,fov,0,1000,8,1,10,inf\natrium,quad,fov,30,200,2,1,oops,30\n' "$h" >"$out/bad_jod.csv"
+check bench_saving_plot_bad_number 1 "bad_jod.csv:3: column jod is not a number: \"oops\"" "$bench" --saving-plot "$out/bad_jod.csv" --out "$out/sp"
+printf '%s,wide_density,jitter,temporal_instability\natrium,full,fov,0,1000,8,1,10,inf,0,0,0\natrium,quad,wrs,10,100,2,1,8,30,0.3,8,0.01\n' "$h" >"$out/ok.csv"
+check bench_saving_plot_bad_target 2 "a target is METHOD,DENSITY,INSET[,JITTER]" "$bench" --saving-plot "$out/ok.csv" --saving-target fov --out "$out/sp"
+check bench_saving_plot_unmatched_target 1 "for the target" "$bench" --saving-plot "$out/ok.csv" --saving-target fov,0.4,30 --out "$out/sp"
+check bench_saving_plot_ok 0 "| wrs (jittered) | 10.0 % or less |" "$bench" --saving-plot "$out/ok.csv" --saving-target wrs,0.3,10,8 --out "$out/sp"
+check bench_cost_quad_alone 2 "--cost-quad is a --cost-model cell of its own" "$bench" --cost-quad
 
 echo "$count checks, $fails failed"
 [ "$fails" -eq 0 ]
