@@ -13,6 +13,9 @@
 #             frame (its "session ended" line); a client that hangs at exit is reported as a timeout
 #   saving/   the main job's atrium cell of the rendering saved (wrsfov-bench --saving): full
 #             resolution against quad views and shading rates, render and composition times on this GPU
+#   headset/  the wide-views issue's cell at 2x1920^2 without JOD (--saving --no-jod): the atrium at 100
+#             degrees per eye, wide views at 0.3 jittered over 8 phases and a 10-degree inset, composed
+#             with fov, taau and wrs: the composition time per frame the issue's goal reads (0.5 ms)
 #   then, while the budget lasts: the tests again with WRSFOV_HARDWARE_HALF=0 (tests/), fov and wrs
 #   with --dense-retention (dense/), and the cost model on this device and RADV's null devices (cost/)
 #   summary.md  one table: sweep cells (ms, x copy, wrs - fov), tests passed/failed, hello_xr
@@ -230,6 +233,26 @@ if [ "$t" -gt 0 ]; then
 else
   echo "   skipped: budget spent"
   rows+="| rendering saved (atrium) | | | | | | skipped: budget spent |"$'\n'
+fi
+
+echo "== 4b: a headset's jittered quad views (--saving --no-jod): 100 degrees per eye, the wide-views issue's cell"
+# The composition time the wide-views issue's goal reads (wrs on jittered quad views at 2x1920^2, at most
+# 0.5 ms), beside fov (composition alone) and taau on the same views.
+if [ "$dry" = 1 ]; then headset=(--size 128x128 --frames 12 --warmup 4)
+else headset=(--size 1920x1920 --frames 40 --warmup 10); fi
+t=$(stage_timeout 90)
+if [ "$t" -gt 0 ]; then
+  timeout -k 5 "$t" "$bench" --saving --no-jod --no-rate --scenes atrium --hmd-fov 100 --inset-degs 10 --wide-scale 0.3 \
+    --jitter 8 --methods fov,taau,wrs "${headset[@]}" --out "$out/headset" >"$out/headset.log" 2>&1
+  st=$(status_of $?)
+  echo "   $st"
+  # compose_ms: the median compositor time per frame, both eyes (PassTimes::total).
+  ms=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } $c["input"] == "quad" {
+         printf "%s%s %.3f ms", sep, $c["method"], $c["compose_ms"]; sep = ", " }' "$out/headset/saving.csv" 2>/dev/null)
+  rows+="| headset, jittered quad views (0.3, 10°) | ${headset[1]} | fov, taau, wrs | | | | $st; composition ${ms:-n/a} |"$'\n'
+else
+  echo "   skipped: budget spent"
+  rows+="| headset, jittered quad views | | | | | | skipped: budget spent |"$'\n'
 fi
 
 if [ -n "${WRSFOV_GPU_TESTS:-}" ]; then
