@@ -53,7 +53,7 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
     cv::putText(img, title, {L, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.55, {0, 0, 0}, 1, cv::LINE_AA);
     cv::putText(img, xLabel, {W / 2 - 80, H - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {0, 0, 0}, 1, cv::LINE_AA);
     cv::putText(img, yLabel, {5, T - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
-    int lx = L;  // legend: one row in the top margin
+    int lx = L, ly = 42;  // legend: a row in the top margin, two where one is too narrow
     std::vector<cv::Rect> labelBoxes;  // every point and every label drawn: labels go where they overlap none
     for (const auto& s : series)
         for (const auto& p : s.points)
@@ -79,12 +79,16 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
                 }
             }
         }
+        // The legend wraps to a second row where an entry would leave the image.
+        int base = 0;
+        const int tw = cv::getTextSize(s.name, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, &base).width;
+        if (lx > L && lx + 10 + tw > W - 5) lx = L, ly += 18;
         if (s.markers)
-            cv::circle(img, {lx, 42}, 5, s.colour, -1, cv::LINE_AA);
+            cv::circle(img, {lx, ly}, 5, s.colour, -1, cv::LINE_AA);
         else
-            cv::line(img, {lx - 6, 42}, {lx + 6, 42}, s.colour, 2, cv::LINE_AA);
-        cv::putText(img, s.name, {lx + 10, 46}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
-        lx += 20 + 9 * int(s.name.size()) + 20;
+            cv::line(img, {lx - 6, ly}, {lx + 6, ly}, s.colour, 2, cv::LINE_AA);
+        cv::putText(img, s.name, {lx + 10, ly + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+        lx += 10 + tw + 24;
     }
     return img;
 }
