@@ -2,6 +2,7 @@
 // opens it with, and the geometry of a cell as the cost model replays it (cellGeometry).
 #include "eval/bench.h"
 #include "eval/bench_internal.h"
+#include "eval/saving.h"
 #include "eval/chart.h"
 
 #include <algorithm>
@@ -433,15 +434,8 @@ Result<CellGeometry> quadCellGeometry(const BenchOptions& options, SceneKind sce
     const scenes::AtriumOptions ao = atriumOptions(o, scene);
     const HostStereoApp::Options app = atriumAppOptions(ao);
     const layers::Fov fov = scenes::atriumFov(ao, 0);
-    // The study's views (eval/saving.cpp): the wide view at wideScale of the display's pixels, the inset
-    // at the display's density over insetDeg across at the view's centre.
-    const double tl = std::tan(fov.angleLeft), tr = std::tan(fov.angleRight), tu = std::tan(fov.angleUp),
-                 td = std::tan(fov.angleDown);
-    const double span = 2.0 * std::tan(0.5 * double(insetDeg) * 3.14159265358979323846 / 180.0);
-    const uint32_t wideW = std::max(1u, uint32_t(std::lround(width * double(wideScale)))),
-                   wideH = std::max(1u, uint32_t(std::lround(height * double(wideScale))));
-    const uint32_t insetW = std::min(width, uint32_t(std::max(1.0, std::round(span * width / (tr - tl))))),
-                   insetH = std::min(height, uint32_t(std::max(1.0, std::round(span * height / (tu - td)))));
+    // The study's views (eval/saving.cpp).
+    const auto [wideW, wideH, insetW, insetH] = quadViewSizes(width, height, fov, wideScale, insetDeg);
     auto described = [](std::optional<layers::Format> f, uint32_t w, uint32_t h) {
         layers::SwapchainCreateInfo sci;
         sci.format = *f;

@@ -76,6 +76,12 @@ glm::dvec4 insetTangents(const layers::Fov& wide, const layers::EyeGaze& g, uint
 // Pixels of a view spanning `span` tangent units at `density` pixels per tangent unit (at least 1).
 uint32_t pixelsOver(double span, double density) { return uint32_t(std::max(1.0, std::round(span * density))); }
 
+// Pixels per tangent unit of a W x H view over `fov`, across and down.
+glm::dvec2 densityOver(uint32_t W, uint32_t H, const layers::Fov& fov) {
+    const glm::vec4 t = tangents(fov);
+    return {W / (double(t.y) - t.x), H / (double(t.z) - t.w)};
+}
+
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -344,10 +350,10 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
     auto setUp = [&](const SceneFrameInfo& info, const std::array<EyeSubmission, 2>& eyes) -> Status {
         app = info.app;
         for (int e = 0; e < 2; ++e) fullFov[e] = eyes[e].fov;
-        const glm::vec4 t0 = tangents(fullFov[0]);
-        density = {W / (double(t0.y) - t0.x), H / (double(t0.z) - t0.w)};
-        wideW = std::max(1u, uint32_t(std::lround(W * double(so.wideScale))));
-        wideH = std::max(1u, uint32_t(std::lround(H * double(so.wideScale))));
+        density = densityOver(W, H, fullFov[0]);
+        const QuadViewSizes wideSizes = quadViewSizes(W, H, fullFov[0], so.wideScale, so.insetDegs.front());
+        wideW = wideSizes.wideW;
+        wideH = wideSizes.wideH;
         const bool hasDepth = eyes[0].depth.has_value(), hasMotion = eyes[0].motion.has_value();
         const layers::Format depthFmt = hasDepth ? eyes[0].depth->format : layers::Format::R32F;
         auto add = [&](SavingInput in, Method m, float deg) -> Status {
@@ -376,9 +382,9 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             if (hasDepth) r.depth = swapchain(comp, layers::Usage::Depth, depthFmt, cw, ch, st);
             if (hasMotion) r.motion = swapchain(comp, layers::Usage::Motion, layers::Format::RGBA16F, cw, ch, st);
             if (quad) {
-                const double span = 2.0 * std::tan(0.5 * deg * kPi / 180.0);
-                r.insetW = std::min(pixelsOver(span, density.x), W);
-                r.insetH = std::min(pixelsOver(span, density.y), H);
+                const QuadViewSizes sizes = quadViewSizes(W, H, fullFov[0], so.wideScale, deg);
+                r.insetW = sizes.insetW;
+                r.insetH = sizes.insetH;
                 r.insetColor = swapchain(comp, layers::Usage::Color, layers::Format::RGBA8_SRGB, r.insetW, r.insetH, st);
                 if (hasDepth) r.insetDepth = swapchain(comp, layers::Usage::Depth, depthFmt, r.insetW, r.insetH, st);
                 if (hasMotion)
@@ -633,6 +639,14 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         row.etaQ = against(Method::OracleQ);
     }
     return rows;
+}
+
+QuadViewSizes quadViewSizes(uint32_t W, uint32_t H, const layers::Fov& fov, float wideScale, float insetDeg) {
+    const glm::dvec2 density = densityOver(W, H, fov);
+    const double span = 2.0 * std::tan(0.5 * insetDeg * kPi / 180.0);
+    return {std::max(1u, uint32_t(std::lround(W * double(wideScale)))),
+            std::max(1u, uint32_t(std::lround(H * double(wideScale)))), std::min(pixelsOver(span, density.x), W),
+            std::min(pixelsOver(span, density.y), H)};
 }
 
 FoveaWorth insetForJod(const std::vector<SavingRow>& rows, SceneKind scene, Method method, double targetJod) {

@@ -117,6 +117,15 @@ struct SavingRow {
     uint32_t jitterPhases = 0;  ///< SavingOptions::jitterPhases of quad views (0 otherwise)
 };
 
+/// The sizes of a quad view as the study renders it, which the cost model's quad cell
+/// (eval::quadCellGeometry) takes too: the wide view at `wideScale` of the display's W x H pixels, the
+/// inset `insetDeg` across at the display's density over `fov` (pixels per tangent unit), each side at
+/// least one pixel and the inset's at most the display's.
+struct QuadViewSizes {
+    uint32_t wideW = 0, wideH = 0, insetW = 0, insetH = 0;
+};
+QuadViewSizes quadViewSizes(uint32_t W, uint32_t H, const layers::Fov& fov, float wideScale, float insetDeg);
+
 /// Runs the study on one scene (text or atrium). Fails with a message when a scene, compositor or frame
 /// cannot be made.
 Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, const SavingOptions& options);
