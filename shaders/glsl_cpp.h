@@ -19,7 +19,12 @@ using uint = std::uint32_t;
 
 #define WRS_BEGIN namespace wrsfov::gpu {
 #define WRS_END }
-#define WRS_FN inline
+// Internal linkage: each translation unit calls its own copy, compiled with its own flags. With
+// external linkage the linker keeps one copy of each, the first it meets, and a test executable's
+// objects come before the libraries: the CPU reference (-O1 or -O2) then ran the test files' copies,
+// which the sanitizer build compiles at -O0 (tests/CMakeLists.txt), five times slower. A C++ function
+// in a header that calls these is static inline too (one definition rule).
+#define WRS_FN static inline
 #define WRS_OUT(T) T&
 #define WRS_INOUT(T) T&
 // C++ side is compiled with -ffp-contract=off, which gives the same guarantee as GLSL `precise`.

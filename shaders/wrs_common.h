@@ -253,7 +253,7 @@ WRS_FN uint wrs_pyramid_texels(uvec2 size0) { return wrs_level_offset(size0, uin
 // A level's size over level 0's (FrameParams::level_scale), worked out once on the host: the bilinear
 // weights of the fingerprint and of every foveated colour must be the same on every device, and a
 // shader's division may be 2.5 ULP off.
-inline vec2 wrs_level_scale(uvec2 size0, uint level) {
+WRS_FN vec2 wrs_level_scale(uvec2 size0, uint level) {
     const uvec2 s = wrs_level_size(size0, level);
     return vec2(float(double(s.x) / double(size0.x)), float(double(s.y) / double(size0.y)));
 }
@@ -613,7 +613,7 @@ WRS_FN float wrs_round_f16(float f) { return wrs_f16_to_f32(wrs_f32_to_f16(f)); 
 // otherwise, for a value fp16 cannot hold, the neighbour DeviceRounding::half picks (a finite value
 // beyond the largest fp16: infinity or 65504), and a denormal result may be flushed to zero. A value
 // fp16 holds converts exactly in every mode.
-inline std::uint32_t wrs_device_f32_to_f16(float f) {
+WRS_FN std::uint32_t wrs_device_f32_to_f16(float f) {
     const std::uint32_t h = wrs_f32_to_f16(f);
     const Permitted p = deviceRounding().half;
     const std::uint32_t ax = floatBitsToUint(f) & 0x7fffffffu;
@@ -630,7 +630,7 @@ inline std::uint32_t wrs_device_f32_to_f16(float f) {
     if (m < 0x400u) m = 0u;  // an fp16 denormal result may be flushed to zero
     return sign | m;
 }
-inline uint wrs_device_pack_half2x16(vec2 v) {
+WRS_FN uint wrs_device_pack_half2x16(vec2 v) {
     return wrs_device_f32_to_f16(v.x) | (wrs_device_f32_to_f16(v.y) << 16u);
 }
 #endif
