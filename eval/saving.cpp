@@ -656,15 +656,16 @@ FoveaWorth insetForJod(const std::vector<SavingRow>& rows, SceneKind scene, Meth
     return foveaWorth(std::move(curve), targetJod);
 }
 
+std::string savingNumber(const char* printfFormat, double v) {
+    if (!std::isfinite(v)) return std::isinf(v) && v > 0 ? "∞" : "n/a";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, printfFormat, v);
+    return buf;
+}
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-    if (!std::isfinite(v)) return std::isinf(v) && v > 0 ? "∞" : "n/a";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
+std::string fmt(const char* f, double v) { return savingNumber(f, v); }
 
 // Pixels and render time of quad views at an inset of `deg` (between the study's sizes): the pixels
 // grow as a + b tan^2(deg / 2) (the inset's square), fitted through the smallest and the largest inset;

@@ -157,6 +157,10 @@ struct SavingTarget {
 };
 Result<SavingTarget> parseSavingTarget(std::string_view text);
 
+/// A figure of the study's tables: `printfFormat` (one double) applied to v; "∞" for +infinity (a
+/// fovea that never reaches a target), "n/a" for any other value that is not finite.
+std::string savingNumber(const char* printfFormat, double v);
+
 /// A row's curve: the method, "(jittered)" for quad views over more than one phase, "(rate)" for
 /// shading rates ("wrs (jittered)", "fov").
 std::string curveName(const SavingRow& r);

@@ -21,12 +21,7 @@ namespace {
 
 Error plotError(const std::string& msg) { return Error{1, "saving plot: " + msg}; }
 
-std::string fmt(const char* f, double v) {
-    if (!std::isfinite(v)) return "n/a";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
+std::string fmt(const char* f, double v) { return savingNumber(f, v); }
 
 std::vector<std::string> splitCsv(const std::string& line) {
     std::vector<std::string> out;
