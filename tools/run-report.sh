@@ -65,7 +65,8 @@ worth=(--jod-frames "$jod_frames" --fovea-worth 7.5,10,12.5,15)
 # time"); their quality figures are the same either way, their times are taken on a shared CPU (ratios
 # against the copy kernel in the same submission hold, absolute milliseconds do not: read speed/).
 # They start longest first, each as soon as one of the two running ends (no stage waits for its
-# slower cell), and each says how long it took.
+# slower cell), and each says how long it took. Lavapipe splits a dispatch across one thread per cell
+# rather than one per core (LP_NUM_THREADS), so that two cells do not keep four threads on two cores.
 rcdir=out/report/.cells
 mkdir -p "$rcdir"
 cell() {  # cell NAME ARGS...: one wrsfov-bench in the background once fewer than two run, its lines prefixed with NAME
@@ -74,7 +75,7 @@ cell() {  # cell NAME ARGS...: one wrsfov-bench in the background once fewer tha
   while [ "$(jobs -rp | wc -l)" -ge 2 ]; do wait -n || true; done
   echo "$name: started (at $(($(date +%s) - start)) s)"
   { local t0=$SECONDS rc=0
-    "$bench" "$@" 2>&1 | grep --line-buffered -E '^\[|^saving|^wrsfov-bench' | sed -u "s|^|$name: |" || rc=$?
+    LP_NUM_THREADS="${LP_NUM_THREADS:-1}" "$bench" "$@" 2>&1 | grep --line-buffered -E '^\[|^saving|^wrsfov-bench' | sed -u "s|^|$name: |" || rc=$?
     echo "$name: done in $((SECONDS - t0)) s (exit $rc)"
     echo "$rc" > "$rcdir/$name"; } &
 }
