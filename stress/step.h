@@ -16,8 +16,8 @@ struct Candidate {
 };
 
 /// load.comp + foveate.comp (`none`) for one pixel: `weight` is the p̂ the pixel has this frame.
-static inline Candidate loadCandidate(gpu::vec3 submittedColor, float weight, float submittedDepth, float nearZ, float farZ,
-                               bool reversed) {
+static inline Candidate loadCandidate(gpu::vec3 submittedColor, float weight, float submittedDepth, float nearZ,
+                                      float farZ, bool reversed) {
     Candidate c;
     bool valid;
     c.color = gpu::wrs_sanitize_color(submittedColor, valid);
@@ -36,8 +36,8 @@ struct StepOut {
 
 /// wrs.comp for one pixel, from the history as loaded (already reprojected: `onScreen` false when the
 /// previous position left the image). `hasDepth` is the HAS_DEPTH specialization constant.
-static inline StepOut temporalStep(const gpu::Reservoir& hist, bool onScreen, bool hasDepth, const Candidate& cand, float dz,
-                            float tau, float rnd, gpu::uint changeMetric, bool bernoulli) {
+static inline StepOut temporalStep(const gpu::Reservoir& hist, bool onScreen, bool hasDepth, const Candidate& cand,
+                                   float dz, float tau, float rnd, gpu::uint changeMetric, bool bernoulli) {
     StepOut o;
     const float zCur = hasDepth ? cand.z : 0.0f;
     o.historyValid = gpu::wrs_reservoir_valid(hist);
