@@ -1,5 +1,6 @@
 #include "compositor/compose.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "compose_spv.h"
@@ -61,14 +62,20 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
     return c;
 }
 
-VkPipeline ComposePass::pipeline(uint32_t kind, bool depth, bool motion) {
-    VkPipeline& slot = pipelines_[(kind - 1) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
+VkPipeline ComposePass::pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed) {
+    VkPipeline& slot = pipelines_[((kind - 1) * 3 + landed) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
     if (slot) return slot;
-    const uint32_t constants[3] = {kind, depth, motion};
+    const uint32_t constants[4] = {kind, depth, motion, landed};
     // Shared on the context: every compose pass defines its pipeline layout the same way (create).
-    slot = ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion},
+    slot = ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion, landed},
                                [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); });
     return slot;
+}
+
+uint32_t composeLandedMode(const gpu::ComposeParams& params) {
+    float mode = 0.0f;
+    for (const gpu::ComposeEye& e : params.eye) mode = std::max(mode, e.landed.z);
+    return mode >= 2.0f ? 2u : mode > 0.0f ? 1u : 0u;
 }
 
 Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
@@ -136,7 +143,8 @@ void ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bo
     if (kind == layers::SubmittedFoveation::Full) return;
     const uint32_t k = kind == layers::SubmittedFoveation::Quad ? 1u : 2u;
     const gpu::ComposeParams* p = static_cast<const gpu::ComposeParams*>(params_.mapped());
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(k, k == 1 && depth, k == 1 && motion));
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
+                      pipeline(k, k == 1 && depth, k == 1 && motion, k == 1 ? composeLandedMode(*p) : 0u));
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set_, 0, nullptr);
     vkCmdDispatch(cb, groups(p->size.x), groups(p->size.y), eyes);
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,

@@ -14,6 +14,10 @@
 
 namespace wrsfov {
 
+/// The compose pass's LANDED constant for `params` (shaders/compose.comp): 0 none, 1 landed wide samples
+/// (`wrs`), 2 gathered wide samples (`taau`); the largest of the two eyes' ComposeEye::landed.z.
+uint32_t composeLandedMode(const gpu::ComposeParams& params);
+
 class ComposePass {
 public:
     /// `srgbTable`: the compositor's sRGB decode table (wrs_srgb8_table), read by the pass.
@@ -40,14 +44,15 @@ public:
 
 private:
     explicit ComposePass(vk::Context& ctx) : ctx_(ctx) {}
-    VkPipeline pipeline(uint32_t kind, bool depth, bool motion);
+    VkPipeline pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed);
     vk::Context& ctx_;
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;
     vk::DescriptorPool pool_;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
     vk::ShaderModule module_;
-    std::array<VkPipeline, 8> pipelines_{};  // kind - 1, depth, motion; the context's (vk::Context::sharedPipeline)
+    // kind - 1, landed mode, depth, motion; the context's (vk::Context::sharedPipeline)
+    std::array<VkPipeline, 24> pipelines_{};
     vk::Buffer params_;
     VkBuffer srgbTable_ = VK_NULL_HANDLE;
     vk::Image color_, depth_, motion_;

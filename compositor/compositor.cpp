@@ -707,10 +707,10 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
     if (work.kind != layers::SubmittedFoveation::Full) {
         composeParams_ = makeComposeParams(layer, glm::uvec2(work.w, work.h), work.next.insetBlendPx);
         // Landed wide samples: only `wrs`'s retention reads them (the oracles do not: wrs_offer_landed).
-        const bool landed = work.kind == layers::SubmittedFoveation::Quad && work.next.landedSamples &&
-                            work.next.method == Method::Wrs;
         // Method taau: the compose pass gathers the wide samples in their place (landed.z 2).
-        const bool gather = work.kind == layers::SubmittedFoveation::Quad && work.next.method == Method::Taau;
+        const bool quad = work.kind == layers::SubmittedFoveation::Quad;
+        const bool landed = quad && composeLanded(work.next) == 1;
+        const bool gather = quad && composeLanded(work.next) == 2;
         for (gpu::ComposeEye& e : composeParams_.eye) {
             e.landed.z = gather ? 2.0f : landed && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
             e.landed.w = float(1.0 / (double(work.next.taau.radius) * work.next.taau.radius));

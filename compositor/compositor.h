@@ -182,6 +182,10 @@ bool steadyFloorActive(const CompositorConfig& c);
 /// Whether frames with config `c` may run the steady display (CompositorConfig::steadyDisplay; `wrs` on
 /// frames submitted foveated with landed samples: it runs where they are quad views).
 bool displayActive(const CompositorConfig& c);
+/// On quad views, what the compose pass writes beside the composed images (its LANDED constant,
+/// shaders/compose.comp): 2 the gathered wide samples (`taau`), 1 the landed wide samples (`wrs` with
+/// landedSamples, for each eye whose wide view is sparser than the output), 0 nothing.
+uint32_t composeLanded(const CompositorConfig& c);
 
 /// Which passes a frame runs, and how. One pure function of the frame's configuration (foveation
 /// Submitted for a frame submitted foveated) and inputs serves Compositor::endFrame, which records

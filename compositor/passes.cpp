@@ -178,6 +178,11 @@ bool displayActive(const CompositorConfig& c) {
     return c.method == Method::Wrs && c.foveation == FoveationMode::Submitted && c.landedSamples && c.steadyDisplay > 0.0f;
 }
 
+uint32_t composeLanded(const CompositorConfig& c) {
+    if (c.method == Method::Taau) return 2;
+    return c.method == Method::Wrs && c.landedSamples ? 1 : 0;
+}
+
 bool steadyFloorActive(const CompositorConfig& c) {
     return c.steadyFloor && floorQuality(c) > 0.0f && simulatesFoveation(c.foveation);
 }

@@ -134,10 +134,12 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
 
     // Every pipeline of a frame, one line each (a new variant is a line here).
     // Frames submitted foveated: the compose pass first (ComposePass::record, barriers on both sides), quad
-    // views (kind 1, with the views' depth and motion) or a rate map (kind 2); its own constants only.
+    // views (kind 1, with the views' depth and motion and the method's landed or gathered wide samples:
+    // composeLanded) or a rate map (kind 2); its own constants only.
     if (in.composeWrite > 0) {
         const bool quad = in.composeWrite > 4;
-        add("compose", ShaderId::Compose, {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion}, whole, bytes("compose"));
+        add("compose", ShaderId::Compose, {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion, quad ? composeLanded(c) : 0u},
+            whole, bytes("compose"));
         barrier();
     }
     if (tiled) {  // one invocation per tile; each writes its 4-byte list entry (and reads far tiles' motion)

@@ -14,7 +14,7 @@
 // Each group is one 8x8 tile (WRS_TILE): after the pixels' qualities (eye-major, 2 W H of them) it
 // writes its tile's largest (tile_index order), from which the classification finds the tiles rendered
 // at the floor quality only (wrs_submitted_tile_class; sparse retention skips them).
-// Stored values are rounded to fp16 by hand (wrs_round_f16) before a 16-bit image stores them, so the
+// Stored values are rounded to fp16 by hand (wrs_f16_value) before a 16-bit image stores them, so the
 // device's own conversion, which may round either way, has nothing left to round.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -24,6 +24,10 @@
 layout(constant_id = 0) const uint KIND = 1u;
 layout(constant_id = 1) const bool HAS_DEPTH = false;
 layout(constant_id = 2) const bool HAS_MOTION = false;
+// What the pass writes beside the composed images, the largest of the two eyes' ComposeEye::landed.z:
+// 0 nothing, 1 the landed wide samples (`wrs`; an eye's landed.z is 1 or 0), 2 the gathered wide
+// samples (`taau`; both eyes' are 2). A pipeline carries its method's code only.
+layout(constant_id = 3) const uint LANDED = 0u;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 layout(std140, set = 0, binding = 0) uniform ComposeBlock { ComposeParams params; };
@@ -65,7 +69,7 @@ uint landed_base(uvec2 size) {
 
 uvec2 nearest(vec2 pos, uvec2 size) { return uvec2(clamp(ivec2(floor(pos)), ivec2(0), ivec2(size) - ivec2(1))); }
 
-vec4 round_f16(vec4 v) { return vec4(wrs_round_f16(v.x), wrs_round_f16(v.y), wrs_round_f16(v.z), wrs_round_f16(v.w)); }
+vec4 round_f16(vec4 v) { return vec4(wrs_f16_value(v.x), wrs_f16_value(v.y), wrs_f16_value(v.z), wrs_f16_value(v.w)); }
 
 shared uint tile_q;  // the group's tile's largest quality, as bits (qualities are finite and >= 0)
 
@@ -92,7 +96,7 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     float q = wrs_quad_quality(ce.wide_motion.w, t);
     quality[idx] = floatBitsToUint(q);
     imageStore(composedColor, ivec3(p, eye), round_f16(c));
-    if (ce.landed.z == 2.0) {
+    if (LANDED == 2u && ce.landed.z == 2.0) {
         // Method taau: the four wide samples of the pixel's bilinear cell gathered by the kernel of
         // their distance (wrs_taau_add), radius 1 / sqrt(landed.w) output pixels.
         vec4 acc = vec4(0.0);
@@ -111,7 +115,7 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
         uint at = landed_base(size) + 2u * idx;
         quality[at] = words.x;
         quality[at + 1u] = words.y;
-    } else if (ce.landed.z != 0.0) {
+    } else if (LANDED == 1u && ce.landed.z != 0.0) {
         // The wide sample nearest the pixel's centre (not read where the inset alone shows).
         uvec2 k = nearest(wpos, wsize);
         float ql = inset_only ? 0.0 : wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));

@@ -653,6 +653,9 @@ WRS_FN bool wrs_f16_normal(float f) {
     uint ax = floatBitsToUint(f) & 0x7fffffffu;
     return ax >= 0x38800000u && ax < 0x477ff000u;
 }
+// wrs_round_f16(f), bit for bit, in fewer operations where f rounds to a normal fp16 (wrs_f16_grid);
+// for a 16-bit image store, which converts a value fp16 holds exactly on every device.
+WRS_FN float wrs_f16_value(float f) { return wrs_f16_normal(f) ? wrs_f16_grid(f) : wrs_round_f16(f); }
 #if defined(__cplusplus) && !defined(WRS_HARDWARE_HALF)
 #define WRS_HARDWARE_HALF WRS_HARDWARE_HALF_MODEL
 #endif

@@ -7,6 +7,7 @@
 // do differently", says what each clause allows and how the passes are kept from depending on it.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "vs_cpu.h"
@@ -129,6 +130,21 @@ TEST(RoundingModels, HandQuantisationIsExact) {
         const float f = glm::uintBitsToFloat(bits(rng) | (i % 2 ? 0x80000000u : 0u));
         ASSERT_TRUE(gpu::wrs_f16_normal(f));
         ASSERT_EQ(gpu::wrs_f16_grid(f), gpu::wrs_round_f16(f)) << f;
+    }
+    // The compose pass's rounding before a 16-bit store: wrs_round_f16's bits for every float (the
+    // normal range by the grid, the rest by the hand conversion), specials and fp16 denormals included.
+    {
+        std::uniform_int_distribution<uint32_t> any;
+        const float specials[] = {0.0f, -0.0f, 6.0e-8f, 3.0e-8f, 6.1e-5f, 65504.0f, 65519.0f, 65520.0f, 1e30f,
+                                  std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                                  std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min()};
+        for (float f : specials)
+            ASSERT_EQ(glm::floatBitsToUint(gpu::wrs_f16_value(f)), glm::floatBitsToUint(gpu::wrs_round_f16(f))) << f;
+        for (int i = 0; i < 400000; ++i) {
+            const float f = glm::uintBitsToFloat(any(rng));
+            ASSERT_EQ(glm::floatBitsToUint(gpu::wrs_f16_value(f)), glm::floatBitsToUint(gpu::wrs_round_f16(f)))
+                << std::hex << glm::floatBitsToUint(f);
+        }
     }
     EXPECT_FALSE(gpu::wrs_f16_normal(0.0f));
     EXPECT_FALSE(gpu::wrs_f16_normal(65520.0f));

@@ -436,9 +436,17 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
     const auto wrs = pipelineVariants(quadConfig(Method::Wrs), g->inputs);
     EXPECT_EQ(names(wrs), (V{"compose/whole", "reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea",
                              "retain/mid", "retain/far", "skip/skip", "display/whole"}));
-    // compose.comp's constants as ComposePass binds them: quad views (1), depth, motion; nothing else.
+    // compose.comp's constants as ComposePass binds them: quad views (1), depth, motion, the method's
+    // wide samples (composeLanded: `wrs` its landed ones, `taau` the gathered ones, `fov` none); nothing else.
     EXPECT_EQ(wrs[0].shader, ShaderId::Compose);
-    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 9>{1, 1, 1, 1, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(pipelineVariants(quadConfig(Method::Taau), g->inputs)[0].constants,
+              (std::array<uint32_t, 9>{1, 1, 1, 2, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(pipelineVariants(quadConfig(Method::Fov), g->inputs)[0].constants,
+              (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 0, 0, 0, 0}));
+    CompositorConfig unlanded = quadConfig(Method::Wrs);
+    unlanded.landedSamples = false;
+    EXPECT_EQ(pipelineVariants(unlanded, g->inputs)[0].constants[3], 0u);
     EXPECT_EQ(wrs[0].groups, 96u * 96u * 2u);
     EXPECT_LT(wrs[0].phase, wrs[1].phase) << "a barrier after the compose pass";
     EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Fov), g->inputs)), (V{"compose/whole", "foveate/whole"}));
