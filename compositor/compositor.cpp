@@ -427,7 +427,7 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth, bool disp
          {Alloc{&pyramid, pyramidTexels * 8, "colour pyramid"}, Alloc{&candidate, pixels * 16, "candidates"},
           Alloc{&reservoirs[0], pixels * 16, "reservoirs"}, Alloc{&reservoirs[1], pixels * 16, "reservoirs"}, Alloc{&births[0], birth ? pixels * 16 : 16, "births"},
           Alloc{&births[1], birth ? pixels * 16 : 16, "births"},
-          Alloc{&displayed, display ? 2 * pixels * 16 : 16, "steady display"}}) {
+          Alloc{&displayed, display ? 2 * pixels * 8 : 16, "steady display"}}) {
         auto r = ctx_.createBuffer(a.bytes, usage, false);
         if (!r) return named(a.what, r.error());
         *a.buffer = std::move(*r);

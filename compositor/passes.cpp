@@ -244,17 +244,18 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
         t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
                             history + output + birth});
     if (plan.taa) t.passes.push_back({"taa", 16 + history + motion, history + output});
-    // The steady display: the retain pass's colour in the candidate buffer instead of the output, then per
+    // The steady display: the retain pass's colour in the candidate buffer (fp16) instead of the output, then per
     // pixel its 3x3 neighbourhood (each read by nine, once from memory), the display's history (bilinear,
-    // once), the motion; the history and the output out. Quad views only (a rate map's compose pass
+    // once), the motion; the history (fp16) and the output out. Quad views only (a rate map's compose pass
     // writes its qualities alone, 4 bytes).
     const bool display = plan.display && in.composeWrite > 4;
+    const double shown = 8;  // what the display reads of a shown colour, and its own history (wrs_pack_shown)
     if (retain)  // the fingerprint level is among the stored ones in every mode
         t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth + quality),
-                            share * (history + (display ? 16 : output) + birth)});
-    if (display) t.passes.push_back({"display", 16 + history + motion, history + output});
+                            share * (history + (display ? shown : output) + birth)});
+    if (display) t.passes.push_back({"display", shown + shown + motion, shown + output});
     if (sparse)
-        t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * ((display ? 16 : output) + birth)});
+        t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * ((display ? shown : output) + birth)});
     t.floor = in.colorBytes + output + (temporal ? share * (2 * history + depth + motion) : 0);
     return t;
 }

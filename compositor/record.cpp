@@ -199,9 +199,10 @@ void Compositor::recordMonoCopies(const FramePlan& plan) {
     const VkBufferCopy hc{VkDeviceSize(params_.held.y) * 4, VkDeviceSize(params_.held.y + plan.tilesPerEye) * 4,
                           VkDeviceSize(plan.tilesPerEye) * 4};
     if (plan.sparse) vkCmdCopyBuffer(cb, tileHeld_.handle(), tileHeld_.handle(), 1, &hc);
-    if (plan.display) {  // the right eye's displayed colour in the slot this frame wrote
-        const VkDeviceSize slot = VkDeviceSize(1 - displaySlot_) * 2 * eyeBytes;
-        const VkBufferCopy dc{slot, slot + eyeBytes, eyeBytes};
+    if (plan.display) {  // the right eye's displayed colour in the slot this frame wrote (8 B a pixel)
+        const VkDeviceSize displayBytes = VkDeviceSize(plan.w) * plan.h * 8;
+        const VkDeviceSize slot = VkDeviceSize(1 - displaySlot_) * 2 * displayBytes;
+        const VkBufferCopy dc{slot, slot + displayBytes, displayBytes};
         vkCmdCopyBuffer(cb, display_.handle(), display_.handle(), 1, &dc);
     }
     if (plan.steady) {  // the right eye's steady floor, which its next stereo frame reads

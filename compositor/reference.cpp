@@ -506,6 +506,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             std::vector<vec4> prevDisplay = displayHistory ? std::move(display_[eye]) : std::vector<vec4>{};
             display_[eye].clear();
             if (display) {
+                // What the passes showed reaches the display as they store it for it (store_output: fp16).
+                for (vec3& v : shownAt) v = wrs_unpack_shown(wrs_pack_shown(v));
                 display_[eye].assign(std::size_t(W) * H, vec4(0.0f));
                 for (uint y = 0; y < H; ++y)
                     for (uint x = 0; x < W; ++x) {
@@ -523,7 +525,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         const bool wide = ep.motion_rect.z != 0u && !in.quality.empty() &&
                                           in.quality[idx] <= ep.tile.w * (1.0f + WRS_Q_EQUAL);
                         const vec3 c = wrs_display_step(nb, shownAt[idx], hist, has, wide, params.tuning.z);
-                        display_[eye][idx] = vec4(c, 1.0f);
+                        display_[eye][idx] = vec4(wrs_unpack_shown(wrs_pack_shown(c)), 1.0f);
+                        if (!wide) continue;  // shown as the pass before showed it (store_output)
                         glm::u8vec4 o = encodeOutput(c);
                         std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                     }

@@ -608,6 +608,14 @@ WRS_FN float wrs_f16_to_f32(uint h) {
     return uintBitsToFloat(sign | ((e + 112u) << 23u) | (m << 13u));
 }
 WRS_FN float wrs_round_f16(float f) { return wrs_f16_to_f32(wrs_f32_to_f16(f)); }
+// Two fp16 values (low half first) as floats. fp16 to fp32 is exact, so the device's unpackHalf2x16 (a
+// few operations, as the pyramid is read) agrees with the hand conversion on the CPU; a device that
+// flushed fp16 subnormal inputs would differ below 6.1e-5 (docs/speed.md, "Not yet built").
+#ifdef __cplusplus
+WRS_FN vec2 wrs_unpack_f16x2(uint w) { return vec2(wrs_f16_to_f32(w & 0xffffu), wrs_f16_to_f32(w >> 16u)); }
+#else
+vec2 wrs_unpack_f16x2(uint w) { return unpackHalf2x16(w); }
+#endif
 #ifdef __cplusplus
 // fp16 bits of f as a device's packHalf2x16 may give them (device_rounding.h): ties to even by default;
 // otherwise, for a value fp16 cannot hold, the neighbour DeviceRounding::half picks (a finite value

@@ -314,6 +314,13 @@ WRS_FN vec3 wrs_display_step(vec3 nb[9], vec3 shown, vec3 hist, bool has_history
     return max(wrs_ycocg_to_rgb(out_ycocg), vec3(0.0f, 0.0f, 0.0f));
 }
 
+// What the steady display stores of a colour, 8 bytes a pixel (fp16 RGB, then 1 where written): the
+// retain pass's shown colour in the candidate buffer (store_output) and the display's own history. The
+// display's output is made from the unrounded colour; only what the next pass or frame reads is fp16.
+WRS_FN uvec2 wrs_pack_shown(vec3 c) { return uvec2(wrs_store_f16x2(c.x, c.y), wrs_store_f16x2(c.z, 1.0f)); }
+WRS_FN vec3 wrs_unpack_shown(uvec2 w) { return vec3(wrs_unpack_f16x2(w.x), wrs_unpack_f16x2(w.y).x); }
+WRS_FN bool wrs_shown_written(uvec2 w) { return (w.y >> 16u) != 0u; }
+
 // Quality of a pixel shaded at rate texel v (VK_KHR_fragment_shading_rate: w = 2^((v >> 2) & 3),
 // h = 2^(v & 3); bits 4..7 ignored): 1 / (w h). A size of 8 (field 3), absent from Vulkan's table of
 // fragment sizes, is taken as 4.

@@ -1456,6 +1456,25 @@ TEST(SteadyDisplay, InsetPixelsNoHistoryAndNonFiniteHistoryShowRetentionsColour)
         for (int k = 0; k < 3; ++k) EXPECT_EQ(r[k], shown[k]);
 }
 
+// What the display stores of a colour (the retain pass's shown colour, its own history): fp16 RGB, the
+// hand conversion's values, and a flag that a never-written (zeroed) buffer does not have.
+TEST(SteadyDisplay, ShownColoursAreStoredInFp16WithAWrittenFlag) {
+    for (vec3 c : {vec3(0.0f), vec3(0.9f, 0.123456f, 1e-6f), vec3(65504.0f, 3.0e-5f, 0.5f), vec3(7.77777f)}) {
+        const glm::uvec2 w = wrs_pack_shown(c);
+        EXPECT_TRUE(wrs_shown_written(w));
+        const vec3 back = wrs_unpack_shown(w);
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(back[k], wrs_round_f16(c[k])) << k;
+    }
+    EXPECT_FALSE(wrs_shown_written(glm::uvec2(0u)));
+    // Beyond fp16's range the history reads as not finite, and the display shows retention's colour.
+    const vec3 shown(0.6f, 0.3f, 0.2f);
+    DisplayNeighbourhood n(shown, vec3(0.5f, 0.3f, 0.2f));
+    const vec3 huge = wrs_unpack_shown(wrs_pack_shown(vec3(1e6f, 0.0f, 0.0f)));
+    EXPECT_FALSE(wrs_finite3(huge));
+    const vec3 r = wrs_display_step(n.nb, shown, huge, true, true, 0.15f);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(r[k], shown[k]);
+}
+
 TEST(SteadyDisplay, AStillPixelConvergesToWhatRetentionShowsEvenOutsideTheVarianceBox) {
     // A bright pixel of fine detail among dark neighbours: outside mean ± sigma of its neighbourhood.
     const vec3 shown(0.9f), around(0.05f);
@@ -1466,6 +1485,17 @@ TEST(SteadyDisplay, AStillPixelConvergesToWhatRetentionShowsEvenOutsideTheVarian
     vec3 d = vec3(0.5f);  // a history halfway
     for (int i = 0; i < 200; ++i) d = wrs_display_step(n.nb, shown, d, true, true, 0.15f);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(d[k], shown[k], 1e-4f);
+    // With the history stored in fp16, as the display stores it, a step under half an fp16 step stalls:
+    // within 2e-3 of what retention shows, and shown with its 8-bit code.
+    vec3 h = vec3(0.5f), c(0.0f);
+    for (int i = 0; i < 200; ++i) {
+        c = wrs_display_step(n.nb, wrs_unpack_shown(wrs_pack_shown(shown)), h, true, true, 0.15f);
+        h = wrs_unpack_shown(wrs_pack_shown(c));
+    }
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(h[k], shown[k], 2e-3f);
+        EXPECT_EQ(std::lround(wrs_output_value(c)[k] * 255.0f), std::lround(wrs_output_value(shown)[k] * 255.0f)) << k;
+    }
     // The variance box alone would hold it below: the step towards the history stays bounded by the box's
     // edge, which a plain TAA clip puts at mean + sigma.
     vec3 t = vec3(0.9f);
