@@ -341,8 +341,9 @@ Error failed(std::string m) { return Error{int(CostError::Failed), std::move(m)}
 
 }  // namespace
 
-Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::string& exe, const StatsTarget& target,
-                                                                const std::vector<VariantKey>& keys) {
+static Result<std::map<VariantKey, ExecutableStats>> collectStatisticsOnce(const std::string& exe,
+                                                                           const StatsTarget& target,
+                                                                           const std::vector<VariantKey>& keys) {
     // The child's environment: this process's, with the null device's variables where asked.
     std::vector<std::string> env;
     for (char** e = environ; *e; ++e) {
@@ -437,8 +438,9 @@ Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::strin
                            ") before offering a device" + (messages.empty() ? "" : " (" + messages + ")") +
                            ": this Mesa's RADV has no null device for that family");
     if (WIFSIGNALED(status))
-        return failed(who + ": the statistics process died of signal " + std::to_string(WTERMSIG(status)) +
-                      (messages.empty() ? "" : " (" + messages + ")"));
+        return Error{int(CostError::Crashed), who + ": the statistics process died of signal " +
+                                                  std::to_string(WTERMSIG(status)) +
+                                                  (messages.empty() ? "" : " (" + messages + ")")};
     const int rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     if (rc == 2) return unavailable(who + ": " + (messages.empty() ? "unavailable" : messages));
     if (rc == 127) return failed("cannot run " + exe + " for the statistics");
@@ -452,6 +454,17 @@ Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::strin
         result[k] = *s;
     }
     return result;
+}
+
+Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::string& exe, const StatsTarget& target,
+                                                                const std::vector<VariantKey>& keys) {
+    auto r = collectStatisticsOnce(exe, target, keys);
+    if (r || r.error().code != int(CostError::Crashed)) return r;
+    std::fprintf(stderr, "wrsfov-bench: cost model: %s; trying once more\n", r.error().message.c_str());
+    r = collectStatisticsOnce(exe, target, keys);
+    if (!r && r.error().code == int(CostError::Crashed))
+        return Error{r.error().code, r.error().message + " (twice)"};
+    return r;
 }
 
 namespace {

@@ -99,7 +99,9 @@ std::span<const GpuFigures> gpuTable();
 const GpuFigures* findGpu(std::string_view name);
 
 /// Error codes of the statistics collection: the device is missing (a skip with a message, not a failure).
-enum class CostError : int { Unavailable = 2, Failed = 3 };
+/// Crashed: the statistics process died of a signal after it had offered a device (a driver's crash
+/// while compiling; collectStatistics has then tried twice).
+enum class CostError : int { Unavailable = 2, Failed = 3, Crashed = 4 };
 
 /// Statistics target: "gfx1100", "vangogh" (RADV's null device for that family) or "device:NAME" (a
 /// real device whose name contains NAME, with the environment as it is).
@@ -115,7 +117,9 @@ Result<StatsTarget> parseStatsTarget(std::string_view text);
 /// VK_ICD_FILENAMES and RADV_FORCE_FAMILY when they start, this process's environment and its own
 /// Vulkan instance stay untouched, and a driver that crashes on a null device loses that target only.
 /// CostError::Unavailable (with the reason) where the null device, the extension or its statistics
-/// are missing.
+/// are missing. A child that dies of a signal after offering a device is run once more (one cost-model
+/// run in eleven lost the Steam Deck's statistics so to RADV's null device, docs/speed.md); a second
+/// death is CostError::Crashed.
 Result<std::map<VariantKey, ExecutableStats>> collectStatistics(const std::string& exe, const StatsTarget& target,
                                                                 const std::vector<VariantKey>& keys);
 /// The child's side: compiles `keys` on the device the environment gives (RADV's null device, or the

@@ -11,6 +11,8 @@
 #include <set>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "eval/bench.h"
 #include "eval/cost_model.h"
 #include "shaders/config.h"
@@ -476,6 +478,51 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
     const auto fovRate = pipelineVariants(quadConfig(Method::Fov), rate);
     ASSERT_FALSE(fovRate.empty());
     EXPECT_EQ(fovRate[0].constants, (std::array<uint32_t, 9>{2, 0, 0, 0, 0, 0, 0, 0, 0}));
+}
+
+// A statistics process that dies of a signal after offering its device (a driver's crash while compiling)
+// is run once more; dying again is CostError::Crashed. A stand-in script: its first `crashes` runs kill
+// themselves with SIGSEGV, the next prints one key's statistics as the child does.
+TEST(CostModel, ACrashedStatisticsProcessIsRunOnceMore) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("wrsfov_cost_crash_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const VariantKey key{ShaderId::Classify, {1, 0, 0, 0, 0, 0}};
+    auto script = [&](int crashes) {
+        const std::filesystem::path exe = dir / ("child" + std::to_string(crashes) + ".sh");
+        std::ofstream f(exe);
+        f << "#!/bin/sh\n"
+          << "n=$(cat '" << (dir / "runs").string() << "' 2>/dev/null || echo 0)\n"
+          << "echo $((n + 1)) > '" << (dir / "runs").string() << "'\n"
+          << "printf 'device\\tstand-in\\n'\n"
+          << "if [ \"$n\" -lt " << crashes << " ]; then kill -SEGV $$; fi\n"
+          << "printf 'executable\\t%s\\t64\\n' \"$3\"\n";
+        for (const char* stat : {"Instructions", "VGPRs", "SGPRs", "Subgroups per SIMD", "Latency", "Inverse Throughput"})
+            f << "printf 'stat\\t" << stat << "\\t3\\t10\\n'\n";
+        f.close();
+        std::filesystem::permissions(exe, std::filesystem::perms::owner_all);
+        std::filesystem::remove(dir / "runs");
+        return exe.string();
+    };
+    auto runs = [&] {
+        std::ifstream f(dir / "runs");
+        int n = 0;
+        f >> n;
+        return n;
+    };
+    auto once = collectStatistics(script(1), *parseStatsTarget("device:stand-in"), {key});
+    ASSERT_TRUE(once) << once.error().message;
+    EXPECT_EQ(runs(), 2);
+    EXPECT_EQ(once->at(key).instructions, 10.0);
+    auto twice = collectStatistics(script(2), *parseStatsTarget("device:stand-in"), {key});
+    ASSERT_FALSE(twice);
+    EXPECT_EQ(runs(), 2) << "not a third time";
+    EXPECT_EQ(twice.error().code, int(CostError::Crashed));
+    EXPECT_NE(twice.error().message.find("died of signal 11"), std::string::npos) << twice.error().message;
+    auto fine = collectStatistics(script(0), *parseStatsTarget("device:stand-in"), {key});
+    ASSERT_TRUE(fine) << fine.error().message;
+    EXPECT_EQ(runs(), 1) << "a child that does not crash runs once";
+    std::filesystem::remove_all(dir);
 }
 
 #ifdef WRSFOV_BENCH_EXE
