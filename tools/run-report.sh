@@ -60,9 +60,10 @@ common=(--frames 300 --fovea 5 --modes mip --copy-every 10)
 jod_frames=30
 worth=(--jod-frames "$jod_frames" --fovea-worth 7.5,10,12.5,15)
 # The speed stages run alone: their times are what they measure. The other cells run two at a time:
-# each keeps about 1.25 of this machine's 2 cores busy (lavapipe's threads, then the CPU metrics), so side
-# by side they take 60 % of the time they take one after the other (docs/metrics.md, "The main job's
-# time"); their quality figures are the same either way, their times are taken on a shared CPU (ratios
+# with one lavapipe thread each (LP_NUM_THREADS, below) a cell keeps one of this machine's 2 cores busy
+# (99 % of a core, measured alone for the headset target and a jittered headset cell), so two side by
+# side keep both (docs/metrics.md, "The main job's time"); their quality figures are the same either
+# way, their times are taken on a shared CPU (ratios
 # against the copy kernel in the same submission hold, absolute milliseconds do not: read speed/).
 # They start longest first, each as soon as one of the two running ends (no stage waits for its
 # slower cell), and each says how long it took. Lavapipe splits a dispatch across one thread per cell
