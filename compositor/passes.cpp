@@ -255,7 +255,8 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
                             share * (history + (display ? shown : output) + birth)});
     if (display) t.passes.push_back({"display", shown + shown + motion, shown + output});
     if (sparse)
-        t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead), (1 - share) * ((display ? shown : output) + birth)});
+        t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead),
+                            (1 - share) * ((display ? shown : output) + birth)});
     t.floor = in.colorBytes + output + (temporal ? share * (2 * history + depth + motion) : 0);
     return t;
 }

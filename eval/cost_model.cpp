@@ -138,8 +138,9 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
     // composeLanded) or a rate map (kind 2); its own constants only.
     if (in.composeWrite > 0) {
         const bool quad = in.composeWrite > 4;
-        add("compose", ShaderId::Compose, {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion, quad ? composeLanded(c) : 0u},
-            whole, bytes("compose"));
+        add("compose", ShaderId::Compose,
+            {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion, quad ? composeLanded(c) : 0u}, whole,
+            bytes("compose"));
         barrier();
     }
     if (tiled) {  // one invocation per tile; each writes its 4-byte list entry (and reads far tiles' motion)

@@ -11,9 +11,9 @@ layout(constant_id = 0) const bool HAS_MOTION = false;
 // box's sigmas); the history's alpha holds its accumulated weight.
 layout(constant_id = 1) const bool UPSAMPLE = false;
 // Method wrs, the steady display (wrs_display_step): the neighbourhood is what the retain pass showed
-// (it wrote the candidate buffer in fp16, wrs_pack_shown, frame.tuning.z being the filter's weight); the display's history is
-// slot push.pad1 of the Display buffer, valid where push.pad2 says so, and this frame's is written to
-// slot push.pad0.
+// (it wrote the candidate buffer in fp16, wrs_pack_shown, frame.tuning.z being the filter's weight);
+// the display's history is slot push.pad1 of the Display buffer, valid where push.pad2 says so, and
+// this frame's is written to slot push.pad0.
 layout(constant_id = 2) const bool DISPLAY = false;
 layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
@@ -33,8 +33,8 @@ void display_pixel(uint eye, uvec2 p, vec3 nb[9], vec3 mv) {
     bool has = push.pad2 != 0u && wrs_taa_reproject(p, size, mv, i0, i1, f) && wrs_shown_written(display_at(eye, p));
     vec3 hist = vec3(0.0);
     if (has)
-        hist = wrs_bilinear(display_rgb(eye, i0), display_rgb(eye, uvec2(i1.x, i0.y)), display_rgb(eye, uvec2(i0.x, i1.y)),
-                            display_rgb(eye, i1), f).rgb;
+        hist = wrs_bilinear(display_rgb(eye, i0), display_rgb(eye, uvec2(i1.x, i0.y)),
+                            display_rgb(eye, uvec2(i0.x, i1.y)), display_rgb(eye, i1), f).rgb;
     bool wide = display_filters(eye, idx);
     vec3 c = wrs_display_step(nb, shown_at(eye, p), hist, has, wide, frame.tuning.z);
     display_history[display_index(push.pad0, eye, p)] = wrs_pack_shown(c);

@@ -497,7 +497,8 @@ TEST(CostModel, ACrashedStatisticsProcessIsRunOnceMore) {
           << "printf 'device\\tstand-in\\n'\n"
           << "if [ \"$n\" -lt " << crashes << " ]; then kill -SEGV $$; fi\n"
           << "printf 'executable\\t%s\\t64\\n' \"$3\"\n";
-        for (const char* stat : {"Instructions", "VGPRs", "SGPRs", "Subgroups per SIMD", "Latency", "Inverse Throughput"})
+        for (const char* stat :
+             {"Instructions", "VGPRs", "SGPRs", "Subgroups per SIMD", "Latency", "Inverse Throughput"})
             f << "printf 'stat\\t" << stat << "\\t3\\t10\\n'\n";
         f.close();
         std::filesystem::permissions(exe, std::filesystem::perms::owner_all);
