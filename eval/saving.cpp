@@ -182,6 +182,8 @@ struct Run {
     std::unique_ptr<Compositor> comp;
     std::unique_ptr<layers::Swapchain> color, depth, motion, insetColor, insetDepth, insetMotion, rateMap, reference;
     std::vector<double> composeMs;
+    double retainShareSum = 0;  // over the timed frames that ran the retain pass
+    int retainFrames = 0;
     std::array<std::unique_ptr<JodMetric>, 2> jod;
     double mseSum = 0, nearMseSum = 0;
     int scored = 0;
@@ -569,6 +571,8 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             }
             if (r.input == SavingInput::Full) r.pixelSum += evalEyes * double(W) * H;
             if (f >= o.warmup) r.composeMs.push_back(r.comp->stats().gpu.total);
+            if (f >= o.warmup && r.comp->stats().retained)
+                r.retainShareSum += r.comp->stats().retainShare(), r.retainFrames++;
             if (!scored) continue;
             for (int e = 0; e < evalEyes; ++e) {
                 auto out = r.comp->readOutput(uint32_t(e));
@@ -601,6 +605,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         row.insetDeg = r.insetDeg;
         row.pixelsRendered = r.frames ? r.pixelSum / r.frames : 0.0;
         row.composeMs = median(r.composeMs);
+        if (r.retainFrames) row.retainShare = r.retainShareSum / r.retainFrames;
         if (r.ref) row.outcomes = r.outcomes;
         if (atriumViews && r.input == SavingInput::Full) row.renderMs = median(fullRenderMs);
         if (atriumViews && r.input == SavingInput::Quad) row.renderMs = median(wideRenderMs) + median(insetRenderMs[r.insetDeg]);
@@ -856,7 +861,8 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
     const bool hasEtaQ = !quadOf(Method::OracleQ).empty();
     md << "| input | method | inset | pixels rendered (M) | × full | render ms | × full | compose ms | JOD | "
           "near-gaze PSNR (dB) | temporal instability | η |"
-       << (hasEtaQ ? " η_q |" : "") << "\n|---|---|---|---|---|---|---|---|---|---|---|---|" << (hasEtaQ ? "---|" : "") << "\n";
+       << (hasEtaQ ? " η_q |" : "") << " retain tiles |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
+       << (hasEtaQ ? "---|" : "") << "---|\n";
     for (const SavingRow& r : rows) {
         md << "| " << toString(r.input) << " | " << toString(r.method) << " | "
            << (r.input == SavingInput::Full ? std::string("–") : fmt("%.1f°", r.insetDeg)) << " | "
@@ -865,7 +871,7 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
            << fmt("%.2f", r.composeMs) << " | " << fmt("%.2f", r.jod) << " | " << fmt("%.2f", r.nearGazePsnr) << " | "
            << fmt("%.5f", r.temporalInstability) << " | " << fmt("%.2f", r.eta) << " |";
         if (hasEtaQ) md << ' ' << fmt("%.2f", r.etaQ) << " |";
-        md << "\n";
+        md << ' ' << (std::isnan(r.retainShare) ? std::string("–") : fmt("%.1f %%", 100.0 * r.retainShare)) << " |\n";
     }
     md << "\nColumns: pixels rendered per frame by the application (both eyes; quad: wide + inset; rate: shaded "
           "samples, one per block); render ms: the application's rendering per frame ("
@@ -880,6 +886,8 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
        << (hasEtaQ ? "; η_q: the same against the retention oracle (`oracle-q`), the bound of a rule that keeps only "
                      "sharper samples"
                    : "")
+       << "; retain tiles: the share of tiles that ran the retain pass, mean over the timed frames (the others took "
+          "sparse retention's skip list; every other pass runs in every tile; – for a method without the pass)"
        << ".\n";
 
     // Retention outcomes (SavingOptions::outcomes).

@@ -113,6 +113,10 @@ struct SavingRow {
     /// Temporal instability over the scored frames (eval/metrics.h: the output's frame-to-frame change where
     /// the full-resolution render does not change), evaluated eyes averaged.
     double temporalInstability = std::numeric_limits<double>::quiet_NaN();
+    /// Mean over the timed frames of the share of tiles that ran the retain pass (FrameStats::retainShare;
+    /// the rest took sparse retention's skip list); NaN for a method without the pass. Every other pass
+    /// of a frame (compose, classification, pyramid, steady display) runs in every tile.
+    double retainShare = std::numeric_limits<double>::quiet_NaN();
     float wideScale = 0.0f;     ///< the wide views' density (quad views; 0 otherwise)
     uint32_t jitterPhases = 0;  ///< SavingOptions::jitterPhases of quad views (0 otherwise)
 };

@@ -56,6 +56,13 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
             EXPECT_EQ(r.wideScale, 0.4f);
             EXPECT_EQ(r.jitterPhases, 0u);
         }
+        // The retain pass's share of the tiles: methods with it only, at most every tile.
+        if (r.method == Method::Fov) {
+            EXPECT_TRUE(std::isnan(r.retainShare)) << r.retainShare;
+        } else {
+            EXPECT_GT(r.retainShare, 0.0) << toString(r.method) << " " << r.insetDeg;
+            EXPECT_LE(r.retainShare, 1.0) << toString(r.method) << " " << r.insetDeg;
+        }
         if (r.input == eval::SavingInput::Rate) {
             // Between a 4x4 rate everywhere and full rate: the 1x1 region and its 2x2 ring around the gaze.
             EXPECT_GT(r.pixelsRendered, full.pixelsRendered / 16.0);
@@ -180,6 +187,11 @@ TEST_F(Saving, PhotoQuadViewsWithoutJod) {
     ASSERT_TRUE(eval::writeSavingReport(*rows, so, dir, context().deviceName(), &headline).ok());
     EXPECT_NE(headline.find("no JOD"), std::string::npos) << headline;
     EXPECT_TRUE(std::filesystem::exists(dir + "/saving.csv"));
+    // Every composition's row says the share of tiles that ran the retain pass (– for fov).
+    std::ifstream mdFile(dir + "/saving.md");
+    const std::string md((std::istreambuf_iterator<char>(mdFile)), std::istreambuf_iterator<char>());
+    EXPECT_NE(md.find("| retain tiles |"), std::string::npos);
+    EXPECT_NE(md.find(eval::savingNumber("%.1f %%", 100.0 * wrs.retainShare) + " |"), std::string::npos) << md;
     EXPECT_FALSE(std::filesystem::exists(dir + "/saving.png"));
 }
 
