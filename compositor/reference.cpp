@@ -307,7 +307,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     if (taau) {  // as taa.comp's UPSAMPLE
                         const bool gathered = ep.motion_rect.z != 0u && !in.landed.empty();
                         const vec4 g = gathered ? in.landed[idx] : vec4(vec3(cand_[eye][idx]), 1.0f);
-                        const bool inset = gathered && in.quality[idx] > ep.tile.w * (1.0f + WRS_Q_EQUAL);
+                        const bool inset = gathered && !wrs_is_wide_quality(in.quality[idx], ep.tile.w);
                         const float acc = has ? uintBitsToFloat(prev_[eye][idx].w) : 0.0f;
                         const vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
                         c = vec3(r);
@@ -523,7 +523,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         auto dAt = [&](uvec2 q) { return vec4(vec3(prevDisplay[std::size_t(q.y) * W + q.x]), 0.0f); };
                         if (has) hist = vec3(wrs_bilinear(dAt(i0), dAt(uvec2(i1.x, i0.y)), dAt(uvec2(i0.x, i1.y)), dAt(i1), f));
                         const bool wide = ep.motion_rect.z != 0u && !in.quality.empty() &&
-                                          in.quality[idx] <= ep.tile.w * (1.0f + WRS_Q_EQUAL);
+                                          wrs_is_wide_quality(in.quality[idx], ep.tile.w);
                         const vec3 c = wrs_display_step(nb, shownAt[idx], hist, has, wide, params.tuning.z);
                         display_[eye][idx] = vec4(wrs_unpack_shown(wrs_pack_shown(c)), 1.0f);
                         if (!wide) continue;  // shown as the pass before showed it (store_output)

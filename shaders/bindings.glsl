@@ -157,7 +157,7 @@ float load_depth(uint eye, uvec2 p) {
 // Whether the steady display filters pixel idx of an eye (wrs_display_step's `wide`): a wide view's pixel of
 // quad views with landed samples; the inset's are shown as retention shows them.
 bool display_filters(uint eye, uint idx) {
-    return frame.eye[eye].motion_rect.z != 0u && submitted_quality(idx) <= frame.eye[eye].tile.w * (1.0 + WRS_Q_EQUAL);
+    return frame.eye[eye].motion_rect.z != 0u && wrs_is_wide_quality(submitted_quality(idx), frame.eye[eye].tile.w);
 }
 // What a pass shows at pixel p: the output image; where the steady display follows (frame.tuning.z, its
 // weight, above 0) also the candidate buffer it filters, and only that where it filters the pixel.

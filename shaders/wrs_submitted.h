@@ -189,10 +189,13 @@ WRS_FN uint wrs_wide_box_steps(vec2 per_wide) {
     uint sy = uint(max(floor(per_wide.y + 0.5f), 1.0f));
     return min(sx, 0xffffu) | (min(sy, 0xffffu) << 16u);
 }
+// Whether quality q is a wide view's: at most q_wide, the wide view's quality (ComposeEye
+// wide_motion.w), up to WRS_Q_EQUAL; the inset's and its blend's are above it.
+WRS_FN bool wrs_is_wide_quality(float q, float q_wide) { return q <= q_wide * (1.0f + WRS_Q_EQUAL); }
 // Whether a candidate of quality q is a wide one (the composed wide view, or a landed sample's class
-// up to it) whose box is the wide box: q_wide is the wide view's quality (ComposeEye wide_motion.w).
-// Candidates of the inset and of its blend keep their own box (the fovea stays exact).
-WRS_FN bool wrs_wide_box_applies(float q, float q_wide) { return q <= q_wide * (1.0f + WRS_Q_EQUAL); }
+// up to it) whose box is the wide box. Candidates of the inset and of its blend keep their own box
+// (the fovea stays exact).
+WRS_FN bool wrs_wide_box_applies(float q, float q_wide) { return wrs_is_wide_quality(q, q_wide); }
 // Tap k (0..8, row-major) of the wide box at pixel p: p offset by -1, 0 or +1 spacing per axis,
 // clamped to the image.
 WRS_FN uvec2 wrs_wide_box_tap(uvec2 p, uint k, uint steps, uvec2 size) {
