@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 
 #include "compose_spv.h"
 
@@ -62,13 +63,19 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
     return c;
 }
 
-VkPipeline ComposePass::pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed) {
+Result<VkPipeline> ComposePass::pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed) {
     VkPipeline& slot = pipelines_[((kind - 1) * 3 + landed) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
     if (slot) return slot;
     const uint32_t constants[4] = {kind, depth, motion, landed};
     // Shared on the context: every compose pass defines its pipeline layout the same way (create).
-    slot = ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion, landed},
-                               [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); });
+    Result<VkPipeline> made =
+        ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion, landed},
+                            [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); });
+    if (!made)
+        return Error{made.error().code, "the compose pass's pipeline (constants " + std::to_string(kind) + "," +
+                                            std::to_string(depth) + "," + std::to_string(motion) + "," +
+                                            std::to_string(landed) + "): " + made.error().message};
+    slot = *made;
     return slot;
 }
 
@@ -139,16 +146,18 @@ Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeP
     return {};
 }
 
-void ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes) {
-    if (kind == layers::SubmittedFoveation::Full) return;
+Status ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes) {
+    if (kind == layers::SubmittedFoveation::Full) return {};
     const uint32_t k = kind == layers::SubmittedFoveation::Quad ? 1u : 2u;
     const gpu::ComposeParams* p = static_cast<const gpu::ComposeParams*>(params_.mapped());
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(k, k == 1 && depth, k == 1 && motion, k == 1 ? composeLandedMode(*p) : 0u));
+    Result<VkPipeline> pipe = pipeline(k, k == 1 && depth, k == 1 && motion, k == 1 ? composeLandedMode(*p) : 0u);
+    if (!pipe) return pipe.error();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set_, 0, nullptr);
     vkCmdDispatch(cb, groups(p->size.x), groups(p->size.y), eyes);
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    return {};
 }
 
 }  // namespace wrsfov

@@ -33,8 +33,9 @@ public:
     /// allocation changes nothing) and points the pass at this frame's sources, `quality` and `params`.
     Status prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
                    VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint);
-    /// Records the pass for `eyes` eyes (its writes are made visible to the later compute passes).
-    void record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes);
+    /// Records the pass for `eyes` eyes (its writes are made visible to the later compute passes). Fails,
+    /// having recorded nothing, where its pipeline cannot be made.
+    Status record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes);
 
     /// The composed images (2 layers, layer = eye, VK_IMAGE_LAYOUT_GENERAL): RGBA16F linear colour with
     /// validity in alpha, R32F depth as submitted, RGBA16F motion in output pixels.
@@ -44,7 +45,7 @@ public:
 
 private:
     explicit ComposePass(vk::Context& ctx) : ctx_(ctx) {}
-    VkPipeline pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed);
+    Result<VkPipeline> pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed);
     vk::Context& ctx_;
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;

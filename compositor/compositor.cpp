@@ -326,7 +326,8 @@ static std::vector<float> halfProbeValues() {
 }
 
 bool Compositor::probeHardwareHalf() {
-    // Where the probe cannot run (no memory, a lost device) the passes convert by hand: the same bits.
+    // Where the probe cannot run (no memory, no pipeline, a lost device) the passes convert by hand: the
+    // same bits.
     const std::vector<float> values = halfProbeValues();
     const uint32_t count = uint32_t(values.size());
     const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
@@ -340,8 +341,10 @@ bool Compositor::probeHardwareHalf() {
     vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
     const uint32_t groupsTotal = (count + 63) / 64, gx = std::min<uint32_t>(groupsTotal, 65535),
                    gy = (groupsTotal + gx - 1) / gx;
+    Result<VkPipeline> probe = pipeline(kHalfProbe, {});
+    if (!probe) return false;
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kHalfProbe, {}));
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *probe);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
                                 nullptr);
         vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
@@ -362,10 +365,12 @@ double Compositor::timeCopy(uint64_t bytes) {
     const uint32_t count = uint32_t(std::min<uint64_t>(bytes / 2, copySrc_.size()) / 16);
     const uint32_t groupsTotal = std::max<uint32_t>((count + 63) / 64, 1);
     const uint32_t cgx = std::min<uint32_t>(groupsTotal, 65535), cgy = (groupsTotal + cgx - 1) / cgx;
+    Result<VkPipeline> copy = pipeline(kCopy, {0, 0, 0, 0});
+    if (!copy) return 0.0;  // no figure, as for a failed submission
     const auto submitted = std::chrono::steady_clock::now();
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         vkCmdResetQueryPool(cb, queries_.get(), kFrameStamps, 2);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kCopy, {0, 0, 0, 0}));
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *copy);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
                                 nullptr);
         vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
@@ -382,7 +387,7 @@ double Compositor::timeCopy(uint64_t bytes) {
     return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
 }
 
-VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstants) {
+Result<VkPipeline> Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstants) {
     // Constants 0..6 are the pass's; 7 (HARDWARE_HALF) and 8 (TRACK_BIRTH, bindings.glsl) every pass's.
     std::array<uint32_t, 9> constants{};
     std::copy(passConstants.begin(), passConstants.end(), constants.begin());
@@ -395,12 +400,31 @@ VkPipeline Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstant
     // Shared on the context: every compositor defines its two pipeline layouts the same way (init).
     std::vector<uint32_t> shared{kSharedPipelineTag};
     shared.insert(shared.end(), key.begin(), key.end());
-    const VkPipeline made = ctx_.sharedPipeline(shared, [&] {
+    Result<VkPipeline> made = ctx_.sharedPipeline(shared, [&] {
         return ctx_.createComputePipeline(
             modules_[shader].get(),
             shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get(), constants);
     });
-    return pipelines_.emplace(key, made).first->second;
+    if (!made) {
+        static const char* const names[kShaderCount] = {"pyramid", "foveate", "wrs",      "taa",
+                                                        "copy",    "retain",  "classify", "half_probe"};
+        std::string list;
+        for (uint32_t c : constants) list += (list.empty() ? "" : ",") + std::to_string(c);
+        return Error{made.error().code, std::string("the ") + names[shader] + ".comp pipeline (constants " + list +
+                                            "): " + made.error().message};
+    }
+    return pipelines_.emplace(key, *made).first->second;
+}
+
+bool Compositor::bindPipeline(VkCommandBuffer cb, int shader, std::array<uint32_t, 7> passConstants) {
+    if (recordError_) return false;
+    Result<VkPipeline> p = pipeline(shader, passConstants);
+    if (!p) {
+        recordError_ = p.error();
+        return false;
+    }
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *p);
+    return true;
 }
 
 Status Compositor::resize(uint32_t width, uint32_t height, bool birth, bool display) {
@@ -613,6 +637,19 @@ struct Compositor::FrameWork {
     bool inPlace = false, tiled = false, sparse = false, steady = false;
     uint32_t written = 0;  ///< the reservoir buffer the frame writes
     uint32_t tilesPerEye = 0;
+    /// What planFrame and bindInputs change, as it was before them: restorePlan puts it back where the
+    /// frame fails before the queue takes it (a pipeline the driver cannot make), so that the frame
+    /// changes nothing a later one reads.
+    struct Before {
+        CompositorConfig config, pending, frame;
+        bool configPending = false, historyValid = false, steadyValid = false;
+        layers::SubmittedFoveation submitted = layers::SubmittedFoveation::Full;
+        FoveationMode lastFoveation = FoveationMode::Mip;
+        std::array<glm::vec4, 2> lastOffsets{};
+        FrameStats stats;
+        gpu::FrameParams params{};
+    } before;
+    bool queued = false;  ///< the queue took the frame's submission (Record mode: the caller's buffer holds it)
 };
 
 namespace {
@@ -630,8 +667,15 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
     if (Status s = allocateFrame(frame, work); !s) return s;
     planFrame(frame, work);
     bindInputs(frame, work);
-    VkCommandBuffer cb = recordFrame(frame, submission, work);
-    if (Status s = submitFrame(submission, cb, work); !s) return s;
+    Result<VkCommandBuffer> cb = recordFrame(frame, submission, work);
+    if (!cb) {
+        restorePlan(work);
+        return cb.error();
+    }
+    if (Status s = submitFrame(submission, *cb, work); !s) {
+        if (!work.queued) restorePlan(work);
+        return s;
+    }
     keepFrame(frame, work);
     return {};
 }
@@ -752,6 +796,8 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
 }
 
 void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
+    work.before = {config_,     pending_, frame_,         configPending_, historyValid_, steadyValid_,
+                   submitted_, lastFoveation_, lastOffsets_, stats_,         params_};
     if (configPending_) {
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
         if (!steadyFloorActive(pending_)) steadyValid_ = false;
@@ -890,15 +936,52 @@ void Compositor::bindInputs(const layers::FrameEndInfo& frame, FrameWork& work) 
     vkUpdateDescriptorSets(ctx_.device(), 4, wr, 0, nullptr);
 }
 
-VkCommandBuffer Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
-                                        const FrameWork& work) {
+void Compositor::restorePlan(const FrameWork& work) {
+    const FrameWork::Before& b = work.before;
+    config_ = b.config;
+    pending_ = b.pending;
+    frame_ = b.frame;
+    configPending_ = b.configPending;
+    historyValid_ = b.historyValid;
+    steadyValid_ = b.steadyValid;
+    submitted_ = b.submitted;
+    lastFoveation_ = b.lastFoveation;
+    lastOffsets_ = b.lastOffsets;
+    stats_ = b.stats;
+    params_ = b.params;
+    std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
+}
+
+Result<VkCommandBuffer> Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
+                                                const FrameWork& work) {
+    if (work.record) {
+        // Rehearsed first in the compositor's own command buffer (idle: acceptFrame waited for its last
+        // use), so that every pipeline the frame binds exists before a command goes into the caller's
+        // buffer: a pipeline failing half-way there could not be taken back. The cost is one more
+        // recording of the frame's few dozen commands on the host.
+        const Status rehearsal = recordPasses(cmd_, true, frame, work);
+        vkResetCommandBuffer(cmd_, 0);  // never submitted; the next own recording resets it again anyway
+        if (!rehearsal) return rehearsal.error();
+        if (Status s = recordPasses(submission.commandBuffer, false, frame, work); !s) return s.error();
+        return submission.commandBuffer;
+    }
+    if (Status s = recordPasses(cmd_, true, frame, work); !s) return s.error();
+    return cmd_;
+}
+
+Status Compositor::recordPasses(VkCommandBuffer cb, bool own, const layers::FrameEndInfo& frame,
+                                const FrameWork& work) {
     const layers::ProjectionLayer& layer = frame.layers[0];
-    VkCommandBuffer cb = work.record ? submission.commandBuffer : cmd_;
-    if (!work.record) {
-        VK_CHECK(vkResetCommandBuffer(cb, 0));
+    auto failed = [&](const char* call, VkResult r) {
+        return submitError(SubmitError::DeviceFailure,
+                           std::string("recording the frame: ") + call + " failed: " + vk::resultString(r));
+    };
+    recordError_.reset();
+    if (own) {
+        if (VkResult r = vkResetCommandBuffer(cb, 0); r != VK_SUCCESS) return failed("vkResetCommandBuffer", r);
         VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
         bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-        VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+        if (VkResult r = vkBeginCommandBuffer(cb, &bi); r != VK_SUCCESS) return failed("vkBeginCommandBuffer", r);
     }
     const bool timing = ctx_.timestampPeriodNs() > 0 && !work.record;
     if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kFrameStamps);
@@ -958,13 +1041,22 @@ VkCommandBuffer Compositor::recordFrame(const layers::FrameEndInfo& frame, const
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                       VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                       VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+    if (recordError_) {
+        // Every command recorded before the failure is valid; the buffer is never submitted.
+        if (own) vkResetCommandBuffer(cb, 0);
+        return submitError(SubmitError::DeviceFailure, recordError_->message);
+    }
+    if (own)
+        if (VkResult r = vkEndCommandBuffer(cb); r != VK_SUCCESS) return failed("vkEndCommandBuffer", r);
     lastTiled_ = work.tiled && !work.record;  // waitFrame reads the counts
-    return cb;
+    return {};
 }
 
-Status Compositor::submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, const FrameWork& work) {
-    if (work.record) return {};  // the caller submits
-    VK_CHECK(vkEndCommandBuffer(cb));
+Status Compositor::submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, FrameWork& work) {
+    if (work.record) {  // the caller's buffer holds the frame; the caller submits
+        work.queued = true;
+        return {};
+    }
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
@@ -981,6 +1073,7 @@ Status Compositor::submitFrame(const FrameSubmission& submission, VkCommandBuffe
     if (r != VK_SUCCESS)
         return submitError(SubmitError::DeviceFailure,
                            std::string("the device failed while compositing: ") + vk::resultString(r));
+    work.queued = true;
     inFlight_ = true;
     inFlightTraffic_ = work.trafficIn;
     inFlightEyes_ = work.eyes;

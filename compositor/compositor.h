@@ -428,7 +428,14 @@ private:
     Result<std::vector<glm::uvec4>> readBuffer(const vk::Buffer& buffer, uint32_t eye);
     /// `count` 32-bit words of a buffer from word `first`.
     Result<std::vector<uint32_t>> readWords(const vk::Buffer& buffer, uint64_t first, uint64_t count);
-    VkPipeline pipeline(int shader, std::array<uint32_t, 7> passConstants);
+    /// The pipeline of `shader` with the pass's constants (found, or made and shared on the context);
+    /// an error naming the shader and constants where the driver cannot make it.
+    Result<VkPipeline> pipeline(int shader, std::array<uint32_t, 7> passConstants);
+    /// Records the bind of pipeline(shader, constants); where it cannot be made, or an earlier one of
+    /// this recording could not, records nothing, keeps the first error in recordError_ and returns
+    /// false (the pass then records nothing more).
+    bool bindPipeline(VkCommandBuffer cb, int shader, std::array<uint32_t, 7> passConstants);
+    std::optional<Error> recordError_;
     /// Runs the device's fp16 conversion over halfProbeValues() and compares it with wrs_f32_to_f16.
     bool probeHardwareHalf();
     bool hardwareHalf_ = false;  // CompositorConfig::hardwareHalf and the probe: pipelines' constant 7
@@ -517,9 +524,13 @@ private:
     Status allocateFrame(const layers::FrameEndInfo& frame, FrameWork& work);
     void planFrame(const layers::FrameEndInfo& frame, FrameWork& work);
     void bindInputs(const layers::FrameEndInfo& frame, FrameWork& work);
-    VkCommandBuffer recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
-                                const FrameWork& work);
-    Status submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, const FrameWork& work);
+    Result<VkCommandBuffer> recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
+                                        const FrameWork& work);
+    /// The frame's commands into `cb` (begun and ended by the caller unless `own`, the compositor's).
+    Status recordPasses(VkCommandBuffer cb, bool own, const layers::FrameEndInfo& frame, const FrameWork& work);
+    /// Puts back what planFrame and bindInputs changed, for a frame that fails before its submission.
+    void restorePlan(const FrameWork& work);
+    Status submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, FrameWork& work);
     void keepFrame(const layers::FrameEndInfo& frame, const FrameWork& work);
     /// What a frame runs, decided once in endFrame; each pass records itself from it (recordX, in the
     /// order endFrame calls them).

@@ -21,7 +21,9 @@ void Compositor::stamp(const FramePlan& plan, uint32_t i) {
 
 void Compositor::recordCompose(const FramePlan& plan) {
     if (submitted_ == layers::SubmittedFoveation::Full) return;  // compose_ exists from the first such frame on
-    compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes);
+    if (recordError_) return;
+    if (Status s = compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes); !s)
+        recordError_ = s.error();
 }
 
 void Compositor::recordHistoryStart(const FramePlan& plan) {
@@ -56,13 +58,11 @@ void Compositor::recordClassify(const FramePlan& plan) {
         // Phase 1: the previous frame's held qualities per superblock, for phase 0's reach test; one
         // group per superblock, one invocation per tile.
         static_assert(gpu::WRS_SUPERBLOCK == WRS_GROUP_X && gpu::WRS_SUPERBLOCK == WRS_GROUP_Y);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 1u}));
+        if (!bindPipeline(cb, kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 1u})) return;
         vkCmdDispatch(cb, groups(tilesX, gpu::WRS_SUPERBLOCK), groups(tilesY, gpu::WRS_SUPERBLOCK), plan.eyes);
         computeBarrier(cb);
     }
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 0u}));
+    if (!bindPipeline(cb, kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 0u})) return;
     vkCmdDispatch(cb, groups(tilesX, WRS_GROUP_X), groups(tilesY, WRS_GROUP_Y), plan.eyes);
     // The pyramid shares no buffer or image with the classification: it is recorded next with no
     // barrier between them, so that a GPU overlaps the two (on an NVIDIA H200 each was a few tens of
@@ -75,7 +75,7 @@ void Compositor::recordPyramid(const FramePlan& plan) {
     VkCommandBuffer cb = plan.cb;
     const bool gauss = frame_.foveation == FoveationMode::Gauss;
     const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0}));
+    if (!bindPipeline(cb, kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0})) return;
     // mip: every level in one dispatch of WRS_MIP_TILE-pixel tiles; gauss: one dispatch per level.
     const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
     const uint32_t tile = WRS_MIP_TILE;
@@ -105,7 +105,7 @@ void Compositor::recordSteadyFloor(const FramePlan& plan) {
     const gpu::LevelPush push{0, slot, steadySlot_, steadyValid_ && historyValid_ ? 1u : 0u};
     vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     for (uint32_t phase = 0; phase < 2; ++phase) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kPyramid, {3u, firstStored, plan.hasMotion, phase}));
+        if (!bindPipeline(cb, kPyramid, {3u, firstStored, plan.hasMotion, phase})) return;
         vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
         computeBarrier(cb);
     }
@@ -119,21 +119,20 @@ void Compositor::recordSteadyFloor(const FramePlan& plan) {
 void Compositor::recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased) {
     VkCommandBuffer cb = plan.cb;
     if (!plan.tiled) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+        if (!bindPipeline(cb, shader, constants)) return;
         vkCmdDispatch(cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
         return;
     }
     for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
         if (aliased && cls > 0) computeBarrier(cb);
         constants[5] = 1 + cls;
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(shader, constants));
+        if (!bindPipeline(cb, shader, constants)) return;
         vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
     }
     if (!plan.sparse || shader != kRetain) return;
     // Tiles that skip retention: the foveating pass writes their output (and birth colours).
     if (aliased) computeBarrier(cb);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                      pipeline(kFoveate, {uint32_t(frame_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}));
+    if (!bindPipeline(cb, kFoveate, {uint32_t(frame_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0})) return;
     vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
 }
 
@@ -152,14 +151,13 @@ void Compositor::recordTemporal(const FramePlan& plan) {
                          plan.sparse},
                         plan.inPlace);
     } else if (plan.wrsPaper) {
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE,
-                          pipeline(kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli}));
+        if (!bindPipeline(cb, kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli})) return;
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else if (plan.taa) {
         // taa.comp declares the steady display's push constants (recordDisplay); unused here, but set.
         const gpu::LevelPush none{0, 0, 0, 0};
         vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(none), &none);
-        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, frame_.method == Method::Taau, 0, 0}));
+        if (!bindPipeline(cb, kTaa, {plan.hasMotion, frame_.method == Method::Taau, 0, 0})) return;
         vkCmdDispatch(cb, gx, gy, plan.eyes);
     } else {
         return;
@@ -174,7 +172,7 @@ void Compositor::recordDisplay(const FramePlan& plan) {
     const uint32_t slot = 1 - displaySlot_;
     const gpu::LevelPush push{0, slot, displaySlot_, displayValid_ && historyValid_ ? 1u : 0u};
     vkCmdPushConstants(plan.cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    vkCmdBindPipeline(plan.cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline(kTaa, {plan.hasMotion, 0, 1, 0}));
+    if (!bindPipeline(plan.cb, kTaa, {plan.hasMotion, 0, 1, 0})) return;
     vkCmdDispatch(plan.cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
     computeBarrier(plan.cb);
 }

@@ -471,15 +471,18 @@ Status Context::createViews(Image& img, VkFormat viewFormat) {
     return {};
 }
 
-VkPipeline Context::sharedPipeline(const std::vector<uint32_t>& key, const std::function<VkPipeline()>& make) {
+Result<VkPipeline> Context::sharedPipeline(const std::vector<uint32_t>& key,
+                                           const std::function<Result<VkPipeline>()>& make) {
     std::lock_guard lock(pipelinesMutex_);
     auto it = pipelines_.find(key);
-    if (it == pipelines_.end()) it = pipelines_.emplace(key, make()).first;
-    return it->second;
+    if (it != pipelines_.end()) return it->second;
+    Result<VkPipeline> made = make();
+    if (made) pipelines_.emplace(key, *made);
+    return made;
 }
 
-VkPipeline Context::createComputePipeline(VkShaderModule module, VkPipelineLayout layout,
-                                          std::span<const uint32_t> constants) {
+Result<VkPipeline> Context::createComputePipeline(VkShaderModule module, VkPipelineLayout layout,
+                                                  std::span<const uint32_t> constants) {
     std::vector<VkSpecializationMapEntry> entries(constants.size());
     for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, uint32_t(i * sizeof(uint32_t)), sizeof(uint32_t)};
     VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), constants.size_bytes(), constants.data()};
@@ -490,8 +493,13 @@ VkPipeline Context::createComputePipeline(VkShaderModule module, VkPipelineLayou
     ci.stage.pName = "main";
     ci.stage.pSpecializationInfo = &spec;
     ci.layout = layout;
-    VkPipeline p;
-    VK_CHECK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &p));
+    if (faults_.failPipeline && ++faultPipelines_ == faults_.failPipeline) {
+        faults_.failPipeline = 0;
+        return vkError("vkCreateComputePipelines", VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    }
+    VkPipeline p = VK_NULL_HANDLE;
+    if (VkResult r = vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &ci, nullptr, &p); r != VK_SUCCESS)
+        return vkError("vkCreateComputePipelines", r);
     return p;
 }
 
@@ -614,7 +622,7 @@ Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
     FaultInjection f;
     auto bad = [&] {
         return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
-                     "WRSFOV_FAULT='" + spec + "' is not alloc:N and/or lost:N (N >= 1, comma-separated)"};
+                     "WRSFOV_FAULT='" + spec + "' is not alloc:N, lost:N and/or pipeline:N (N >= 1, comma-separated)"};
     };
     std::size_t pos = 0;
     while (pos <= spec.size()) {
@@ -630,6 +638,8 @@ Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
             f.failAllocation = static_cast<uint32_t>(n);
         else if (kind == "lost")
             f.loseDevice = static_cast<uint32_t>(n);
+        else if (kind == "pipeline")
+            f.failPipeline = static_cast<uint32_t>(n);
         else
             return bad();
         pos = end + 1;
@@ -639,7 +649,7 @@ Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
 
 void Context::injectFaults(const FaultInjection& faults) {
     faults_ = faults;
-    faultAllocations_ = faultSubmissions_ = 0;
+    faultAllocations_ = faultSubmissions_ = faultPipelines_ = 0;
 }
 
 VkResult Context::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) {

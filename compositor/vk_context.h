@@ -53,8 +53,8 @@ struct ContextOptions {
 
 /// Device faults on demand, for tests: a real device will not run out of memory or get lost when
 /// asked to. Armed per Context with Context::injectFaults, or for a whole process with the
-/// environment variable WRSFOV_FAULT (read by Context::create): "alloc:N", "lost:N" or both,
-/// comma-separated. Counting starts when the faults are armed; each fault fires once.
+/// environment variable WRSFOV_FAULT (read by Context::create): "alloc:N", "lost:N", "pipeline:N", any
+/// of them comma-separated. Counting starts when the faults are armed; each fault fires once.
 /// docs/bad-input.md ("Device faults") lists what each one leads to.
 struct FaultInjection {
     /// The Nth device-memory allocation (1 = the next) fails with VK_ERROR_OUT_OF_DEVICE_MEMORY; 0: never.
@@ -62,6 +62,9 @@ struct FaultInjection {
     /// The Nth queue submission (1 = the next) runs, then its fence wait reports VK_ERROR_DEVICE_LOST
     /// and the context stays lost; 0: never.
     uint32_t loseDevice = 0;
+    /// The Nth compute pipeline creation (1 = the next) fails with VK_ERROR_OUT_OF_DEVICE_MEMORY, one of
+    /// vkCreateComputePipelines's results (a driver out of memory while compiling); 0: never.
+    uint32_t failPipeline = 0;
     /// Parses a WRSFOV_FAULT value; fails with a message on anything else.
     static Result<FaultInjection> parse(const std::string& spec);
 };
@@ -243,12 +246,14 @@ public:
     /// maker must create it with a pipeline layout it always defines the same way, so that any of its
     /// instances can bind it), and the pipeline lives until the context is destroyed. A compositor
     /// made after another on the context then compiles only the variants none has used before (on
-    /// lavapipe each takes ~70 ms, most of a short test's time). Thread-safe.
-    VkPipeline sharedPipeline(const std::vector<uint32_t>& key, const std::function<VkPipeline()>& make);
+    /// lavapipe each takes ~70 ms, most of a short test's time). A failed `make` is returned and not
+    /// kept: the next request tries again. Thread-safe.
+    Result<VkPipeline> sharedPipeline(const std::vector<uint32_t>& key, const std::function<Result<VkPipeline>()>& make);
     /// A compute pipeline of `module`'s "main" with `constants` as specialization constants 0, 1, ...
-    /// (32-bit each), for `layout`; the caller owns it.
-    VkPipeline createComputePipeline(VkShaderModule module, VkPipelineLayout layout,
-                                     std::span<const uint32_t> constants);
+    /// (32-bit each), for `layout`; the caller owns it. Fails (code = VkResult) where the driver does,
+    /// or where FaultInjection::failPipeline says so.
+    Result<VkPipeline> createComputePipeline(VkShaderModule module, VkPipelineLayout layout,
+                                             std::span<const uint32_t> constants);
     /// How many pipelines sharedPipeline has made on this context.
     size_t sharedPipelineCount() const;
     DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
@@ -316,7 +321,7 @@ private:
     mutable std::mutex messagesMutex_;
     std::vector<std::string> messages_;
     FaultInjection faults_;
-    uint32_t faultAllocations_ = 0, faultSubmissions_ = 0;  // counted since the faults were armed
+    uint32_t faultAllocations_ = 0, faultSubmissions_ = 0, faultPipelines_ = 0;  // counted since armed
     bool deviceLost_ = false;
 };
 

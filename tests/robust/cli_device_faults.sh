@@ -19,7 +19,7 @@ bench_args() {
 }
 
 # shellcheck disable=SC2046  # the argument lists are split on purpose
-check demo_fault_spec_malformed 1 "WRSFOV_FAULT='alloc=1' is not alloc:N and/or lost:N" "alloc=1" "$demo" $(demo_args spec)
+check demo_fault_spec_malformed 1 "WRSFOV_FAULT='alloc=1' is not alloc:N, lost:N and/or pipeline:N" "alloc=1" "$demo" $(demo_args spec)
 check demo_no_fault 0 "wrote" "" "$demo" $(demo_args none)
 cli_check demo_summary_table_header 0 "| method | PSNR (dB) | near-gaze PSNR" cat "$out/demo_no_fault.log"
 check demo_oom_first_allocation 1 "compositor frame parameters: vkAllocateMemory" "alloc:1" "$demo" $(demo_args oom1)
@@ -29,6 +29,9 @@ check demo_lost_at_start 1 "VK_ERROR_DEVICE_LOST" "lost:1" "$demo" $(demo_args l
 check demo_lost_while_compositing 1 "the Vulkan device was lost (VK_ERROR_DEVICE_LOST): this compositor refuses" \
     "lost:10" "$demo" $(demo_args lost10)
 check demo_lost_in_a_readback 1 "queue submission failed: VK_ERROR_DEVICE_LOST" "lost:12" "$demo" $(demo_args lost12)
+check demo_pipeline_probe_falls_back 0 "wrote" "pipeline:1" "$demo" $(demo_args pipe1)
+check demo_pipeline_in_a_frame 1 "): vkCreateComputePipelines failed: VK_ERROR_OUT_OF_DEVICE_MEMORY" \
+    "pipeline:2" "$demo" $(demo_args pipe2)
 check bench_oom_first_allocation 1 "compositor frame parameters: vkAllocateMemory" "alloc:1" "$bench" $(bench_args oom1)
 check bench_lost_in_a_frame 1 "VK_ERROR_DEVICE_LOST" "lost:10" "$bench" $(bench_args lost10)
 

@@ -1,7 +1,8 @@
-// docs/bad-input.md, "Device faults": out of device memory and device loss, injected through
-// vk::FaultInjection because a real device does not fail on demand. Out of memory is a clear error
-// and changes nothing (a twin that never saw it stays bit-identical); device loss makes the
-// compositor refuse every later frame at once, and a new Context and Compositor run normally.
+// docs/bad-input.md, "Device faults": out of device memory, device loss and a pipeline the driver
+// cannot make, injected through vk::FaultInjection because a real device does not fail on demand.
+// Out of memory and a failed pipeline are clear errors that change nothing (a twin that never saw
+// them stays bit-identical); device loss makes the compositor refuse every later frame at once, and a
+// new Context and Compositor run normally.
 #include <chrono>
 #include <functional>
 #include <map>
@@ -224,6 +225,122 @@ TEST_F(DeviceFaultOom, Readback) {
     }
     EXPECT_TRUE(difference(before, snapshot(*c.main.comp)).empty());
     ASSERT_NO_FATAL_FAILURE(c.stepBoth("after"));
+}
+
+// ---- A pipeline the driver cannot make ----------------------------------------------------------
+
+const char* const kPipelineOom = "vkCreateComputePipelines failed: VK_ERROR_OUT_OF_DEVICE_MEMORY";
+
+struct PipelineRow {
+    std::string name;
+    bool record;  ///< FrameSubmission::Mode::Record into the caller's command buffer (else Wait)
+    bool last;    ///< the frame's last new pipeline fails (else its first)
+};
+void PrintTo(const PipelineRow& r, std::ostream* os) { *os << r.name; }
+
+// Ends frame `n` of `lane` in Wait mode, or in Record mode into a command buffer of `ctx` that is then
+// submitted and waited for; returns endFrame's status.
+Status endFrameIn(vk::Context& ctx, Lane& lane, uint64_t n, const std::array<EyeFrame, 2>& eyes, bool record) {
+    lane.app->write(eyes);
+    if (!record) return lane.comp->endFrame(lane.app->frameEnd(n, eyes));
+    VkCommandBuffer cb = ctx.allocateCommandBuffer();
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    EXPECT_EQ(vkBeginCommandBuffer(cb, &bi), VK_SUCCESS);
+    FrameSubmission rec;
+    rec.mode = FrameSubmission::Mode::Record;
+    rec.commandBuffer = cb;
+    const Status s = lane.comp->endFrame(lane.app->frameEnd(n, eyes), rec);
+    // Submitted whatever endFrame did: after a failure the buffer must hold nothing of the frame.
+    EXPECT_EQ(vkEndCommandBuffer(cb), VK_SUCCESS);
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateFence(ctx.device(), &fci, nullptr, &fence), VK_SUCCESS);
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &cb;
+    EXPECT_EQ(ctx.submitBatch(si, fence), VK_SUCCESS);
+    vkDestroyFence(ctx.device(), fence, nullptr);
+    ctx.freeCommandBuffer(cb);
+    return s;
+}
+
+class PipelineAtAFrame : public GpuTest, public ::testing::WithParamInterface<PipelineRow> {};
+
+// Frames 1 and 2 untiled, frame 3 with tiles skipped and sparse retention (setConfig: no history
+// reset): its classification, tiled retention and skip list need pipelines no earlier frame made.
+// Main and twin each on a context of their own, so both make the same pipelines at the same frames.
+TEST_P(PipelineAtAFrame, Row) {
+    const PipelineRow& row = GetParam();
+    CompositorConfig untiled{.seed = 16};
+    untiled.skipTiles = false;
+    CompositorConfig tiled = untiled;
+    tiled.skipTiles = true;
+    auto mainCtx = freshContext(), twinCtx = freshContext();
+    ASSERT_TRUE(mainCtx && twinCtx);
+    Lane main(*mainCtx, untiled, LaneFormats{}), twin(*twinCtx, untiled, LaneFormats{});
+    for (uint64_t n = 1; n <= 2; ++n)
+        for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(n, goodFrame(n, lane->formats)).ok());
+    ASSERT_TRUE(main.comp->setConfig(tiled).ok());
+    ASSERT_TRUE(twin.comp->setConfig(tiled).ok());
+    const Snapshot before = snapshot(*main.comp);
+
+    // The twin's frame 3 counts the pipelines it makes; main's makes as many.
+    const std::size_t made = twinCtx->sharedPipelineCount();
+    ASSERT_TRUE(twin.app->submit(3, goodFrame(3, twin.formats)).ok());
+    const uint32_t fresh = uint32_t(twinCtx->sharedPipelineCount() - made);
+    ASSERT_GE(fresh, 3u) << "frame 3 should need the classification's, tiled retention's and the skip list's";
+    Status s;
+    {
+        Armed a(*mainCtx, vk::FaultInjection{.failPipeline = row.last ? fresh : 1u});
+        s = endFrameIn(*mainCtx, main, 3, goodFrame(3, main.formats), row.record);
+    }
+    ASSERT_FALSE(s.ok()) << "the pipeline fault did not fail frame 3";
+    EXPECT_EQ(s.error().code, int(SubmitError::DeviceFailure)) << s.message();
+    EXPECT_TRUE(contains(s.message(), kPipelineOom)) << s.message();
+    EXPECT_TRUE(contains(s.message(), ".comp pipeline (constants ")) << s.message();
+    // Nothing changed: not the history, the output, the stats or the parameters, and (Record) the
+    // caller's buffer, submitted as endFrame left it, wrote nothing either.
+    const std::string changed = difference(before, snapshot(*main.comp));
+    EXPECT_TRUE(changed.empty()) << "the failed frame changed the compositor: " << changed;
+
+    // Frame 3 again makes the pipeline, and main goes on as the twin, which never saw the fault.
+    ASSERT_TRUE(endFrameIn(*mainCtx, main, 3, goodFrame(3, main.formats), row.record).ok());
+    std::string d = difference(snapshot(*main.comp), snapshot(*twin.comp));
+    EXPECT_TRUE(d.empty()) << "frame 3 once the pipeline could be made: " << d;
+    for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(4, goodFrame(4, lane->formats)).ok());
+    d = difference(snapshot(*main.comp), snapshot(*twin.comp));
+    EXPECT_TRUE(d.empty()) << "frame 4: " << d;
+    EXPECT_EQ(mainCtx->validationErrors(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(DeviceFault, PipelineAtAFrame,
+                         ::testing::Values(PipelineRow{"wait_first_new_pipeline", false, false},
+                                           PipelineRow{"wait_last_new_pipeline", false, true},
+                                           PipelineRow{"record_last_new_pipeline", true, true}),
+                         [](const ::testing::TestParamInfo<PipelineRow>& i) { return i.param.name; });
+
+class DeviceFaultPipeline : public GpuTest {};
+
+// The fp16 probe at Compositor::create runs a pipeline of its own: where it cannot be made the passes
+// convert by hand (the same bits), as where the probe has no memory.
+TEST_F(DeviceFaultPipeline, TheHalfProbeFallsBackToTheHandConversion) {
+    auto plain = Compositor::create(context());
+    ASSERT_TRUE(plain.ok());
+    if (!(*plain)->usesHardwareHalf()) GTEST_SKIP() << "this device's fp16 conversion is not used anyway";
+    auto ctx = freshContext();
+    ASSERT_TRUE(ctx);
+    {
+        Armed a(*ctx, vk::FaultInjection{.failPipeline = 1});
+        auto comp = Compositor::create(*ctx);
+        ASSERT_TRUE(comp.ok()) << comp.error().message;
+        EXPECT_FALSE((*comp)->usesHardwareHalf());
+        StereoApp app(**comp, kW, kH, Format::RGBA16F, Format::R32F, Format::RGBA16F);
+        const Status first = app.submit(1, goodFrame(1, LaneFormats{}));
+        ASSERT_TRUE(first.ok()) << first.message();
+        expectSane(**comp, "after the probe's pipeline failed");
+    }
+    EXPECT_EQ(ctx->validationErrors(), 0u);
 }
 
 // ---- Device lost --------------------------------------------------------------------------------

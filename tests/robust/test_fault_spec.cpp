@@ -9,7 +9,7 @@
 namespace wrsfov::vk {
 namespace {
 
-TEST(FaultSpec, ParsesAllocAndLost) {
+TEST(FaultSpec, ParsesAllocLostAndPipeline) {
     auto a = FaultInjection::parse("alloc:3");
     ASSERT_TRUE(a.ok()) << a.error().message;
     EXPECT_EQ(a->failAllocation, 3u);
@@ -21,6 +21,12 @@ TEST(FaultSpec, ParsesAllocAndLost) {
     auto c = FaultInjection::parse("lost:4294967295");
     ASSERT_TRUE(c.ok());
     EXPECT_EQ(c->loseDevice, 4294967295u);
+    auto d = FaultInjection::parse("pipeline:2,alloc:5");
+    ASSERT_TRUE(d.ok()) << d.error().message;
+    EXPECT_EQ(d->failPipeline, 2u);
+    EXPECT_EQ(d->failAllocation, 5u);
+    EXPECT_EQ(d->loseDevice, 0u);
+    EXPECT_EQ(b->failPipeline, 0u);
 }
 
 struct Spec {
@@ -36,7 +42,7 @@ TEST_P(Refused, Row) {
     auto r = FaultInjection::parse(spec);
     ASSERT_FALSE(r.ok()) << "'" << spec << "' was taken";
     EXPECT_NE(r.error().message.find("WRSFOV_FAULT='" + spec + "'"), std::string::npos) << r.error().message;
-    EXPECT_NE(r.error().message.find("alloc:N and/or lost:N"), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find("alloc:N, lost:N and/or pipeline:N"), std::string::npos) << r.error().message;
 }
 
 INSTANTIATE_TEST_SUITE_P(FaultSpec, Refused,
@@ -46,7 +52,8 @@ INSTANTIATE_TEST_SUITE_P(FaultSpec, Refused,
                                            Spec{"fraction", "alloc:2.5"}, Spec{"above_32_bits", "alloc:4294967296"},
                                            Spec{"huge", "alloc:99999999999999999999"}, Spec{"unknown_kind", "boom:1"},
                                            Spec{"trailing_comma", "alloc:1,"}, Spec{"leading_comma", ",alloc:1"},
-                                           Spec{"wrong_separator", "alloc:1;lost:2"}, Spec{"upper_case", "ALLOC:1"}),
+                                           Spec{"wrong_separator", "alloc:1;lost:2"}, Spec{"upper_case", "ALLOC:1"},
+                                           Spec{"pipeline_zero", "pipeline:0"}, Spec{"pipeline_no_count", "pipeline"}),
                          [](const ::testing::TestParamInfo<Spec>& i) { return std::string(i.param.name); });
 
 }  // namespace
