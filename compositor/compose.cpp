@@ -5,6 +5,7 @@
 #include <string>
 
 #include "compose_spv.h"
+#include "compositor/compositor_internal.h"
 
 namespace wrsfov {
 
@@ -35,27 +36,39 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
     };
     const VkDescriptorType sampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-    c->setLayout_ = ctx.createSetLayout({binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kSrcColor, sampled, 4),
-                                         binding(kSrcDepth, sampled, 4), binding(kSrcMotion, sampled, 4),
-                                         binding(kRateMap, sampled, 2), binding(kQuality, ssbo), binding(kSrgb, ssbo),
-                                         binding(kOutColor, storage), binding(kOutDepth, storage),
-                                         binding(kOutMotion, storage)});
-    c->pipelineLayout_ = ctx.createPipelineLayout(c->setLayout_.get(), 0, 0);
+    auto layout = ctx.createSetLayout({binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kSrcColor, sampled, 4),
+                                       binding(kSrcDepth, sampled, 4), binding(kSrcMotion, sampled, 4),
+                                       binding(kRateMap, sampled, 2), binding(kQuality, ssbo), binding(kSrgb, ssbo),
+                                       binding(kOutColor, storage), binding(kOutDepth, storage),
+                                       binding(kOutMotion, storage)});
+    if (!layout) return detail::named("the compose pass's descriptor set layout", layout.error());
+    c->setLayout_ = std::move(*layout);
+    auto pipelineLayout = ctx.createPipelineLayout(c->setLayout_.get(), 0, 0);
+    if (!pipelineLayout) return detail::named("the compose pass's pipeline layout", pipelineLayout.error());
+    c->pipelineLayout_ = std::move(*pipelineLayout);
     VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {sampled, 14}, {ssbo, 2}, {storage, 3}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 1;
     dpci.poolSizeCount = 4;
     dpci.pPoolSizes = sizes;
-    VkDescriptorPool pool;
-    VK_CHECK(vkCreateDescriptorPool(ctx.device(), &dpci, nullptr, &pool));
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    if (Status s = ctx.createObject("vkCreateDescriptorPool",
+                                    [&] { return vkCreateDescriptorPool(ctx.device(), &dpci, nullptr, &pool); });
+        !s)
+        return detail::named("the compose pass's descriptor pool", s.error());
     c->pool_ = vk::DescriptorPool(ctx.device(), pool);
     VkDescriptorSetLayout sl = c->setLayout_.get();
     VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     dsai.descriptorPool = pool;
     dsai.descriptorSetCount = 1;
     dsai.pSetLayouts = &sl;
-    VK_CHECK(vkAllocateDescriptorSets(ctx.device(), &dsai, &c->set_));
-    c->module_ = ctx.createShaderModule(compose_spv, sizeof(compose_spv));
+    if (Status s = ctx.createObject("vkAllocateDescriptorSets",
+                                    [&] { return vkAllocateDescriptorSets(ctx.device(), &dsai, &c->set_); });
+        !s)
+        return detail::named("the compose pass's descriptor set", s.error());
+    auto module = ctx.createShaderModule(compose_spv, sizeof(compose_spv));
+    if (!module) return detail::named("the compose pass's shader module", module.error());
+    c->module_ = std::move(*module);
     auto ubo = ctx.createBuffer(sizeof(gpu::ComposeParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
     if (!ubo) return Error{ubo.error().code, "compose parameters: " + ubo.error().message};
     c->params_ = std::move(*ubo);

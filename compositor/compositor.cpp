@@ -209,17 +209,26 @@ Status Compositor::init() {
         return VkDescriptorSetLayoutBinding{i, t, count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     };
     const VkDescriptorType ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, image = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    setLayout_ = ctx_.createSetLayout(
+    auto layout = ctx_.createSetLayout(
         {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
          binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
          binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
          binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
          binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2),
          binding(kDisplay, ssbo)});
-    pipelineLayout_ = ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
-    copySetLayout_ = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
-    copyPipelineLayout_ =
+    if (!layout) return named("the passes' descriptor set layout", layout.error());
+    setLayout_ = std::move(*layout);
+    auto pipelineLayout =
+        ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::LevelPush), VK_SHADER_STAGE_COMPUTE_BIT);
+    if (!pipelineLayout) return named("the passes' pipeline layout", pipelineLayout.error());
+    pipelineLayout_ = std::move(*pipelineLayout);
+    auto copyLayout = ctx_.createSetLayout({binding(0, ssbo), binding(1, ssbo)});
+    if (!copyLayout) return named("the copy kernel's descriptor set layout", copyLayout.error());
+    copySetLayout_ = std::move(*copyLayout);
+    auto copyPipelineLayout =
         ctx_.createPipelineLayout(copySetLayout_.get(), sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
+    if (!copyPipelineLayout) return named("the copy kernel's pipeline layout", copyPipelineLayout.error());
+    copyPipelineLayout_ = std::move(*copyPipelineLayout);
     const VkDescriptorSetLayout sl = setLayout_.get(), csl = copySetLayout_.get();
 
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
@@ -231,8 +240,11 @@ Status Compositor::init() {
     dpci.maxSets = 5;
     dpci.poolSizeCount = 4;
     dpci.pPoolSizes = sizes;
-    VkDescriptorPool pool;
-    VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    if (Status s = ctx_.createObject("vkCreateDescriptorPool",
+                                     [&] { return vkCreateDescriptorPool(dev, &dpci, nullptr, &pool); });
+        !s)
+        return named("the compositor's descriptor pool", s.error());
     descriptorPool_ = vk::DescriptorPool(dev, pool);
     VkDescriptorSetLayout layouts[5] = {sl, sl, sl, sl, csl};
     VkDescriptorSet sets[5];
@@ -240,7 +252,9 @@ Status Compositor::init() {
     dsai.descriptorPool = pool;
     dsai.descriptorSetCount = 5;
     dsai.pSetLayouts = layouts;
-    VK_CHECK(vkAllocateDescriptorSets(dev, &dsai, sets));
+    if (Status s = ctx_.createObject("vkAllocateDescriptorSets", [&] { return vkAllocateDescriptorSets(dev, &dsai, sets); });
+        !s)
+        return named("the compositor's descriptor sets", s.error());
     for (int i = 0; i < 4; ++i) sets_[i] = sets[i];
     copySet_ = sets[4];
 
@@ -248,15 +262,18 @@ Status Compositor::init() {
     sci.magFilter = sci.minFilter = VK_FILTER_NEAREST;
     sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
     sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    VkSampler s;
-    VK_CHECK(vkCreateSampler(dev, &sci, nullptr, &s));
-    sampler_ = vk::Sampler(dev, s);
+    VkSampler sampler = VK_NULL_HANDLE;
+    if (Status s = ctx_.createObject("vkCreateSampler", [&] { return vkCreateSampler(dev, &sci, nullptr, &sampler); });
+        !s)
+        return named("the compositor's sampler", s.error());
+    sampler_ = vk::Sampler(dev, sampler);
 
     VkQueryPoolCreateInfo qci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qci.queryType = VK_QUERY_TYPE_TIMESTAMP;
     qci.queryCount = kTimestamps;
-    VkQueryPool qp;
-    VK_CHECK(vkCreateQueryPool(dev, &qci, nullptr, &qp));
+    VkQueryPool qp = VK_NULL_HANDLE;
+    if (Status s = ctx_.createObject("vkCreateQueryPool", [&] { return vkCreateQueryPool(dev, &qci, nullptr, &qp); }); !s)
+        return named("the compositor's timestamp queries", s.error());
     queries_ = vk::QueryPool(dev, qp);
 
     struct Code {
@@ -267,7 +284,11 @@ Status Compositor::init() {
                                      {wrs_spv, sizeof(wrs_spv)},         {taa_spv, sizeof(taa_spv)},
                                      {copy_spv, sizeof(copy_spv)},       {retain_spv, sizeof(retain_spv)},
                                      {classify_spv, sizeof(classify_spv)}, {half_probe_spv, sizeof(half_probe_spv)}};
-    for (const Code& c : code) modules_.push_back(ctx_.createShaderModule(c.words, c.bytes));
+    for (const Code& c : code) {
+        auto module = ctx_.createShaderModule(c.words, c.bytes);
+        if (!module) return named("the passes' shader modules", module.error());
+        modules_.push_back(std::move(*module));
+    }
 
     auto ubo = ctx_.createBuffer(sizeof(gpu::FrameParams), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true);
     if (!ubo) return named("compositor frame parameters", ubo.error());
@@ -303,10 +324,13 @@ Status Compositor::init() {
         vkCmdClearColorImage(cmd, dummy_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &ib.subresourceRange);
     });
     if (!st) return st;
-    cmd_ = ctx_.allocateCommandBuffer();
+    auto cmd = ctx_.allocateCommandBuffer();
+    if (!cmd) return named("the compositor's command buffer", cmd.error());
+    cmd_ = *cmd;
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VkFence fence;
-    VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
+    VkFence fence = VK_NULL_HANDLE;
+    if (Status s = ctx_.createObject("vkCreateFence", [&] { return vkCreateFence(dev, &fci, nullptr, &fence); }); !s)
+        return named("the compositor's frame fence", s.error());
     frameFence_ = vk::Fence(dev, fence);
     if (!ctx_.halfProbe()) ctx_.setHalfProbe(probeHardwareHalf());
     hardwareHalf_ = config_.hardwareHalf && *ctx_.halfProbe() && !handHalfForced();

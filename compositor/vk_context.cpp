@@ -388,8 +388,11 @@ Result<Buffer> Context::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage
     mai.memoryTypeIndex = *type;
     if (VkResult r = allocateMemory(mai, &b.memory_); r != VK_SUCCESS)
         return vkError("vkAllocateMemory (" + std::to_string(req.size) + " bytes)", r);
-    VK_CHECK(vkBindBufferMemory(device_, b.buffer_, b.memory_, 0));
-    if (hostVisible) VK_CHECK(vkMapMemory(device_, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_));
+    if (VkResult r = vkBindBufferMemory(device_, b.buffer_, b.memory_, 0); r != VK_SUCCESS)
+        return vkError("vkBindBufferMemory", r);
+    if (hostVisible)
+        if (VkResult r = vkMapMemory(device_, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_); r != VK_SUCCESS)
+            return vkError("vkMapMemory (" + std::to_string(req.size) + " bytes)", r);
     return b;
 }
 
@@ -422,7 +425,8 @@ Result<Image> Context::createImage(const ImageCreateInfo& info, VkFormat viewFor
     mai.memoryTypeIndex = *type;
     if (VkResult r = allocateMemory(mai, &img.memory_); r != VK_SUCCESS)
         return vkError("vkAllocateMemory (image, " + std::to_string(req.size) + " bytes)", r);
-    VK_CHECK(vkBindImageMemory(device_, img.image_, img.memory_, 0));
+    if (VkResult r = vkBindImageMemory(device_, img.image_, img.memory_, 0); r != VK_SUCCESS)
+        return vkError("vkBindImageMemory", r);
     if (Status s = createViews(img, viewFormat); !s) return s.error();
     return img;
 }
@@ -508,34 +512,51 @@ size_t Context::sharedPipelineCount() const {
     return pipelines_.size();
 }
 
-ShaderModule Context::createShaderModule(const uint32_t* code, size_t bytes) {
+Status Context::createObject(const char* call, const std::function<VkResult()>& create) {
+    if (faults_.failObject && ++faultObjects_ == faults_.failObject) {
+        faults_.failObject = 0;
+        return vkError(call, VK_ERROR_OUT_OF_HOST_MEMORY);
+    }
+    if (VkResult r = create(); r != VK_SUCCESS) return vkError(call, r);
+    return {};
+}
+
+Result<ShaderModule> Context::createShaderModule(const uint32_t* code, size_t bytes) {
     VkShaderModuleCreateInfo sci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     sci.codeSize = bytes;
     sci.pCode = code;
-    VkShaderModule m;
-    VK_CHECK(vkCreateShaderModule(device_, &sci, nullptr, &m));
+    VkShaderModule m = VK_NULL_HANDLE;
+    if (Status s = createObject("vkCreateShaderModule", [&] { return vkCreateShaderModule(device_, &sci, nullptr, &m); });
+        !s)
+        return s.error();
     return ShaderModule(device_, m);
 }
 
-DescriptorSetLayout Context::createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings) {
+Result<DescriptorSetLayout> Context::createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings) {
     VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     lci.bindingCount = static_cast<uint32_t>(bindings.size());
     lci.pBindings = bindings.begin();
-    VkDescriptorSetLayout sl;
-    VK_CHECK(vkCreateDescriptorSetLayout(device_, &lci, nullptr, &sl));
+    VkDescriptorSetLayout sl = VK_NULL_HANDLE;
+    if (Status s = createObject("vkCreateDescriptorSetLayout",
+                                [&] { return vkCreateDescriptorSetLayout(device_, &lci, nullptr, &sl); });
+        !s)
+        return s.error();
     return DescriptorSetLayout(device_, sl);
 }
 
-PipelineLayout Context::createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes,
-                                             VkShaderStageFlags pushStages) {
+Result<PipelineLayout> Context::createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes,
+                                                     VkShaderStageFlags pushStages) {
     VkPushConstantRange pcr{pushStages, 0, pushBytes};
     VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     plci.setLayoutCount = 1;
     plci.pSetLayouts = &set;
     plci.pushConstantRangeCount = pushBytes ? 1 : 0;
     plci.pPushConstantRanges = pushBytes ? &pcr : nullptr;
-    VkPipelineLayout pl;
-    VK_CHECK(vkCreatePipelineLayout(device_, &plci, nullptr, &pl));
+    VkPipelineLayout pl = VK_NULL_HANDLE;
+    if (Status s = createObject("vkCreatePipelineLayout",
+                                [&] { return vkCreatePipelineLayout(device_, &plci, nullptr, &pl); });
+        !s)
+        return s.error();
     return PipelineLayout(device_, pl);
 }
 
@@ -587,25 +608,35 @@ Result<std::vector<std::byte>> Context::readImageRegion(VkImage image, VkImageAs
     return out;
 }
 
-VkCommandBuffer Context::allocateCommandBuffer() {
+Result<VkCommandBuffer> Context::allocateCommandBuffer() {
     VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     ai.commandPool = pool_;
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
-    VkCommandBuffer cb;
-    VK_CHECK(vkAllocateCommandBuffers(device_, &ai, &cb));
+    VkCommandBuffer cb = VK_NULL_HANDLE;
+    if (Status s = createObject("vkAllocateCommandBuffers", [&] { return vkAllocateCommandBuffers(device_, &ai, &cb); });
+        !s)
+        return s.error();
     return cb;
 }
 
 void Context::freeCommandBuffer(VkCommandBuffer cb) { vkFreeCommandBuffers(device_, pool_, 1, &cb); }
 
 Status Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) {
-    VkCommandBuffer cb = allocateCommandBuffer();
+    Result<VkCommandBuffer> made = allocateCommandBuffer();
+    if (!made) return made.error();
+    VkCommandBuffer cb = *made;
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+    if (VkResult r = vkBeginCommandBuffer(cb, &bi); r != VK_SUCCESS) {
+        freeCommandBuffer(cb);
+        return vkError("vkBeginCommandBuffer", r);
+    }
     record(cb);
-    VK_CHECK(vkEndCommandBuffer(cb));
+    if (VkResult r = vkEndCommandBuffer(cb); r != VK_SUCCESS) {
+        freeCommandBuffer(cb);
+        return vkError("vkEndCommandBuffer", r);
+    }
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;
@@ -622,7 +653,7 @@ Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
     FaultInjection f;
     auto bad = [&] {
         return Error{static_cast<int>(VK_ERROR_INITIALIZATION_FAILED),
-                     "WRSFOV_FAULT='" + spec + "' is not alloc:N, lost:N and/or pipeline:N (N >= 1, comma-separated)"};
+                     "WRSFOV_FAULT='" + spec + "' is not alloc:N, lost:N, pipeline:N and/or object:N (N >= 1, comma-separated)"};
     };
     std::size_t pos = 0;
     while (pos <= spec.size()) {
@@ -640,6 +671,8 @@ Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
             f.loseDevice = static_cast<uint32_t>(n);
         else if (kind == "pipeline")
             f.failPipeline = static_cast<uint32_t>(n);
+        else if (kind == "object")
+            f.failObject = static_cast<uint32_t>(n);
         else
             return bad();
         pos = end + 1;
@@ -649,7 +682,7 @@ Result<FaultInjection> FaultInjection::parse(const std::string& spec) {
 
 void Context::injectFaults(const FaultInjection& faults) {
     faults_ = faults;
-    faultAllocations_ = faultSubmissions_ = faultPipelines_ = 0;
+    faultAllocations_ = faultSubmissions_ = faultPipelines_ = faultObjects_ = 0;
 }
 
 VkResult Context::allocateMemory(const VkMemoryAllocateInfo& info, VkDeviceMemory* memory) {

@@ -24,8 +24,9 @@ namespace wrsfov::vk {
 /// Name of a VkResult, e.g. "VK_ERROR_DEVICE_LOST".
 const char* resultString(VkResult r);
 
-/// For calls that only fail on programmer error or a dead device: prints file, line, call and
-/// result, then aborts. Expected failures (no device, device lost at submit) return Status instead.
+/// Prints file, line, call and result, then aborts: for the evaluation's scene renderer and metric, the
+/// desktop preview's presentation and the tests, tools a failure may stop. The compositor, the runtime
+/// and the layer return every failure of a Vulkan call as an error instead (docs/bad-input.md).
 #define VK_CHECK(call)                                                                                        \
     do {                                                                                                      \
         VkResult vk_check_result_ = (call);                                                                   \
@@ -53,8 +54,8 @@ struct ContextOptions {
 
 /// Device faults on demand, for tests: a real device will not run out of memory or get lost when
 /// asked to. Armed per Context with Context::injectFaults, or for a whole process with the
-/// environment variable WRSFOV_FAULT (read by Context::create): "alloc:N", "lost:N", "pipeline:N", any
-/// of them comma-separated. Counting starts when the faults are armed; each fault fires once.
+/// environment variable WRSFOV_FAULT (read by Context::create): "alloc:N", "lost:N", "pipeline:N",
+/// "object:N", any of them comma-separated. Counting starts when the faults are armed; each fault fires once.
 /// docs/bad-input.md ("Device faults") lists what each one leads to.
 struct FaultInjection {
     /// The Nth device-memory allocation (1 = the next) fails with VK_ERROR_OUT_OF_DEVICE_MEMORY; 0: never.
@@ -65,6 +66,10 @@ struct FaultInjection {
     /// The Nth compute pipeline creation (1 = the next) fails with VK_ERROR_OUT_OF_DEVICE_MEMORY, one of
     /// vkCreateComputePipelines's results (a driver out of memory while compiling); 0: never.
     uint32_t failPipeline = 0;
+    /// The Nth creation of an object without device memory through Context::createObject (shader
+    /// modules, layouts, descriptor pools and sets, samplers, query pools, fences, command buffers;
+    /// 1 = the next) fails with VK_ERROR_OUT_OF_HOST_MEMORY; 0: never.
+    uint32_t failObject = 0;
     /// Parses a WRSFOV_FAULT value; fails with a message on anything else.
     static Result<FaultInjection> parse(const std::string& spec);
 };
@@ -240,7 +245,10 @@ public:
     /// Views of an image someone else made on this device and keeps owning (it must match `info`):
     /// the Image destroys its views only.
     Result<Image> wrapImage(VkImage image, const ImageCreateInfo& info, VkFormat viewFormat = VK_FORMAT_UNDEFINED);
-    ShaderModule createShaderModule(const uint32_t* code, size_t bytes);
+    /// Runs `create`, one vkCreate* or vkAllocate* call of an object without device memory, or fails it
+    /// where FaultInjection::failObject says so: an error "<call> failed: <result>" (code = VkResult).
+    Status createObject(const char* call, const std::function<VkResult()>& create);
+    Result<ShaderModule> createShaderModule(const uint32_t* code, size_t bytes);
     /// A compute pipeline shared by everything on this context that makes the same one: `make` runs
     /// only on the first request for `key` (the maker's tag, shader and specialization constants; the
     /// maker must create it with a pipeline layout it always defines the same way, so that any of its
@@ -256,9 +264,10 @@ public:
                                              std::span<const uint32_t> constants);
     /// How many pipelines sharedPipeline has made on this context.
     size_t sharedPipelineCount() const;
-    DescriptorSetLayout createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
+    Result<DescriptorSetLayout> createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
     /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
-    PipelineLayout createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes, VkShaderStageFlags pushStages);
+    Result<PipelineLayout> createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes,
+                                                VkShaderStageFlags pushStages);
     /// Copies one layer of an image to host memory, after all earlier writes. The layer, in `layout`,
     /// is copied from TRANSFER_SRC_OPTIMAL and left in `layout`.
     Result<std::vector<std::byte>> readImageLayer(VkImage image, VkImageAspectFlags aspect, uint32_t layer,
@@ -284,7 +293,7 @@ public:
     /// Test hook: arms `faults`, replacing what was armed before (see FaultInjection).
     void injectFaults(const FaultInjection& faults);
     /// Allocates a primary command buffer from the context's pool.
-    VkCommandBuffer allocateCommandBuffer();
+    Result<VkCommandBuffer> allocateCommandBuffer();
     void freeCommandBuffer(VkCommandBuffer cb);
 
 private:
@@ -321,7 +330,7 @@ private:
     mutable std::mutex messagesMutex_;
     std::vector<std::string> messages_;
     FaultInjection faults_;
-    uint32_t faultAllocations_ = 0, faultSubmissions_ = 0, faultPipelines_ = 0;  // counted since armed
+    uint32_t faultAllocations_ = 0, faultSubmissions_ = 0, faultPipelines_ = 0, faultObjects_ = 0;  // since armed
     bool deviceLost_ = false;
 };
 

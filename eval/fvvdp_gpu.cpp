@@ -139,11 +139,16 @@ Status GpuMetric::Impl::init() {
     auto binding = [](uint32_t b, VkDescriptorType type) {
         return VkDescriptorSetLayoutBinding{b, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     };
-    setLayout = ctx.createSetLayout(
+    auto madeSetLayout = ctx.createSetLayout(
         {binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kInput, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
          binding(kWindow, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), binding(kPyramid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
          binding(kTables, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER), binding(kPartial, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)});
-    pipelineLayout = ctx.createPipelineLayout(setLayout.get(), sizeof(gpu::FvvdpPush), VK_SHADER_STAGE_COMPUTE_BIT);
+    if (!madeSetLayout) return madeSetLayout.error();
+    setLayout = std::move(*madeSetLayout);
+    auto madePipelineLayout =
+        ctx.createPipelineLayout(setLayout.get(), sizeof(gpu::FvvdpPush), VK_SHADER_STAGE_COMPUTE_BIT);
+    if (!madePipelineLayout) return madePipelineLayout.error();
+    pipelineLayout = std::move(*madePipelineLayout);
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings - 1}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -182,7 +187,9 @@ Status GpuMetric::Impl::init() {
     const VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
     const VkSpecializationInfo spec{2, entries, sizeof(constants), constants};
     for (int s = 0; s < kPasses; ++s) {
-        modules[s] = ctx.createShaderModule(code[s].words, code[s].bytes);
+        auto module = ctx.createShaderModule(code[s].words, code[s].bytes);
+        if (!module) return module.error();
+        modules[s] = std::move(*module);
         VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
         ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -1268,7 +1268,12 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
         }
         s.composited = vk::Semaphore(dev, sem);
         s.copied = vk::Fence(dev, fence);
-        s.copyCb = s.ctx->allocateCommandBuffer();
+        auto cb = s.ctx->allocateCommandBuffer();
+        if (!cb) {
+            disable(s, "no command buffer for the frame's copies: " + cb.error().message);
+            return false;
+        }
+        s.copyCb = *cb;
     }
     FrameSubmission submission;
     submission.mode = FrameSubmission::Mode::Submit;

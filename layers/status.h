@@ -1,5 +1,5 @@
 // Results of calls that can fail for reasons a user can act on (bad input, no device, a refused
-// submission). Programmer errors inside the library use VK_CHECK / assertions instead.
+// submission, a driver out of memory). Programmer errors inside the library use assertions instead.
 #pragma once
 
 #include <string>

@@ -68,16 +68,22 @@ Status Presenter::init() {
     if (!supported)
         return Error{1, "the Vulkan queue of " + ctx_.deviceName() + " cannot present to this window's surface"};
 
-    setLayout_ = ctx_.createSetLayout({
+    auto setLayout = ctx_.createSetLayout({
         {0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
         {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
         {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
         {3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
         {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
     });
-    pipelineLayout_ =
+    if (!setLayout) return setLayout.error();
+    setLayout_ = std::move(*setLayout);
+    auto pipelineLayout =
         ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::ComposePush), VK_SHADER_STAGE_COMPUTE_BIT);
-    module_ = ctx_.createShaderModule(compose_spv, sizeof(compose_spv));
+    if (!pipelineLayout) return pipelineLayout.error();
+    pipelineLayout_ = std::move(*pipelineLayout);
+    auto module = ctx_.createShaderModule(compose_spv, sizeof(compose_spv));
+    if (!module) return module.error();
+    module_ = std::move(*module);
     VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     cpi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     cpi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -107,7 +113,9 @@ Status Presenter::init() {
     pool_ = vk::DescriptorPool(ctx_.device(), pool);
 
     for (Slot& s : slots_) {
-        s.cmd = ctx_.allocateCommandBuffer();
+        auto cmd = ctx_.allocateCommandBuffer();
+        if (!cmd) return cmd.error();
+        s.cmd = *cmd;
         VkSemaphoreCreateInfo smi{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
         VK_CHECK(vkCreateSemaphore(ctx_.device(), &smi, nullptr, &s.imageAvailable));
         VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};

@@ -22,8 +22,13 @@ Result<std::unique_ptr<QuadPass>> QuadPass::create(vk::Context& ctx) {
     VkDescriptorSetLayoutBinding out{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutBinding img{1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
                                      nullptr};
-    q->setLayout_ = ctx.createSetLayout({out, img});
-    q->pipelineLayout_ = ctx.createPipelineLayout(q->setLayout_.get(), sizeof(QuadPush), VK_SHADER_STAGE_COMPUTE_BIT);
+    auto quadError = [](const Error& e) { return Error{e.code, "quad layers: " + e.message}; };
+    auto layout = ctx.createSetLayout({out, img});
+    if (!layout) return quadError(layout.error());
+    q->setLayout_ = std::move(*layout);
+    auto pipelineLayout = ctx.createPipelineLayout(q->setLayout_.get(), sizeof(QuadPush), VK_SHADER_STAGE_COMPUTE_BIT);
+    if (!pipelineLayout) return quadError(pipelineLayout.error());
+    q->pipelineLayout_ = std::move(*pipelineLayout);
     VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, kMaxQuadDraws},
                                      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, kMaxQuadDraws}};
     VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -41,7 +46,9 @@ Result<std::unique_ptr<QuadPass>> QuadPass::create(vk::Context& ctx) {
     if (VkResult r = vkCreateSampler(ctx.device(), &sci, nullptr, &s); r != VK_SUCCESS)
         return Error{int(r), std::string("quad layers: vkCreateSampler: ") + vk::resultString(r)};
     q->sampler_ = vk::Sampler(ctx.device(), s);
-    q->module_ = ctx.createShaderModule(quad_spv, sizeof(quad_spv));
+    auto module = ctx.createShaderModule(quad_spv, sizeof(quad_spv));
+    if (!module) return quadError(module.error());
+    q->module_ = std::move(*module);
     VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     cpi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
     cpi.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -57,7 +64,9 @@ Result<std::unique_ptr<QuadPass>> QuadPass::create(vk::Context& ctx) {
     if (VkResult r = vkCreateFence(ctx.device(), &fci, nullptr, &f); r != VK_SUCCESS)
         return Error{int(r), std::string("quad layers: vkCreateFence: ") + vk::resultString(r)};
     q->fence_ = vk::Fence(ctx.device(), f);
-    q->cb_ = ctx.allocateCommandBuffer();
+    auto cb = ctx.allocateCommandBuffer();
+    if (!cb) return quadError(cb.error());
+    q->cb_ = *cb;
     return q;
 }
 
@@ -99,10 +108,13 @@ Status QuadPass::draw(Compositor& compositor, const std::vector<QuadDraw>& quads
         vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
     }
     VkCommandBuffer cb = cb_;
-    VK_CHECK(vkResetCommandBuffer(cb, 0));
+    auto failed = [](const char* call, VkResult r) {
+        return Error{int(r), std::string("quad layers: ") + call + " failed: " + vk::resultString(r)};
+    };
+    if (VkResult r = vkResetCommandBuffer(cb, 0); r != VK_SUCCESS) return failed("vkResetCommandBuffer", r);
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(cb, &bi));
+    if (VkResult r = vkBeginCommandBuffer(cb, &bi); r != VK_SUCCESS) return failed("vkBeginCommandBuffer", r);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
     for (std::size_t i = 0; i < quads.size(); ++i) {
         const QuadDraw& d = quads[i];
@@ -129,7 +141,7 @@ Status QuadPass::draw(Compositor& compositor, const std::vector<QuadDraw>& quads
     // The output is read after this by the window's copy or a read-back, later on the queue.
     vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
-    VK_CHECK(vkEndCommandBuffer(cb));
+    if (VkResult r = vkEndCommandBuffer(cb); r != VK_SUCCESS) return failed("vkEndCommandBuffer", r);
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &cb;

@@ -1262,7 +1262,10 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* inf
         waitForFrame(s, frame, s->framesHandedOver, XR_INFINITE_DURATION);
         serial = s->framesHandedOver + 1;
     }
-    VK_CHECK(vkResetFences(s->context->device(), 1, &s->frameFence));
+    if (VkResult r = vkResetFences(s->context->device(), 1, &s->frameFence); r != VK_SUCCESS) {
+        logLine(std::string("xrEndFrame: vkResetFences failed: ") + vk::resultString(r));
+        return XR_ERROR_RUNTIME_FAILURE;
+    }
     const bool closed = compose(s, info, plan, s->framesEnded + 1);
     markReadBy(s, info, serial);
     // After everything the frame submitted (queue order): the compositor thread waits for this fence.

@@ -258,11 +258,15 @@ Status AtriumRenderer::init() {
     VK_CHECK(vkCreateSampler(dev, &sci, nullptr, &smp));
     sampler_ = vk::Sampler(dev, smp);
 
-    setLayout_ = ctx_.createSetLayout(
+    auto setLayout = ctx_.createSetLayout(
         {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
          {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}});
+    if (!setLayout) return setLayout.error();
+    setLayout_ = std::move(*setLayout);
     const VkDescriptorSetLayout sl = setLayout_.get();
-    pipelineLayout_ = ctx_.createPipelineLayout(sl, sizeof(gpu::AtriumDraw), VK_SHADER_STAGE_VERTEX_BIT);
+    auto pipelineLayout = ctx_.createPipelineLayout(sl, sizeof(gpu::AtriumDraw), VK_SHADER_STAGE_VERTEX_BIT);
+    if (!pipelineLayout) return pipelineLayout.error();
+    pipelineLayout_ = std::move(*pipelineLayout);
 
     VkDescriptorPoolSize ps[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
                                   {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
@@ -393,15 +397,17 @@ Status AtriumRenderer::renderViews(double t, double prevT, const std::array<laye
         rpci.pDependencies = dep;
         VK_CHECK(vkCreateRenderPass(dev, &rpci, nullptr, &renderPass_));
 
-        vk::ShaderModule vs = ctx_.createShaderModule(atrium_vert_spv, sizeof(atrium_vert_spv));
-        vk::ShaderModule fs = ctx_.createShaderModule(atrium_frag_spv, sizeof(atrium_frag_spv));
+        auto vs = ctx_.createShaderModule(atrium_vert_spv, sizeof(atrium_vert_spv));
+        if (!vs) return vs.error();
+        auto fs = ctx_.createShaderModule(atrium_frag_spv, sizeof(atrium_frag_spv));
+        if (!fs) return fs.error();
         VkPipelineShaderStageCreateInfo stages[2] = {};
         stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
         stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-        stages[0].module = vs.get();
+        stages[0].module = vs->get();
         stages[0].pName = "main";
         stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-        stages[1].module = fs.get();
+        stages[1].module = fs->get();
         stages[1].pName = "main";
         VkVertexInputBindingDescription vb{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
         VkVertexInputAttributeDescription va[4] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, pos)},

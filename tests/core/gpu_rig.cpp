@@ -160,17 +160,20 @@ std::vector<std::byte> runBufferKernel(const uint32_t* spirv, size_t spirvBytes,
     auto out = ctx.createBuffer(outputBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
     EXPECT_TRUE(in.ok() && out.ok());
     std::memcpy(in->mapped(), input.data(), input.size());
-    vk::DescriptorSetLayout setLayout =
-        ctx.createSetLayout({{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}});
-    const VkDescriptorSetLayout sl = setLayout.get();
-    vk::PipelineLayout layout = ctx.createPipelineLayout(sl, 4, VK_SHADER_STAGE_COMPUTE_BIT);
-    const VkPipelineLayout pl = layout.get();
-    vk::ShaderModule module = ctx.createShaderModule(spirv, spirvBytes);
+    auto setLayout = ctx.createSetLayout({{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+                                          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}});
+    EXPECT_TRUE(setLayout.ok());
+    if (!setLayout) return {};
+    const VkDescriptorSetLayout sl = setLayout->get();
+    auto layout = ctx.createPipelineLayout(sl, 4, VK_SHADER_STAGE_COMPUTE_BIT);
+    auto module = ctx.createShaderModule(spirv, spirvBytes);
+    EXPECT_TRUE(layout.ok() && module.ok());
+    if (!layout || !module) return {};
+    const VkPipelineLayout pl = layout->get();
     VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    ci.stage.module = module.get();
+    ci.stage.module = module->get();
     ci.stage.pName = "main";
     ci.layout = pl;
     VkPipeline p;

@@ -4,10 +4,12 @@
 // inset's detail after the inset moved on, and bad input (non-finite texels, reserved rate values,
 // the oracles, swapchains of another compositor).
 #include "layers/jitter.h"
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -232,6 +234,7 @@ public:
         layer.outputWidth = W;
         layer.outputHeight = H;
         fe.layers.push_back(layer);
+        if (beforeEnd) beforeEnd();
         Status s = c.endFrame(fe);
         if (result)
             *result = s;
@@ -248,6 +251,7 @@ public:
     /// texture LOD to the display's density for temporal upsampling does (aliased per frame).
     bool wideFine = false;
     bool edges = false;  ///< the scene's checker of hard edges (scene)
+    std::function<void()> beforeEnd;  ///< runs after the uploads, just before endFrame
 };
 
 std::unique_ptr<Compositor> compositor(Method m, bool sparse = true, bool landed = true, bool phaseMerge = true) {
@@ -1025,6 +1029,38 @@ TEST_F(Submitted, OraclesAndForeignSwapchainsAreRefusedAndChangeNothing) {
     std::swap(own.insetColor, app.insetColor);
     own.submit(*wrs, 2, own.make(0, 0));
     EXPECT_EQ(wrs->width(), W);
+}
+
+// The compose pass is made on the first frame submitted foveated, with its descriptor set layout, pipeline
+// layout, pool, set and shader module (docs/bad-input.md, "Device faults"): each of those objects failing
+// (vk::FaultInjection::failObject) refuses that frame with an error naming it, and the same frame then
+// composes as on a compositor that never saw a fault.
+TEST_F(Submitted, AComposePassThatCannotBeMadeRefusesTheFrame) {
+    auto faulted = compositor(Method::Wrs), plain = compositor(Method::Wrs);
+    QuadApp app(*faulted, true, true), plainApp(*plain, true, true);
+    const QuadApp::Frame f = app.make(-0.1f, 0.1f);
+    std::vector<std::string> refusals;
+    for (uint32_t n = 1; n <= 32; ++n) {
+        app.beforeEnd = [&] { context().injectFaults(vk::FaultInjection{.failObject = n}); };
+        Status s;
+        app.submit(*faulted, 1, f, &s);
+        context().injectFaults({});
+        app.beforeEnd = nullptr;
+        if (s.ok()) break;
+        EXPECT_EQ(s.error().code, int(layers::SubmitError::DeviceFailure)) << s.message();
+        EXPECT_NE(s.message().find("failed: VK_ERROR_OUT_OF_HOST_MEMORY"), std::string::npos) << s.message();
+        EXPECT_EQ(faulted->width(), 0u) << "object " << n << ": the refused frame composited";
+        refusals.push_back(s.message());
+    }
+    ASSERT_EQ(faulted->width(), W) << "no frame went through";
+    for (const char* what : {"the compose pass's descriptor set layout", "the compose pass's pipeline layout",
+                             "the compose pass's descriptor pool", "the compose pass's descriptor set",
+                             "the compose pass's shader module"})
+        EXPECT_TRUE(std::any_of(refusals.begin(), refusals.end(),
+                                [&](const std::string& m) { return m.find(what) != std::string::npos; }))
+            << "no refusal named " << what;
+    plainApp.submit(*plain, 1, f);
+    expectSameOutputs(*faulted, *plain, "the first frame once its objects could be made");
 }
 
 // Both views reading the same images with the same parameters (a monitor's one view as both eyes) run

@@ -19,7 +19,7 @@ bench_args() {
 }
 
 # shellcheck disable=SC2046  # the argument lists are split on purpose
-check demo_fault_spec_malformed 1 "WRSFOV_FAULT='alloc=1' is not alloc:N, lost:N and/or pipeline:N" "alloc=1" "$demo" $(demo_args spec)
+check demo_fault_spec_malformed 1 "WRSFOV_FAULT='alloc=1' is not alloc:N, lost:N, pipeline:N and/or object:N" "alloc=1" "$demo" $(demo_args spec)
 check demo_no_fault 0 "wrote" "" "$demo" $(demo_args none)
 cli_check demo_summary_table_header 0 "| method | PSNR (dB) | near-gaze PSNR" cat "$out/demo_no_fault.log"
 check demo_oom_first_allocation 1 "compositor frame parameters: vkAllocateMemory" "alloc:1" "$demo" $(demo_args oom1)

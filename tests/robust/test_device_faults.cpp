@@ -3,6 +3,7 @@
 // Out of memory and a failed pipeline are clear errors that change nothing (a twin that never saw
 // them stays bit-identical); device loss makes the compositor refuse every later frame at once, and a
 // new Context and Compositor run normally.
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -243,7 +244,10 @@ void PrintTo(const PipelineRow& r, std::ostream* os) { *os << r.name; }
 Status endFrameIn(vk::Context& ctx, Lane& lane, uint64_t n, const std::array<EyeFrame, 2>& eyes, bool record) {
     lane.app->write(eyes);
     if (!record) return lane.comp->endFrame(lane.app->frameEnd(n, eyes));
-    VkCommandBuffer cb = ctx.allocateCommandBuffer();
+    auto allocated = ctx.allocateCommandBuffer();
+    EXPECT_TRUE(allocated.ok());
+    if (!allocated) return allocated.error();
+    VkCommandBuffer cb = *allocated;
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     EXPECT_EQ(vkBeginCommandBuffer(cb, &bi), VK_SUCCESS);
@@ -319,6 +323,41 @@ INSTANTIATE_TEST_SUITE_P(DeviceFault, PipelineAtAFrame,
                                            PipelineRow{"wait_last_new_pipeline", false, true},
                                            PipelineRow{"record_last_new_pipeline", true, true}),
                          [](const ::testing::TestParamInfo<PipelineRow>& i) { return i.param.name; });
+
+class DeviceFaultObject : public GpuTest {};
+
+// Every object Compositor::create makes without device memory (layouts, descriptor pool and sets,
+// sampler, timestamp queries, shader modules, command buffers, fence), failing in turn: a clear error
+// naming it; once N passes them all the compositor is made and runs.
+TEST_F(DeviceFaultObject, EveryObjectOfCompositorCreateFailsWithAnError) {
+    auto ctx = freshContext();
+    ASSERT_TRUE(ctx);
+    std::vector<std::string> refusals;
+    std::unique_ptr<Compositor> made;
+    for (uint32_t n = 1; n <= 64 && !made; ++n) {
+        Armed a(*ctx, vk::FaultInjection{.failObject = n});
+        auto comp = Compositor::create(*ctx);
+        if (comp.ok()) {
+            made = std::move(*comp);
+            break;
+        }
+        EXPECT_TRUE(contains(comp.error().message, "failed: VK_ERROR_OUT_OF_HOST_MEMORY")) << comp.error().message;
+        refusals.push_back(comp.error().message);
+    }
+    ASSERT_TRUE(made) << "no compositor after 64 faults";
+    for (const char* what :
+         {"the passes' descriptor set layout: vkCreateDescriptorSetLayout", "the passes' pipeline layout",
+          "the copy kernel's descriptor set layout", "the copy kernel's pipeline layout",
+          "the compositor's descriptor pool", "the compositor's descriptor sets", "the compositor's sampler",
+          "the compositor's timestamp queries", "the passes' shader modules: vkCreateShaderModule",
+          "vkAllocateCommandBuffers", "the compositor's command buffer", "the compositor's frame fence"})
+        EXPECT_TRUE(std::any_of(refusals.begin(), refusals.end(), [&](const std::string& m) { return contains(m, what); }))
+            << "no refusal named " << what;
+    StereoApp app(*made, kW, kH, Format::RGBA16F, Format::R32F, Format::RGBA16F);
+    ASSERT_TRUE(app.submit(1, goodFrame(1, LaneFormats{})).ok());
+    expectSane(*made, "the compositor made once no object failed");
+    EXPECT_EQ(ctx->validationErrors(), 0u);
+}
 
 class DeviceFaultPipeline : public GpuTest {};
 

@@ -9,7 +9,7 @@
 namespace wrsfov::vk {
 namespace {
 
-TEST(FaultSpec, ParsesAllocLostAndPipeline) {
+TEST(FaultSpec, ParsesEveryKind) {
     auto a = FaultInjection::parse("alloc:3");
     ASSERT_TRUE(a.ok()) << a.error().message;
     EXPECT_EQ(a->failAllocation, 3u);
@@ -27,6 +27,10 @@ TEST(FaultSpec, ParsesAllocLostAndPipeline) {
     EXPECT_EQ(d->failAllocation, 5u);
     EXPECT_EQ(d->loseDevice, 0u);
     EXPECT_EQ(b->failPipeline, 0u);
+    auto e = FaultInjection::parse("object:9");
+    ASSERT_TRUE(e.ok()) << e.error().message;
+    EXPECT_EQ(e->failObject, 9u);
+    EXPECT_EQ(d->failObject, 0u);
 }
 
 struct Spec {
@@ -42,7 +46,7 @@ TEST_P(Refused, Row) {
     auto r = FaultInjection::parse(spec);
     ASSERT_FALSE(r.ok()) << "'" << spec << "' was taken";
     EXPECT_NE(r.error().message.find("WRSFOV_FAULT='" + spec + "'"), std::string::npos) << r.error().message;
-    EXPECT_NE(r.error().message.find("alloc:N, lost:N and/or pipeline:N"), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find("alloc:N, lost:N, pipeline:N and/or object:N"), std::string::npos) << r.error().message;
 }
 
 INSTANTIATE_TEST_SUITE_P(FaultSpec, Refused,
@@ -53,7 +57,8 @@ INSTANTIATE_TEST_SUITE_P(FaultSpec, Refused,
                                            Spec{"huge", "alloc:99999999999999999999"}, Spec{"unknown_kind", "boom:1"},
                                            Spec{"trailing_comma", "alloc:1,"}, Spec{"leading_comma", ",alloc:1"},
                                            Spec{"wrong_separator", "alloc:1;lost:2"}, Spec{"upper_case", "ALLOC:1"},
-                                           Spec{"pipeline_zero", "pipeline:0"}, Spec{"pipeline_no_count", "pipeline"}),
+                                           Spec{"pipeline_zero", "pipeline:0"}, Spec{"pipeline_no_count", "pipeline"},
+                                           Spec{"object_negative", "object:-3"}),
                          [](const ::testing::TestParamInfo<Spec>& i) { return std::string(i.param.name); });
 
 }  // namespace
