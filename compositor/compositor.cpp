@@ -9,6 +9,7 @@
 
 #include "compositor/compose.h"
 #include "compositor/compositor_internal.h"
+#include "compositor/frame_work.h"
 #include "compositor/input.h"
 #include "compositor/swapchain_vk.h"
 #include "shaders/wrs_submitted.h"
@@ -52,7 +53,6 @@ enum Binding : uint32_t {
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 
-Error submitError(SubmitError code, std::string msg) { return Error{static_cast<int>(code), std::move(msg)}; }
 
 const char* const kDeviceLost =
     "the Vulkan device was lost (VK_ERROR_DEVICE_LOST): this compositor refuses every frame from now on; "
@@ -64,18 +64,6 @@ const char* const kDeviceLost =
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// Every image a view reads, with its name for messages (nullptr where the view has none).
-std::array<std::pair<const layers::SubImage*, const char*>, 8> subImagesOf(const layers::ProjectionView& v) {
-    const layers::InsetView* in = v.inset ? &*v.inset : nullptr;
-    return {{{&v.color, "colour"},
-             {v.depth ? &v.depth->subImage : nullptr, "depth"},
-             {v.motion ? &v.motion->subImage : nullptr, "motion"},
-             {in ? &in->color : nullptr, "inset colour"},
-             {in && in->depth ? &in->depth->subImage : nullptr, "inset depth"},
-             {in && in->motion ? &in->motion->subImage : nullptr, "inset motion"},
-             {v.rateMap ? &v.rateMap->subImage : nullptr, "rate map"},
-             {v.reference ? &*v.reference : nullptr, "reference"}}};
-}
 
 Status checkConfig(const CompositorConfig& c) {
     auto bad = [](float v, float lo, float hi) { return !std::isfinite(v) || v <= lo || v > hi; };
@@ -181,6 +169,22 @@ gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::F
     p.held = glm::uvec4(0u, 0u, runsSparse(config) ? 1u : 0u, 0u);  // the offsets are the compositor's
     return p;
 }
+
+namespace detail {
+
+std::array<std::pair<const layers::SubImage*, const char*>, 8> subImagesOf(const layers::ProjectionView& v) {
+    const layers::InsetView* in = v.inset ? &*v.inset : nullptr;
+    return {{{&v.color, "colour"},
+             {v.depth ? &v.depth->subImage : nullptr, "depth"},
+             {v.motion ? &v.motion->subImage : nullptr, "motion"},
+             {in ? &in->color : nullptr, "inset colour"},
+             {in && in->depth ? &in->depth->subImage : nullptr, "inset depth"},
+             {in && in->motion ? &in->motion->subImage : nullptr, "inset motion"},
+             {v.rateMap ? &v.rateMap->subImage : nullptr, "rate map"},
+             {v.reference ? &*v.reference : nullptr, "reference"}}};
+}
+
+}  // namespace detail
 
 Result<std::unique_ptr<Compositor>> Compositor::create(vk::Context& context, const CompositorConfig& config) {
     if (Status s = checkConfig(config); !s) return s.error();
@@ -643,47 +647,7 @@ Status Compositor::waitFrame() {
 // refuses the frame before any state changed), plan (configuration, which passes run, the frame's
 // parameters), inputs (the frame's images bound), record, submit, keep (the history moves on).
 
-/// One frame's work, as the stages of endFrame hand it on.
-struct Compositor::FrameWork {
-    bool record = false;  ///< FrameSubmission::Mode::Record: into the caller's command buffer
-    layers::SubmittedFoveation kind = layers::SubmittedFoveation::Full;
-    uint32_t w = 0, h = 0;  ///< the output's size per eye
-    bool hasDepth = false, hasMotion = false;
-    CompositorConfig next;  ///< the configuration the frame runs
-    TrafficInputs trafficIn;
-    /// Frames submitted foveated: the compose pass's sources (eye, or 2 + eye for the insets).
-    std::array<VkImageView, 4> srcColor{}, srcDepth{}, srcMotion{};
-    std::array<VkImageView, 2> srcRate{};
-    PassPlan passes;
-    VkDescriptorSet set = VK_NULL_HANDLE;  ///< the passes' set, the frame's images bound
-    uint32_t eyes = WRS_EYES;              ///< the eyes the passes run for (1 with mono views)
-    bool mono = false;
-    bool inPlace = false, tiled = false, sparse = false, steady = false;
-    uint32_t written = 0;  ///< the reservoir buffer the frame writes
-    uint32_t tilesPerEye = 0;
-    /// What planFrame and bindInputs change, as it was before them: restorePlan puts it back where the
-    /// frame fails before the queue takes it (a pipeline the driver cannot make), so that the frame
-    /// changes nothing a later one reads.
-    struct Before {
-        CompositorConfig config, pending, frame;
-        bool configPending = false, historyValid = false, steadyValid = false;
-        layers::SubmittedFoveation submitted = layers::SubmittedFoveation::Full;
-        FoveationMode lastFoveation = FoveationMode::Mip;
-        std::array<glm::vec4, 2> lastOffsets{};
-        FrameStats stats;
-        gpu::FrameParams params{};
-    } before;
-    bool queued = false;  ///< the queue took the frame's submission (Record mode: the caller's buffer holds it)
-};
 
-namespace {
-const VulkanSwapchain* vkSwapchain(const layers::SubImage& s) { return dynamic_cast<const VulkanSwapchain*>(s.swapchain); }
-/// The view the passes sample of a sub-image's last released image.
-VkImageView sampledView(const layers::SubImage& s) {
-    const VulkanSwapchain* vs = vkSwapchain(s);
-    return vs->sampledView(uint32_t(vs->lastReleased()), s.arrayIndex);
-}
-}  // namespace
 
 Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission) {
     FrameWork work;
@@ -974,106 +938,6 @@ void Compositor::restorePlan(const FrameWork& work) {
     stats_ = b.stats;
     params_ = b.params;
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
-}
-
-Result<VkCommandBuffer> Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
-                                                const FrameWork& work) {
-    if (work.record) {
-        // Rehearsed first in the compositor's own command buffer (idle: acceptFrame waited for its last
-        // use), so that every pipeline the frame binds exists before a command goes into the caller's
-        // buffer: a pipeline failing half-way there could not be taken back. The cost is one more
-        // recording of the frame's few dozen commands on the host.
-        const Status rehearsal = recordPasses(cmd_, true, frame, work);
-        vkResetCommandBuffer(cmd_, 0);  // never submitted; the next own recording resets it again anyway
-        if (!rehearsal) return rehearsal.error();
-        if (Status s = recordPasses(submission.commandBuffer, false, frame, work); !s) return s.error();
-        return submission.commandBuffer;
-    }
-    if (Status s = recordPasses(cmd_, true, frame, work); !s) return s.error();
-    return cmd_;
-}
-
-Status Compositor::recordPasses(VkCommandBuffer cb, bool own, const layers::FrameEndInfo& frame,
-                                const FrameWork& work) {
-    const layers::ProjectionLayer& layer = frame.layers[0];
-    auto failed = [&](const char* call, VkResult r) {
-        return submitError(SubmitError::DeviceFailure,
-                           std::string("recording the frame: ") + call + " failed: " + vk::resultString(r));
-    };
-    recordError_.reset();
-    if (own) {
-        if (VkResult r = vkResetCommandBuffer(cb, 0); r != VK_SUCCESS) return failed("vkResetCommandBuffer", r);
-        VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-        if (VkResult r = vkBeginCommandBuffer(cb, &bi); r != VK_SUCCESS) return failed("vkBeginCommandBuffer", r);
-    }
-    const bool timing = ctx_.timestampPeriodNs() > 0 && !work.record;
-    if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kFrameStamps);
-    {
-        // Whatever the application wrote (uploads, its own rendering) and the last frame's
-        // readbacks are done before the passes read or overwrite them.
-        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                          VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_MEMORY_READ_BIT,
-                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
-    }
-    // Images an application leaves in another layout (an OpenXR runtime's: colour attachment) are
-    // read in GENERAL and handed back afterwards; each image once, however many views use it.
-    std::vector<std::pair<const VulkanSwapchain*, uint32_t>> handOver;
-    for (const layers::ProjectionView& v : layer.views)
-        for (auto [s, field] : subImagesOf(v)) {
-            if (!s) continue;
-            const VulkanSwapchain* vs = vkSwapchain(*s);
-            std::pair<const VulkanSwapchain*, uint32_t> img{vs, uint32_t(vs->lastReleased())};
-            if (vs->restingLayout() != VK_IMAGE_LAYOUT_GENERAL &&
-                std::find(handOver.begin(), handOver.end(), img) == handOver.end())
-                handOver.push_back(img);
-        }
-    auto transitionInputs = [&](bool toGeneral) {
-        for (auto [vs, index] : handOver) {
-            const VkImageLayout rest = vs->restingLayout();
-            vk::layoutTransition(cb, vs->image(index), vs->aspect(), vs->info().arraySize,
-                                 toGeneral ? rest : VK_IMAGE_LAYOUT_GENERAL, toGeneral ? VK_IMAGE_LAYOUT_GENERAL : rest);
-        }
-    };
-    transitionInputs(true);
-    const PassPlan& p = work.passes;
-    const FramePlan plan{cb,         work.w,     work.h,      work.eyes,    work.hasDepth, work.hasMotion,
-                         p.retain,   p.wrsPaper, p.taa,       p.temporal,   p.pyramid,     work.tiled,
-                         work.sparse, work.inPlace, work.mono, timing,       work.steady,   p.display,
-                         work.written, work.tilesPerEye};
-    // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
-    recordHistoryStart(plan);
-    stamp(plan, 0);
-    recordCompose(plan);  // binds a set of its own layout: the passes' set is bound after it
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &work.set, 0, nullptr);
-    recordClassify(plan);
-    stamp(plan, 1);
-    recordPyramid(plan);
-    recordSteadyFloor(plan);
-    stamp(plan, 2);
-    recordFoveate(plan);
-    stamp(plan, 3);
-    recordTemporal(plan);
-    recordDisplay(plan);
-    recordMonoCopies(plan);
-    stamp(plan, 4);
-    transitionInputs(false);
-    recordTileCounts(plan, work.record);
-    // The output (and the history) is visible to whatever the caller runs next on the queue or
-    // after its semaphores: presentation, a copy, its own composition.
-    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                      VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
-    if (recordError_) {
-        // Every command recorded before the failure is valid; the buffer is never submitted.
-        if (own) vkResetCommandBuffer(cb, 0);
-        return submitError(SubmitError::DeviceFailure, recordError_->message);
-    }
-    if (own)
-        if (VkResult r = vkEndCommandBuffer(cb); r != VK_SUCCESS) return failed("vkEndCommandBuffer", r);
-    lastTiled_ = work.tiled && !work.record;  // waitFrame reads the counts
-    return {};
 }
 
 Status Compositor::submitFrame(const FrameSubmission& submission, VkCommandBuffer cb, FrameWork& work) {

@@ -1,5 +1,5 @@
-// The passes of a frame as commands (Compositor::record*, in the order endFrame calls them) and
-// their times (collectTimes).
+// The frame's commands (recordFrame, recordPasses), the passes as commands (Compositor::record*, in the
+// order recordPasses calls them) and their times (collectTimes).
 #include "compositor/compositor.h"
 
 #include <algorithm>
@@ -8,12 +8,114 @@
 
 #include "compositor/compose.h"
 #include "compositor/compositor_internal.h"
+#include "compositor/frame_work.h"
 #include "compositor/input.h"
 #include "compositor/swapchain_vk.h"
 
 namespace wrsfov {
 
+using layers::SubmitError;
 using namespace detail;
+
+Result<VkCommandBuffer> Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
+                                                const FrameWork& work) {
+    if (work.record) {
+        // Rehearsed first in the compositor's own command buffer (idle: acceptFrame waited for its last
+        // use), so that every pipeline the frame binds exists before a command goes into the caller's
+        // buffer: a pipeline failing half-way there could not be taken back. The cost is one more
+        // recording of the frame's few dozen commands on the host.
+        const Status rehearsal = recordPasses(cmd_, true, frame, work);
+        vkResetCommandBuffer(cmd_, 0);  // never submitted; the next own recording resets it again anyway
+        if (!rehearsal) return rehearsal.error();
+        if (Status s = recordPasses(submission.commandBuffer, false, frame, work); !s) return s.error();
+        return submission.commandBuffer;
+    }
+    if (Status s = recordPasses(cmd_, true, frame, work); !s) return s.error();
+    return cmd_;
+}
+
+Status Compositor::recordPasses(VkCommandBuffer cb, bool own, const layers::FrameEndInfo& frame,
+                                const FrameWork& work) {
+    const layers::ProjectionLayer& layer = frame.layers[0];
+    auto failed = [&](const char* call, VkResult r) {
+        return submitError(SubmitError::DeviceFailure,
+                           std::string("recording the frame: ") + call + " failed: " + vk::resultString(r));
+    };
+    recordError_.reset();
+    if (own) {
+        if (VkResult r = vkResetCommandBuffer(cb, 0); r != VK_SUCCESS) return failed("vkResetCommandBuffer", r);
+        VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        if (VkResult r = vkBeginCommandBuffer(cb, &bi); r != VK_SUCCESS) return failed("vkBeginCommandBuffer", r);
+    }
+    const bool timing = ctx_.timestampPeriodNs() > 0 && !work.record;
+    if (timing) vkCmdResetQueryPool(cb, queries_.get(), 0, kFrameStamps);
+    {
+        // Whatever the application wrote (uploads, its own rendering) and the last frame's
+        // readbacks are done before the passes read or overwrite them.
+        vk::memoryBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                          VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_MEMORY_READ_BIT,
+                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                          VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+    }
+    // Images an application leaves in another layout (an OpenXR runtime's: colour attachment) are
+    // read in GENERAL and handed back afterwards; each image once, however many views use it.
+    std::vector<std::pair<const VulkanSwapchain*, uint32_t>> handOver;
+    for (const layers::ProjectionView& v : layer.views)
+        for (auto [s, field] : subImagesOf(v)) {
+            if (!s) continue;
+            const VulkanSwapchain* vs = vkSwapchain(*s);
+            std::pair<const VulkanSwapchain*, uint32_t> img{vs, uint32_t(vs->lastReleased())};
+            if (vs->restingLayout() != VK_IMAGE_LAYOUT_GENERAL &&
+                std::find(handOver.begin(), handOver.end(), img) == handOver.end())
+                handOver.push_back(img);
+        }
+    auto transitionInputs = [&](bool toGeneral) {
+        for (auto [vs, index] : handOver) {
+            const VkImageLayout rest = vs->restingLayout();
+            vk::layoutTransition(cb, vs->image(index), vs->aspect(), vs->info().arraySize,
+                                 toGeneral ? rest : VK_IMAGE_LAYOUT_GENERAL, toGeneral ? VK_IMAGE_LAYOUT_GENERAL : rest);
+        }
+    };
+    transitionInputs(true);
+    const PassPlan& p = work.passes;
+    const FramePlan plan{cb,         work.w,     work.h,      work.eyes,    work.hasDepth, work.hasMotion,
+                         p.retain,   p.wrsPaper, p.taa,       p.temporal,   p.pyramid,     work.tiled,
+                         work.sparse, work.inPlace, work.mono, timing,       work.steady,   p.display,
+                         work.written, work.tilesPerEye};
+    // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
+    recordHistoryStart(plan);
+    stamp(plan, 0);
+    recordCompose(plan);  // binds a set of its own layout: the passes' set is bound after it
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &work.set, 0, nullptr);
+    recordClassify(plan);
+    stamp(plan, 1);
+    recordPyramid(plan);
+    recordSteadyFloor(plan);
+    stamp(plan, 2);
+    recordFoveate(plan);
+    stamp(plan, 3);
+    recordTemporal(plan);
+    recordDisplay(plan);
+    recordMonoCopies(plan);
+    stamp(plan, 4);
+    transitionInputs(false);
+    recordTileCounts(plan, work.record);
+    // The output (and the history) is visible to whatever the caller runs next on the queue or
+    // after its semaphores: presentation, a copy, its own composition.
+    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                      VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+    if (recordError_) {
+        // Every command recorded before the failure is valid; the buffer is never submitted.
+        if (own) vkResetCommandBuffer(cb, 0);
+        return submitError(SubmitError::DeviceFailure, recordError_->message);
+    }
+    if (own)
+        if (VkResult r = vkEndCommandBuffer(cb); r != VK_SUCCESS) return failed("vkEndCommandBuffer", r);
+    lastTiled_ = work.tiled && !work.record;  // waitFrame reads the counts
+    return {};
+}
 
 void Compositor::stamp(const FramePlan& plan, uint32_t i) {
     if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
