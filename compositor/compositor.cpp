@@ -514,16 +514,22 @@ Status Compositor::resize(uint32_t width, uint32_t height, bool birth, bool disp
                 VK_IMAGE_USAGE_SAMPLED_BIT;
     auto out = ctx_.createImage(oci);
     if (!out) return named("output image", out.error());
+    // The output black and the reservoirs empty (all zero: no sample) from the start, so that what a
+    // reader sees of the new size is defined even where its first frame fails after this resize (a
+    // pipeline the driver cannot make, docs/bad-input.md "Device faults").
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         VkImageMemoryBarrier ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-        ib.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        ib.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         ib.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
         ib.newLayout = VK_IMAGE_LAYOUT_GENERAL;
         ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
         ib.image = out->handle();
         ib.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, WRS_EYES};
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
-                             0, nullptr, 1, &ib);
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                             nullptr, 1, &ib);
+        const VkClearColorValue black{};
+        vkCmdClearColorImage(cb, out->handle(), VK_IMAGE_LAYOUT_GENERAL, &black, 1, &ib.subresourceRange);
+        for (const vk::Buffer& r : reservoirs) vkCmdFillBuffer(cb, r.handle(), 0, VK_WHOLE_SIZE, 0);
     });
     if (!s) return s;
 

@@ -370,8 +370,10 @@ public:
                                                                std::span<const VkImage> images,
                                                                const SwapchainImageOptions& options = {});
 
-    /// Validates and composites one frame (synchronously). A refused frame changes nothing:
-    /// the error code is a layers::SubmitError.
+    /// Validates and composites one frame (synchronously). A refused frame changes nothing (the error
+    /// code is a layers::SubmitError), with one exception: a frame of a new size refused after the
+    /// resize (a pipeline the driver could not make) leaves that size, its output black and its
+    /// reservoirs empty.
     Status endFrame(const layers::FrameEndInfo& frame);
     /// The same, handing the GPU work over as `submission` says. A submission that cannot be
     /// carried out (Record without a command buffer, semaphores with Record or Wait, a stage count

@@ -361,6 +361,58 @@ TEST_F(DeviceFaultObject, EveryObjectOfCompositorCreateFailsWithAnError) {
 
 class DeviceFaultPipeline : public GpuTest {};
 
+// A frame that resizes and then fails for a pipeline has changed one thing: the size. What the new size
+// holds is defined (the output black, the reservoirs empty) until the same frame goes through and
+// matches a twin that never saw the fault.
+TEST_F(DeviceFaultPipeline, AFrameFailingAfterItsResizeLeavesTheNewSizeBlackAndEmpty) {
+    CompositorConfig untiled{.seed = 18};
+    untiled.skipTiles = false;
+    CompositorConfig tiled = untiled;
+    tiled.skipTiles = true;
+    auto mainCtx = freshContext(), twinCtx = freshContext();
+    ASSERT_TRUE(mainCtx && twinCtx);
+    Lane main(*mainCtx, untiled, LaneFormats{}), twin(*twinCtx, untiled, LaneFormats{});
+    for (uint64_t n = 1; n <= 2; ++n)
+        for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(n, goodFrame(n, lane->formats)).ok());
+    StereoApp bigMain(*main.comp, kW2, kH2, Format::RGBA16F, Format::R32F, Format::RGBA16F);
+    StereoApp bigTwin(*twin.comp, kW2, kH2, Format::RGBA16F, Format::R32F, Format::RGBA16F);
+    ASSERT_TRUE(main.comp->setConfig(tiled).ok());
+    ASSERT_TRUE(twin.comp->setConfig(tiled).ok());
+    const auto eyes = frameOfSize(3, kW2, kH2);
+    const std::size_t made = twinCtx->sharedPipelineCount();
+    ASSERT_TRUE(bigTwin.submit(3, eyes).ok());
+    const uint32_t fresh = uint32_t(twinCtx->sharedPipelineCount() - made);
+    ASSERT_GE(fresh, 1u);
+    bigMain.write(eyes);
+    Status s;
+    {
+        Armed a(*mainCtx, vk::FaultInjection{.failPipeline = fresh});
+        s = main.comp->endFrame(bigMain.frameEnd(3, eyes));
+    }
+    ASSERT_FALSE(s.ok());
+    EXPECT_TRUE(contains(s.message(), kPipelineOom)) << s.message();
+    ASSERT_EQ(main.comp->width(), kW2);
+    for (uint32_t eye = 0; eye < 2; ++eye) {
+        auto out = main.comp->readOutput(eye);
+        ASSERT_TRUE(out.ok());
+        EXPECT_TRUE(std::all_of(out->data.begin(), out->data.end(), [](std::byte b) { return b == std::byte{0}; }))
+            << "eye " << eye << ": the new size's output is not black";
+        auto res = main.comp->readReservoirs(eye);
+        ASSERT_TRUE(res.ok());
+        EXPECT_TRUE(std::all_of(res->begin(), res->end(), [](const glm::uvec4& r) { return r == glm::uvec4(0u); }))
+            << "eye " << eye << ": the new size's reservoirs are not empty";
+    }
+    ASSERT_TRUE(main.comp->endFrame(bigMain.frameEnd(3, eyes)).ok());
+    std::string d = difference(snapshot(*main.comp), snapshot(*twin.comp));
+    EXPECT_TRUE(d.empty()) << "frame 3 once the pipeline could be made: " << d;
+    const auto next = frameOfSize(4, kW2, kH2);
+    ASSERT_TRUE(bigMain.submit(4, next).ok());
+    ASSERT_TRUE(bigTwin.submit(4, next).ok());
+    d = difference(snapshot(*main.comp), snapshot(*twin.comp));
+    EXPECT_TRUE(d.empty()) << "frame 4: " << d;
+    EXPECT_EQ(mainCtx->validationErrors(), 0u);
+}
+
 // The fp16 probe at Compositor::create runs a pipeline of its own: where it cannot be made the passes
 // convert by hand (the same bits), as where the probe has no memory.
 TEST_F(DeviceFaultPipeline, TheHalfProbeFallsBackToTheHandConversion) {
