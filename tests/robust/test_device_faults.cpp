@@ -269,35 +269,55 @@ Status endFrameIn(vk::Context& ctx, Lane& lane, uint64_t n, const std::array<Eye
     return s;
 }
 
+// Main and twin, each on a context of its own (so that both make the same pipelines at the same
+// frames), after frames 1 and 2 untiled, with tiles skipped and sparse retention pending (setConfig:
+// no history reset): the next frame's classification, tiled retention and skip list need pipelines no
+// earlier frame made.
+struct FreshTwins {
+    explicit FreshTwins(uint32_t seed) {
+        CompositorConfig untiled{.seed = seed};
+        untiled.skipTiles = false;
+        mainCtx = freshContext();
+        twinCtx = freshContext();
+        if (!mainCtx || !twinCtx) return;
+        main = std::make_unique<Lane>(*mainCtx, untiled, LaneFormats{});
+        twin = std::make_unique<Lane>(*twinCtx, untiled, LaneFormats{});
+        for (uint64_t n = 1; n <= 2; ++n)
+            for (Lane* lane : {main.get(), twin.get()})
+                EXPECT_TRUE(lane->app->submit(n, goodFrame(n, lane->formats)).ok()) << "frame " << n;
+    }
+    /// Both lanes: tiles skipped from the next frame on.
+    void tile() {
+        CompositorConfig tiled = main->comp->config();
+        tiled.skipTiles = true;
+        EXPECT_TRUE(main->comp->setConfig(tiled).ok());
+        EXPECT_TRUE(twin->comp->setConfig(tiled).ok());
+    }
+    std::unique_ptr<vk::Context> mainCtx, twinCtx;
+    std::unique_ptr<Lane> main, twin;
+};
+
 class PipelineAtAFrame : public GpuTest, public ::testing::WithParamInterface<PipelineRow> {};
 
-// Frames 1 and 2 untiled, frame 3 with tiles skipped and sparse retention (setConfig: no history
-// reset): its classification, tiled retention and skip list need pipelines no earlier frame made.
-// Main and twin each on a context of their own, so both make the same pipelines at the same frames.
+// Frame 3 fails at the first or the last pipeline it makes.
 TEST_P(PipelineAtAFrame, Row) {
     const PipelineRow& row = GetParam();
-    CompositorConfig untiled{.seed = 16};
-    untiled.skipTiles = false;
-    CompositorConfig tiled = untiled;
-    tiled.skipTiles = true;
-    auto mainCtx = freshContext(), twinCtx = freshContext();
-    ASSERT_TRUE(mainCtx && twinCtx);
-    Lane main(*mainCtx, untiled, LaneFormats{}), twin(*twinCtx, untiled, LaneFormats{});
-    for (uint64_t n = 1; n <= 2; ++n)
-        for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(n, goodFrame(n, lane->formats)).ok());
-    ASSERT_TRUE(main.comp->setConfig(tiled).ok());
-    ASSERT_TRUE(twin.comp->setConfig(tiled).ok());
+    FreshTwins t(16);
+    ASSERT_TRUE(t.main && t.twin);
+    Lane &main = *t.main, &twin = *t.twin;
+    vk::Context &mainCtx = *t.mainCtx, &twinCtx = *t.twinCtx;
+    t.tile();
     const Snapshot before = snapshot(*main.comp);
 
     // The twin's frame 3 counts the pipelines it makes; main's makes as many.
-    const std::size_t made = twinCtx->sharedPipelineCount();
+    const std::size_t made = twinCtx.sharedPipelineCount();
     ASSERT_TRUE(twin.app->submit(3, goodFrame(3, twin.formats)).ok());
-    const uint32_t fresh = uint32_t(twinCtx->sharedPipelineCount() - made);
+    const uint32_t fresh = uint32_t(twinCtx.sharedPipelineCount() - made);
     ASSERT_GE(fresh, 3u) << "frame 3 should need the classification's, tiled retention's and the skip list's";
     Status s;
     {
-        Armed a(*mainCtx, vk::FaultInjection{.failPipeline = row.last ? fresh : 1u});
-        s = endFrameIn(*mainCtx, main, 3, goodFrame(3, main.formats), row.record);
+        Armed a(mainCtx, vk::FaultInjection{.failPipeline = row.last ? fresh : 1u});
+        s = endFrameIn(mainCtx, main, 3, goodFrame(3, main.formats), row.record);
     }
     ASSERT_FALSE(s.ok()) << "the pipeline fault did not fail frame 3";
     EXPECT_EQ(s.error().code, int(SubmitError::DeviceFailure)) << s.message();
@@ -309,13 +329,13 @@ TEST_P(PipelineAtAFrame, Row) {
     EXPECT_TRUE(changed.empty()) << "the failed frame changed the compositor: " << changed;
 
     // Frame 3 again makes the pipeline, and main goes on as the twin, which never saw the fault.
-    ASSERT_TRUE(endFrameIn(*mainCtx, main, 3, goodFrame(3, main.formats), row.record).ok());
+    ASSERT_TRUE(endFrameIn(mainCtx, main, 3, goodFrame(3, main.formats), row.record).ok());
     std::string d = difference(snapshot(*main.comp), snapshot(*twin.comp));
     EXPECT_TRUE(d.empty()) << "frame 3 once the pipeline could be made: " << d;
     for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(4, goodFrame(4, lane->formats)).ok());
     d = difference(snapshot(*main.comp), snapshot(*twin.comp));
     EXPECT_TRUE(d.empty()) << "frame 4: " << d;
-    EXPECT_EQ(mainCtx->validationErrors(), 0u);
+    EXPECT_EQ(mainCtx.validationErrors(), 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(DeviceFault, PipelineAtAFrame,
@@ -365,28 +385,22 @@ class DeviceFaultPipeline : public GpuTest {};
 // holds is defined (the output black, the reservoirs empty) until the same frame goes through and
 // matches a twin that never saw the fault.
 TEST_F(DeviceFaultPipeline, AFrameFailingAfterItsResizeLeavesTheNewSizeBlackAndEmpty) {
-    CompositorConfig untiled{.seed = 18};
-    untiled.skipTiles = false;
-    CompositorConfig tiled = untiled;
-    tiled.skipTiles = true;
-    auto mainCtx = freshContext(), twinCtx = freshContext();
-    ASSERT_TRUE(mainCtx && twinCtx);
-    Lane main(*mainCtx, untiled, LaneFormats{}), twin(*twinCtx, untiled, LaneFormats{});
-    for (uint64_t n = 1; n <= 2; ++n)
-        for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(n, goodFrame(n, lane->formats)).ok());
+    FreshTwins t(18);
+    ASSERT_TRUE(t.main && t.twin);
+    Lane &main = *t.main, &twin = *t.twin;
+    vk::Context &mainCtx = *t.mainCtx, &twinCtx = *t.twinCtx;
     StereoApp bigMain(*main.comp, kW2, kH2, Format::RGBA16F, Format::R32F, Format::RGBA16F);
     StereoApp bigTwin(*twin.comp, kW2, kH2, Format::RGBA16F, Format::R32F, Format::RGBA16F);
-    ASSERT_TRUE(main.comp->setConfig(tiled).ok());
-    ASSERT_TRUE(twin.comp->setConfig(tiled).ok());
+    t.tile();
     const auto eyes = frameOfSize(3, kW2, kH2);
-    const std::size_t made = twinCtx->sharedPipelineCount();
+    const std::size_t made = twinCtx.sharedPipelineCount();
     ASSERT_TRUE(bigTwin.submit(3, eyes).ok());
-    const uint32_t fresh = uint32_t(twinCtx->sharedPipelineCount() - made);
+    const uint32_t fresh = uint32_t(twinCtx.sharedPipelineCount() - made);
     ASSERT_GE(fresh, 1u);
     bigMain.write(eyes);
     Status s;
     {
-        Armed a(*mainCtx, vk::FaultInjection{.failPipeline = fresh});
+        Armed a(mainCtx, vk::FaultInjection{.failPipeline = fresh});
         s = main.comp->endFrame(bigMain.frameEnd(3, eyes));
     }
     ASSERT_FALSE(s.ok());
@@ -410,7 +424,7 @@ TEST_F(DeviceFaultPipeline, AFrameFailingAfterItsResizeLeavesTheNewSizeBlackAndE
     ASSERT_TRUE(bigTwin.submit(4, next).ok());
     d = difference(snapshot(*main.comp), snapshot(*twin.comp));
     EXPECT_TRUE(d.empty()) << "frame 4: " << d;
-    EXPECT_EQ(mainCtx->validationErrors(), 0u);
+    EXPECT_EQ(mainCtx.validationErrors(), 0u);
 }
 
 // The fp16 probe at Compositor::create runs a pipeline of its own: where it cannot be made the passes
