@@ -80,6 +80,24 @@ check vulkan1_validation_active grep -q 'Inserted device layer "VK_LAYER_KHRONOS
 check vulkan1_validation_clean sh -c "! grep -q -e 'ERROR:' -e 'WARNING:' '$out/hello_xr_vulkan1.log'"
 check vulkan1_openxr_validation_clean sh -c "! grep -q -e VALID_ERROR -e 'VUID-' '$out/hello_xr_vulkan1.log'"
 
+# Device faults in the runtime (WRSFOV_FAULT, docs/bad-input.md "Device faults"): a pipeline the driver
+# cannot make refuses one frame, which the session counts and goes on from; an object it cannot make
+# when the session makes its compositor fails xrCreateSession with a message naming it. Neither one
+# takes the application down. (hello_xr leaves after a failed xrCreateSession with its stdin thread
+# still waiting, so that run goes without EXIT_CHECK: that exit is hello_xr's, not the runtime's.)
+run_fault() {  # run_fault NAME FAULT PRELOAD
+    hello_xr_until_ended "$out/$1.log" \
+        env WRSFOV_FAULT="$2" WRSFOV_XR_WIDTH=96 WRSFOV_XR_HEIGHT=96 WRSFOV_XR_FRAMES=30 WRSFOV_XR_OUTPUT=headless \
+        timeout 120 env LD_PRELOAD="$3" hello_xr -g Vulkan2 -vc Stereo
+}
+CLI_FIXED=1 cli_check hello_xr_pipeline_fault 0 "session ended: 30 frames ended, 29 composited, 0 shown as submitted, 1 not composited" \
+    run_fault hello_xr_pipeline_fault pipeline:3 "$hello_preload"
+check pipeline_fault_named grep -q "vkCreateComputePipelines failed: VK_ERROR_OUT_OF_DEVICE_MEMORY (logged once per reason)" \
+    "$out/hello_xr_pipeline_fault.log"
+CLI_FIXED=1 cli_check hello_xr_object_fault 1 \
+    "session: compositor: the passes' pipeline layout: vkCreatePipelineLayout failed: VK_ERROR_OUT_OF_HOST_MEMORY" \
+    run_fault hello_xr_object_fault object:2 "$preload"
+
 # The recording round-trips through the benchmark as scene `sequence` (release build only: the
 # sanitizer build's benchmark takes a minute and tests nothing the release run does not).
 if [ -z "$preload" ]; then
