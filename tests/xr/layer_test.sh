@@ -56,6 +56,17 @@ CLI_FIXED=1 cli_check lost 0 "60 shown as submitted" run lost \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=lost:12
 CLI_FIXED=1 cli_check oom 0 "60 shown as submitted" run oom \
     XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=alloc:1
+# A pipeline (the first frame's first) or an object (as the compositor is made) that the driver cannot
+# make: the layer disables itself with the message, the application runs on.
+CLI_FIXED=1 cli_check pipeline 0 "60 shown as submitted" run pipeline \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=pipeline:2
+CLI_FIXED=1 cli_check object 0 "60 shown as submitted" run object \
+    XR_ENABLE_API_LAYERS=XR_APILAYER_WRSFOV_foveation WRSFOV_LAYER_FAULT=object:1
+check pipeline_disabled grep -q "disabled for this session: .*vkCreateComputePipelines failed: VK_ERROR_OUT_OF_DEVICE_MEMORY" \
+    "$out/pipeline.log"
+check object_disabled grep -q "disabled for this session: .*vkCreateDescriptorSetLayout failed: VK_ERROR_OUT_OF_HOST_MEMORY" \
+    "$out/object.log"
+check pipeline_teardown_clean sh -c "! grep -q 'Validation Error' '$out/pipeline.log'"
 check lost_disabled grep -q "disabled for this session: .*VK_ERROR_DEVICE_LOST\|disabled for this session: .*device" "$out/lost.log"
 check lost_some_foveated grep -Eq "session ended: ([1-9]|[1-5][0-9]) of 60 frames foveated" "$out/lost.log"
 # The layer's own work is finished before its fence and semaphore are reused or destroyed, after a
