@@ -53,17 +53,11 @@ enum Binding : uint32_t {
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 
-
 const char* const kDeviceLost =
     "the Vulkan device was lost (VK_ERROR_DEVICE_LOST): this compositor refuses every frame from now on; "
     "create a new vk::Context and Compositor";
 
-
-
-
-
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 
 Status checkConfig(const CompositorConfig& c) {
     auto bad = [](float v, float lo, float hi) { return !std::isfinite(v) || v <= lo || v > hi; };
@@ -93,7 +87,6 @@ Status checkConfig(const CompositorConfig& c) {
 }
 
 }  // namespace
-
 
 gpu::FrameParams makeFrameParams(const CompositorConfig& config, const layers::FrameEndInfo& frame, uint32_t width,
                                  uint32_t height, bool fallback[2]) {
@@ -653,12 +646,13 @@ Status Compositor::waitFrame() {
 // refuses the frame before any state changed), plan (configuration, which passes run, the frame's
 // parameters), inputs (the frame's images bound), record, submit, keep (the history moves on).
 
-
-
 Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission) {
     FrameWork work;
     if (Status s = acceptFrame(frame, submission, work); !s) return s;
-    if (Status s = allocateFrame(frame, work); !s) return s;
+    if (Status s = allocateFrame(frame, work); !s) {
+        composeParams_ = work.before.composeParams;  // lastComposeParams() stays the last frame's
+        return s;
+    }
     planFrame(frame, work);
     bindInputs(frame, work);
     Result<VkCommandBuffer> cb = recordFrame(frame, submission, work);
@@ -741,6 +735,7 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
     // Quad views and rate maps come with their own foveation: the frame runs with mode Submitted, and
     // the composed images and qualities are made first, before anything else changes (a failed allocation
     // refuses the frame).
+    work.before.composeParams = composeParams_;
     composeParams_ = gpu::ComposeParams{};
     if (work.kind != layers::SubmittedFoveation::Full) {
         composeParams_ = makeComposeParams(layer, glm::uvec2(work.w, work.h), work.next.insetBlendPx);
@@ -790,8 +785,9 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
 }
 
 void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
-    work.before = {config_,     pending_, frame_,         configPending_, historyValid_, steadyValid_,
-                   submitted_, lastFoveation_, lastOffsets_, stats_,         params_};
+    work.before = {config_,        pending_,     frame_,  configPending_, historyValid_,
+                   steadyValid_,   submitted_,   lastFoveation_, lastOffsets_, stats_,
+                   params_,        work.before.composeParams};
     if (configPending_) {
         if (pending_.method != config_.method || pending_.foveation != config_.foveation) historyValid_ = false;
         if (!steadyFloorActive(pending_)) steadyValid_ = false;
@@ -943,6 +939,7 @@ void Compositor::restorePlan(const FrameWork& work) {
     lastOffsets_ = b.lastOffsets;
     stats_ = b.stats;
     params_ = b.params;
+    composeParams_ = b.composeParams;
     std::memcpy(ubo_.mapped(), &params_, sizeof(params_));
 }
 

@@ -41,6 +41,7 @@ struct Compositor::FrameWork {
         std::array<glm::vec4, 2> lastOffsets{};
         FrameStats stats;
         gpu::FrameParams params{};
+        gpu::ComposeParams composeParams{};  ///< taken by allocateFrame, which sets the frame's
     } before;
     bool queued = false;  ///< the queue took the frame's submission (Record mode: the caller's buffer holds it)
 };
