@@ -76,14 +76,16 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
     return c;
 }
 
-Result<VkPipeline> ComposePass::pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed) {
+Result<VkPipeline> ComposePass::pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed,
+                                         vk::PipelineTally* tally) {
     VkPipeline& slot = pipelines_[((kind - 1) * 3 + landed) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
     if (slot) return slot;
     const uint32_t constants[4] = {kind, depth, motion, landed};
     // Shared on the context: every compose pass defines its pipeline layout the same way (create).
     Result<VkPipeline> made =
         ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion, landed},
-                            [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); });
+                            [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); },
+                            tally);
     if (!made)
         return Error{made.error().code, "the compose pass's pipeline (constants " + std::to_string(kind) + "," +
                                             std::to_string(depth) + "," + std::to_string(motion) + "," +
@@ -159,11 +161,13 @@ Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeP
     return {};
 }
 
-Status ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes) {
+Status ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes,
+                           vk::PipelineTally* tally) {
     if (kind == layers::SubmittedFoveation::Full) return {};
     const uint32_t k = kind == layers::SubmittedFoveation::Quad ? 1u : 2u;
     const gpu::ComposeParams* p = static_cast<const gpu::ComposeParams*>(params_.mapped());
-    Result<VkPipeline> pipe = pipeline(k, k == 1 && depth, k == 1 && motion, k == 1 ? composeLandedMode(*p) : 0u);
+    Result<VkPipeline> pipe =
+        pipeline(k, k == 1 && depth, k == 1 && motion, k == 1 ? composeLandedMode(*p) : 0u, tally);
     if (!pipe) return pipe.error();
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set_, 0, nullptr);

@@ -35,7 +35,9 @@ public:
                    VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint);
     /// Records the pass for `eyes` eyes (its writes are made visible to the later compute passes). Fails,
     /// having recorded nothing, where its pipeline cannot be made.
-    Status record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes);
+    /// `tally` counts the pipelines this call made.
+    Status record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes,
+                  vk::PipelineTally* tally = nullptr);
 
     /// The composed images (2 layers, layer = eye, VK_IMAGE_LAYOUT_GENERAL): RGBA16F linear colour with
     /// validity in alpha, R32F depth as submitted, RGBA16F motion in output pixels.
@@ -45,7 +47,7 @@ public:
 
 private:
     explicit ComposePass(vk::Context& ctx) : ctx_(ctx) {}
-    Result<VkPipeline> pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed);
+    Result<VkPipeline> pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed, vk::PipelineTally* tally);
     vk::Context& ctx_;
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;

@@ -421,11 +421,15 @@ Result<VkPipeline> Compositor::pipeline(int shader, std::array<uint32_t, 7> pass
     // Shared on the context: every compositor defines its two pipeline layouts the same way (init).
     std::vector<uint32_t> shared{kSharedPipelineTag};
     shared.insert(shared.end(), key.begin(), key.end());
-    Result<VkPipeline> made = ctx_.sharedPipeline(shared, [&] {
-        return ctx_.createComputePipeline(
-            modules_[shader].get(),
-            shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get(), constants);
-    });
+    Result<VkPipeline> made = ctx_.sharedPipeline(
+        shared,
+        [&] {
+            return ctx_.createComputePipeline(
+                modules_[shader].get(),
+                shader == kCopy || shader == kHalfProbe ? copyPipelineLayout_.get() : pipelineLayout_.get(),
+                constants);
+        },
+        &recordTally_);
     if (!made) {
         static const char* const names[kShaderCount] = {"pyramid", "foveate", "wrs",      "taa",
                                                         "copy",    "retain",  "classify", "half_probe"};

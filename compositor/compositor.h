@@ -300,6 +300,10 @@ struct FrameStats {
     uint32_t motionTiles = 0;
     /// motionTiles as a share of all tiles (0 without counts).
     double motionShare() const;
+    /// Pipelines this frame made (the first use of a variant on its vk::Context) and the host time that
+    /// took, inside endFrame: the frame's compile hitch. 0 once every variant the frames use exists.
+    uint32_t pipelinesMade = 0;
+    double pipelineMs = 0.0;
 };
 
 /// How a swapchain's images are made when an application renders into them with Vulkan (an OpenXR
@@ -438,6 +442,7 @@ private:
     /// false (the pass then records nothing more).
     bool bindPipeline(VkCommandBuffer cb, int shader, std::array<uint32_t, 7> passConstants);
     std::optional<Error> recordError_;
+    vk::PipelineTally recordTally_;  ///< the pipelines the frame being recorded made
     /// Runs the device's fp16 conversion over halfProbeValues() and compares it with wrs_f32_to_f16.
     bool probeHardwareHalf();
     bool hardwareHalf_ = false;  // CompositorConfig::hardwareHalf and the probe: pipelines' constant 7
@@ -528,6 +533,9 @@ private:
     void bindInputs(const layers::FrameEndInfo& frame, FrameWork& work);
     Result<VkCommandBuffer> recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
                                         const FrameWork& work);
+    /// recordFrame without the pipeline tally (recordTally_) it keeps in the frame's stats.
+    Result<VkCommandBuffer> recordFrameInto(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
+                                            const FrameWork& work);
     /// The frame's commands into `cb` (begun and ended by the caller unless `own`, the compositor's).
     Status recordPasses(VkCommandBuffer cb, bool own, const layers::FrameEndInfo& frame, const FrameWork& work);
     /// Puts back what planFrame and bindInputs changed, for a frame that fails before its submission.

@@ -19,6 +19,15 @@ using namespace detail;
 
 Result<VkCommandBuffer> Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
                                                 const FrameWork& work) {
+    recordTally_ = {};
+    Result<VkCommandBuffer> cb = recordFrameInto(frame, submission, work);
+    stats_.pipelinesMade = recordTally_.made;
+    stats_.pipelineMs = recordTally_.ms;
+    return cb;
+}
+
+Result<VkCommandBuffer> Compositor::recordFrameInto(const layers::FrameEndInfo& frame,
+                                                    const FrameSubmission& submission, const FrameWork& work) {
     if (work.record) {
         // Rehearsed first in the compositor's own command buffer (idle: acceptFrame waited for its last
         // use), so that every pipeline the frame binds exists before a command goes into the caller's
@@ -124,7 +133,7 @@ void Compositor::stamp(const FramePlan& plan, uint32_t i) {
 void Compositor::recordCompose(const FramePlan& plan) {
     if (submitted_ == layers::SubmittedFoveation::Full) return;  // compose_ exists from the first such frame on
     if (recordError_) return;
-    if (Status s = compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes); !s)
+    if (Status s = compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes, &recordTally_); !s)
         recordError_ = s.error();
 }
 

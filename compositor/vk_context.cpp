@@ -1,6 +1,7 @@
 #include "compositor/vk_context.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -476,12 +477,18 @@ Status Context::createViews(Image& img, VkFormat viewFormat) {
 }
 
 Result<VkPipeline> Context::sharedPipeline(const std::vector<uint32_t>& key,
-                                           const std::function<Result<VkPipeline>()>& make) {
+                                           const std::function<Result<VkPipeline>()>& make, PipelineTally* tally) {
     std::lock_guard lock(pipelinesMutex_);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second;
+    const auto start = std::chrono::steady_clock::now();
     Result<VkPipeline> made = make();
-    if (made) pipelines_.emplace(key, *made);
+    if (!made) return made;
+    pipelines_.emplace(key, *made);
+    if (tally) {
+        ++tally->made;
+        tally->ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
     return made;
 }
 

@@ -74,6 +74,12 @@ struct FaultInjection {
     static Result<FaultInjection> parse(const std::string& spec);
 };
 
+/// Pipelines made and the host time their creation took (Context::sharedPipeline), added up.
+struct PipelineTally {
+    uint32_t made = 0;
+    double ms = 0.0;
+};
+
 /// A device made by someone else (an OpenXR application, a runtime, an engine) for Context::adopt.
 struct AdoptedDevice {
     VkInstance instance = VK_NULL_HANDLE;
@@ -255,8 +261,10 @@ public:
     /// instances can bind it), and the pipeline lives until the context is destroyed. A compositor
     /// made after another on the context then compiles only the variants none has used before (on
     /// lavapipe each takes ~70 ms, most of a short test's time). A failed `make` is returned and not
-    /// kept: the next request tries again. Thread-safe.
-    Result<VkPipeline> sharedPipeline(const std::vector<uint32_t>& key, const std::function<Result<VkPipeline>()>& make);
+    /// kept: the next request tries again. Where this call made it, `tally` (if given) counts it and
+    /// the host time the creation took. Thread-safe.
+    Result<VkPipeline> sharedPipeline(const std::vector<uint32_t>& key, const std::function<Result<VkPipeline>()>& make,
+                                      PipelineTally* tally = nullptr);
     /// A compute pipeline of `module`'s "main" with `constants` as specialization constants 0, 1, ...
     /// (32-bit each), for `layout`; the caller owns it. Fails (code = VkResult) where the driver does,
     /// or where FaultInjection::failPipeline says so.

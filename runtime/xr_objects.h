@@ -169,6 +169,8 @@ struct Session final : Object {
     std::deque<XrTime> waitedDisplayTimes;  // of the frames waited and not yet begun, oldest first
     XrTime frameDisplayTime = 0;            // predicted display time of the begun frame
     uint64_t framesEnded = 0, framesComposited = 0, framesPassed = 0, framesRefused = 0, framesDiscarded = 0;
+    uint64_t pipelinesMade = 0;  ///< FrameStats::pipelinesMade over the composited frames
+    double pipelineMs = 0.0;
     // The compositor thread: frames are numbered from 1 as they are handed over; at most one is in
     // flight (handed over and not completed).
     uint64_t framesHandedOver = 0, framesCompleted = 0;

@@ -295,7 +295,9 @@ XrResult destroySession(Session* s) {
             std::to_string(s->vergenceFromDepth) + "; compositor " +
             (s->framesCompleted ? std::to_string(double(s->compositeTotalNs) * 1e-6 / double(s->framesCompleted))
                                 : std::string("-")) +
-            " ms per frame from xrEndFrame to completion; Vulkan validation: " +
+            " ms per frame from xrEndFrame to completion; pipelines made while compositing " +
+            std::to_string(s->pipelinesMade) + " (" + std::to_string(s->pipelineMs) + " ms, the first frames' hitch)" +
+            "; Vulkan validation: " +
             std::to_string(inst->vkErrors.load()) + " errors, " + std::to_string(inst->vkWarnings.load()) +
             " warnings" + (inst->messenger ? "" : " (not counted: validation off or the application's instance)"));
     frameLock.unlock();
@@ -1181,6 +1183,8 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
         return false;
     }
     ++s->framesComposited;
+    s->pipelinesMade += s->compositor->stats().pipelinesMade;
+    s->pipelineMs += s->compositor->stats().pipelineMs;
     drawQuads(s, info, projIndex, f, plan);
     recordFrame(s, f, true);
     if (s->window) {

@@ -36,6 +36,10 @@ TEST_F(SharedPipelines, MadeOncePerContextAndUsedByEveryCompositor) {
         ASSERT_TRUE(appA.submit(1, first).ok());
         const size_t afterA = ctx.sharedPipelineCount();
         EXPECT_GT(afterA, 0u) << "the first wrs frame makes its pipelines";
+        // The frame's stats count them (the fp16 probe's, made at create, is not the frame's) and the
+        // time they took: the first frame's hitch.
+        EXPECT_EQ((*a)->stats().pipelinesMade, afterA - (ctx.halfProbe() ? 1u : 0u));
+        EXPECT_GT((*a)->stats().pipelineMs, 0.0);
 
         // The same configuration: nothing new, the same bits.
         auto b = Compositor::create(ctx, cfg);
@@ -43,6 +47,8 @@ TEST_F(SharedPipelines, MadeOncePerContextAndUsedByEveryCompositor) {
         StereoApp appB(**b, W, H, formats[0], formats[1], formats[2]);
         ASSERT_TRUE(appB.submit(1, first).ok());
         EXPECT_EQ(ctx.sharedPipelineCount(), afterA);
+        EXPECT_EQ((*b)->stats().pipelinesMade, 0u) << "b's first frame found a's pipelines";
+        EXPECT_EQ((*b)->stats().pipelineMs, 0.0);
         expectSameOutputs(**a, **b, "frame 1");
         for (uint64_t n = 2; n <= 3; ++n) {
             const auto eyes = frame();
@@ -50,6 +56,7 @@ TEST_F(SharedPipelines, MadeOncePerContextAndUsedByEveryCompositor) {
             ASSERT_TRUE(appB.submit(n, eyes).ok());
             expectSameOutputs(**a, **b, "frame " + std::to_string(n));
             expectSameReservoirs(**a, **b, "frame " + std::to_string(n));
+            EXPECT_EQ((*a)->stats().pipelinesMade, 0u) << "frame " << n;
         }
         const size_t afterB = ctx.sharedPipelineCount();
 
@@ -61,6 +68,7 @@ TEST_F(SharedPipelines, MadeOncePerContextAndUsedByEveryCompositor) {
         StereoApp appC(**c, W, H, formats[0], formats[1], formats[2]);
         ASSERT_TRUE(appC.submit(1, first).ok());
         EXPECT_GT(ctx.sharedPipelineCount(), afterB);
+        EXPECT_EQ((*c)->stats().pipelinesMade, ctx.sharedPipelineCount() - afterB);
 
         made = ctx.sharedPipelineCount();
     }
