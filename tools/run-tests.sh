@@ -64,7 +64,12 @@ rounding_variants="Rounding\.EveryPermittedRounding"
 # And the CPU stress study's long runs (StressCpu.ShortRunOfEveryStream: 10^5 frames of every stream
 # for its statistics; StressCpu.SafeHorizonOfTheShippingLayout: 2^25 steps for a horizon), figures of
 # the shared math whose host path (the stream runner) stress_cli runs under the sanitizers.
+# And two checks of the device's arithmetic rather than of a host path: sparse retention's output against
+# retention in every tile over thirteen cases (Sparse.SameOutputAsRetentionInEveryTile, 22 s there; the
+# other Sparse.* tests take sparse retention's host path under the sanitizers), and the device's fp16
+# conversion against the hand one (HardwareHalf.SameBitsAsTheHandConversion).
 release_only="$rounding_variants|Bench\.WrsBeatsFovNearGaze|StressCpu\.ShortRunOfEveryStream|StressCpu\.SafeHorizon"
+release_only="$release_only|Sparse\.SameOutputAsRetentionInEveryTile|HardwareHalf\.SameBitsAsTheHandConversion"
 ASAN_OPTIONS="detect_leaks=1:$asan" \
     ctest --test-dir build-asan --output-on-failure -j 2 --timeout 900 -LE gpu -E "$vulkan_scripts|$release_only"
 # The command-line scripts without the gpu label (two short ones) run beside the GPU suites rather than

@@ -232,13 +232,6 @@ TEST_F(DeviceFaultOom, Readback) {
 
 const char* const kPipelineOom = "vkCreateComputePipelines failed: VK_ERROR_OUT_OF_DEVICE_MEMORY";
 
-struct PipelineRow {
-    std::string name;
-    bool record;  ///< FrameSubmission::Mode::Record into the caller's command buffer (else Wait)
-    bool last;    ///< the frame's last new pipeline fails (else its first)
-};
-void PrintTo(const PipelineRow& r, std::ostream* os) { *os << r.name; }
-
 // Ends frame `n` of `lane` in Wait mode, or in Record mode into a command buffer of `ctx` that is then
 // submitted and waited for; returns endFrame's status.
 Status endFrameIn(vk::Context& ctx, Lane& lane, uint64_t n, const std::array<EyeFrame, 2>& eyes, bool record) {
@@ -270,9 +263,7 @@ Status endFrameIn(vk::Context& ctx, Lane& lane, uint64_t n, const std::array<Eye
 }
 
 // Main and twin, each on a context of its own (so that both make the same pipelines at the same
-// frames), after frames 1 and 2 untiled, with tiles skipped and sparse retention pending (setConfig:
-// no history reset): the next frame's classification, tiled retention and skip list need pipelines no
-// earlier frame made.
+// frames), after frames 1 and 2 untiled.
 struct FreshTwins {
     explicit FreshTwins(uint32_t seed) {
         CompositorConfig untiled{.seed = seed};
@@ -286,63 +277,23 @@ struct FreshTwins {
             for (Lane* lane : {main.get(), twin.get()})
                 EXPECT_TRUE(lane->app->submit(n, goodFrame(n, lane->formats)).ok()) << "frame " << n;
     }
-    /// Both lanes: tiles skipped from the next frame on.
-    void tile() {
-        CompositorConfig tiled = main->comp->config();
-        tiled.skipTiles = true;
-        EXPECT_TRUE(main->comp->setConfig(tiled).ok());
-        EXPECT_TRUE(twin->comp->setConfig(tiled).ok());
+    /// Both lanes: `edit` applied to their configuration from the next frame on.
+    void set(const std::function<void(CompositorConfig&)>& edit) {
+        CompositorConfig c = main->comp->config();
+        edit(c);
+        EXPECT_TRUE(main->comp->setConfig(c).ok());
+        EXPECT_TRUE(twin->comp->setConfig(c).ok());
+    }
+    /// Has the twin end frame `n` (`eyes`, through `app` if given) and returns how many pipelines that
+    /// made: main, whose context made the same ones so far, needs as many for it.
+    uint32_t twinMakes(uint64_t n, const std::array<EyeFrame, 2>& eyes, StereoApp* app = nullptr) {
+        const std::size_t before = twinCtx->sharedPipelineCount();
+        EXPECT_TRUE((app ? app : twin->app.get())->submit(n, eyes).ok()) << "twin, frame " << n;
+        return uint32_t(twinCtx->sharedPipelineCount() - before);
     }
     std::unique_ptr<vk::Context> mainCtx, twinCtx;
     std::unique_ptr<Lane> main, twin;
 };
-
-class PipelineAtAFrame : public GpuTest, public ::testing::WithParamInterface<PipelineRow> {};
-
-// Frame 3 fails at the first or the last pipeline it makes.
-TEST_P(PipelineAtAFrame, Row) {
-    const PipelineRow& row = GetParam();
-    FreshTwins t(16);
-    ASSERT_TRUE(t.main && t.twin);
-    Lane &main = *t.main, &twin = *t.twin;
-    vk::Context &mainCtx = *t.mainCtx, &twinCtx = *t.twinCtx;
-    t.tile();
-    const Snapshot before = snapshot(*main.comp);
-
-    // The twin's frame 3 counts the pipelines it makes; main's makes as many.
-    const std::size_t made = twinCtx.sharedPipelineCount();
-    ASSERT_TRUE(twin.app->submit(3, goodFrame(3, twin.formats)).ok());
-    const uint32_t fresh = uint32_t(twinCtx.sharedPipelineCount() - made);
-    ASSERT_GE(fresh, 3u) << "frame 3 should need the classification's, tiled retention's and the skip list's";
-    Status s;
-    {
-        Armed a(mainCtx, vk::FaultInjection{.failPipeline = row.last ? fresh : 1u});
-        s = endFrameIn(mainCtx, main, 3, goodFrame(3, main.formats), row.record);
-    }
-    ASSERT_FALSE(s.ok()) << "the pipeline fault did not fail frame 3";
-    EXPECT_EQ(s.error().code, int(SubmitError::DeviceFailure)) << s.message();
-    EXPECT_TRUE(contains(s.message(), kPipelineOom)) << s.message();
-    EXPECT_TRUE(contains(s.message(), ".comp pipeline (constants ")) << s.message();
-    // Nothing changed: not the history, the output, the stats or the parameters, and (Record) the
-    // caller's buffer, submitted as endFrame left it, wrote nothing either.
-    const std::string changed = difference(before, snapshot(*main.comp));
-    EXPECT_TRUE(changed.empty()) << "the failed frame changed the compositor: " << changed;
-
-    // Frame 3 again makes the pipeline, and main goes on as the twin, which never saw the fault.
-    ASSERT_TRUE(endFrameIn(mainCtx, main, 3, goodFrame(3, main.formats), row.record).ok());
-    std::string d = difference(snapshot(*main.comp), snapshot(*twin.comp));
-    EXPECT_TRUE(d.empty()) << "frame 3 once the pipeline could be made: " << d;
-    for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(4, goodFrame(4, lane->formats)).ok());
-    d = difference(snapshot(*main.comp), snapshot(*twin.comp));
-    EXPECT_TRUE(d.empty()) << "frame 4: " << d;
-    EXPECT_EQ(mainCtx.validationErrors(), 0u);
-}
-
-INSTANTIATE_TEST_SUITE_P(DeviceFault, PipelineAtAFrame,
-                         ::testing::Values(PipelineRow{"wait_first_new_pipeline", false, false},
-                                           PipelineRow{"wait_last_new_pipeline", false, true},
-                                           PipelineRow{"record_last_new_pipeline", true, true}),
-                         [](const ::testing::TestParamInfo<PipelineRow>& i) { return i.param.name; });
 
 class DeviceFaultObject : public GpuTest {};
 
@@ -381,30 +332,73 @@ TEST_F(DeviceFaultObject, EveryObjectOfCompositorCreateFailsWithAnError) {
 
 class DeviceFaultPipeline : public GpuTest {};
 
-// A frame that resizes and then fails for a pipeline has changed one thing: the size. What the new size
-// holds is defined (the output black, the reservoirs empty) until the same frame goes through and
-// matches a twin that never saw the fault.
-TEST_F(DeviceFaultPipeline, AFrameFailingAfterItsResizeLeavesTheNewSizeBlackAndEmpty) {
-    FreshTwins t(18);
+// Expects `s` to be the refusal of a frame whose pipeline could not be made.
+void expectPipelineRefusal(const Status& s, const std::string& what) {
+    ASSERT_FALSE(s.ok()) << what << ": the pipeline fault did not fail the frame";
+    EXPECT_EQ(s.error().code, int(SubmitError::DeviceFailure)) << what << ": " << s.message();
+    EXPECT_TRUE(contains(s.message(), kPipelineOom)) << what << ": " << s.message();
+    EXPECT_TRUE(contains(s.message(), ".comp pipeline (constants ")) << what << ": " << s.message();
+}
+
+// One pair of twins through every case, main alone seeing the faults:
+// - frame 3 switches tiles on (setConfig, no history reset), which needs the classification's, tiled
+//   retention's and the skip list's pipelines. It fails at its first new pipeline, then at its last
+//   (Wait), then in Record mode at the one still missing, after every other pass was recorded. Each
+//   time nothing changes: not the history, the output, the stats, the parameters, and in Record mode
+//   the caller's buffer, submitted as endFrame left it, writes nothing either. Then the same frame
+//   goes through and matches the twin.
+// - frame 5 comes at a new size with sparse retention off (new pipelines again) and fails after its
+//   resize: the size is the one change, its output black and its reservoirs empty (a resize clears
+//   them), until the same frame goes through and matches the twin.
+TEST_F(DeviceFaultPipeline, AFrameWhosePipelineCannotBeMadeIsRefusedAndChangesNothing) {
+    FreshTwins t(16);
     ASSERT_TRUE(t.main && t.twin);
     Lane &main = *t.main, &twin = *t.twin;
-    vk::Context &mainCtx = *t.mainCtx, &twinCtx = *t.twinCtx;
+    vk::Context& mainCtx = *t.mainCtx;
+    auto expectSameAsTwin = [&](const std::string& what) {
+        const std::string d = difference(snapshot(*main.comp), snapshot(*twin.comp));
+        EXPECT_TRUE(d.empty()) << what << ": " << d;
+    };
+
+    t.set([](CompositorConfig& c) { c.skipTiles = true; });
+    const Snapshot before = snapshot(*main.comp);
+    const uint32_t fresh = t.twinMakes(3, goodFrame(3, twin.formats));
+    ASSERT_GE(fresh, 3u) << "frame 3 should need the classification's, tiled retention's and the skip list's";
+    struct Attempt {
+        const char* what;
+        uint32_t failPipeline;
+        bool record;
+    };
+    for (const Attempt& at : {Attempt{"its first new pipeline (Wait)", 1u, false},
+                              Attempt{"its last new pipeline (Wait)", fresh, false},
+                              Attempt{"the one still missing (Record)", 1u, true}}) {
+        Status s;
+        {
+            Armed a(mainCtx, vk::FaultInjection{.failPipeline = at.failPipeline});
+            s = endFrameIn(mainCtx, main, 3, goodFrame(3, main.formats), at.record);
+        }
+        ASSERT_NO_FATAL_FAILURE(expectPipelineRefusal(s, at.what));
+        const std::string changed = difference(before, snapshot(*main.comp));
+        EXPECT_TRUE(changed.empty()) << at.what << ": the refused frame changed the compositor: " << changed;
+    }
+    ASSERT_TRUE(endFrameIn(mainCtx, main, 3, goodFrame(3, main.formats), true).ok());
+    expectSameAsTwin("frame 3 once its pipelines could be made");
+    for (Lane* lane : {&main, &twin}) ASSERT_TRUE(lane->app->submit(4, goodFrame(4, lane->formats)).ok());
+    expectSameAsTwin("frame 4");
+
     StereoApp bigMain(*main.comp, kW2, kH2, Format::RGBA16F, Format::R32F, Format::RGBA16F);
     StereoApp bigTwin(*twin.comp, kW2, kH2, Format::RGBA16F, Format::R32F, Format::RGBA16F);
-    t.tile();
-    const auto eyes = frameOfSize(3, kW2, kH2);
-    const std::size_t made = twinCtx.sharedPipelineCount();
-    ASSERT_TRUE(bigTwin.submit(3, eyes).ok());
-    const uint32_t fresh = uint32_t(twinCtx.sharedPipelineCount() - made);
-    ASSERT_GE(fresh, 1u);
+    t.set([](CompositorConfig& c) { c.sparseRetention = false; });
+    const auto eyes = frameOfSize(5, kW2, kH2);
+    const uint32_t freshBig = t.twinMakes(5, eyes, &bigTwin);
+    ASSERT_GE(freshBig, 1u);
     bigMain.write(eyes);
     Status s;
     {
-        Armed a(mainCtx, vk::FaultInjection{.failPipeline = fresh});
-        s = main.comp->endFrame(bigMain.frameEnd(3, eyes));
+        Armed a(mainCtx, vk::FaultInjection{.failPipeline = freshBig});
+        s = main.comp->endFrame(bigMain.frameEnd(5, eyes));
     }
-    ASSERT_FALSE(s.ok());
-    EXPECT_TRUE(contains(s.message(), kPipelineOom)) << s.message();
+    ASSERT_NO_FATAL_FAILURE(expectPipelineRefusal(s, "frame 5"));
     ASSERT_EQ(main.comp->width(), kW2);
     for (uint32_t eye = 0; eye < 2; ++eye) {
         auto out = main.comp->readOutput(eye);
@@ -416,14 +410,12 @@ TEST_F(DeviceFaultPipeline, AFrameFailingAfterItsResizeLeavesTheNewSizeBlackAndE
         EXPECT_TRUE(std::all_of(res->begin(), res->end(), [](const glm::uvec4& r) { return r == glm::uvec4(0u); }))
             << "eye " << eye << ": the new size's reservoirs are not empty";
     }
-    ASSERT_TRUE(main.comp->endFrame(bigMain.frameEnd(3, eyes)).ok());
-    std::string d = difference(snapshot(*main.comp), snapshot(*twin.comp));
-    EXPECT_TRUE(d.empty()) << "frame 3 once the pipeline could be made: " << d;
-    const auto next = frameOfSize(4, kW2, kH2);
-    ASSERT_TRUE(bigMain.submit(4, next).ok());
-    ASSERT_TRUE(bigTwin.submit(4, next).ok());
-    d = difference(snapshot(*main.comp), snapshot(*twin.comp));
-    EXPECT_TRUE(d.empty()) << "frame 4: " << d;
+    ASSERT_TRUE(main.comp->endFrame(bigMain.frameEnd(5, eyes)).ok());
+    expectSameAsTwin("frame 5 once its pipeline could be made");
+    const auto next = frameOfSize(6, kW2, kH2);
+    ASSERT_TRUE(bigMain.submit(6, next).ok());
+    ASSERT_TRUE(bigTwin.submit(6, next).ok());
+    expectSameAsTwin("frame 6");
     EXPECT_EQ(mainCtx.validationErrors(), 0u);
 }
 
