@@ -87,9 +87,7 @@ Result<VkPipeline> ComposePass::pipeline(uint32_t kind, bool depth, bool motion,
                             [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); },
                             tally);
     if (!made)
-        return Error{made.error().code, "the compose pass's pipeline (constants " + std::to_string(kind) + "," +
-                                            std::to_string(depth) + "," + std::to_string(motion) + "," +
-                                            std::to_string(landed) + "): " + made.error().message};
+        return detail::pipelineError("the compose pass's pipeline", constants, made.error());
     slot = *made;
     return slot;
 }

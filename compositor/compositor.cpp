@@ -433,10 +433,7 @@ Result<VkPipeline> Compositor::pipeline(int shader, std::array<uint32_t, 7> pass
     if (!made) {
         static const char* const names[kShaderCount] = {"pyramid", "foveate", "wrs",      "taa",
                                                         "copy",    "retain",  "classify", "half_probe"};
-        std::string list;
-        for (uint32_t c : constants) list += (list.empty() ? "" : ",") + std::to_string(c);
-        return Error{made.error().code, std::string("the ") + names[shader] + ".comp pipeline (constants " + list +
-                                            "): " + made.error().message};
+        return pipelineError(std::string("the ") + names[shader] + ".comp pipeline", constants, made.error());
     }
     return pipelines_.emplace(key, *made).first->second;
 }
@@ -664,6 +661,8 @@ Status Compositor::endFrame(const layers::FrameEndInfo& frame, const FrameSubmis
         restorePlan(work);
         return cb.error();
     }
+    stats_.pipelinesMade = recordTally_.made;
+    stats_.pipelineMs = recordTally_.ms;
     if (Status s = submitFrame(submission, *cb, work); !s) {
         if (!work.queued) restorePlan(work);
         return s;

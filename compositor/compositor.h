@@ -533,9 +533,6 @@ private:
     void bindInputs(const layers::FrameEndInfo& frame, FrameWork& work);
     Result<VkCommandBuffer> recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
                                         const FrameWork& work);
-    /// recordFrame without the pipeline tally (recordTally_) it keeps in the frame's stats.
-    Result<VkCommandBuffer> recordFrameInto(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
-                                            const FrameWork& work);
     /// The frame's commands into `cb` (begun and ended by the caller unless `own`, the compositor's).
     Status recordPasses(VkCommandBuffer cb, bool own, const layers::FrameEndInfo& frame, const FrameWork& work);
     /// Puts back what planFrame and bindInputs changed, for a frame that fails before its submission.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "compositor/vk_context.h"
@@ -21,6 +22,14 @@ constexpr uint32_t kTimestamps = kFrameStamps + 2;
 
 // Prefixes an allocation error with what it was for, e.g. "reservoirs: vkAllocateMemory (...) failed: ...".
 inline Error named(const char* what, const Error& e) { return Error{e.code, std::string(what) + ": " + e.message}; }
+
+// A pipeline that could not be made, named by what it is and its specialization constants:
+// "<what> (constants 1,1,0,...): <the driver's error>".
+inline Error pipelineError(const std::string& what, std::span<const uint32_t> constants, const Error& e) {
+    std::string list;
+    for (uint32_t c : constants) list += (list.empty() ? "" : ",") + std::to_string(c);
+    return Error{e.code, what + " (constants " + list + "): " + e.message};
+}
 
 inline uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 

@@ -19,15 +19,7 @@ using namespace detail;
 
 Result<VkCommandBuffer> Compositor::recordFrame(const layers::FrameEndInfo& frame, const FrameSubmission& submission,
                                                 const FrameWork& work) {
-    recordTally_ = {};
-    Result<VkCommandBuffer> cb = recordFrameInto(frame, submission, work);
-    stats_.pipelinesMade = recordTally_.made;
-    stats_.pipelineMs = recordTally_.ms;
-    return cb;
-}
-
-Result<VkCommandBuffer> Compositor::recordFrameInto(const layers::FrameEndInfo& frame,
-                                                    const FrameSubmission& submission, const FrameWork& work) {
+    recordTally_ = {};  // endFrame keeps it in the frame's stats
     if (work.record) {
         // Rehearsed first in the compositor's own command buffer (idle: acceptFrame waited for its last
         // use), so that every pipeline the frame binds exists before a command goes into the caller's
