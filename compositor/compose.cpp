@@ -159,19 +159,14 @@ Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeP
     return {};
 }
 
-Status ComposePass::record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes,
+Status ComposePass::record(VkCommandBuffer cb, const std::array<uint32_t, 4>& constants, uint32_t eyes,
                            vk::PipelineTally* tally) {
-    if (kind == layers::SubmittedFoveation::Full) return {};
-    const uint32_t k = kind == layers::SubmittedFoveation::Quad ? 1u : 2u;
     const gpu::ComposeParams* p = static_cast<const gpu::ComposeParams*>(params_.mapped());
-    Result<VkPipeline> pipe =
-        pipeline(k, k == 1 && depth, k == 1 && motion, k == 1 ? composeLandedMode(*p) : 0u, tally);
+    Result<VkPipeline> pipe = pipeline(constants[0], constants[1] != 0, constants[2] != 0, constants[3], tally);
     if (!pipe) return pipe.error();
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set_, 0, nullptr);
     vkCmdDispatch(cb, groups(p->size.x), groups(p->size.y), eyes);
-    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     return {};
 }
 

@@ -33,10 +33,11 @@ public:
     /// allocation changes nothing) and points the pass at this frame's sources, `quality` and `params`.
     Status prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
                    VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint);
-    /// Records the pass for `eyes` eyes (its writes are made visible to the later compute passes). Fails,
-    /// having recorded nothing, where its pipeline cannot be made.
-    /// `tally` counts the pipelines this call made.
-    Status record(VkCommandBuffer cb, layers::SubmittedFoveation kind, bool depth, bool motion, uint32_t eyes,
+    /// Records the pass's dispatch for `eyes` eyes with specialisation constants `constants` (kind, depth,
+    /// motion, landed: the frame's pass table, compositor/pass_table.h; the caller records the barrier
+    /// after it). Fails, having recorded nothing, where its pipeline cannot be made. `tally` counts the
+    /// pipelines this call made.
+    Status record(VkCommandBuffer cb, const std::array<uint32_t, 4>& constants, uint32_t eyes,
                   vk::PipelineTally* tally = nullptr);
 
     /// The composed images (2 layers, layer = eye, VK_IMAGE_LAYOUT_GENERAL): RGBA16F linear colour with

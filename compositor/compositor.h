@@ -41,6 +41,9 @@
 
 namespace wrsfov {
 
+struct PassDispatch;           // compositor/pass_table.h
+enum class Barrier : uint8_t;  // compositor/pass_table.h
+
 /// fov: foveation only; fovTaa: foveation + TAA baseline (Karis/Salvi); wrsPaper: foveation + WRS
 /// as published (eq. 6 + eq. 7); wrs: foveation + quality-aware retention (wrs_common.h, the
 /// default); oracle: keeps whichever of history and candidate is closer to the submitted
@@ -553,28 +556,18 @@ private:
         uint32_t tilesPerEye;  ///< 8x8 tiles of one eye
     };
     void stamp(const FramePlan& plan, uint32_t i);
-    /// Pass 0 for frames submitted foveated: quad views composed, qualities (ComposePass).
-    void recordCompose(const FramePlan& plan);
+    /// The compose pass (frames submitted foveated: ComposePass), with the barrier after it.
+    void recordCompose(const FramePlan& plan, const PassDispatch& d);
     /// The compose pass, the rate-map placeholder and the rendered qualities for an output of
     /// width x height, made on the first frame submitted foveated (and the qualities again on a resize).
     Status prepareSubmitted(uint32_t width, uint32_t height, bool landed);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
     void recordHistoryStart(const FramePlan& plan);
-    /// Pass 0: tiles onto their lists (tile classes, and the skip list with sparse retention). Its
-    /// last dispatch and the pyramid's first have no barrier between them: the GPU may overlap them.
-    void recordClassify(const FramePlan& plan);
-    /// Pass 1: pyramid levels 1..4; its last barrier also publishes pass 0's lists.
-    void recordPyramid(const FramePlan& plan);
-    /// Pass 1b: the steady floor (level 4 filtered over time), after the pyramid.
-    void recordSteadyFloor(const FramePlan& plan);
-    /// A per-pixel pass over every pixel or per tile list.
-    void recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased = false);
-    /// Pass 2 (methods without the retain pass): foveation.
-    void recordFoveate(const FramePlan& plan);
-    /// Pass 3 (or 2+3): retain, wrs-paper or taa.
-    void recordTemporal(const FramePlan& plan);
-    /// Pass 3b (`wrs` on quad views with landed samples): the steady display.
-    void recordDisplay(const FramePlan& plan);
+    /// The tile lists emptied before the classification fills them.
+    void recordListsReset(const FramePlan& plan);
+    /// One dispatch of the pass table (its push constants, pipeline, dispatch and the barrier after it).
+    void recordDispatch(const FramePlan& plan, const PassDispatch& d);
+    static void recordBarrier(VkCommandBuffer cb, Barrier b);
     /// Mono views: the right eye's output, reservoirs, births and held qualities from the left's.
     void recordMonoCopies(const FramePlan& plan);
     /// The tile lists' counts into host memory (FrameStats::tiles).

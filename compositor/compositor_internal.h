@@ -8,12 +8,34 @@
 #include <span>
 #include <string>
 
+#include "compositor/pass_table.h"
 #include "compositor/vk_context.h"
 #include "layers/status.h"
 
 namespace wrsfov::detail {
 
 enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kClassify, kHalfProbe, kShaderCount };
+
+// The module of a pass table's shader (pass_table.h; compose.comp is ComposePass's).
+inline int shaderIndex(ShaderId s) {
+    switch (s) {
+        case ShaderId::Classify:
+            return kClassify;
+        case ShaderId::Pyramid:
+            return kPyramid;
+        case ShaderId::Foveate:
+            return kFoveate;
+        case ShaderId::Wrs:
+            return kWrs;
+        case ShaderId::Taa:
+            return kTaa;
+        case ShaderId::Retain:
+            return kRetain;
+        case ShaderId::Compose:
+            break;
+    }
+    return kShaderCount;
+}
 
 // Timestamps: the frame's start, after compose (and classify), pyramid, foveate, wrs/taa/retain; then
 // before and after a copy kernel, in a submission of its own (measureCopy).

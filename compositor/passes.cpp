@@ -8,6 +8,7 @@
 #include "compositor/compose.h"
 #include "compositor/compositor_internal.h"
 #include "compositor/input.h"
+#include "compositor/pass_table.h"
 #include "compositor/swapchain_vk.h"
 
 namespace wrsfov {
@@ -194,70 +195,22 @@ double Traffic::perPixel() const {
 }
 
 Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
-    const glm::uvec2 size0(std::max(in.width, 1u), std::max(in.height, 1u));
-    const double px = double(size0.x) * size0.y;
-    constexpr double kTexel = 8;  // a pyramid texel: fp16 RGBA
-    double level[WRS_LEVELS] = {};  // pyramid texels of each level per level-0 pixel
-    for (uint32_t k = 1; k < WRS_LEVELS; ++k) {
-        const glm::uvec2 s = gpu::wrs_level_size(size0, k);
-        level[k] = double(s.x) * s.y / px;
-    }
-    // Stored and sampled: the levels from wrs_first_stored_level up (mip: 3 and 4; none: 4).
-    const uint32_t first = gpu::wrs_first_stored_level(uint32_t(c.foveation));
-    double levels = 0;
-    for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
-    const PassPlan plan = planPasses(c, in.motionBytes > 0, c.trackBirth);
-    const bool retain = plan.retain, temporal = plan.temporal, pyramid = plan.pyramid;
-    const bool usesDepth = c.method == Method::WrsPaper || retain;
-    const bool usesMotion = temporal;
-    const double depth = usesDepth ? in.depthBytes : 0, motion = usesMotion ? in.motionBytes : 0;
-    const double birth = c.trackBirth && (c.method == Method::WrsPaper || retain) ? 16 : 0;
-    const double levelsRead = pyramid ? levels * kTexel : 0;  // every stored level is sampled somewhere
-
-    // Sparse retention: the retain pass in the tiles that ran it; the others run the foveating pass
-    // (with the birth colour when tracked), and the classification reads the far tiles' motion.
-    const bool sparse = plan.sparse;
-    const double share = sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
+    // The frame's pass table (pass_table.h): each pass once (its tile classes move the same bytes per
+    // pixel they cover), weighed by the share of the view it covers.
     Traffic t;
-    const bool composed = in.composeWrite > 0;
-    if (composed) t.passes.push_back({"compose", in.composeRead, in.composeWrite});
-    const double quality = composed && retain ? 4 : 0;  // the retain pass reads each pixel's rendered quality
-    if (sparse) t.passes.push_back({"classify", in.motionBytes * std::clamp(in.motionShare, 0.0, 1.0), 0.0});
-    if (pyramid) {
-        // mip: one dispatch, colour in, the stored levels out. gauss: level 1 from the colour, level k from k - 1.
-        const bool gauss = c.foveation == FoveationMode::Gauss;
-        const double below = gauss ? (level[1] + level[2] + level[3]) * kTexel : 0;
-        t.passes.push_back({"pyramid", in.colorBytes + below, levels * kTexel});
+    for (const PassDispatch& d : framePasses(c, in)) {
+        const std::string_view name = toString(d.pass);
+        if (std::any_of(t.passes.begin(), t.passes.end(), [&](const PassTraffic& p) { return p.pass == name; }))
+            continue;
+        t.passes.push_back({std::string(name), d.read * d.cover, d.write * d.cover});
     }
-    if (plan.steady) {
-        // Per level-4 texel: its 3x3 neighbourhood (each texel read by nine, once from memory), the
-        // history's 4x4 Catmull-Rom taps (once), one motion texel; the filtered texel out. Then level 4 and
-        // the filtered texel in, level 4 out.
-        const double motionTexel = in.motionBytes > 0 ? in.motionBytes : 0;
-        t.passes.push_back({"steady", level[4] * (2 * kTexel + motionTexel), level[4] * kTexel});
-        t.passes.push_back({"steady-copy", level[4] * 2 * kTexel, level[4] * kTexel});
-    }
-    if (!retain)
-        t.passes.push_back({"foveate", in.colorBytes + levelsRead, temporal ? 16.0 : 4.0});  // candidate or output
-    const double history = 16, output = 4;
-    if (plan.wrsPaper)
-        t.passes.push_back({"wrs-paper", 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
-                            history + output + birth});
-    if (plan.taa) t.passes.push_back({"taa", 16 + history + motion, history + output});
-    // The steady display: the retain pass's colour in the candidate buffer (fp16) instead of the output, then per
-    // pixel its 3x3 neighbourhood (each read by nine, once from memory), the display's history (bilinear,
-    // once), the motion; the history (fp16) and the output out. Quad views only (a rate map's compose pass
-    // writes its qualities alone, 4 bytes).
-    const bool display = plan.display && in.composeWrite > 4;
-    const double shown = 8;  // what the display reads of a shown colour, and its own history (wrs_pack_shown)
-    if (retain)  // the fingerprint level is among the stored ones in every mode
-        t.passes.push_back({"retain", share * (in.colorBytes + levelsRead + history + depth + motion + birth + quality),
-                            share * (history + (display ? shown : output) + birth)});
-    if (display) t.passes.push_back({"display", shown + shown + motion, shown + output});
-    if (sparse)
-        t.passes.push_back({"skip", (1 - share) * (in.colorBytes + levelsRead),
-                            (1 - share) * ((display ? shown : output) + birth)});
-    t.floor = in.colorBytes + output + (temporal ? share * (2 * history + depth + motion) : 0);
+    // The floor: the colour in and the output out, and for methods with history the reservoir read and
+    // written and the depth and motion they use, where retention ran.
+    const PassPlan plan = planPasses(c, in.motionBytes > 0, c.trackBirth);
+    const double share = plan.sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
+    const double depth = plan.wrsPaper || plan.retain ? in.depthBytes : 0, motion = plan.temporal ? in.motionBytes : 0;
+    constexpr double history = 16, output = 4;
+    t.floor = in.colorBytes + output + (plan.temporal ? share * (2 * history + depth + motion) : 0);
     return t;
 }
 

@@ -10,6 +10,7 @@
 #include "compositor/compositor_internal.h"
 #include "compositor/frame_work.h"
 #include "compositor/input.h"
+#include "compositor/pass_table.h"
 #include "compositor/swapchain_vk.h"
 
 namespace wrsfov {
@@ -84,22 +85,31 @@ Status Compositor::recordPasses(VkCommandBuffer cb, bool own, const layers::Fram
                          p.retain,   p.wrsPaper, p.taa,       p.temporal,   p.pyramid,     work.tiled,
                          work.sparse, work.inPlace, work.mono, timing,       work.steady,   p.display,
                          work.written, work.tilesPerEye};
-    // The passes, in the order they run (compositor.h); timestamps between them (kFrameStamps).
+    // The passes, in the order they run (the frame's pass table, pass_table.h); timestamps between the
+    // stages (kFrameStamps, passStage).
     recordHistoryStart(plan);
     stamp(plan, 0);
-    recordCompose(plan);  // binds a set of its own layout: the passes' set is bound after it
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &work.set, 0, nullptr);
-    recordClassify(plan);
-    stamp(plan, 1);
-    recordPyramid(plan);
-    recordSteadyFloor(plan);
-    stamp(plan, 2);
-    recordFoveate(plan);
-    stamp(plan, 3);
-    recordTemporal(plan);
-    recordDisplay(plan);
+    uint32_t stamped = 0;
+    bool setBound = false, listsReset = false;
+    for (const PassDispatch& d : framePasses(frame_, p, work.trafficIn, composeLandedMode(composeParams_))) {
+        while (stamped + 1 < passStage(d.pass)) stamp(plan, ++stamped);
+        if (d.pass == PassId::Compose) {  // a set of its own layout: the passes' set is bound after it
+            recordCompose(plan, d);
+            continue;
+        }
+        if (!setBound) {
+            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &work.set, 0,
+                                    nullptr);
+            setBound = true;
+        }
+        if ((d.pass == PassId::Reach || d.pass == PassId::Classify) && !listsReset) {
+            recordListsReset(plan);
+            listsReset = true;
+        }
+        recordDispatch(plan, d);
+    }
     recordMonoCopies(plan);
-    stamp(plan, 4);
+    while (stamped < kFrameStamps - 1) stamp(plan, ++stamped);
     transitionInputs(false);
     recordTileCounts(plan, work.record);
     // The output (and the history) is visible to whatever the caller runs next on the queue or
@@ -122,11 +132,14 @@ void Compositor::stamp(const FramePlan& plan, uint32_t i) {
     if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
 }
 
-void Compositor::recordCompose(const FramePlan& plan) {
-    if (submitted_ == layers::SubmittedFoveation::Full) return;  // compose_ exists from the first such frame on
+void Compositor::recordCompose(const FramePlan& plan, const PassDispatch& d) {
     if (recordError_) return;
-    if (Status s = compose_->record(plan.cb, submitted_, plan.hasDepth, plan.hasMotion, plan.eyes, &recordTally_); !s)
+    const std::array<uint32_t, 4> k{d.constants[0], d.constants[1], d.constants[2], d.constants[3]};
+    if (Status s = compose_->record(plan.cb, k, plan.eyes, &recordTally_); !s) {
         recordError_ = s.error();
+        return;
+    }
+    recordBarrier(plan.cb, d.after);
 }
 
 void Compositor::recordHistoryStart(const FramePlan& plan) {
@@ -148,136 +161,66 @@ void Compositor::recordHistoryStart(const FramePlan& plan) {
     }
 }
 
-void Compositor::recordClassify(const FramePlan& plan) {
-    if (!plan.tiled) return;
-    VkCommandBuffer cb = plan.cb;
+void Compositor::recordListsReset(const FramePlan& plan) {
     uint32_t args[gpu::WRS_TILE_LISTS][4];
     for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
-    vkCmdUpdateBuffer(cb, tiles_.handle(), 0, sizeof(args), args);
-    vk::memoryBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+    vkCmdUpdateBuffer(plan.cb, tiles_.handle(), 0, sizeof(args), args);
+    vk::memoryBarrier(plan.cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    const uint32_t tilesX = groups(plan.w, gpu::WRS_TILE), tilesY = groups(plan.h, gpu::WRS_TILE);
-    if (plan.sparse && plan.hasMotion) {
-        // Phase 1: the previous frame's held qualities per superblock, for phase 0's reach test; one
-        // group per superblock, one invocation per tile.
-        static_assert(gpu::WRS_SUPERBLOCK == WRS_GROUP_X && gpu::WRS_SUPERBLOCK == WRS_GROUP_Y);
-        if (!bindPipeline(cb, kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 1u})) return;
-        vkCmdDispatch(cb, groups(tilesX, gpu::WRS_SUPERBLOCK), groups(tilesY, gpu::WRS_SUPERBLOCK), plan.eyes);
-        computeBarrier(cb);
-    }
-    if (!bindPipeline(cb, kClassify, {uint32_t(frame_.foveation), plan.sparse, plan.hasMotion, 0u})) return;
-    vkCmdDispatch(cb, groups(tilesX, WRS_GROUP_X), groups(tilesY, WRS_GROUP_Y), plan.eyes);
-    // The pyramid shares no buffer or image with the classification: it is recorded next with no
-    // barrier between them, so that a GPU overlaps the two (on an NVIDIA H200 each was a few tens of
-    // microseconds of latency, docs/speed.md "On a GPU"), and its last barrier publishes the lists.
-    if (!plan.pyramid) listsBarrier(cb);
 }
 
-void Compositor::recordPyramid(const FramePlan& plan) {
-    if (!plan.pyramid) return;
+void Compositor::recordBarrier(VkCommandBuffer cb, Barrier b) {
+    if (b == Barrier::Compute) computeBarrier(cb);
+    if (b == Barrier::Lists) listsBarrier(cb);
+}
+
+void Compositor::recordDispatch(const FramePlan& plan, const PassDispatch& d) {
     VkCommandBuffer cb = plan.cb;
-    const bool gauss = frame_.foveation == FoveationMode::Gauss;
-    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
-    if (!bindPipeline(cb, kPyramid, {gauss ? 2u : 1u, firstStored, 0, 0})) return;
-    // mip: every level in one dispatch of WRS_MIP_TILE-pixel tiles; gauss: one dispatch per level.
-    const uint32_t dispatches = gauss ? WRS_LEVELS - 1 : 1;
-    const uint32_t tile = WRS_MIP_TILE;
-    for (uint32_t level = 1; level <= dispatches; ++level) {
-        gpu::LevelPush push{level, 0, 0, 0};
-        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-        glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), level);
-        if (gauss)
-            vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
-        else
-            vkCmdDispatch(cb, groups(plan.w, tile), groups(plan.h, tile), plan.eyes);
-        if (plan.tiled && level == dispatches)
-            listsBarrier(cb);  // also the classification's, recorded just before (recordClassify)
-        else
-            computeBarrier(cb);
+    auto push = [&](const gpu::LevelPush& lp) {
+        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(lp), &lp);
+    };
+    // The push constants a pass reads (LevelPush): the pyramid's level; the steady floor's and the
+    // display's slots, written: the slot the last frame did not write; read: the last frame's, where it
+    // wrote one (a history reset starts either anew, as it does the reservoirs). taa.comp declares the
+    // display's, unused by fov+taa and taau but set.
+    switch (d.pass) {
+        case PassId::Steady:
+            push({0, 1 - steadySlot_, steadySlot_, steadyValid_ && historyValid_ ? 1u : 0u});
+            break;
+        case PassId::Display:
+            push({0, 1 - displaySlot_, displaySlot_, displayValid_ && historyValid_ ? 1u : 0u});
+            break;
+        case PassId::Taa:
+            push({0, 0, 0, 0});
+            break;
+        default:
+            break;
     }
-}
-
-void Compositor::recordSteadyFloor(const FramePlan& plan) {
-    if (!plan.steady) return;
-    VkCommandBuffer cb = plan.cb;
-    const uint32_t firstStored = gpu::wrs_first_stored_level(uint32_t(frame_.foveation));
-    const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(plan.w, plan.h), gpu::WRS_STEADY_LEVEL);
-    // Written: the slot the last frame did not write; read: the last frame's, where it wrote one (a
-    // history reset starts the filter anew, as it does the reservoirs).
-    const uint32_t slot = 1 - steadySlot_;
-    const gpu::LevelPush push{0, slot, steadySlot_, steadyValid_ && historyValid_ ? 1u : 0u};
-    vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    for (uint32_t phase = 0; phase < 2; ++phase) {
-        if (!bindPipeline(cb, kPyramid, {3u, firstStored, plan.hasMotion, phase})) return;
-        vkCmdDispatch(cb, groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), plan.eyes);
-        computeBarrier(cb);
+    if (!bindPipeline(cb, shaderIndex(d.shader), d.constants)) return;
+    auto dispatch = [&](DispatchShape shape, uint32_t level) {
+        const glm::uvec3 g = dispatchSize(shape, level, plan.w, plan.h, plan.eyes);
+        vkCmdDispatch(cb, g.x, g.y, g.z);
+    };
+    switch (d.shape) {
+        case DispatchShape::TileList:
+            vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * uint32_t(d.tileClass));
+            break;
+        case DispatchShape::MipTiles:  // every level in one dispatch of WRS_MIP_TILE-pixel tiles
+            push({d.level, 0, 0, 0});
+            dispatch(d.shape, d.level);
+            break;
+        case DispatchShape::GaussLevels:  // one dispatch per level, each reading the one before
+            for (uint32_t level = 1; level < WRS_LEVELS; ++level) {
+                push({level, 0, 0, 0});
+                dispatch(DispatchShape::Level, level);
+                if (level + 1 < WRS_LEVELS) computeBarrier(cb);
+            }
+            break;
+        default:
+            dispatch(d.shape, d.level);
+            break;
     }
-}
-
-// A foveating pass over every pixel, or one indirect dispatch per tile class (constant 5), then, with
-// sparse retention, the skip list through the foveating pass alone. `aliased`: the pass reads a
-// buffer it also writes (the in-place reservoirs). Each invocation touches only its own pixel and the
-// lists' tiles are disjoint, but a barrier between the dispatches keeps the order explicit, as
-// synchronization validation (which tracks whole descriptor ranges) requires.
-void Compositor::recordPixelPass(const FramePlan& plan, int shader, std::array<uint32_t, 7> constants, bool aliased) {
-    VkCommandBuffer cb = plan.cb;
-    if (!plan.tiled) {
-        if (!bindPipeline(cb, shader, constants)) return;
-        vkCmdDispatch(cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
-        return;
-    }
-    for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
-        if (aliased && cls > 0) computeBarrier(cb);
-        constants[5] = 1 + cls;
-        if (!bindPipeline(cb, shader, constants)) return;
-        vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * cls);
-    }
-    if (!plan.sparse || shader != kRetain) return;
-    // Tiles that skip retention: the foveating pass writes their output (and birth colours).
-    if (aliased) computeBarrier(cb);
-    if (!bindPipeline(cb, kFoveate, {uint32_t(frame_.foveation), 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0})) return;
-    vkCmdDispatchIndirect(cb, tiles_.handle(), VkDeviceSize(16) * gpu::WRS_TILE_SKIP);
-}
-
-void Compositor::recordFoveate(const FramePlan& plan) {
-    if (plan.retain) return;  // foveation is fused into the retain pass
-    recordPixelPass(plan, kFoveate, {uint32_t(frame_.foveation), plan.temporal ? 0u : 1u, 0, 0});
-    computeBarrier(plan.cb);
-}
-
-void Compositor::recordTemporal(const FramePlan& plan) {
-    VkCommandBuffer cb = plan.cb;
-    const uint32_t gx = groups(plan.w, WRS_GROUP_X), gy = groups(plan.h, WRS_GROUP_Y);
-    if (plan.retain) {
-        recordPixelPass(plan, kRetain,
-                        {plan.hasMotion, plan.hasDepth, uint32_t(frame_.foveation), retainRule(frame_), plan.inPlace, 0,
-                         plan.sparse},
-                        plan.inPlace);
-    } else if (plan.wrsPaper) {
-        if (!bindPipeline(cb, kWrs, {plan.hasMotion, plan.hasDepth, uint32_t(frame_.change), frame_.bernoulli})) return;
-        vkCmdDispatch(cb, gx, gy, plan.eyes);
-    } else if (plan.taa) {
-        // taa.comp declares the steady display's push constants (recordDisplay); unused here, but set.
-        const gpu::LevelPush none{0, 0, 0, 0};
-        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(none), &none);
-        if (!bindPipeline(cb, kTaa, {plan.hasMotion, frame_.method == Method::Taau, 0, 0})) return;
-        vkCmdDispatch(cb, gx, gy, plan.eyes);
-    } else {
-        return;
-    }
-    computeBarrier(cb);
-}
-
-void Compositor::recordDisplay(const FramePlan& plan) {
-    if (!plan.display) return;
-    // Written: the slot the last frame did not write; read: the last frame's, where it wrote one (a
-    // history reset starts the display anew, as it does the reservoirs).
-    const uint32_t slot = 1 - displaySlot_;
-    const gpu::LevelPush push{0, slot, displaySlot_, displayValid_ && historyValid_ ? 1u : 0u};
-    vkCmdPushConstants(plan.cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    if (!bindPipeline(plan.cb, kTaa, {plan.hasMotion, 0, 1, 0})) return;
-    vkCmdDispatch(plan.cb, groups(plan.w, WRS_GROUP_X), groups(plan.h, WRS_GROUP_Y), plan.eyes);
-    computeBarrier(plan.cb);
+    recordBarrier(cb, d.after);
 }
 
 void Compositor::recordMonoCopies(const FramePlan& plan) {

@@ -30,26 +30,6 @@ extern char** environ;
 
 namespace wrsfov::eval {
 
-std::string_view toString(ShaderId s) {
-    switch (s) {
-        case ShaderId::Classify:
-            return "classify";
-        case ShaderId::Pyramid:
-            return "pyramid";
-        case ShaderId::Foveate:
-            return "foveate";
-        case ShaderId::Wrs:
-            return "wrs";
-        case ShaderId::Taa:
-            return "taa";
-        case ShaderId::Retain:
-            return "retain";
-        case ShaderId::Compose:
-            return "compose";
-    }
-    return "?";
-}
-
 std::span<const uint32_t> spirv(ShaderId s) {
     switch (s) {
         case ShaderId::Classify:
@@ -95,120 +75,34 @@ uint64_t groupsOf(uint64_t n, uint64_t size) { return (n + size - 1) / size; }
 }  // namespace
 
 std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const TrafficInputs& in, uint32_t eyes) {
-    // The passes Compositor::endFrame records (planPasses, which it calls too).
-    const bool hasDepth = in.depthBytes > 0, hasMotion = in.motionBytes > 0;
-    const PassPlan plan = planPasses(c, hasMotion, c.trackBirth);
-    const bool retain = plan.retain, temporal = plan.temporal, pyramid = plan.pyramid, tiled = plan.tiled;
-    const bool inPlace = plan.inPlace, sparse = plan.sparse;
-    const uint32_t fov = uint32_t(c.foveation);
-    // Bytes per pixel covered: a tile list's pass moves its own pixels' bytes, so retention's are
-    // taken with every tile retaining and the skipped tiles' with none (traffic() weighs them by share).
-    TrafficInputs all = in, none = in;
-    all.retainShare = 1.0;
-    none.retainShare = 0.0;
-    const Traffic t = traffic(c, all), skipped = traffic(c, none);
-    auto bytesOf = [](const Traffic& tr, std::string_view pass) {
-        for (const PassTraffic& p : tr.passes)
-            if (p.pass == pass) return p.read + p.write;
-        return 0.0;
-    };
-    auto bytes = [&](std::string_view pass) { return bytesOf(t, pass); };
-    const uint64_t whole = groupsOf(in.width, WRS_GROUP_X) * groupsOf(in.height, WRS_GROUP_Y) * eyes;
     std::vector<PipelineVariant> v;
-    // The barriers of endFrame: a dispatch goes into the current phase, barrier() starts the next.
+    // A phase: the dispatches recorded with no barrier between them. `gauss` builds its pyramid in one
+    // dispatch per level with barriers between, of which the classification before it overlaps only the
+    // first: the model keeps them apart.
     int phase = 0;
-    auto barrier = [&] { ++phase; };
-    auto add = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k, uint64_t groups, double bpp) {
-        v.push_back({pass, s, k, kWholeImage, groups, WRS_GROUP_X * WRS_GROUP_Y, bpp, phase});
-    };
-    // A per-pixel pass: one dispatch, or one indirect dispatch per tile class (class in constant 5),
-    // with barriers between them where the pass reads a buffer it writes (recordPixelPass).
-    auto addPixels = [&](const char* pass, ShaderId s, std::array<uint32_t, 9> k, bool aliased) {
-        if (!tiled) return add(pass, s, k, whole, bytes(pass));
-        for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
-            if (aliased && cls > 0) barrier();
-            k[5] = 1 + cls;
-            v.push_back({pass, s, k, int(cls), 0, WRS_GROUP_X * WRS_GROUP_Y, bytes(pass), phase});
+    bool open = false;  // the last dispatch was followed by no barrier
+    for (const PassDispatch& d : framePasses(c, in)) {
+        if (d.shape == DispatchShape::GaussLevels && open) ++phase;
+        PipelineVariant x;
+        x.pass = std::string(toString(d.pass));
+        x.shader = d.shader;
+        std::copy(d.constants.begin(), d.constants.end(), x.constants.begin());
+        // Constant 7 (HARDWARE_HALF) of every pass but compose: the device's fp16 conversion, which the
+        // compositor uses where its probe finds round to nearest even, as AMD's v_cvt_f16_f32 does in the
+        // default mode (the null device runs nothing, so the probe cannot run there). Constant 8
+        // (TRACK_BIRTH): the stale-pixel evaluation's birth colours, where the configuration tracks them.
+        if (d.shader != ShaderId::Compose) {
+            x.constants[7] = 1;
+            x.constants[8] = c.trackBirth ? 1u : 0u;
         }
-    };
-
-    // Every pipeline of a frame, one line each (a new variant is a line here).
-    // Frames submitted foveated: the compose pass first (ComposePass::record, barriers on both sides), quad
-    // views (kind 1, with the views' depth and motion and the method's landed or gathered wide samples:
-    // composeLanded) or a rate map (kind 2); its own constants only.
-    if (in.composeWrite > 0) {
-        const bool quad = in.composeWrite > 4;
-        add("compose", ShaderId::Compose,
-            {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion, quad ? composeLanded(c) : 0u}, whole,
-            bytes("compose"));
-        barrier();
-    }
-    if (tiled) {  // one invocation per tile; each writes its 4-byte list entry (and reads far tiles' motion)
-        const uint64_t tx = groupsOf(in.width, gpu::WRS_TILE), ty = groupsOf(in.height, gpu::WRS_TILE);
-        if (sparse && hasMotion) {  // phase 1: a superblock's largest held quality from its tiles' (4 bytes each),
-                                    // one group per superblock
-            add("reach", ShaderId::Classify, {fov, 1u, 1u, 1u},
-                groupsOf(tx, gpu::WRS_SUPERBLOCK) * groupsOf(ty, gpu::WRS_SUPERBLOCK) * eyes,
-                4.0 / (gpu::WRS_TILE * gpu::WRS_TILE));
-            barrier();
-        }
-        add("classify", ShaderId::Classify, {fov, sparse, sparse && hasMotion, 0u},
-            groupsOf(tx, WRS_GROUP_X) * groupsOf(ty, WRS_GROUP_Y) * eyes,
-            4.0 / (gpu::WRS_TILE * gpu::WRS_TILE) + bytes("classify"));
-        // The pyramid follows with no barrier (recordClassify); `gauss` builds it in one dispatch per
-        // level with barriers between, of which the classification overlaps only the first: the model
-        // keeps them apart.
-        if (!pyramid || c.foveation == FoveationMode::Gauss) barrier();
-    }
-    if (pyramid) {
-        const bool gauss = c.foveation == FoveationMode::Gauss;
-        uint64_t groups = groupsOf(in.width, WRS_MIP_TILE) * groupsOf(in.height, WRS_MIP_TILE) * eyes;
-        if (gauss) {  // one dispatch per level
-            groups = 0;
-            for (uint32_t level = 1; level < WRS_LEVELS; ++level) {
-                const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(in.width, in.height), level);
-                groups += groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
-            }
-        }
-        const uint32_t first = gpu::wrs_first_stored_level(fov);
-        add("pyramid", ShaderId::Pyramid, {gauss ? 2u : 1u, first}, groups, bytes("pyramid"));
-        barrier();
-        if (plan.steady) {  // the steady floor: one invocation per level-4 texel, two phases
-            const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(in.width, in.height), gpu::WRS_STEADY_LEVEL);
-            const uint64_t g4 = groupsOf(ls.x, WRS_GROUP_X) * groupsOf(ls.y, WRS_GROUP_Y) * eyes;
-            add("steady", ShaderId::Pyramid, {3u, first, hasMotion, 0u}, g4, bytes("steady"));
-            barrier();
-            add("steady-copy", ShaderId::Pyramid, {3u, first, hasMotion, 1u}, g4, bytes("steady-copy"));
-            barrier();
-        }
-    }
-    if (!retain) addPixels("foveate", ShaderId::Foveate, {fov, temporal ? 0u : 1u}, false);
-    if (!retain && temporal) barrier();
-    if (retain)
-        addPixels("retain", ShaderId::Retain, {hasMotion, hasDepth, fov, retainRule(c), inPlace, 0, sparse}, inPlace);
-    else if (plan.wrsPaper)
-        add("wrs-paper", ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli}, whole,
-            bytes("wrs-paper"));
-    else if (plan.taa)
-        add("taa", ShaderId::Taa, {hasMotion}, whole, bytes("taa"));
-    if (sparse) {  // the far tiles that skip retention: the foveating pass alone, after a barrier if in place
-        if (inPlace) barrier();
-        v.push_back({"skip", ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0}, int(gpu::WRS_TILE_SKIP), 0,
-                     WRS_GROUP_X * WRS_GROUP_Y, bytesOf(skipped, "skip"), phase});
-    }
-    // The steady display (recordDisplay) after the retain pass's barrier, on quad views (traffic() counts it there).
-    if (plan.display && bytes("display") > 0) {
-        barrier();
-        add("display", ShaderId::Taa, {hasMotion, 0u, 1u}, whole, bytes("display"));
-    }
-    // Constant 7 (HARDWARE_HALF) of every pass: the device's fp16 conversion, which the compositor uses
-    // where its probe finds round to nearest even, as AMD's v_cvt_f16_f32 does in the default mode (the
-    // null device runs nothing, so the probe cannot run there).
-    // Constant 8 (TRACK_BIRTH): the stale-pixel evaluation's birth colours, where the configuration tracks them.
-    for (PipelineVariant& x : v) {
-        if (x.shader == ShaderId::Compose) continue;  // compose.comp declares neither
-        x.constants[7] = 1;
-        x.constants[8] = c.trackBirth ? 1u : 0u;
+        x.tileClass = d.shape == DispatchShape::TileList ? d.tileClass : kWholeImage;
+        x.groups = d.shape == DispatchShape::TileList ? 0 : dispatchGroups(d, in.width, in.height, eyes);
+        x.invocationsPerGroup = WRS_GROUP_X * WRS_GROUP_Y;
+        x.bytesPerPx = d.read + d.write;
+        x.phase = phase;
+        v.push_back(x);
+        open = d.after == Barrier::None;
+        if (!open) ++phase;
     }
     return v;
 }

@@ -18,14 +18,15 @@
 #include <vector>
 
 #include "compositor/compositor.h"
+#include "compositor/pass_table.h"
 #include "layers/status.h"
 
 namespace wrsfov::eval {
 
-/// The compositor's compute shaders, as embedded at build time (shaders/CMakeLists.txt).
-/// Compose: the pass for frames submitted foveated (compose.comp, a layout of its own: ComposePass).
-enum class ShaderId : uint8_t { Classify, Pyramid, Foveate, Wrs, Taa, Retain, Compose };
-std::string_view toString(ShaderId s);
+/// The compositor's compute shaders (compositor/pass_table.h), as embedded at build time
+/// (shaders/CMakeLists.txt). Compose: the pass for frames submitted foveated (compose.comp, a layout of
+/// its own: ComposePass).
+using wrsfov::ShaderId;
 /// The embedded SPIR-V of a shader.
 std::span<const uint32_t> spirv(ShaderId s);
 
@@ -53,9 +54,9 @@ struct PipelineVariant {
 inline constexpr int kOwnPhase = -1;
 
 /// The pipelines Compositor::endFrame dispatches for `config` on views like `in` (depth and motion
-/// where `in` has them, `eyes` views, no stale tracking), in the order they run. This is the one place
-/// that mirrors endFrame: a new variant of a pass (another specialisation constant, another tile kind)
-/// is one line here, and the cost model, its statistics and its tests follow.
+/// where `in` has them, `eyes` views, no stale tracking), in the order they run: the frame's pass table
+/// (framePasses, compositor/pass_table.h), which endFrame records and traffic() counts, one variant per
+/// dispatch, with its workgroups and the phase its barriers put it in.
 std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& config, const TrafficInputs& in,
                                               uint32_t eyes = 2);
 

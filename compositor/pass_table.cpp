@@ -1,0 +1,263 @@
+// The frame's passes, described once (pass_table.h): their order, constants, shapes, barriers and bytes.
+#include "compositor/pass_table.h"
+
+#include <algorithm>
+
+#include "shaders/config.h"
+#include "shaders/wrs_common.h"
+
+namespace wrsfov {
+
+std::string_view toString(ShaderId s) {
+    switch (s) {
+        case ShaderId::Classify:
+            return "classify";
+        case ShaderId::Pyramid:
+            return "pyramid";
+        case ShaderId::Foveate:
+            return "foveate";
+        case ShaderId::Wrs:
+            return "wrs";
+        case ShaderId::Taa:
+            return "taa";
+        case ShaderId::Retain:
+            return "retain";
+        case ShaderId::Compose:
+            return "compose";
+    }
+    return "?";
+}
+
+std::string_view toString(PassId p) {
+    switch (p) {
+        case PassId::Compose:
+            return "compose";
+        case PassId::Reach:
+            return "reach";
+        case PassId::Classify:
+            return "classify";
+        case PassId::Pyramid:
+            return "pyramid";
+        case PassId::Steady:
+            return "steady";
+        case PassId::SteadyCopy:
+            return "steady-copy";
+        case PassId::Foveate:
+            return "foveate";
+        case PassId::Retain:
+            return "retain";
+        case PassId::Skip:
+            return "skip";
+        case PassId::WrsPaper:
+            return "wrs-paper";
+        case PassId::Taa:
+            return "taa";
+        case PassId::Display:
+            return "display";
+    }
+    return "?";
+}
+
+uint32_t passStage(PassId p) {
+    switch (p) {
+        case PassId::Compose:
+        case PassId::Reach:
+        case PassId::Classify:
+            return 1;
+        case PassId::Pyramid:
+        case PassId::Steady:
+        case PassId::SteadyCopy:
+            return 2;
+        case PassId::Foveate:
+            return 3;
+        default:
+            return 4;
+    }
+}
+
+glm::uvec3 dispatchSize(DispatchShape shape, uint32_t level, uint32_t w, uint32_t h, uint32_t eyes) {
+    auto groups = [](uint32_t n, uint32_t size) { return (n + size - 1) / size; };
+    const uint32_t tilesX = groups(w, gpu::WRS_TILE), tilesY = groups(h, gpu::WRS_TILE);
+    switch (shape) {
+        case DispatchShape::Pixels:
+            return {groups(w, WRS_GROUP_X), groups(h, WRS_GROUP_Y), eyes};
+        case DispatchShape::Tiles:
+            return {groups(tilesX, WRS_GROUP_X), groups(tilesY, WRS_GROUP_Y), eyes};
+        case DispatchShape::Superblocks:
+            static_assert(gpu::WRS_SUPERBLOCK == WRS_GROUP_X && gpu::WRS_SUPERBLOCK == WRS_GROUP_Y);
+            return {groups(tilesX, gpu::WRS_SUPERBLOCK), groups(tilesY, gpu::WRS_SUPERBLOCK), eyes};
+        case DispatchShape::MipTiles:
+            return {groups(w, WRS_MIP_TILE), groups(h, WRS_MIP_TILE), eyes};
+        case DispatchShape::Level: {
+            const glm::uvec2 ls = gpu::wrs_level_size(glm::uvec2(w, h), level);
+            return {groups(ls.x, WRS_GROUP_X), groups(ls.y, WRS_GROUP_Y), eyes};
+        }
+        case DispatchShape::TileList:
+        case DispatchShape::GaussLevels:
+            break;
+    }
+    return {0, 0, 0};
+}
+
+uint64_t dispatchGroups(const PassDispatch& d, uint32_t w, uint32_t h, uint32_t eyes) {
+    auto count = [](glm::uvec3 g) { return uint64_t(g.x) * g.y * g.z; };
+    if (d.shape != DispatchShape::GaussLevels) return count(dispatchSize(d.shape, d.level, w, h, eyes));
+    uint64_t n = 0;
+    for (uint32_t level = 1; level < WRS_LEVELS; ++level)
+        n += count(dispatchSize(DispatchShape::Level, level, w, h, eyes));
+    return n;
+}
+
+std::vector<PassDispatch> framePasses(const CompositorConfig& c, const TrafficInputs& in) {
+    return framePasses(c, planPasses(c, in.motionBytes > 0, c.trackBirth), in, composeLanded(c));
+}
+
+std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan& plan, const TrafficInputs& in,
+                                      uint32_t landedMode) {
+    const bool hasDepth = in.depthBytes > 0, hasMotion = in.motionBytes > 0;
+    const uint32_t fov = uint32_t(c.foveation);
+    const glm::uvec2 size0(std::max(in.width, 1u), std::max(in.height, 1u));
+    const double px = double(size0.x) * size0.y;
+    constexpr double kTexel = 8;                          // a pyramid texel: fp16 RGBA
+    constexpr double kTileWord = 4.0 / (gpu::WRS_TILE * gpu::WRS_TILE);  // a word per 8x8 tile, per pixel
+    double level[WRS_LEVELS] = {};  // pyramid texels of each level per level-0 pixel
+    for (uint32_t k = 1; k < WRS_LEVELS; ++k) {
+        const glm::uvec2 s = gpu::wrs_level_size(size0, k);
+        level[k] = double(s.x) * s.y / px;
+    }
+    // Stored and sampled: the levels from wrs_first_stored_level up (mip: 3 and 4; none: 4).
+    const uint32_t first = gpu::wrs_first_stored_level(fov);
+    double levels = 0;
+    for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
+    const bool usesDepth = plan.wrsPaper || plan.retain;
+    const double depth = usesDepth ? in.depthBytes : 0, motion = plan.temporal ? in.motionBytes : 0;
+    const double birth = c.trackBirth && (plan.wrsPaper || plan.retain) ? 16 : 0;
+    const double levelsRead = plan.pyramid ? levels * kTexel : 0;  // every stored level is sampled somewhere
+    const double share = plan.sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
+    const bool composed = in.composeWrite > 0;
+    const bool quad = in.composeWrite > 4;  // a rate map's compose pass writes its qualities alone
+    const uint32_t landed = quad ? landedMode : 0u;
+    // The compose pass's landed (wrs) or gathered (taau) wide samples: two words a pixel, written by it and
+    // read by the pass that takes them (retain, taa).
+    const double landedWords = landed != 0 ? 8.0 : 0.0;
+    const double quality = composed && (plan.retain || plan.display) ? 4 : 0;  // each pixel's rendered quality
+    const double history = 16, output = 4;
+    // The steady display: the retain pass's colour in the candidate buffer (fp16) instead of the output.
+    const bool display = plan.display && quad;
+    const double shown = 8;  // what the display reads of a shown colour, and its own history (wrs_pack_shown)
+
+    std::vector<PassDispatch> d;
+    auto add = [&](PassId pass, ShaderId shader, std::array<uint32_t, 7> k, DispatchShape shape, Barrier after,
+                   double read, double write) -> PassDispatch& {
+        PassDispatch x;
+        x.pass = pass;
+        x.shader = shader;
+        x.constants = k;
+        x.shape = shape;
+        x.after = after;
+        x.read = read;
+        x.write = write;
+        d.push_back(x);
+        return d.back();
+    };
+    // A per-pixel pass over every pixel, or one indirect dispatch per tile class (constant 5 = 1 + class).
+    // `aliased`: the pass reads a buffer it also writes (the in-place reservoirs), so a barrier separates its
+    // dispatches (each touches its own pixels only, but synchronization validation tracks whole ranges).
+    // `last` is the barrier after its last dispatch.
+    auto addPixels = [&](PassId pass, ShaderId shader, std::array<uint32_t, 7> k, bool aliased, Barrier last,
+                         double read, double write, double cover) {
+        if (!plan.tiled) {
+            add(pass, shader, k, DispatchShape::Pixels, last, read, write).cover = cover;
+            return;
+        }
+        for (uint32_t cls = 0; cls < gpu::WRS_TILE_CLASSES; ++cls) {
+            k[5] = 1 + cls;
+            const bool final = cls + 1 == gpu::WRS_TILE_CLASSES;
+            PassDispatch& x = add(pass, shader, k, DispatchShape::TileList,
+                                  final ? last : aliased ? Barrier::Compute : Barrier::None, read, write);
+            x.tileClass = int(cls);
+            x.cover = cover;
+        }
+    };
+
+    // Frames submitted foveated: the compose pass first (ComposePass::record), quad views (kind 1, with the
+    // views' depth and motion and the method's landed or gathered wide samples) or a rate map (kind 2). It
+    // writes each tile's largest quality after the pixels'.
+    if (composed)
+        add(PassId::Compose, ShaderId::Compose, {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion, landed},
+            DispatchShape::Pixels, Barrier::Compute, in.composeRead, in.composeWrite + kTileWord + landedWords);
+    // The classification: one invocation per tile, each writing its list entry; with sparse retention it
+    // reads the held qualities and, where a sharper sample is within reach, the tile's motion.
+    if (plan.tiled) {
+        const double heldWords = plan.sparse ? kTileWord : 0.0;
+        if (plan.sparse && hasMotion)  // phase 1: a superblock's largest held quality from its tiles' words
+            add(PassId::Reach, ShaderId::Classify, {fov, 1u, 1u, 1u}, DispatchShape::Superblocks, Barrier::Compute,
+                kTileWord, 0.0);
+        // The pyramid follows with no barrier (recordClassify): a GPU overlaps the two; its last barrier
+        // publishes the lists.
+        add(PassId::Classify, ShaderId::Classify, {fov, plan.sparse, hasMotion, 0u}, DispatchShape::Tiles,
+            plan.pyramid ? Barrier::None : Barrier::Lists,
+            (plan.sparse ? in.motionBytes * std::clamp(in.motionShare, 0.0, 1.0) : 0.0) + heldWords +
+                (composed ? kTileWord : 0.0),
+            kTileWord);
+    }
+    if (plan.pyramid) {
+        // mip: one dispatch, colour in, the stored levels out. gauss: level 1 from the colour, level k from k - 1.
+        const bool gauss = c.foveation == FoveationMode::Gauss;
+        const double below = gauss ? (level[1] + level[2] + level[3]) * kTexel : 0;
+        PassDispatch& p = add(PassId::Pyramid, ShaderId::Pyramid, {gauss ? 2u : 1u, first},
+                              gauss ? DispatchShape::GaussLevels : DispatchShape::MipTiles,
+                              plan.tiled ? Barrier::Lists : Barrier::Compute, in.colorBytes + below, levels * kTexel);
+        p.level = 1;
+    }
+    if (plan.steady) {
+        // Per level-4 texel: its 3x3 neighbourhood (each texel read by nine, once from memory), the
+        // history's 4x4 Catmull-Rom taps (once), one motion texel; the filtered texel out. Then level 4 and
+        // the filtered texel in, level 4 out.
+        const double motionTexel = in.motionBytes > 0 ? in.motionBytes : 0;
+        for (uint32_t phase = 0; phase < 2; ++phase) {
+            PassDispatch& s = add(phase == 0 ? PassId::Steady : PassId::SteadyCopy, ShaderId::Pyramid,
+                                  {3u, first, hasMotion, phase}, DispatchShape::Level, Barrier::Compute,
+                                  level[4] * (phase == 0 ? 2 * kTexel + motionTexel : 2 * kTexel), level[4] * kTexel);
+            s.level = gpu::WRS_STEADY_LEVEL;
+        }
+    }
+    if (!plan.retain)  // the output, or the candidate the temporal pass reads
+        addPixels(PassId::Foveate, ShaderId::Foveate, {fov, plan.temporal ? 0u : 1u}, false, Barrier::Compute,
+                  in.colorBytes + levelsRead, plan.temporal ? 16.0 : 4.0, 1.0);
+    if (plan.retain) {
+        // Sparse retention: the tiles that retained, then the far tiles that skip it through the foveating
+        // pass alone (colour in, output out; with stale tracking the birth colour too).
+        const Barrier last = plan.sparse ? (plan.inPlace ? Barrier::Compute : Barrier::None) : Barrier::Compute;
+        const double shownOut = display ? shown : output;
+        addPixels(PassId::Retain, ShaderId::Retain,
+                  {hasMotion, hasDepth, fov, retainRule(c), plan.inPlace, 0, plan.sparse}, plan.inPlace, last,
+                  in.colorBytes + levelsRead + history + depth + motion + birth + quality +
+                      (landed == 1 ? landedWords : 0.0),
+                  history + shownOut + birth, share);
+        if (plan.sparse) {
+            PassDispatch& s = add(PassId::Skip, ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0},
+                                  DispatchShape::TileList, Barrier::Compute, in.colorBytes + levelsRead,
+                                  shownOut + birth);
+            s.tileClass = int(gpu::WRS_TILE_SKIP);
+            s.cover = 1.0 - share;
+        }
+    } else if (plan.wrsPaper) {
+        add(PassId::WrsPaper, ShaderId::Wrs, {hasMotion, hasDepth, uint32_t(c.change), c.bernoulli},
+            DispatchShape::Pixels, Barrier::Compute, 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
+            history + output + birth);
+    } else if (plan.taa) {
+        const bool upsample = c.method == Method::Taau;
+        add(PassId::Taa, ShaderId::Taa, {hasMotion, upsample, 0, 0}, DispatchShape::Pixels, Barrier::Compute,
+            16 + history + motion + (upsample && landed == 2 ? landedWords + 4 : 0.0), history + output);
+    }
+    // The steady display: per pixel the 3x3 neighbourhood of what retention showed (each read by nine, once
+    // from memory), the display's history (bilinear, once), the motion and the rendered quality; the
+    // history (fp16) and the output out.
+    if (display)
+        add(PassId::Display, ShaderId::Taa, {hasMotion, 0u, 1u, 0u}, DispatchShape::Pixels, Barrier::Compute,
+            shown + shown + motion + quality, shown + output);
+    return d;
+}
+
+}  // namespace wrsfov
