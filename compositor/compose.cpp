@@ -23,30 +23,38 @@ enum Binding : uint32_t {
     kSrgb = 6,
     kOutColor = 7,
     kOutDepth = 8,
-    kOutMotion = 9
+    kOutMotion = 9,
+    kOutput = 10
 };
 constexpr uint32_t kGroup = 8;  // WRS_GROUP_X, WRS_GROUP_Y
 uint32_t groups(uint32_t n) { return (n + kGroup - 1) / kGroup; }
 }  // namespace
 
-Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuffer srgbTable) {
-    std::unique_ptr<ComposePass> c(new ComposePass(ctx));
+std::vector<VkDescriptorSetLayoutBinding> ComposePass::setBindings() {
     auto binding = [](uint32_t i, VkDescriptorType t, uint32_t count = 1) {
         return VkDescriptorSetLayoutBinding{i, t, count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     };
     const VkDescriptorType sampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                            storage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-    auto layout = ctx.createSetLayout({binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kSrcColor, sampled, 4),
-                                       binding(kSrcDepth, sampled, 4), binding(kSrcMotion, sampled, 4),
-                                       binding(kRateMap, sampled, 2), binding(kQuality, ssbo), binding(kSrgb, ssbo),
-                                       binding(kOutColor, storage), binding(kOutDepth, storage),
-                                       binding(kOutMotion, storage)});
+    return {binding(kParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kSrcColor, sampled, 4),
+            binding(kSrcDepth, sampled, 4), binding(kSrcMotion, sampled, 4), binding(kRateMap, sampled, 2),
+            binding(kQuality, ssbo), binding(kSrgb, ssbo), binding(kOutColor, storage), binding(kOutDepth, storage),
+            binding(kOutMotion, storage), binding(kOutput, storage)};
+}
+
+Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuffer srgbTable) {
+    std::unique_ptr<ComposePass> c(new ComposePass(ctx));
+    const std::vector<VkDescriptorSetLayoutBinding> bindings = setBindings();
+    auto layout = ctx.createSetLayout(bindings);
     if (!layout) return detail::named("the compose pass's descriptor set layout", layout.error());
     c->setLayout_ = std::move(*layout);
-    auto pipelineLayout = ctx.createPipelineLayout(c->setLayout_.get(), 0, 0);
+    auto pipelineLayout = ctx.createPipelineLayout(c->setLayout_.get(), kPushBytes, VK_SHADER_STAGE_COMPUTE_BIT);
     if (!pipelineLayout) return detail::named("the compose pass's pipeline layout", pipelineLayout.error());
     c->pipelineLayout_ = std::move(*pipelineLayout);
-    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, {sampled, 14}, {ssbo, 2}, {storage, 3}};
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1},
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 14},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
+                                    {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 1;
     dpci.poolSizeCount = 4;
@@ -76,20 +84,18 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
     return c;
 }
 
-Result<VkPipeline> ComposePass::pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed,
-                                         vk::PipelineTally* tally) {
-    VkPipeline& slot = pipelines_[((kind - 1) * 3 + landed) * 4 + (depth ? 2 : 0) + (motion ? 1 : 0)];
-    if (slot) return slot;
-    const uint32_t constants[4] = {kind, depth, motion, landed};
+Result<VkPipeline> ComposePass::pipeline(const std::array<uint32_t, 8>& constants, vk::PipelineTally* tally) {
+    if (auto it = pipelines_.find(constants); it != pipelines_.end()) return it->second;
     // Shared on the context: every compose pass defines its pipeline layout the same way (create).
+    std::vector<uint32_t> shared{kSharedPipelineTag};
+    shared.insert(shared.end(), constants.begin(), constants.end());
     Result<VkPipeline> made =
-        ctx_.sharedPipeline({kSharedPipelineTag, kind, depth, motion, landed},
+        ctx_.sharedPipeline(shared,
                             [&] { return ctx_.createComputePipeline(module_.get(), pipelineLayout_.get(), constants); },
                             tally);
     if (!made)
         return detail::pipelineError("the compose pass's pipeline", constants, made.error());
-    slot = *made;
-    return slot;
+    return pipelines_.emplace(constants, *made).first->second;
 }
 
 uint32_t composeLandedMode(const gpu::ComposeParams& params) {
@@ -159,15 +165,25 @@ Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeP
     return {};
 }
 
-Status ComposePass::record(VkCommandBuffer cb, const std::array<uint32_t, 4>& constants, uint32_t eyes,
-                           vk::PipelineTally* tally) {
-    const gpu::ComposeParams* p = static_cast<const gpu::ComposeParams*>(params_.mapped());
-    Result<VkPipeline> pipe = pipeline(constants[0], constants[1] != 0, constants[2] != 0, constants[3], tally);
+Status ComposePass::record(VkCommandBuffer cb, const std::array<uint32_t, 8>& constants,
+                           std::span<const ComposeDispatch> dispatches, vk::PipelineTally* tally) {
+    Result<VkPipeline> pipe = pipeline(constants, tally);
     if (!pipe) return pipe.error();
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *pipe);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &set_, 0, nullptr);
-    vkCmdDispatch(cb, groups(p->size.x), groups(p->size.y), eyes);
+    for (const ComposeDispatch& d : dispatches) {
+        if (d.groups.x == 0 || d.groups.y == 0 || d.groups.z == 0) continue;
+        const glm::uvec4 origin(d.origin, 0u);
+        vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushBytes, &origin);
+        vkCmdDispatch(cb, d.groups.x, d.groups.y, d.groups.z);
+    }
     return {};
+}
+
+void ComposePass::bindOutput(VkImageView view) {
+    const VkDescriptorImageInfo out{VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL};
+    const VkWriteDescriptorSet w = vk::imageWrite(set_, kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, &out);
+    vkUpdateDescriptorSets(ctx_.device(), 1, &w, 0, nullptr);
 }
 
 }  // namespace wrsfov

@@ -6,13 +6,22 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <span>
+#include <vector>
 
 #include "compositor/vk_context.h"
 #include "layers/frame.h"
 #include "shaders/compose_params.h"
 
 namespace wrsfov {
+
+/// One dispatch of the compose pass: its first group (x, y) and eye (z), and its groups.
+struct ComposeDispatch {
+    glm::uvec3 origin{0, 0, 0};
+    glm::uvec3 groups{0, 0, 0};
+};
 
 /// The compose pass's LANDED constant for `params` (shaders/compose.comp): 0 none, 1 landed wide samples
 /// (`wrs`), 2 gathered wide samples (`taau`); the largest of the two eyes' ComposeEye::landed.z.
@@ -33,12 +42,18 @@ public:
     /// allocation changes nothing) and points the pass at this frame's sources, `quality` and `params`.
     Status prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
                    VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint);
-    /// Records the pass's dispatch for `eyes` eyes with specialisation constants `constants` (kind, depth,
-    /// motion, landed: the frame's pass table, compositor/pass_table.h; the caller records the barrier
-    /// after it). Fails, having recorded nothing, where its pipeline cannot be made. `tally` counts the
-    /// pipelines this call made.
-    Status record(VkCommandBuffer cb, const std::array<uint32_t, 4>& constants, uint32_t eyes,
-                  vk::PipelineTally* tally = nullptr);
+    /// Records the pass's `dispatches` with specialisation constants `constants` (kind, depth, motion, landed,
+    /// the wide views' and the insets' encodings, inset, output: the frame's pass table,
+    /// compositor/pass_table.h; the caller records the barrier after it). Fails, having recorded nothing,
+    /// where its pipeline cannot be made. `tally` counts the pipelines this call made.
+    Status record(VkCommandBuffer cb, const std::array<uint32_t, 8>& constants,
+                  std::span<const ComposeDispatch> dispatches, vk::PipelineTally* tally = nullptr);
+    /// Points the pass's output binding (method fov on quad views writes the output) at `view`, the
+    /// compositor's output image (2 layers, storage, GENERAL).
+    void bindOutput(VkImageView view);
+    /// The pass's descriptor set layout and push constants (the cost model compiles with the same).
+    static std::vector<VkDescriptorSetLayoutBinding> setBindings();
+    static constexpr uint32_t kPushBytes = 16;  ///< compose.comp's origin (uvec4)
 
     /// The composed images (2 layers, layer = eye, VK_IMAGE_LAYOUT_GENERAL): RGBA16F linear colour with
     /// validity in alpha, R32F depth as submitted, RGBA16F motion in output pixels.
@@ -48,15 +63,15 @@ public:
 
 private:
     explicit ComposePass(vk::Context& ctx) : ctx_(ctx) {}
-    Result<VkPipeline> pipeline(uint32_t kind, bool depth, bool motion, uint32_t landed, vk::PipelineTally* tally);
+    Result<VkPipeline> pipeline(const std::array<uint32_t, 8>& constants, vk::PipelineTally* tally);
     vk::Context& ctx_;
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;
     vk::DescriptorPool pool_;
     VkDescriptorSet set_ = VK_NULL_HANDLE;
     vk::ShaderModule module_;
-    // kind - 1, landed mode, depth, motion; the context's (vk::Context::sharedPipeline)
-    std::array<VkPipeline, 24> pipelines_{};
+    // By constants; the context's (vk::Context::sharedPipeline)
+    std::map<std::array<uint32_t, 8>, VkPipeline> pipelines_;
     vk::Buffer params_;
     VkBuffer srgbTable_ = VK_NULL_HANDLE;
     vk::Image color_, depth_, motion_;

@@ -1,6 +1,7 @@
 #include "compositor/compositor.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -200,19 +201,27 @@ Status Compositor::setConfig(const CompositorConfig& config) {
     return {};
 }
 
+std::vector<VkDescriptorSetLayoutBinding> Compositor::passSetBindings() {
+    auto binding = [](uint32_t i, VkDescriptorType t, uint32_t count = 1) {
+        return VkDescriptorSetLayoutBinding{i, t, count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    };
+    const VkDescriptorType ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, image = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    return {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
+            binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
+            binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
+            binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
+            binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2),
+            binding(kDisplay, ssbo)};
+}
+
 Status Compositor::init() {
     VkDevice dev = ctx_.device();
     auto binding = [](uint32_t i, VkDescriptorType t, uint32_t count = 1) {
         return VkDescriptorSetLayoutBinding{i, t, count, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     };
-    const VkDescriptorType ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, image = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-    auto layout = ctx_.createSetLayout(
-        {binding(kFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kColor, image, 2), binding(kDepth, image, 2),
-         binding(kMotion, image, 2), binding(kPyramidBuf, ssbo), binding(kCandidate, ssbo),
-         binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
-         binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
-         binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2),
-         binding(kDisplay, ssbo)});
+    const VkDescriptorType ssbo = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    const std::vector<VkDescriptorSetLayoutBinding> passBindings = passSetBindings();
+    auto layout = ctx_.createSetLayout(passBindings);
     if (!layout) return named("the passes' descriptor set layout", layout.error());
     setLayout_ = std::move(*layout);
     auto pipelineLayout =
@@ -348,9 +357,15 @@ static std::vector<float> halfProbeValues() {
 
 bool Compositor::probeHardwareHalf() {
     // Where the probe cannot run (no memory, no pipeline, a lost device) the passes convert by hand: the
-    // same bits.
-    const std::vector<float> values = halfProbeValues();
-    const uint32_t count = uint32_t(values.size());
+    // same bits. One submission: the packing of every value the passes hand the device's conversion,
+    // then the unpacking of every finite fp16 value (wrs_f16_to_f32), each value's bits as a float.
+    const std::vector<float> packed = halfProbeValues();
+    std::vector<float> values = packed;
+    for (uint32_t h = 0; h <= 0xffffu; ++h)
+        if ((h & 0x7c00u) != 0x7c00u || (h & 0x3ffu) == 0u) values.push_back(std::bit_cast<float>(h));
+    const uint32_t packs = uint32_t(packed.size()), count = uint32_t(values.size());
+    static_assert(sizeof(float) == 4);
+    if (packs > 0xffffu || count - packs > 0xffffu) return false;
     const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     auto src = ctx_.createBuffer(uint64_t(count) * 4, use, true);
     auto dst = ctx_.createBuffer(uint64_t(count) * 4, use, true);
@@ -362,13 +377,14 @@ bool Compositor::probeHardwareHalf() {
     vkUpdateDescriptorSets(ctx_.device(), 2, w, 0, nullptr);
     const uint32_t groupsTotal = (count + 63) / 64, gx = std::min<uint32_t>(groupsTotal, 65535),
                    gy = (groupsTotal + gx - 1) / gx;
+    const uint32_t push = packs | ((count - packs) << 16);
     Result<VkPipeline> probe = pipeline(kHalfProbe, {});
     if (!probe) return false;
     Status s = ctx_.submitAndWait([&](VkCommandBuffer cb) {
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, *probe);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, copyPipelineLayout_.get(), 0, 1, &copySet_, 0,
                                 nullptr);
-        vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(count), &count);
+        vkCmdPushConstants(cb, copyPipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
         vkCmdDispatch(cb, gx, gy, 1);
         vk::memoryBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                           VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
@@ -377,8 +393,11 @@ bool Compositor::probeHardwareHalf() {
     copySrc_ = vk::Buffer();
     if (!s) return false;
     const uint32_t* got = static_cast<const uint32_t*>(dst->mapped());
-    for (uint32_t i = 0; i < count; ++i)
-        if (got[i] != gpu::wrs_f32_to_f16(values[i])) return false;
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t want = i < packs ? gpu::wrs_f32_to_f16(values[i])
+                                        : std::bit_cast<uint32_t>(gpu::wrs_f16_to_f32(std::bit_cast<uint32_t>(values[i])));
+        if (got[i] != want) return false;
+    }
     return true;
 }
 
@@ -408,13 +427,12 @@ double Compositor::timeCopy(uint64_t bytes) {
     return double(ts[1] - ts[0]) * ctx_.timestampPeriodNs() * 1e-6;
 }
 
-Result<VkPipeline> Compositor::pipeline(int shader, std::array<uint32_t, 7> passConstants) {
-    // Constants 0..6 are the pass's; 7 (HARDWARE_HALF) and 8 (TRACK_BIRTH, bindings.glsl) every pass's.
-    std::array<uint32_t, 9> constants{};
-    std::copy(passConstants.begin(), passConstants.end(), constants.begin());
+Result<VkPipeline> Compositor::pipeline(int shader, const SpecConstants& passConstants) {
+    // Constants 0..6 and 9 are the pass's; 7 (HARDWARE_HALF) and 8 (TRACK_BIRTH, bindings.glsl) every pass's.
+    SpecConstants constants = passConstants;
     constants[7] = hardwareHalf_;
     constants[8] = birthAllocated_;
-    std::array<uint32_t, 10> key{uint32_t(shader)};
+    std::array<uint32_t, 11> key{uint32_t(shader)};
     std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second;
@@ -438,7 +456,7 @@ Result<VkPipeline> Compositor::pipeline(int shader, std::array<uint32_t, 7> pass
     return pipelines_.emplace(key, *made).first->second;
 }
 
-bool Compositor::bindPipeline(VkCommandBuffer cb, int shader, std::array<uint32_t, 7> passConstants) {
+bool Compositor::bindPipeline(VkCommandBuffer cb, int shader, const SpecConstants& passConstants) {
     if (recordError_) return false;
     Result<VkPipeline> p = pipeline(shader, passConstants);
     if (!p) {
@@ -873,6 +891,8 @@ void Compositor::bindInputs(const layers::FrameEndInfo& frame, FrameWork& work) 
     const layers::ProjectionLayer& layer = frame.layers[0];
     // Per-frame inputs: the last released image of each swapchain.
     work.set = sets_[current_ + (work.inPlace ? 2 : 0)];
+    // The compose pass's output binding (method fov on quad views writes the output there), after any resize.
+    if (compose_ && work.kind != layers::SubmittedFoveation::Full) compose_->bindOutput(output_.arrayView());
     VkDescriptorImageInfo ii[6];
     const bool composed = work.kind == layers::SubmittedFoveation::Quad;
     for (int eye = 0; eye < 2; ++eye) {

@@ -41,6 +41,10 @@
 
 namespace wrsfov {
 
+/// A pipeline's specialisation constants: 0..6 the pass's own (compose.comp: 0..5), 7 HARDWARE_HALF and
+/// 8 TRACK_BIRTH (every pass but compose; the compositor sets them), 9 INPUT_ENCODING (the passes that read
+/// the submitted colour; shaders/bindings.glsl).
+using SpecConstants = std::array<uint32_t, 10>;
 struct PassDispatch;           // compositor/pass_table.h
 enum class Barrier : uint8_t;  // compositor/pass_table.h
 
@@ -239,6 +243,13 @@ struct TrafficInputs {
     /// Frames submitted foveated: bytes per output pixel the compose pass reads and writes (0 for a full
     /// frame); its per-pixel quality (4 B) is then read by the foveating or retain pass.
     double composeRead = 0, composeWrite = 0;
+    /// How the passes read the colour (gpu::WRS_INPUT_*: the composed images for a frame submitted
+    /// foveated), and how the compose pass reads the wide views' and the insets' colour; WRS_INPUT_ANY
+    /// where the two eyes differ (or it is not known).
+    uint32_t colorEncoding = gpu::WRS_INPUT_ANY, wideEncoding = gpu::WRS_INPUT_ANY, insetEncoding = gpu::WRS_INPUT_ANY;
+    /// Quad views: the share of both eyes' 8x8 groups of output pixels in which the compose pass reads
+    /// the inset (insetGroups, compositor/input.h).
+    double insetShare = 0;
 };
 /// What a frame gives the passes (the left view's sizes and formats; for quad views the output size and
 /// the composed images' formats, with the compose pass's own traffic).
@@ -430,6 +441,10 @@ public:
 
     vk::Context& context() { return ctx_; }
 
+    /// The passes' descriptor set layout (shaders/bindings.glsl); their push constants are a
+    /// gpu::LevelPush. The cost model compiles with the same.
+    static std::vector<VkDescriptorSetLayoutBinding> passSetBindings();
+
 private:
     explicit Compositor(vk::Context& context) : ctx_(context) {}
     Status init();
@@ -439,11 +454,11 @@ private:
     Result<std::vector<uint32_t>> readWords(const vk::Buffer& buffer, uint64_t first, uint64_t count);
     /// The pipeline of `shader` with the pass's constants (found, or made and shared on the context);
     /// an error naming the shader and constants where the driver cannot make it.
-    Result<VkPipeline> pipeline(int shader, std::array<uint32_t, 7> passConstants);
+    Result<VkPipeline> pipeline(int shader, const SpecConstants& passConstants);
     /// Records the bind of pipeline(shader, constants); where it cannot be made, or an earlier one of
     /// this recording could not, records nothing, keeps the first error in recordError_ and returns
     /// false (the pass then records nothing more).
-    bool bindPipeline(VkCommandBuffer cb, int shader, std::array<uint32_t, 7> passConstants);
+    bool bindPipeline(VkCommandBuffer cb, int shader, const SpecConstants& passConstants);
     std::optional<Error> recordError_;
     vk::PipelineTally recordTally_;  ///< the pipelines the frame being recorded made
     /// Runs the device's fp16 conversion over halfProbeValues() and compares it with wrs_f32_to_f16.
@@ -484,7 +499,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 10>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
+    std::map<std::array<uint32_t, 11>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "compositor/swapchain_vk.h"
+#include "shaders/config.h"
 #include "shaders/wrs_submitted.h"
 
 namespace wrsfov {
@@ -24,6 +25,22 @@ glm::dvec2 density(const glm::vec4& tan, uint32_t w, uint32_t h) {
 uint32_t colorEncoding(const layers::SubImage& s) {
     if (const auto* vs = dynamic_cast<const VulkanSwapchain*>(s.swapchain)) return vs->colorEncoding();
     return s.swapchain->info().format == layers::Format::RGBA8_SRGB ? gpu::WRS_INPUT_SRGB : gpu::WRS_INPUT_LINEAR;
+}
+
+glm::uvec4 insetGroups(const gpu::ComposeEye& e, glm::uvec2 out) {
+    const uint32_t gx = (out.x + WRS_GROUP_X - 1) / WRS_GROUP_X, gy = (out.y + WRS_GROUP_Y - 1) / WRS_GROUP_Y;
+    // Pixel p's inset position is (p + 0.5) s + o (wrs_source_pos), inside for 0 < it < size.
+    auto span = [](double s, double o, double size, uint32_t n, uint32_t group, uint32_t groups) {
+        if (!(s > 0.0) || !std::isfinite(o) || n == 0) return glm::uvec2(0, groups);  // all of it, to be safe
+        const double lo = std::floor(-o / s - 0.5) - 1.0, hi = std::ceil((size - o) / s - 0.5) + 1.0;
+        if (hi < 0.0 || lo > double(n - 1) || lo > hi) return glm::uvec2(0, 0);
+        const uint32_t p0 = uint32_t(std::max(lo, 0.0)), p1 = uint32_t(std::min(hi, double(n - 1)));
+        return glm::uvec2(p0 / group, p1 / group + 1);
+    };
+    const glm::uvec2 x = span(e.inset_map.x, e.inset_map.z, e.sizes.z, out.x, WRS_GROUP_X, gx);
+    const glm::uvec2 y = span(e.inset_map.y, e.inset_map.w, e.sizes.w, out.y, WRS_GROUP_Y, gy);
+    if (x.x >= x.y || y.x >= y.y) return glm::uvec4(0);
+    return glm::uvec4(x.x, y.x, x.y, y.y);
 }
 
 float wideQuality(const layers::ProjectionView& v) {

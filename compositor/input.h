@@ -22,6 +22,12 @@ uint32_t colorEncoding(const layers::SubImage& s);
 /// frame). `out`: the output size (layers::outputSize); `blendPx`: CompositorConfig::insetBlendPx.
 gpu::ComposeParams makeComposeParams(const layers::ProjectionLayer& layer, glm::uvec2 out, float blendPx);
 
+/// Quad views: the 8x8 groups of output pixels (compose.comp's) where the inset of `eye` may show, as
+/// [x0, x1) x [y0, y1) in (x0, y0, x1, y1): every group with a pixel whose inset position is inside the
+/// inset (wrs_inset_weight > 0), one pixel to spare on each side; empty (x0 == x1) where the inset is
+/// off the output. The compose pass reads the inset in these groups only.
+glm::uvec4 insetGroups(const gpu::ComposeEye& eye, glm::uvec2 out);
+
 /// Quad views: the wide view's quality, (wide px/deg / inset px/deg)^2 over both axes (at the view's
 /// centre, in tangent units), clamped to (0, 1].
 float wideQuality(const layers::ProjectionView& view);

@@ -94,6 +94,8 @@ glm::uvec3 dispatchSize(DispatchShape shape, uint32_t level, uint32_t w, uint32_
         }
         case DispatchShape::TileList:
         case DispatchShape::GaussLevels:
+        case DispatchShape::InsetGroups:
+        case DispatchShape::OutsideInset:
             break;
     }
     return {0, 0, 0};
@@ -101,6 +103,8 @@ glm::uvec3 dispatchSize(DispatchShape shape, uint32_t level, uint32_t w, uint32_
 
 uint64_t dispatchGroups(const PassDispatch& d, uint32_t w, uint32_t h, uint32_t eyes) {
     auto count = [](glm::uvec3 g) { return uint64_t(g.x) * g.y * g.z; };
+    if (d.shape == DispatchShape::InsetGroups || d.shape == DispatchShape::OutsideInset)
+        return uint64_t(std::llround(d.cover * double(count(dispatchSize(DispatchShape::Pixels, 0, w, h, eyes)))));
     if (d.shape != DispatchShape::GaussLevels) return count(dispatchSize(d.shape, d.level, w, h, eyes));
     uint64_t n = 0;
     for (uint32_t level = 1; level < WRS_LEVELS; ++level)
@@ -147,11 +151,17 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     const double shown = 8;  // what the display reads of a shown colour, and its own history (wrs_pack_shown)
 
     std::vector<PassDispatch> d;
-    auto add = [&](PassId pass, ShaderId shader, std::array<uint32_t, 7> k, DispatchShape shape, Barrier after,
+    // Constant 9 of the passes that decode the submitted colour (load_color): its encoding.
+    auto readsColor = [](ShaderId s) {
+        return s == ShaderId::Pyramid || s == ShaderId::Foveate || s == ShaderId::Retain || s == ShaderId::Wrs ||
+               s == ShaderId::Taa;
+    };
+    auto add = [&](PassId pass, ShaderId shader, SpecConstants k, DispatchShape shape, Barrier after,
                    double read, double write) -> PassDispatch& {
         PassDispatch x;
         x.pass = pass;
         x.shader = shader;
+        if (readsColor(shader)) k[9] = in.colorEncoding;
         x.constants = k;
         x.shape = shape;
         x.after = after;
@@ -164,7 +174,7 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     // `aliased`: the pass reads a buffer it also writes (the in-place reservoirs), so a barrier separates its
     // dispatches (each touches its own pixels only, but synchronization validation tracks whole ranges).
     // `last` is the barrier after its last dispatch.
-    auto addPixels = [&](PassId pass, ShaderId shader, std::array<uint32_t, 7> k, bool aliased, Barrier last,
+    auto addPixels = [&](PassId pass, ShaderId shader, SpecConstants k, bool aliased, Barrier last,
                          double read, double write, double cover) {
         if (!plan.tiled) {
             add(pass, shader, k, DispatchShape::Pixels, last, read, write).cover = cover;
@@ -182,10 +192,26 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
 
     // Frames submitted foveated: the compose pass first (ComposePass::record), quad views (kind 1, with the
     // views' depth and motion and the method's landed or gathered wide samples) or a rate map (kind 2). It
-    // writes each tile's largest quality after the pixels'.
-    if (composed)
-        add(PassId::Compose, ShaderId::Compose, {quad ? 1u : 2u, quad && hasDepth, quad && hasMotion, landed},
-            DispatchShape::Pixels, Barrier::Compute, in.composeRead, in.composeWrite + kTileWord + landedWords);
+    // writes each tile's largest quality after the pixels'. Quad views: the groups where the inset may
+    // show with constant 6 (INSET), the others without, side by side (their pixels are disjoint). Method
+    // `fov` on quad views: the composed colour is the output (constant 7, OUTPUT), and nothing else is
+    // written or read after it.
+    const bool composeOutput = quad && c.method == Method::Fov;
+    if (quad) {
+        const double insetShare = std::clamp(in.insetShare, 0.0, 1.0);
+        const double written = composeOutput ? output : in.composeWrite + kTileWord + landedWords;
+        for (const bool inset : {false, true}) {
+            PassDispatch& x = add(PassId::Compose, ShaderId::Compose,
+                                  {1u, hasDepth && !composeOutput, hasMotion && !composeOutput, landed,
+                                   in.wideEncoding, in.insetEncoding, inset, composeOutput},
+                                  inset ? DispatchShape::InsetGroups : DispatchShape::OutsideInset,
+                                  inset ? Barrier::Compute : Barrier::None, in.composeRead, written);
+            x.cover = inset ? insetShare : 1.0 - insetShare;
+        }
+    } else if (composed) {
+        add(PassId::Compose, ShaderId::Compose, {2u, 0u, 0u, 0u, in.wideEncoding, in.insetEncoding},
+            DispatchShape::Pixels, Barrier::Compute, in.composeRead, in.composeWrite + kTileWord);
+    }
     // The classification: one invocation per tile, each writing its list entry; with sparse retention it
     // reads the held qualities and, where a sharper sample is within reach, the tile's motion.
     if (plan.tiled) {
@@ -222,7 +248,10 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
             s.level = gpu::WRS_STEADY_LEVEL;
         }
     }
-    if (!plan.retain)  // the output, or the candidate the temporal pass reads
+    // The output, or the candidate the temporal pass reads. Not on quad views for `fov` (the compose pass
+    // wrote the output) nor for `taau` (its pass reads the composed colour).
+    const bool taaReadsComposed = quad && c.method == Method::Taau;
+    if (!plan.retain && !composeOutput && !taaReadsComposed)
         addPixels(PassId::Foveate, ShaderId::Foveate, {fov, plan.temporal ? 0u : 1u}, false, Barrier::Compute,
                   in.colorBytes + levelsRead, plan.temporal ? 16.0 : 4.0, 1.0);
     if (plan.retain) {
@@ -247,9 +276,13 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
             DispatchShape::Pixels, Barrier::Compute, 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
             history + output + birth);
     } else if (plan.taa) {
+        // Its neighbourhood: the foveating pass's candidates (16 B), or on quad views for `taau` the composed
+        // colour itself (constant 3).
         const bool upsample = c.method == Method::Taau;
-        add(PassId::Taa, ShaderId::Taa, {hasMotion, upsample, 0, 0}, DispatchShape::Pixels, Barrier::Compute,
-            16 + history + motion + (upsample && landed == 2 ? landedWords + 4 : 0.0), history + output);
+        add(PassId::Taa, ShaderId::Taa, {hasMotion, upsample, 0, taaReadsComposed}, DispatchShape::Pixels,
+            Barrier::Compute,
+            (taaReadsComposed ? in.colorBytes : 16.0) + history + motion + (upsample && landed == 2 ? landedWords + 4 : 0.0),
+            history + output);
     }
     // The steady display: per pixel the 3x3 neighbourhood of what retention showed (each read by nine, once
     // from memory), the display's history (bilinear, once), the motion and the rendered quality; the

@@ -46,6 +46,10 @@ enum class DispatchShape : uint8_t {
     MipTiles,     ///< WRS_MIP_TILE^2 pixels a group (every level of the mip pyramid at once)
     Level,        ///< WRS_GROUP_X x WRS_GROUP_Y texels a group over pyramid level `level`
     GaussLevels,  ///< one Level dispatch per level 1..WRS_LEVELS-1, barriers between (`gauss`)
+    /// The compose pass on quad views: the groups of each eye's inset rectangle (insetGroups), and the
+    /// groups outside it (up to four rectangles an eye); one dispatch per rectangle, `cover` of the frame.
+    InsetGroups,
+    OutsideInset,
 };
 
 /// What a dispatch is followed by.
@@ -59,9 +63,9 @@ enum class Barrier : uint8_t {
 struct PassDispatch {
     PassId pass = PassId::Foveate;
     ShaderId shader = ShaderId::Foveate;
-    /// Specialisation constants 0..6 of the pass (compose.comp: 0..3); the compositor adds 7 and 8
-    /// (HARDWARE_HALF, TRACK_BIRTH: bindings.glsl) to every pass but compose.
-    std::array<uint32_t, 7> constants{};
+    /// Specialisation constants (SpecConstants): the pass's own and INPUT_ENCODING; the compositor (and
+    /// the cost model) set 7 and 8 (HARDWARE_HALF, TRACK_BIRTH: bindings.glsl) of every pass but compose.
+    SpecConstants constants{};
     DispatchShape shape = DispatchShape::Pixels;
     int tileClass = -1;  ///< TileList: the list
     uint32_t level = 0;  ///< Level: the pyramid level; Pyramid (mip): its push constant
@@ -86,9 +90,11 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
 std::vector<PassDispatch> framePasses(const CompositorConfig& c, const TrafficInputs& in);
 
 /// The workgroups of one dispatch of `shape` (Level: of pyramid level `level`) over output images of
-/// w x h per eye, `eyes` eyes (z). TileList and GaussLevels have none of their own: (0, 0, 0).
+/// w x h per eye, `eyes` eyes (z). TileList, GaussLevels, InsetGroups and OutsideInset have none of their
+/// own: (0, 0, 0).
 glm::uvec3 dispatchSize(DispatchShape shape, uint32_t level, uint32_t w, uint32_t h, uint32_t eyes);
-/// All the workgroups of a dispatch that is not a tile list (GaussLevels: its levels together).
+/// All the workgroups of a dispatch that is not a tile list (GaussLevels: its levels together; InsetGroups
+/// and OutsideInset: `cover` of the frame's 8x8 groups).
 uint64_t dispatchGroups(const PassDispatch& d, uint32_t w, uint32_t h, uint32_t eyes);
 
 /// Timestamp interval a pass is recorded in (compositor_internal.h kFrameStamps: 1 compose and

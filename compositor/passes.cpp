@@ -83,7 +83,25 @@ TrafficInputs trafficInputs(const layers::ProjectionLayer& layer) {
     if (v.depth) in.depthBytes = bytes(v.depth->subImage);
     if (v.motion) in.motionBytes = bytes(v.motion->subImage);
     const double px = double(out.x) * out.y;
+    // The encodings the passes are specialised for: the views' own where both eyes agree.
+    auto common = [&](auto encodingOf) {
+        const uint32_t a = encodingOf(layer.views.at(0)), b = encodingOf(layer.views.at(1));
+        return a == b ? a : gpu::WRS_INPUT_ANY;
+    };
+    in.colorEncoding = common([](const layers::ProjectionView& w) { return colorEncoding(w.color); });
     if (v.inset) {
+        in.wideEncoding = in.colorEncoding;
+        in.insetEncoding = common([](const layers::ProjectionView& w) {
+            return w.inset ? colorEncoding(w.inset->color) : gpu::WRS_INPUT_ANY;
+        });
+        in.colorEncoding = gpu::WRS_INPUT_COMPOSED;
+        const gpu::ComposeParams maps = makeComposeParams(layer, out, 0.0f);
+        double insetGroupCount = 0;
+        for (const gpu::ComposeEye& e : maps.eye) {
+            const glm::uvec4 r = insetGroups(e, out);
+            insetGroupCount += double(r.z - r.x) * (r.w - r.y);
+        }
+        in.insetShare = insetGroupCount / (2.0 * groups(out.x, WRS_GROUP_X) * groups(out.y, WRS_GROUP_Y));
         // Every texel of both sources once (bilinear neighbourhoods cached), per output pixel; the
         // composed colour (RGBA16F), depth (R32F), motion (RGBA16F) and quality out, which the later
         // passes read in place of the submitted images.
@@ -97,6 +115,7 @@ TrafficInputs trafficInputs(const layers::ProjectionLayer& layer) {
         if (v.motion) in.motionBytes = 8;
         in.composeWrite = in.colorBytes + in.depthBytes + in.motionBytes + 4;
     } else if (v.rateMap) {
+        // A rate map's colour is read as submitted, by the passes; its compose pass reads the map alone.
         in.composeRead = 1.0 / (double(v.rateMap->texelWidth) * v.rateMap->texelHeight);
         in.composeWrite = 4;
     }
@@ -195,14 +214,20 @@ double Traffic::perPixel() const {
 }
 
 Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
-    // The frame's pass table (pass_table.h): each pass once (its tile classes move the same bytes per
-    // pixel they cover), weighed by the share of the view it covers.
+    // The frame's pass table (pass_table.h): each pass's dispatches weighed by the share of the view each
+    // covers; a pass's tile lists once (their cover is the pass's: each moves the same bytes per pixel).
     Traffic t;
+    std::vector<std::string_view> listed;  // passes whose tile lists are counted
     for (const PassDispatch& d : framePasses(c, in)) {
         const std::string_view name = toString(d.pass);
-        if (std::any_of(t.passes.begin(), t.passes.end(), [&](const PassTraffic& p) { return p.pass == name; }))
-            continue;
-        t.passes.push_back({std::string(name), d.read * d.cover, d.write * d.cover});
+        if (d.shape == DispatchShape::TileList) {
+            if (std::find(listed.begin(), listed.end(), name) != listed.end()) continue;
+            listed.push_back(name);
+        }
+        auto it = std::find_if(t.passes.begin(), t.passes.end(), [&](const PassTraffic& p) { return p.pass == name; });
+        if (it == t.passes.end()) it = t.passes.insert(t.passes.end(), PassTraffic{std::string(name), 0.0, 0.0});
+        it->read += d.read * d.cover;
+        it->write += d.write * d.cover;
     }
     // The floor: the colour in and the output out, and for methods with history the reservoir read and
     // written and the depth and motion they use, where retention ran.

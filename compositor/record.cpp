@@ -134,8 +134,35 @@ void Compositor::stamp(const FramePlan& plan, uint32_t i) {
 
 void Compositor::recordCompose(const FramePlan& plan, const PassDispatch& d) {
     if (recordError_) return;
-    const std::array<uint32_t, 4> k{d.constants[0], d.constants[1], d.constants[2], d.constants[3]};
-    if (Status s = compose_->record(plan.cb, k, plan.eyes, &recordTally_); !s) {
+    std::array<uint32_t, 8> k;
+    std::copy_n(d.constants.begin(), k.size(), k.begin());
+    // Its dispatches: the whole output (a rate map), or per eye the groups of its inset rectangle
+    // (insetGroups) or the up to four rectangles around it.
+    const glm::uvec2 out(plan.w, plan.h);
+    const glm::uvec3 all = dispatchSize(DispatchShape::Pixels, 0, plan.w, plan.h, 1);
+    std::vector<ComposeDispatch> list;
+    auto rect = [&](uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, uint32_t eye) {
+        if (x0 < x1 && y0 < y1) list.push_back({{x0, y0, eye}, {x1 - x0, y1 - y0, 1}});
+    };
+    for (uint32_t eye = 0; eye < plan.eyes; ++eye) {
+        const glm::uvec4 r = insetGroups(composeParams_.eye[eye], out);
+        const bool none = r.x >= r.z || r.y >= r.w;
+        if (d.shape == DispatchShape::InsetGroups) {
+            rect(r.x, r.y, r.z, r.w, eye);
+        } else if (d.shape == DispatchShape::OutsideInset) {
+            if (none) {
+                rect(0, 0, all.x, all.y, eye);
+                continue;
+            }
+            rect(0, 0, all.x, r.y, eye);      // above
+            rect(0, r.w, all.x, all.y, eye);  // below
+            rect(0, r.y, r.x, r.w, eye);      // left
+            rect(r.z, r.y, all.x, r.w, eye);  // right
+        } else {
+            rect(0, 0, all.x, all.y, eye);
+        }
+    }
+    if (Status s = compose_->record(plan.cb, k, list, &recordTally_); !s) {
         recordError_ = s.error();
         return;
     }

@@ -540,9 +540,13 @@ Result<ShaderModule> Context::createShaderModule(const uint32_t* code, size_t by
 }
 
 Result<DescriptorSetLayout> Context::createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings) {
+    return createSetLayout(std::span<const VkDescriptorSetLayoutBinding>(bindings.begin(), bindings.size()));
+}
+
+Result<DescriptorSetLayout> Context::createSetLayout(std::span<const VkDescriptorSetLayoutBinding> bindings) {
     VkDescriptorSetLayoutCreateInfo lci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     lci.bindingCount = static_cast<uint32_t>(bindings.size());
-    lci.pBindings = bindings.begin();
+    lci.pBindings = bindings.data();
     VkDescriptorSetLayout sl = VK_NULL_HANDLE;
     if (Status s = createObject("vkCreateDescriptorSetLayout",
                                 [&] { return vkCreateDescriptorSetLayout(device_, &lci, nullptr, &sl); });

@@ -273,6 +273,7 @@ public:
     /// How many pipelines sharedPipeline has made on this context.
     size_t sharedPipelineCount() const;
     Result<DescriptorSetLayout> createSetLayout(std::initializer_list<VkDescriptorSetLayoutBinding> bindings);
+    Result<DescriptorSetLayout> createSetLayout(std::span<const VkDescriptorSetLayoutBinding> bindings);
     /// A layout with one descriptor set and `pushBytes` of push constants (none when 0).
     Result<PipelineLayout> createPipelineLayout(VkDescriptorSetLayout set, uint32_t pushBytes,
                                                 VkShaderStageFlags pushStages);

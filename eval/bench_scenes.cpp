@@ -457,6 +457,15 @@ Result<CellGeometry> quadCellGeometry(const BenchOptions& options, SceneKind sce
     v.color = sub(app.color, wideW, wideH);
     layers::InsetView inset;
     inset.color = sub(app.color, insetW, insetH);
+    // The inset at the view's centre, at the display's density (as the study places it without gaze).
+    {
+        const double l = std::tan(fov.angleLeft), r = std::tan(fov.angleRight), u = std::tan(fov.angleUp),
+                     d = std::tan(fov.angleDown);
+        const double hx = 0.5 * insetW * (r - l) / width, hy = 0.5 * insetH * (u - d) / height;
+        const double cx = 0.5 * (l + r), cy = 0.5 * (u + d);
+        inset.fov = {float(std::atan(cx - hx)), float(std::atan(cx + hx)), float(std::atan(cy + hy)),
+                     float(std::atan(cy - hy))};
+    }
     if (app.depth) {
         v.depth = layers::DepthInfo{};
         v.depth->subImage = sub(app.depth, wideW, wideH);

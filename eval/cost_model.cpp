@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "classify_spv.h"
+#include "compositor/compose.h"
 #include "compose_spv.h"
 #include "foveate_spv.h"
 #include "pyramid_spv.h"
@@ -54,6 +55,10 @@ std::string tileClassName(int tileClass) {
     switch (tileClass) {
         case kWholeImage:
             return "whole";
+        case kInsetGroups:
+            return "inset";
+        case kOutsideInset:
+            return "outside";
         case int(gpu::WRS_TILE_ANY):
             return "any";
         case int(gpu::WRS_TILE_FOVEA):
@@ -95,10 +100,14 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& c, const T
             x.constants[7] = 1;
             x.constants[8] = c.trackBirth ? 1u : 0u;
         }
-        x.tileClass = d.shape == DispatchShape::TileList ? d.tileClass : kWholeImage;
+        x.tileClass = d.shape == DispatchShape::TileList      ? d.tileClass
+                      : d.shape == DispatchShape::InsetGroups  ? kInsetGroups
+                      : d.shape == DispatchShape::OutsideInset ? kOutsideInset
+                                                               : kWholeImage;
         x.groups = d.shape == DispatchShape::TileList ? 0 : dispatchGroups(d, in.width, in.height, eyes);
         x.invocationsPerGroup = WRS_GROUP_X * WRS_GROUP_Y;
         x.bytesPerPx = d.read + d.write;
+        if (d.shape == DispatchShape::InsetGroups || d.shape == DispatchShape::OutsideInset) x.cover = d.cover;
         x.phase = phase;
         v.push_back(x);
         open = d.after == Barrier::None;
@@ -530,52 +539,25 @@ int statisticsChildMain(std::string_view targetText, const std::vector<std::stri
         d.device = VK_NULL_HANDLE;
         return skip("vkCreateDevice failed (" + std::string(vk::resultString(r)) + ")");
     }
-    // The compositor's descriptor set layout (Compositor::init): bindings 0-16 but 5, the four image
-    // bindings per eye, 16 bytes of push constants (gpu::LevelPush).
-    std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (uint32_t b = 0; b <= 16; ++b) {
-        if (b == 5) continue;
-        const bool image = (b >= 1 && b <= 3) || b == 16;
-        VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        if (b == 0) type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-        if (image) type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-        if (b == 9) type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-        bindings.push_back({b, type, image ? uint32_t(WRS_EYES) : 1u, VK_SHADER_STAGE_COMPUTE_BIT, nullptr});
-    }
-    VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    sl.bindingCount = uint32_t(bindings.size());
-    sl.pBindings = bindings.data();
-    if (vkCreateDescriptorSetLayout(d.device, &sl, nullptr, &d.setLayout) != VK_SUCCESS)
-        return fail("descriptor set layout");
-    const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::LevelPush)};
-    VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    pl.setLayoutCount = 1;
-    pl.pSetLayouts = &d.setLayout;
-    pl.pushConstantRangeCount = 1;
-    pl.pPushConstantRanges = &push;
-    if (vkCreatePipelineLayout(d.device, &pl, nullptr, &d.layout) != VK_SUCCESS) return fail("pipeline layout");
-    // The compose pass's own layout (ComposePass): its block, the four wide and inset views' colour,
-    // depth and motion, the two rate maps, the qualities, the sRGB table, the three composed images.
-    const VkDescriptorSetLayoutBinding composeBindings[] = {
-        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {3, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-        {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
-    VkDescriptorSetLayoutCreateInfo csl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    csl.bindingCount = uint32_t(std::size(composeBindings));
-    csl.pBindings = composeBindings;
-    if (vkCreateDescriptorSetLayout(d.device, &csl, nullptr, &d.composeSetLayout) != VK_SUCCESS)
-        return fail("compose descriptor set layout");
-    VkPipelineLayoutCreateInfo cpl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    cpl.setLayoutCount = 1;
-    cpl.pSetLayouts = &d.composeSetLayout;
-    if (vkCreatePipelineLayout(d.device, &cpl, nullptr, &d.composeLayout) != VK_SUCCESS)
+    // The compositor's layouts (Compositor::passSetBindings, 16 bytes of push constants: gpu::LevelPush;
+    // the compose pass's own, ComposePass::setBindings).
+    auto makeLayout = [&](const std::vector<VkDescriptorSetLayoutBinding>& bindings, uint32_t pushBytes,
+                          VkDescriptorSetLayout& set, VkPipelineLayout& layout) {
+        VkDescriptorSetLayoutCreateInfo sl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        sl.bindingCount = uint32_t(bindings.size());
+        sl.pBindings = bindings.data();
+        if (vkCreateDescriptorSetLayout(d.device, &sl, nullptr, &set) != VK_SUCCESS) return false;
+        const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
+        VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        pl.setLayoutCount = 1;
+        pl.pSetLayouts = &set;
+        pl.pushConstantRangeCount = 1;
+        pl.pPushConstantRanges = &push;
+        return vkCreatePipelineLayout(d.device, &pl, nullptr, &layout) == VK_SUCCESS;
+    };
+    if (!makeLayout(Compositor::passSetBindings(), sizeof(gpu::LevelPush), d.setLayout, d.layout))
+        return fail("the passes' pipeline layout");
+    if (!makeLayout(ComposePass::setBindings(), ComposePass::kPushBytes, d.composeSetLayout, d.composeLayout))
         return fail("compose pipeline layout");
     auto getProps = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
         vkGetDeviceProcAddr(d.device, "vkGetPipelineExecutablePropertiesKHR"));
@@ -665,10 +647,10 @@ std::vector<CostRow> costRows(const CostCell& cell, const std::map<VariantKey, E
         CostRow r{g.name, size, std::string(toString(cell.method)), v.pass, tileClassName(v.tileClass)};
         auto it = stats.find(VariantKey{v.shader, v.constants});
         if (it != stats.end()) r.stats = it->second;
-        const bool whole = v.tileClass == kWholeImage;
+        const bool whole = v.tileClass < 0;  // the whole image or a known part of it (cover)
         r.groups = whole ? double(v.groups) : cell.shares[std::size_t(v.tileClass)] * tiles;
         // A tile-class group covers its tile's pixels; a whole-image pass covers the image.
-        const double covered = whole ? px : std::min(px, r.groups * gpu::WRS_TILE * gpu::WRS_TILE);
+        const double covered = whole ? px * v.cover : std::min(px, r.groups * gpu::WRS_TILE * gpu::WRS_TILE);
         r.share = covered / px;
         // ACO's inverse throughput is in cycles per wave64 on one SIMD, whatever the wave size.
         const double waves64 = r.groups * v.invocationsPerGroup / 64.0;

@@ -30,16 +30,19 @@ using wrsfov::ShaderId;
 /// The embedded SPIR-V of a shader.
 std::span<const uint32_t> spirv(ShaderId s);
 
-/// PipelineVariant::tileClass of a dispatch over the whole image (not one tile class).
+/// PipelineVariant::tileClass of a dispatch over the whole image (not one tile class), and of the compose
+/// pass's dispatches over the inset's groups and the others (their PipelineVariant::cover of it).
 inline constexpr int kWholeImage = -1;
-/// "whole", or the tile list's name ("any", "fovea", "mid", "far", "skip").
+inline constexpr int kInsetGroups = -2;
+inline constexpr int kOutsideInset = -3;
+/// "whole", "inset", "outside", or the tile list's name ("any", "fovea", "mid", "far", "skip").
 std::string tileClassName(int tileClass);
 
 /// One pipeline a frame dispatches and how: the unit of the cost model.
 struct PipelineVariant {
     std::string pass;  ///< traffic()'s name of the pass ("classify", which traffic() leaves out, has none)
     ShaderId shader = ShaderId::Foveate;
-    std::array<uint32_t, 9> constants{};  ///< specialisation constants 0..8, as Compositor::pipeline binds them
+    SpecConstants constants{};  ///< specialisation constants 0..9, as Compositor::pipeline binds them
     int tileClass = kWholeImage;          ///< gpu::WRS_TILE_*: the indirect dispatch of one class's tiles
     /// kWholeImage: workgroups of all the pass's dispatches of one frame (both eyes). A tile class: 0
     /// (one group per tile of the class, from the cell's tile shares).
@@ -50,6 +53,9 @@ struct PipelineVariant {
     /// Consecutive dispatches of one phase are recorded with no barrier between them, so a GPU runs them
     /// together and one wave's latency bounds the phase, not each dispatch. kOwnPhase: barriers on both sides.
     int phase = -1;
+    /// A dispatch over part of the image that is not a tile list (the compose pass's inset groups and the
+    /// groups outside them): the share of the image it covers; 1 for a whole-image dispatch.
+    double cover = 1.0;
 };
 inline constexpr int kOwnPhase = -1;
 
@@ -63,7 +69,7 @@ std::vector<PipelineVariant> pipelineVariants(const CompositorConfig& config, co
 /// A pipeline to compile: shader and specialisation constants. Text form "retain:1,1,1,0,0,2".
 struct VariantKey {
     ShaderId shader = ShaderId::Foveate;
-    std::array<uint32_t, 9> constants{};
+    SpecConstants constants{};
     auto operator<=>(const VariantKey&) const = default;
 };
 std::string toString(const VariantKey& k);

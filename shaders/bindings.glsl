@@ -14,6 +14,11 @@ layout(constant_id = 7) const bool HARDWARE_HALF = false;
 // bindings 10 and 11). A constant rather than a uniform branch, so that passes without it carry none of
 // its code or registers (the retain pass: 72 -> 60 VGPRs on ACO).
 layout(constant_id = 8) const bool TRACK_BIRTH = false;
+// Every pass that reads the submitted colour (load_color): how it is encoded (WRS_INPUT_*, the same for
+// both eyes: EyeParams::color_rect.z), so that a pass carries the decoding of that encoding only, no sRGB
+// table where the colour is linear or composed; WRS_INPUT_ANY where the eyes differ (each eye's own,
+// read at run time).
+layout(constant_id = 9) const uint INPUT_ENCODING = 4u;
 #include "wrs_common.h"
 #include "wrs_submitted.h"
 #include "wrs_params.h"
@@ -141,7 +146,8 @@ vec2 wrs_pyr_level_scale(WrsPyramid s, uint level) { return frame.level_scale[le
 // (colour_rect.z == WRS_INPUT_COMPOSED).
 vec4 load_color(uint eye, uvec2 p) {
     EyeParams ep = frame.eye[eye];
-    return wrs_decode_input(texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0), ep.color_rect.z);
+    uint encoding = INPUT_ENCODING == WRS_INPUT_ANY ? ep.color_rect.z : INPUT_ENCODING;
+    return wrs_decode_input(texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0), encoding);
 }
 // The full-resolution reference at pixel p (submitted foveation, the oracles only), decoded as load_color.
 vec3 load_reference(uint eye, uvec2 p) {
@@ -154,6 +160,8 @@ float load_depth(uint eye, uvec2 p) {
     float d = texelFetch(depthIn[eye], ivec2(p + ep.depth_rect.xy), 0).r;
     return wrs_linear_depth(d, ep.depth_range.x, ep.depth_range.y, ep.depth_rect.z != 0u);
 }
+// Whether load_color reads the sRGB table (a pass that copies it into shared memory does so only then).
+bool input_reads_srgb_table() { return INPUT_ENCODING == WRS_INPUT_ANY || wrs_input_srgb8(INPUT_ENCODING); }
 // Whether the steady display filters pixel idx of an eye (wrs_display_step's `wide`): a wide view's pixel of
 // quad views with landed samples; the inset's are shown as retention shows them.
 bool display_filters(uint eye, uint idx) {

@@ -28,6 +28,22 @@ layout(constant_id = 2) const bool HAS_MOTION = false;
 // 0 nothing, 1 the landed wide samples (`wrs`; an eye's landed.z is 1 or 0), 2 the gathered wide
 // samples (`taau`; both eyes' are 2). A pipeline carries its method's code only.
 layout(constant_id = 3) const uint LANDED = 0u;
+// How the wide views' and the insets' colour is encoded (WRS_INPUT_*, ComposeEye wide_color.z and
+// inset_color.z, the same for both eyes), so that the pass carries that decoding only; WRS_INPUT_ANY
+// where the eyes differ (each eye's own, read at run time).
+layout(constant_id = 4) const uint WIDE_ENCODING = 4u;
+layout(constant_id = 5) const uint INSET_ENCODING = 4u;
+// Quad views: whether the dispatch's groups may meet the inset (wrs_inset_weight > 0). The compositor
+// dispatches the groups of each eye's inset rectangle (insetGroups, compositor/input.h) with it and the
+// others without, which never read the inset (docs/speed.md "The compose pass at its bytes").
+layout(constant_id = 6) const bool INSET = true;
+// Quad views, method fov: the composed colour is the frame's output, written here (sRGB-encoded, as the
+// foveating pass would write it) instead of the composed images, qualities and landed samples that only
+// the later passes of the other methods read.
+layout(constant_id = 7) const bool OUTPUT = false;
+// The dispatch's first group (xy) and eye (z, added to gl_WorkGroupID.z): a dispatch may cover a
+// rectangle of one eye's groups.
+layout(push_constant) uniform Push { uvec4 origin; } push;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 layout(std140, set = 0, binding = 0) uniform ComposeBlock { ComposeParams params; };
@@ -46,13 +62,18 @@ shared float s_srgb[256];
 layout(set = 0, binding = 7, rgba16f) uniform writeonly image2DArray composedColor;
 layout(set = 0, binding = 8, r32f) uniform writeonly image2DArray composedDepth;
 layout(set = 0, binding = 9, rgba16f) uniform writeonly image2DArray composedMotion;
+// The compositor's output (OUTPUT: method fov), sRGB-encoded 8-bit, layer = eye.
+layout(set = 0, binding = 10, rgba8) uniform writeonly image2DArray outImage;
 
 #define WRS_SRGB_TABLE s_srgb
 #include "wrs_input.h"
 // Texel q of source k (eye, or 2 + eye), decoded and sanitised as load_color does; validity in alpha.
 vec4 source_texel(uint k, uvec2 q, uvec4 rect) {
-    return wrs_decode_input(vec4(texelFetch(srcColor[k], ivec2(q + rect.xy), 0).rgb, 1.0), rect.z);
+    uint constant_encoding = k < 2u ? WIDE_ENCODING : INSET_ENCODING;
+    uint encoding = constant_encoding == WRS_INPUT_ANY ? rect.z : constant_encoding;
+    return wrs_decode_input(vec4(texelFetch(srcColor[k], ivec2(q + rect.xy), 0).rgb, 1.0), encoding);
 }
+bool reads_srgb_table(uint encoding) { return encoding == WRS_INPUT_ANY || wrs_input_srgb8(encoding); }
 
 vec4 source_bilinear(uint k, vec2 pos, uvec2 size, uvec4 rect) {
     uvec2 i0, i1;
@@ -86,13 +107,17 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     uvec2 wsize = ce.sizes.xy, isize = ce.sizes.zw;
     vec2 wpos = wrs_source_pos(p, ce.wide_map);
     vec2 ipos = wrs_source_pos(p, ce.inset_map);
-    float t = wrs_inset_weight(ipos, isize, ce.inset_motion.w);
+    float t = INSET ? wrs_inset_weight(ipos, isize, ce.inset_motion.w) : 0.0;
     vec4 inset = t > 0.0 ? source_bilinear(2u + eye, ipos, isize, ce.inset_color) : vec4(0.0);
     // Where the inset alone shows (and has a valid tap), the wide view is not read.
     bool inset_only = t == 1.0 && inset.w != 0.0;
     vec4 wide = inset_only ? vec4(0.0) : source_bilinear(eye, wpos, wsize, ce.wide_color);
     t = wrs_quad_weight(t, inset.w != 0.0, wide.w != 0.0);
     vec4 c = wrs_quad_color(wide, inset, t);
+    if (OUTPUT) {
+        imageStore(outImage, ivec3(p, eye), vec4(wrs_output_value(vec3(round_f16(c))), 1.0));
+        return 0.0;
+    }
     float q = wrs_quad_quality(ce.wide_motion.w, t);
     quality[idx] = floatBitsToUint(q);
     imageStore(composedColor, ivec3(p, eye), round_f16(c));
@@ -145,18 +170,22 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
 }
 
 void main() {
-    uint eye = gl_WorkGroupID.z;
-    uvec2 p = gl_GlobalInvocationID.xy;
+    uint eye = gl_WorkGroupID.z + push.origin.z;
+    uvec2 group = gl_WorkGroupID.xy + push.origin.xy;
+    uvec2 p = group * uvec2(WRS_GROUP_X, WRS_GROUP_Y) + gl_LocalInvocationID.xy;
     uvec2 size = params.size.xy;
     if (gl_LocalInvocationIndex == 0u) tile_q = 0u;
-    if (KIND == 1u)
+    if (KIND == 1u && (reads_srgb_table(WIDE_ENCODING) || reads_srgb_table(INSET_ENCODING)))
         for (uint i = gl_LocalInvocationIndex; i < 256u; i += WRS_GROUP_X * WRS_GROUP_Y) s_srgb[i] = srgb_table[i];
     barrier();
-    if (all(lessThan(p, size))) atomicMax(tile_q, floatBitsToUint(compose_pixel(eye, p, size)));
+    if (all(lessThan(p, size))) {
+        float q = compose_pixel(eye, p, size);
+        if (!OUTPUT) atomicMax(tile_q, floatBitsToUint(q));
+    }
     barrier();
-    if (gl_LocalInvocationIndex == 0u) {
+    if (gl_LocalInvocationIndex == 0u && !OUTPUT) {
         uvec2 tiles = tile_count(size);
-        uvec2 t = gl_WorkGroupID.xy;
+        uvec2 t = group;
         quality[2u * size.x * size.y + (eye * tiles.y + t.y) * tiles.x + t.x] = tile_q;
     }
 }

@@ -37,8 +37,10 @@ layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1)
 const uint GAUSS_SPAN = 2u * WRS_GROUP_X + 2u;  // level-0 texels behind 8 level-1 texels: taps -1..2
 shared vec4 s_texels[GAUSS_SPAN * GAUSS_SPAN];
 
-// Copies the sRGB table into shared memory (every group, before its first load_color).
+// Copies the sRGB table into shared memory (every group, before its first load_color), where the
+// input's encoding reads it.
 void stage_srgb_table() {
+    if (!input_reads_srgb_table()) return;
     for (uint i = gl_LocalInvocationIndex; i < 256u; i += WRS_GROUP_X * WRS_GROUP_Y) s_srgb[i] = srgb_table[i];
     barrier();
 }

@@ -15,6 +15,9 @@ layout(constant_id = 1) const bool UPSAMPLE = false;
 // the display's history is slot push.pad1 of the Display buffer, valid where push.pad2 says so, and
 // this frame's is written to slot push.pad0.
 layout(constant_id = 2) const bool DISPLAY = false;
+// Method taau on quad views: the neighbourhood and the candidate are the composed colour itself
+// (load_color), which no foveating pass copies into the candidate buffer first.
+layout(constant_id = 3) const bool COMPOSED = false;
 layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
@@ -24,6 +27,8 @@ uvec2 display_at(uint eye, uvec2 q) { return display_history[display_index(push.
 vec4 display_rgb(uint eye, uvec2 q) { return vec4(wrs_unpack_shown(display_at(eye, q)), 0.0); }
 // What the retain pass showed at pixel q, in the candidate buffer (store_output).
 vec3 shown_at(uint eye, uvec2 q) { return wrs_unpack_shown(candidate_shown[pixel_index(eye, q)]); }
+// The candidate at pixel q: the foveating pass's, or the composed colour (COMPOSED).
+vec3 candidate_at(uint eye, uvec2 q) { return COMPOSED ? load_color(eye, q).rgb : candidate[pixel_index(eye, q)].rgb; }
 
 void display_pixel(uint eye, uvec2 p, vec3 nb[9], vec3 mv) {
     uvec2 size = frame.size.xy;
@@ -53,7 +58,7 @@ void main() {
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
             uvec2 q = wrs_taa_tap(p, ivec2(i - 1, j - 1), size);
-            nb[j * 3 + i] = wrs_rgb_to_ycocg(DISPLAY ? shown_at(eye, q) : candidate[pixel_index(eye, q)].rgb);
+            nb[j * 3 + i] = wrs_rgb_to_ycocg(DISPLAY ? shown_at(eye, q) : candidate_at(eye, q));
         }
     vec3 mv = HAS_MOTION ? texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz * ep.motion_scale.xyz
                          : vec3(0.0);
@@ -75,7 +80,7 @@ void main() {
         bool gathered = ep.motion_rect.z != 0u;
         vec4 g = gathered ? submitted_landed(idx) : vec4(0.0);
         // Without gathered samples (a frame not of quad views): the composed colour is the sample, weight 1.
-        if (!gathered) g = vec4(candidate[idx].rgb, 1.0);
+        if (!gathered) g = vec4(candidate_at(eye, p), 1.0);
         bool inset = gathered && !wrs_is_wide_quality(submitted_quality(idx), ep.tile.w);
         float acc = has ? uintBitsToFloat(res_prev[idx].w) : 0.0;
         vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
@@ -83,7 +88,7 @@ void main() {
         store_output(eye, p, r.xyz);
         return;
     }
-    vec3 c = wrs_taa(nb, hist, has);
+    vec3 c = wrs_taa(nb, hist, has);  // fov+taa: the foveating pass's candidates
     res_cur[pixel_index(eye, p)] = uvec4(floatBitsToUint(c), 1u);
     store_output(eye, p, c);
 }

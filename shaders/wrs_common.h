@@ -379,6 +379,9 @@ const uint WRS_INPUT_LINEAR = 0u;
 const uint WRS_INPUT_SRGB = 1u;
 const uint WRS_INPUT_COMPOSED = 2u;
 const uint WRS_INPUT_SRGB_VIEW = 3u;
+// A pass's encoding constant (bindings.glsl INPUT_ENCODING, compose.comp's) where the frame's views differ:
+// each view's own encoding, read from its parameters at run time.
+const uint WRS_INPUT_ANY = 4u;
 WRS_FN bool wrs_input_srgb8(uint encoding) { return encoding == WRS_INPUT_SRGB || encoding == WRS_INPUT_SRGB_VIEW; }
 // The 8-bit code of an sRGB channel that a device decoded to `decoded` (an sRGB view): the code whose
 // sRGB value it encodes back to, rounded. Adjacent codes are at least 1/3295 apart in linear value (codes
@@ -596,7 +599,13 @@ WRS_FN uint wrs_f32_to_f16(float f) {
     if (rem > halfway || (rem == halfway && (h & 1u) != 0u)) h += 1u;
     return sign | h;
 }
+// fp16 to fp32 is exact: where the compositor found the device's conversions exact (WRS_HARDWARE_HALF,
+// Compositor::hardwareHalf, whose probe also unpacks every finite fp16 value, subnormals included) a shader
+// takes the device's (one instruction against a dozen); the bits are the same.
 WRS_FN float wrs_f16_to_f32(uint h) {
+#if !defined(__cplusplus) && defined(WRS_HARDWARE_HALF)
+    if (WRS_HARDWARE_HALF) return unpackHalf2x16(h).x;
+#endif
     uint sign = (h & 0x8000u) << 16u;
     uint e = (h >> 10u) & 0x1fu;
     uint m = h & 0x3ffu;

@@ -161,17 +161,17 @@ TEST(CostModel, VariantsMirrorTheDispatches) {
     // classify {mode, sparse, motion, phase} (phase 1: the superblocks of the motion reach), the skip
     // list's foveate {mode, output, -, -, -, 1 + skip}.
     const auto wrs = pipelineVariants(config(Method::Wrs), kAtrium);
-    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 9>{1, 1, 1, 1, 0, 0, 0, 1, 0}));
-    EXPECT_EQ(wrs[1].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 0, 0, 1, 0}));
-    EXPECT_EQ(wrs[3].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 1, 1, 1, 0}));
-    EXPECT_EQ(wrs[6].constants, (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 4, 1, 1, 0}));
-    EXPECT_EQ(wrs[7].constants, (std::array<uint32_t, 9>{1, 1, 0, 0, 0, 5, 0, 1, 0}));
+    EXPECT_EQ(wrs[0].constants, (SpecConstants{1, 1, 1, 1, 0, 0, 0, 1, 0, 0}));
+    EXPECT_EQ(wrs[1].constants, (SpecConstants{1, 1, 1, 0, 0, 0, 0, 1, 0, 0}));
+    EXPECT_EQ(wrs[3].constants, (SpecConstants{1, 1, 1, 0, 0, 1, 1, 1, 0, 4}));
+    EXPECT_EQ(wrs[6].constants, (SpecConstants{1, 1, 1, 0, 0, 4, 1, 1, 0, 4}));
+    EXPECT_EQ(wrs[7].constants, (SpecConstants{1, 1, 0, 0, 0, 5, 0, 1, 0, 4}));
     // 64 x 64 tiles per eye at 512 px: 8 x 8 superblocks, one group of 8 x 8 tiles each.
     EXPECT_EQ(wrs[0].groups, 8u * 8u * 2u);
     const auto still = pipelineVariants(config(Method::Wrs), {512, 512, 4, 4, 0});
-    EXPECT_EQ(still[2].constants, (std::array<uint32_t, 9>{0, 1, 1, 0, 1, 1, 1, 1, 0})) << "no motion: in place";
+    EXPECT_EQ(still[2].constants, (SpecConstants{0, 1, 1, 0, 1, 1, 1, 1, 0, 4})) << "no motion: in place";
     EXPECT_EQ(pipelineVariants(config(Method::Fov), kAtrium)[2].constants,
-              (std::array<uint32_t, 9>{1, 1, 0, 0, 0, 1, 0, 1, 0}));
+              (SpecConstants{1, 1, 0, 0, 0, 1, 0, 1, 0, 4}));
     CompositorConfig noSkip = config(Method::Wrs);
     noSkip.skipTiles = false;
     EXPECT_EQ(names(pipelineVariants(noSkip, kAtrium)), (V{"pyramid/whole", "retain/whole"}));
@@ -217,11 +217,12 @@ TEST(CostModel, VariantKeysRoundTrip) {
             ASSERT_TRUE(back) << toString(k);
             EXPECT_EQ(*back, k);
         }
-    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 0, 0, 0, 1, 0}};
-    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,0,0,0,1,0"), compose);
+    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 1, 4, 0, 1, 0, 0}};
+    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,1,4,0,1,0,0"), compose);
     EXPECT_FALSE(parseVariantKey("retain:1,2"));
     EXPECT_FALSE(parseVariantKey("copy:0,0,0,0,0,0"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,7"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4,7"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0"));
     EXPECT_FALSE(parseStatsTarget("device:"));
     EXPECT_FALSE(parseStatsTarget("GFX 1100"));
     EXPECT_EQ(parseStatsTarget("vangogh")->family, "vangogh");
@@ -436,24 +437,32 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
         return c;
     };
     const auto wrs = pipelineVariants(quadConfig(Method::Wrs), g->inputs);
-    EXPECT_EQ(names(wrs), (V{"compose/whole", "reach/whole", "classify/whole", "pyramid/whole", "retain/any", "retain/fovea",
-                             "retain/mid", "retain/far", "skip/skip", "display/whole"}));
+    EXPECT_EQ(names(wrs), (V{"compose/outside", "compose/inset", "reach/whole", "classify/whole", "pyramid/whole",
+                             "retain/any", "retain/fovea", "retain/mid", "retain/far", "skip/skip", "display/whole"}));
     // compose.comp's constants as ComposePass binds them: quad views (1), depth, motion, the method's
-    // wide samples (composeLanded: `wrs` its landed ones, `taau` the gathered ones, `fov` none); nothing else.
+    // wide samples (composeLanded: `wrs` its landed ones, `taau` the gathered ones, `fov` none), the wide
+    // views' and the insets' encodings (RGBA8 sRGB: 1), the inset's groups, and `fov`'s output; nothing else.
     EXPECT_EQ(wrs[0].shader, ShaderId::Compose);
-    EXPECT_EQ(wrs[0].constants, (std::array<uint32_t, 9>{1, 1, 1, 1, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(wrs[0].constants, (SpecConstants{1, 1, 1, 1, 1, 1, 0, 0, 0, 0}));
+    EXPECT_EQ(wrs[1].constants, (SpecConstants{1, 1, 1, 1, 1, 1, 1, 0, 0, 0}));
     EXPECT_EQ(pipelineVariants(quadConfig(Method::Taau), g->inputs)[0].constants,
-              (std::array<uint32_t, 9>{1, 1, 1, 2, 0, 0, 0, 0, 0}));
+              (SpecConstants{1, 1, 1, 2, 1, 1, 0, 0, 0, 0}));
     EXPECT_EQ(pipelineVariants(quadConfig(Method::Fov), g->inputs)[0].constants,
-              (std::array<uint32_t, 9>{1, 1, 1, 0, 0, 0, 0, 0, 0}));
+              (SpecConstants{1, 0, 0, 0, 1, 1, 0, 1, 0, 0}));
     CompositorConfig unlanded = quadConfig(Method::Wrs);
     unlanded.landedSamples = false;
     EXPECT_EQ(pipelineVariants(unlanded, g->inputs)[0].constants[3], 0u);
-    EXPECT_EQ(wrs[0].groups, 96u * 96u * 2u);
-    EXPECT_LT(wrs[0].phase, wrs[1].phase) << "a barrier after the compose pass";
-    EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Fov), g->inputs)), (V{"compose/whole", "foveate/whole"}));
+    // The inset's groups (56 px at the centre of 768: pixels 354..413 with a pixel to spare each side,
+    // groups 44..51 of 96 per axis) and the others, side by side; then a barrier.
+    EXPECT_DOUBLE_EQ(g->inputs.insetShare, 64.0 / (96.0 * 96.0));
+    EXPECT_EQ(wrs[0].groups + wrs[1].groups, 96u * 96u * 2u);
+    EXPECT_EQ(wrs[1].groups, 2u * 64u);
+    EXPECT_EQ(wrs[0].phase, wrs[1].phase);
+    EXPECT_LT(wrs[1].phase, wrs[2].phase) << "a barrier after the compose pass";
+    // `fov` composes into the output; `taau`'s pass reads the composed colour: no foveating pass.
+    EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Fov), g->inputs)), (V{"compose/outside", "compose/inset"}));
     EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Taau), g->inputs)),
-              (V{"compose/whole", "foveate/whole", "taa/whole"}));
+              (V{"compose/outside", "compose/inset", "taa/whole"}));
     // Every pass of traffic() on these views has its variant with its bytes (the compose pass's among them).
     for (Method m : {Method::Fov, Method::Taau, Method::Wrs}) {
         const Traffic t = traffic(quadConfig(m), g->inputs);
@@ -477,7 +486,7 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
     rate.composeWrite = 4;
     const auto fovRate = pipelineVariants(quadConfig(Method::Fov), rate);
     ASSERT_FALSE(fovRate.empty());
-    EXPECT_EQ(fovRate[0].constants, (std::array<uint32_t, 9>{2, 0, 0, 0, 0, 0, 0, 0, 0}));
+    EXPECT_EQ(fovRate[0].constants, (SpecConstants{2, 0, 0, 0, 4, 4, 0, 0, 0, 0}));
 }
 
 // A statistics process that dies of a signal after offering its device (a driver's crash while compiling)
