@@ -26,8 +26,6 @@ enum Binding : uint32_t {
     kOutMotion = 9,
     kOutput = 10
 };
-constexpr uint32_t kGroup = 8;  // WRS_GROUP_X, WRS_GROUP_Y
-uint32_t groups(uint32_t n) { return (n + kGroup - 1) / kGroup; }
 }  // namespace
 
 std::vector<VkDescriptorSetLayoutBinding> ComposePass::setBindings() {

@@ -432,7 +432,7 @@ Result<VkPipeline> Compositor::pipeline(int shader, const SpecConstants& passCon
     SpecConstants constants = passConstants;
     constants[7] = hardwareHalf_;
     constants[8] = birthAllocated_;
-    std::array<uint32_t, 11> key{uint32_t(shader)};
+    std::array<uint32_t, 12> key{uint32_t(shader)};
     std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second;
@@ -827,7 +827,10 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     if (frame_.foveation != lastFoveation_) historyValid_ = false;
     lastFoveation_ = frame_.foveation;
     // Which passes run (planPasses, as traffic() and the cost model see them).
-    work.passes = planPasses(frame_, work.hasMotion, birthAllocated_);
+    // Quad views that offer landed samples run the steady display (folded into the retain pass).
+    const bool landedOffered = composeParams_.eye[0].landed.z == 1.0f || composeParams_.eye[1].landed.z == 1.0f;
+    work.passes = planPasses(frame_, work.hasMotion, birthAllocated_,
+                             work.kind == layers::SubmittedFoveation::Quad && landedOffered);
 
     stats_ = FrameStats{};
     stats_.frameIndex = frame.frameIndex;
@@ -853,7 +856,12 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     // The steady display: on frames whose quad views offer landed samples (which only `wrs`'s do).
     work.passes.display = work.passes.display && displayAllocated_ &&
                           (params_.eye[0].motion_rect.z != 0u || params_.eye[1].motion_rect.z != 0u);
-    if (work.passes.display) params_.tuning.z = frame_.steadyDisplay;
+    if (work.passes.display) {
+        params_.tuning.z = frame_.steadyDisplay;
+        // Its neighbourhood's taps one wide pixel apart (the merge's wide box has the same spacing).
+        for (int eye = 0; eye < 2; ++eye)
+            params_.eye[eye].display.x = gpu::wrs_wide_box_steps(glm::vec2(composeParams_.eye[eye].landed));
+    }
     stats_.steadyDisplay = work.passes.display;
     // Every phase merged (wrs_submitted.h): on a frame of `wrs` whose wide views were jittered, no floor
     // rule (so no tile skips it) and each eye's wide box, one wide pixel apart.

@@ -43,8 +43,8 @@ namespace wrsfov {
 
 /// A pipeline's specialisation constants: 0..6 the pass's own (compose.comp: 0..5), 7 HARDWARE_HALF and
 /// 8 TRACK_BIRTH (every pass but compose; the compositor sets them), 9 INPUT_ENCODING (the passes that read
-/// the submitted colour; shaders/bindings.glsl).
-using SpecConstants = std::array<uint32_t, 10>;
+/// the submitted colour; shaders/bindings.glsl), 10 the pass's own again (retain.comp: DISPLAY).
+using SpecConstants = std::array<uint32_t, 11>;
 struct PassDispatch;           // compositor/pass_table.h
 enum class Barrier : uint8_t;  // compositor/pass_table.h
 
@@ -212,8 +212,10 @@ struct PassPlan {
     /// views offer landed samples: a frame of another kind does not run it (Compositor::planFrame).
     bool display = false;
 };
-/// `hasMotion`: the frame's views carry motion; `birth`: birth buffers exist (stale tracking).
-PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth);
+/// `hasMotion`: the frame's views carry motion; `birth`: birth buffers exist (stale tracking); `quad`: the
+/// frame comes as quad views that offer landed samples (where the steady display runs, folded into the
+/// retain pass).
+PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth, bool quad = false);
 
 /// GPU time of each pass for both eyes together, in milliseconds (valid = false when not measured).
 /// On a CPU device (Mesa lavapipe) timestamps do not bracket the dispatches between them: a pass's
@@ -499,7 +501,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 11>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
+    std::map<std::array<uint32_t, 12>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;

@@ -52,8 +52,6 @@ std::string_view toString(PassId p) {
             return "wrs-paper";
         case PassId::Taa:
             return "taa";
-        case PassId::Display:
-            return "display";
     }
     return "?";
 }
@@ -113,7 +111,7 @@ uint64_t dispatchGroups(const PassDispatch& d, uint32_t w, uint32_t h, uint32_t 
 }
 
 std::vector<PassDispatch> framePasses(const CompositorConfig& c, const TrafficInputs& in) {
-    return framePasses(c, planPasses(c, in.motionBytes > 0, c.trackBirth), in, composeLanded(c));
+    return framePasses(c, planPasses(c, in.motionBytes > 0, c.trackBirth, in.composeWrite > 4), in, composeLanded(c));
 }
 
 std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan& plan, const TrafficInputs& in,
@@ -146,7 +144,7 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     const double landedWords = landed != 0 ? 8.0 : 0.0;
     const double quality = composed && (plan.retain || plan.display) ? 4 : 0;  // each pixel's rendered quality
     const double history = 16, output = 4;
-    // The steady display: the retain pass's colour in the candidate buffer (fp16) instead of the output.
+    // The steady display, in the retain pass (constant 10): its history in (bilinear, once) and out.
     const bool display = plan.display && quad;
     const double shown = 8;  // what the display reads of a shown colour, and its own history (wrs_pack_shown)
 
@@ -258,16 +256,17 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
         // Sparse retention: the tiles that retained, then the far tiles that skip it through the foveating
         // pass alone (colour in, output out; with stale tracking the birth colour too).
         const Barrier last = plan.sparse ? (plan.inPlace ? Barrier::Compute : Barrier::None) : Barrier::Compute;
-        const double shownOut = display ? shown : output;
+        const double displayed = display ? shown : 0.0;  // the display's history, read and written
         addPixels(PassId::Retain, ShaderId::Retain,
-                  {hasMotion, hasDepth, fov, retainRule(c), plan.inPlace, 0, plan.sparse}, plan.inPlace, last,
+                  {hasMotion, hasDepth, fov, retainRule(c), plan.inPlace, 0, plan.sparse, 0, 0, 0, display},
+                  plan.inPlace, last,
                   in.colorBytes + levelsRead + history + depth + motion + birth + quality +
-                      (landed == 1 ? landedWords : 0.0),
-                  history + shownOut + birth, share);
+                      (landed == 1 ? landedWords : 0.0) + displayed,
+                  history + output + birth + displayed, share);
         if (plan.sparse) {
             PassDispatch& s = add(PassId::Skip, ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0},
                                   DispatchShape::TileList, Barrier::Compute, in.colorBytes + levelsRead,
-                                  shownOut + birth);
+                                  output + birth);
             s.tileClass = int(gpu::WRS_TILE_SKIP);
             s.cover = 1.0 - share;
         }
@@ -284,12 +283,6 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
             (taaReadsComposed ? in.colorBytes : 16.0) + history + motion + (upsample && landed == 2 ? landedWords + 4 : 0.0),
             history + output);
     }
-    // The steady display: per pixel the 3x3 neighbourhood of what retention showed (each read by nine, once
-    // from memory), the display's history (bilinear, once), the motion and the rendered quality; the
-    // history (fp16) and the output out.
-    if (display)
-        add(PassId::Display, ShaderId::Taa, {hasMotion, 0u, 1u, 0u}, DispatchShape::Pixels, Barrier::Compute,
-            shown + shown + motion + quality, shown + output);
     return d;
 }
 

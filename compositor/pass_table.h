@@ -31,10 +31,9 @@ enum class PassId : uint8_t {
     Skip,        ///< sparse retention's skipped tiles through the foveating pass
     WrsPaper,    ///< the published WRS step
     Taa,         ///< fov+taa and taau
-    Display,     ///< `wrs`'s steady display on quad views
 };
 /// traffic()'s and the cost model's name of a pass: "compose", "reach", "classify", "pyramid", "steady",
-/// "steady-copy", "foveate", "retain", "skip", "wrs-paper", "taa", "display".
+/// "steady-copy", "foveate", "retain", "skip", "wrs-paper", "taa".
 std::string_view toString(PassId p);
 
 /// How a dispatch's workgroups cover the frame (both eyes: z = eye, or the eye in each tile's entry).

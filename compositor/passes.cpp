@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "compositor/compose.h"
@@ -171,7 +172,7 @@ bool runsSparse(const CompositorConfig& c) {
     return floorQuality(c) > 0.0f;
 }
 
-PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth) {
+PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth, bool quad) {
     PassPlan p;
     p.retain = usesRetainPass(c.method);
     p.wrsPaper = c.method == Method::WrsPaper;
@@ -181,7 +182,10 @@ PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth) {
     // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles. A
     // frame submitted foveated has two classes, far (rendered at the floor quality only) and any
     // (wrs_submitted_tile_class), which only sparse retention uses.
-    const bool sparse = runsSparse(c);
+    // The steady display, folded into the retain pass on quad views (docs/retention.md "Steady display"),
+    // filters every pixel the pass shows: no tile skips retention there.
+    p.display = displayActive(c) && quad;
+    const bool sparse = runsSparse(c) && !p.display;
     p.tiled = c.skipTiles && ((simulatesFoveation(c.foveation) && (c.method == Method::Fov || p.retain)) ||
                               (c.foveation == FoveationMode::Submitted && sparse));
     p.sparse = p.tiled && sparse;
@@ -190,7 +194,6 @@ PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth) {
     // as they do with stale tracking's birth buffers.
     p.inPlace = p.retain && !hasMotion && !birth;
     p.steady = p.pyramid && steadyFloorActive(c);
-    p.display = displayActive(c);
     return p;
 }
 
@@ -231,7 +234,7 @@ Traffic traffic(const CompositorConfig& c, const TrafficInputs& in) {
     }
     // The floor: the colour in and the output out, and for methods with history the reservoir read and
     // written and the depth and motion they use, where retention ran.
-    const PassPlan plan = planPasses(c, in.motionBytes > 0, c.trackBirth);
+    const PassPlan plan = planPasses(c, in.motionBytes > 0, c.trackBirth, in.composeWrite > 4);
     const double share = plan.sparse ? std::clamp(in.retainShare, 0.0, 1.0) : 1.0;
     const double depth = plan.wrsPaper || plan.retain ? in.depthBytes : 0, motion = plan.temporal ? in.motionBytes : 0;
     constexpr double history = 16, output = 4;

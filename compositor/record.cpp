@@ -208,17 +208,13 @@ void Compositor::recordDispatch(const FramePlan& plan, const PassDispatch& d) {
     };
     // The push constants a pass reads (LevelPush): the pyramid's level; the steady floor's and the
     // display's slots, written: the slot the last frame did not write; read: the last frame's, where it
-    // wrote one (a history reset starts either anew, as it does the reservoirs). taa.comp declares the
-    // display's, unused by fov+taa and taau but set.
+    // wrote one (a history reset starts either anew, as it does the reservoirs).
     switch (d.pass) {
         case PassId::Steady:
             push({0, 1 - steadySlot_, steadySlot_, steadyValid_ && historyValid_ ? 1u : 0u});
             break;
-        case PassId::Display:
-            push({0, 1 - displaySlot_, displaySlot_, displayValid_ && historyValid_ ? 1u : 0u});
-            break;
-        case PassId::Taa:
-            push({0, 0, 0, 0});
+        case PassId::Retain:  // the steady display (constant 10) reads and writes its slots
+            if (d.constants[10]) push({0, 1 - displaySlot_, displaySlot_, displayValid_ && historyValid_ ? 1u : 0u});
             break;
         default:
             break;

@@ -328,7 +328,15 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             const uint rule = retainRule(config_);
             // Sparse retention (classify.comp): the held qualities the step reads (nothing after a
             // reset; anything where none were recorded), and which far tiles skip retention.
-            const bool sparse = runsSparse(cfg);
+            // The steady display folded into the retain pass (retain.comp DISPLAY: where the frame runs it,
+            // its weight in tuning.z) filters each pixel as it is shown; no tile skips retention then.
+            const bool display = params.tuning.z > 0.0f;
+            const bool sparse = runsSparse(cfg) && !display;
+            const bool displayHistory = display && history_ && displayed_ && display_[eye].size() == std::size_t(W) * H;
+            std::vector<vec4> prevDisplay = displayHistory ? std::move(display_[eye]) : std::vector<vec4>{};
+            display_[eye].clear();
+            if (display) display_[eye].assign(std::size_t(W) * H, vec4(0.0f));
+            auto displayAt = [&](uvec2 q) { return vec4(vec3(prevDisplay[std::size_t(q.y) * W + q.x]), 0.0f); };
             const uvec2 tiles((W + WRS_TILE - 1u) / WRS_TILE, (H + WRS_TILE - 1u) / WRS_TILE);
             std::vector<float> heldPrev(std::size_t(tiles.x) * tiles.y, history_ ? 1.0f : 0.0f);
             if (history_ && held_[eye].size() == heldPrev.size()) heldPrev = held_[eye];
@@ -392,10 +400,6 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                 }
             auto tileOf = [&](uvec2 q) { return std::size_t(q.y / WRS_TILE) * tiles.x + q.x / WRS_TILE; };
             trace_[eye].assign(std::size_t(W) * H, Trace{});
-            // What the pass shows at each pixel, linear (a skipped tile: the foveating pass's candidate),
-            // which the steady display filters where it runs.
-            std::vector<vec3> shownAt(std::size_t(W) * H);
-            for (std::size_t i = 0; i < shownAt.size(); ++i) shownAt[i] = vec3(cand_[eye][i]);
             for (uint y = 0; y < H; ++y)
                 for (uint x = 0; x < W; ++x) {
                     uvec2 p(x, y);
@@ -414,11 +418,20 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                     RetainInput c = wrs_candidate_at(pyramid, mode, p, ref, lv, e, r_f, q_sub, true).rule;
                     c.z = hasDepth ? zlin[idx] : 0.0f;
                     c.q_floor = params.tuning.w;
+                    const bool filters = display && ep.motion_rect.z != 0u && !in.quality.empty() &&
+                                         wrs_is_wide_quality(in.quality[idx], ep.tile.w);
+                    vec3 m1(0.0f), m2(0.0f);
                     if (mode == WRS_FOV_SUBMITTED) {  // as retain.comp
                         c.jittered = ep.motion_rect.w != 0u;
-                        if (ep.depth_rect.w != 0u && wrs_wide_box_applies(c.q, ep.tile.w))
-                            for (uint k = 0; k < 9u; ++k)
-                                wrs_wide_box_add(c.lo, c.hi, at(0u, wrs_wide_box_tap(p, k, ep.depth_rect.w, size0)));
+                        const bool box = ep.depth_rect.w != 0u && wrs_wide_box_applies(c.q, ep.tile.w);
+                        if (box || filters) {
+                            const uint steps = filters ? ep.display.x : ep.depth_rect.w;
+                            for (uint k = 0; k < 9u; ++k) {
+                                const vec4 tk = at(0u, wrs_wide_box_tap(p, k, steps, size0));
+                                if (box) wrs_wide_box_add(c.lo, c.hi, tk);
+                                if (filters) wrs_moments_add(m1, m2, wrs_rgb_to_ycocg(wrs_display_tap(tk, ref)));
+                            }
+                        }
                         if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(rule) && !in.landed.empty())
                             wrs_offer_landed(c, in.landed[idx]);
                     }
@@ -495,42 +508,26 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         shown = wrs_landed_shown(tap[0], tap[1], tap[2], tap[3], w, t.outcome == WRS_OUT_KEPT || gap,
                                                  gap ? hg : h, r, ep.tile.w, c, shown);
                     }
-                    shownAt[idx] = shown;
+                    if (display) {  // as retain.comp's display()
+                        if (filters) {
+                            uvec2 i0, i1;
+                            vec2 f;
+                            const bool has = displayHistory && wrs_taa_reproject(p, size0, mv, i0, i1, f) &&
+                                             prevDisplay[idx].w != 0.0f;
+                            vec3 hist(0.0f);
+                            if (has)
+                                hist = vec3(wrs_bilinear(displayAt(i0), displayAt(uvec2(i1.x, i0.y)),
+                                                         displayAt(uvec2(i0.x, i1.y)), displayAt(i1), f));
+                            vec3 mu, sigma;
+                            wrs_moments_of_nine(m1, m2, mu, sigma);
+                            shown = wrs_display_fold_step(mu, sigma, shown, hist, has, params.tuning.z);
+                        }
+                        display_[eye][idx] = vec4(wrs_unpack_shown(wrs_pack_shown(shown)), 1.0f);
+                    }
                     glm::u8vec4 o = encodeOutput(shown);
                     std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
                 }
             held_[eye] = sparse ? std::move(heldCur) : std::vector<float>{};
-            // The steady display (taa.comp's DISPLAY), where the frame runs it (its weight in tuning.z).
-            const bool display = params.tuning.z > 0.0f;
-            const bool displayHistory = display && history_ && displayed_ && display_[eye].size() == std::size_t(W) * H;
-            std::vector<vec4> prevDisplay = displayHistory ? std::move(display_[eye]) : std::vector<vec4>{};
-            display_[eye].clear();
-            if (display) {
-                // What the passes showed reaches the display as they store it for it (store_output: fp16).
-                for (vec3& v : shownAt) v = wrs_unpack_shown(wrs_pack_shown(v));
-                display_[eye].assign(std::size_t(W) * H, vec4(0.0f));
-                for (uint y = 0; y < H; ++y)
-                    for (uint x = 0; x < W; ++x) {
-                        const uvec2 p(x, y);
-                        const std::size_t idx = std::size_t(y) * W + x;
-                        vec3 nb[9];
-                        taaNeighbourhood(p, size0, [&](uvec2 q) { return shownAt[std::size_t(q.y) * W + q.x]; }, nb);
-                        const vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
-                        uvec2 i0, i1;
-                        vec2 f;
-                        bool has = displayHistory && wrs_taa_reproject(p, size0, mv, i0, i1, f) && prevDisplay[idx].w != 0.0f;
-                        vec3 hist(0.0f);
-                        auto dAt = [&](uvec2 q) { return vec4(vec3(prevDisplay[std::size_t(q.y) * W + q.x]), 0.0f); };
-                        if (has) hist = vec3(wrs_bilinear(dAt(i0), dAt(uvec2(i1.x, i0.y)), dAt(uvec2(i0.x, i1.y)), dAt(i1), f));
-                        const bool wide = ep.motion_rect.z != 0u && !in.quality.empty() &&
-                                          wrs_is_wide_quality(in.quality[idx], ep.tile.w);
-                        const vec3 c = wrs_display_step(nb, shownAt[idx], hist, has, wide, params.tuning.z);
-                        display_[eye][idx] = vec4(wrs_unpack_shown(wrs_pack_shown(c)), 1.0f);
-                        if (!wide) continue;  // shown as the pass before showed it (store_output)
-                        glm::u8vec4 o = encodeOutput(c);
-                        std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
-                    }
-            }
             continue;
         }
 

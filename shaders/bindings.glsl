@@ -32,8 +32,6 @@ layout(set = 0, binding = 3) uniform sampler2D motionIn[2];  // RG16F / RGBA16F,
 layout(std430, set = 0, binding = 4) buffer Pyramid { uvec2 pyramid[]; };
 // Foveated candidate: linear RGB and its weight p̂ (0 when the input pixel was not finite).
 layout(std430, set = 0, binding = 6) buffer Candidate { vec4 candidate[]; };
-// The same buffer where the steady display follows: what the pass showed, 8 bytes a pixel (wrs_pack_shown).
-layout(std430, set = 0, binding = 6) buffer CandidateShown { uvec2 candidate_shown[]; };
 layout(std430, set = 0, binding = 7) readonly buffer ReservoirPrev { uvec4 res_prev[]; };
 layout(std430, set = 0, binding = 8) writeonly buffer ReservoirCur { uvec4 res_cur[]; };
 // Evaluation only (TRACK_BIRTH): the submitted linear colour when the shown sample was taken.
@@ -55,7 +53,7 @@ layout(std430, set = 0, binding = 15) readonly buffer Quality { uint submitted_w
 // Evaluation only: the full-resolution reference of a frame submitted foveated, which the oracles
 // compare with (EyeParams::ref_rect; a placeholder otherwise).
 layout(set = 0, binding = 16) uniform sampler2D referenceIn[2];
-// Method wrs, the steady display (wrs_display_step, taa.comp): two slots of every pixel's displayed linear
+// Method wrs, the steady display (wrs_display_fold_step, retain.comp): two slots of every pixel's displayed linear
 // colour (wrs_pack_shown: fp16, 1 where written), slot-major then as the reservoirs; a placeholder where it
 // does not run.
 layout(std430, set = 0, binding = 17) buffer Display { uvec2 display_history[]; };
@@ -162,19 +160,13 @@ float load_depth(uint eye, uvec2 p) {
 }
 // Whether load_color reads the sRGB table (a pass that copies it into shared memory does so only then).
 bool input_reads_srgb_table() { return INPUT_ENCODING == WRS_INPUT_ANY || wrs_input_srgb8(INPUT_ENCODING); }
-// Whether the steady display filters pixel idx of an eye (wrs_display_step's `wide`): a wide view's pixel of
-// quad views with landed samples; the inset's are shown as retention shows them.
+// Whether the steady display filters pixel idx of an eye (retain.comp DISPLAY): a wide view's pixel of quad
+// views with landed samples; the inset's are shown as retention shows them.
 bool display_filters(uint eye, uint idx) {
     return frame.eye[eye].motion_rect.z != 0u && wrs_is_wide_quality(submitted_quality(idx), frame.eye[eye].tile.w);
 }
-// What a pass shows at pixel p: the output image; where the steady display follows (frame.tuning.z, its
-// weight, above 0) also the candidate buffer it filters, and only that where it filters the pixel.
+// What a pass shows at pixel p, into the output image (sRGB-encoded 8-bit).
 void store_output(uint eye, uvec2 p, vec3 linear_rgb) {
-    if (frame.tuning.z > 0.0) {
-        uint idx = pixel_index(eye, p);
-        candidate_shown[idx] = wrs_pack_shown(linear_rgb);
-        if (display_filters(eye, idx)) return;
-    }
     imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_output_value(linear_rgb), 1.0));
 }
 

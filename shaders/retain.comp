@@ -19,6 +19,12 @@ layout(constant_id = 5) const uint TILE = 0u;
 // nothing reads as a floor-quality sample at its centre (wrs_floor_sample), and each group (one tile)
 // records the best quality it stored in TileHeld.
 layout(constant_id = 6) const bool SPARSE = false;
+// The steady display folded in (docs/retention.md "Steady display"; `wrs` on quad views with landed samples,
+// frame.tuning.z its weight): the pass filters what it shows where it shows the wide views
+// (wrs_display_fold_step) and writes the output and the display's history, slot push.pad0 (the last
+// frame's, push.pad1, valid where push.pad2 says so).
+layout(constant_id = 10) const bool DISPLAY = false;
+layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 shared uint group_held;
@@ -27,6 +33,30 @@ shared uint group_held;
 uvec4 history_tap(uint eye, uvec2 q) {
     if (SPARSE && tile_held[frame.held.x + tile_index(eye, q / WRS_TILE)] == 0u) return wrs_floor_sample(frame.tuning.w);
     return res_prev[pixel_index(eye, q)];
+}
+
+// The steady display's previous colour at pixel q (wrs_pack_shown), of slot push.pad1.
+vec4 display_rgb(uint eye, uvec2 q) { return vec4(wrs_unpack_shown(display_history[display_index(push.pad1, eye, q)]), 0.0); }
+// The steady display folded in: what pixel p shows, filtered over time where it shows the wide views
+// (`filters`; m1, m2 the moments of its wide neighbourhood), its display history stored either way (the
+// inset's pixels: what they show).
+vec3 display(uint eye, uvec2 p, vec3 shown, vec3 mv, bool filters, vec3 m1, vec3 m2) {
+    vec3 c = shown;
+    if (filters) {
+        uvec2 i0, i1;
+        vec2 f;
+        bool has = push.pad2 != 0u && wrs_taa_reproject(p, frame.size.xy, mv, i0, i1, f) &&
+                   wrs_shown_written(display_history[display_index(push.pad1, eye, p)]);
+        vec3 hist = vec3(0.0);
+        if (has)
+            hist = wrs_bilinear(display_rgb(eye, i0), display_rgb(eye, uvec2(i1.x, i0.y)),
+                                display_rgb(eye, uvec2(i0.x, i1.y)), display_rgb(eye, i1), f).rgb;
+        vec3 mu, sigma;
+        wrs_moments_of_nine(m1, m2, mu, sigma);
+        c = wrs_display_fold_step(mu, sigma, shown, hist, has, frame.tuning.z);
+    }
+    display_history[display_index(push.pad0, eye, p)] = wrs_pack_shown(c);
+    return c;
 }
 
 // Retention at pixel p: stores its reservoir and output; returns the quality stored.
@@ -43,12 +73,22 @@ float retain_pixel(uint eye, uvec2 p) {
     RetainInput c = wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, ref, lv, e, ep.gaze.w, q_sub, true).rule;
     c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
     c.q_floor = frame.tuning.w;
+    // The wide view's composed colour at the 3x3 taps one wide pixel apart, in one pass over them: every
+    // phase merged, a wide candidate's box spans them; the steady display clips its history to their
+    // moments where it filters the pixel (display.x and depth_rect.w are the same spacing where both are set).
+    bool filters = DISPLAY && display_filters(eye, idx);
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
     if (FOV_MODE == WRS_FOV_SUBMITTED) {
         c.jittered = ep.motion_rect.w != 0u;
-        // Every phase merged: a wide candidate's box spans the wide view around the pixel.
-        if (ep.depth_rect.w != 0u && wrs_wide_box_applies(c.q, ep.tile.w))
-            for (uint k = 0u; k < 9u; ++k)
-                wrs_wide_box_add(c.lo, c.hi, load_color(eye, wrs_wide_box_tap(p, k, ep.depth_rect.w, size)));
+        bool box = ep.depth_rect.w != 0u && wrs_wide_box_applies(c.q, ep.tile.w);
+        if (box || filters) {
+            uint steps = filters ? ep.display.x : ep.depth_rect.w;
+            for (uint k = 0u; k < 9u; ++k) {
+                vec4 t = load_color(eye, wrs_wide_box_tap(p, k, steps, size));
+                if (box) wrs_wide_box_add(c.lo, c.hi, t);
+                if (filters) wrs_moments_add(m1, m2, wrs_rgb_to_ycocg(wrs_display_tap(t, ref)));
+            }
+        }
         if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) wrs_offer_landed(c, submitted_landed(idx));
     }
 
@@ -121,7 +161,10 @@ float retain_pixel(uint eye, uvec2 p) {
     // Landed display (wrs_landed_shown): under motion, one reconstruction of the landed samples kept.
     if (FOV_MODE == WRS_FOV_SUBMITTED && ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE) && c.moved && on_screen)
         shown = wrs_landed_shown(tap[0], tap[1], tap[2], tap[3], tap_w, kept, gap ? hg : h, r, ep.tile.w, c, shown);
-    store_output(eye, p, shown);
+    if (DISPLAY)
+        imageStore(outImage, ivec3(ivec2(p), int(eye)), vec4(wrs_output_value(display(eye, p, shown, mv, filters, m1, m2)), 1.0));
+    else
+        store_output(eye, p, shown);
     if (TRACK_BIRTH) {
         vec4 b = vec4(ref.rgb, 0.0);
         vec4 hb = birth_prev[pixel_index(eye, q)];

@@ -1468,20 +1468,29 @@ WRS_FN vec3 wrs_clip_box(vec3 h, vec3 centre, vec3 extent) {
     return m > 1.0f ? centre + wrs_div(d, m) : h;
 }
 
-// The mean and standard deviation of the 3x3 neighbourhood `nb` (YCoCg), per channel.
-WRS_FN void wrs_taa_moments(vec3 nb[9], WRS_OUT(vec3) mu, WRS_OUT(vec3) sigma) {
-    WRS_PRECISE vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
-    WRS_PRECISE vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
-    for (int i = 0; i < 9; ++i) {
-        m1 += nb[i];
-        m2 += nb[i] * nb[i];
-    }
+// The moments of nine values, one added at a time (m1: their sum, m2: the sum of their squares), and the
+// mean and standard deviation of the nine, per channel.
+WRS_FN void wrs_moments_add(WRS_INOUT(vec3) m1, WRS_INOUT(vec3) m2, vec3 v) {
+    WRS_PRECISE vec3 s1 = m1 + v;
+    WRS_PRECISE vec3 sq = v * v;
+    WRS_PRECISE vec3 s2 = m2 + sq;
+    m1 = s1;
+    m2 = s2;
+}
+WRS_FN void wrs_moments_of_nine(vec3 m1, vec3 m2, WRS_OUT(vec3) mu, WRS_OUT(vec3) sigma) {
     // The variance cancels (m2 / 9 - mu^2): its terms multiply by a literal 1/9 and stay unfused, so that
     // every device computes the same box before the square root.
     WRS_PRECISE vec3 m = m1 * 0.111111112f;
     WRS_PRECISE vec3 var = m2 * 0.111111112f - m * m;
     mu = m;
     sigma = wrs_sqrt(max(var, vec3(0.0f, 0.0f, 0.0f)));
+}
+// The mean and standard deviation of the 3x3 neighbourhood `nb` (YCoCg), per channel.
+WRS_FN void wrs_taa_moments(vec3 nb[9], WRS_OUT(vec3) mu, WRS_OUT(vec3) sigma) {
+    vec3 m1 = vec3(0.0f, 0.0f, 0.0f);
+    vec3 m2 = vec3(0.0f, 0.0f, 0.0f);
+    for (int i = 0; i < 9; ++i) wrs_moments_add(m1, m2, nb[i]);
+    wrs_moments_of_nine(m1, m2, mu, sigma);
 }
 // The history `hist` (linear RGB) clipped to the variance box (mean ± gamma sigma) of the 3x3
 // neighbourhood `nb` (YCoCg, centre at 4), in YCoCg.

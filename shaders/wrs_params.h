@@ -25,6 +25,8 @@ struct EyeParams {
                         // phase: up to it a candidate takes the wide box); 0 otherwise
     uvec4 ref_rect;     // evaluation only (the oracles with submitted foveation): x, y offset of the
                         // full-resolution reference in its image; z: its encoding (WRS_INPUT_*); w: layer
+    uvec4 display;      // the steady display (frame.tuning.z > 0): x, the spacing of its neighbourhood's taps
+                        // (wrs_wide_box_steps: one wide pixel); yzw: pad
 };
 
 struct FrameParams {
@@ -56,8 +58,8 @@ struct LevelPush {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::EyeParams) == 144);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 144 + 32 + 2 * 16 * WRS_LEVELS + 16);
+static_assert(sizeof(wrsfov::gpu::EyeParams) == 160);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 160 + 32 + 2 * 16 * WRS_LEVELS + 16);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 

@@ -285,35 +285,45 @@ WRS_FN vec4 wrs_taau_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, floa
 // The steady display (docs/retention.md "Steady display"; `wrs` on quad views with landed samples,
 // CompositorConfig::steadyDisplay): what retention shows at a pixel of the wide views is filtered over
 // time as TAA filters a frame, the display's previous colour reprojected with the pixel's motion
-// (bilinear), clipped to the box of the 3x3 neighbourhood of what retention shows now (below), and
-// blended with it by weight `alpha`. Retention keeps a sharp estimate per pixel, but where the head's
-// motion carries landed samples across the pixels each pixel's estimate moves as samples arrive and
-// leave; the filter keeps that movement from reading as flicker. Display only: the reservoirs and the
-// rule are unchanged, and the inset's pixels (rendered sharper than the wide views) show retention's
-// colour as it is.
+// (bilinear), clipped to a box of the wide view around the pixel (below), and blended with it by weight
+// `alpha`. Retention keeps a sharp estimate per pixel, but where the head's motion carries landed samples
+// across the pixels each pixel's estimate moves as samples arrive and leave; the filter keeps that
+// movement from reading as flicker. Display only: the reservoirs and the rule are unchanged, and the
+// inset's pixels (rendered sharper than the wide views) show retention's colour as it is.
+//
+// It runs in the retain pass (retain.comp DISPLAY), which shows the pixel, so nothing it shows goes
+// through memory to a pass of its own. The box is one that pass has: the wide view's composed colour at
+// the 3x3 taps one wide pixel apart (wrs_wide_box_tap, the merge's box; their YCoCg moments mu, sigma),
+// mean ± WRS_DISPLAY_GAMMA sigma, grown to hold the shown colour. Grown, a still pixel converges to what
+// retention shows (the variance box alone can leave out a pixel of fine detail that differs from its
+// neighbours, and the filter would then pull it towards their mean on every frame, a blur that never
+// settles). It replaced the 3x3 neighbourhood of what retention shows (a pass of its own, 40 B a pixel);
+// docs/retention.md has the measurements of both.
 // The default weight of the current frame. Headset cell, 8 phases, 10-degree inset, an experiment
 // filtering the shown frames (docs/retention.md "Steady display"): 0.1 blurs the 0.4 row (JOD 8.31
 // against 8.38 at 0.3), 0.2 leaves the 0.2 row 3.4 % above taau's instability, 0.3 and 0.5 steady less.
 const float WRS_DISPLAY_ALPHA = 0.15f;
-// One step of the steady display at a pixel: `nb` the 3x3 neighbourhood of what retention shows (YCoCg,
-// centre at 4), `shown` the centre in linear RGB, `hist` the display's previous colour reprojected
-// (linear RGB) where `has_history`, `wide` whether the pixel shows the wide views (its rendered quality
-// at or below theirs). Returns the colour displayed, which is also the display's history.
-// The history is clipped to the neighbourhood's variance box (mean ± sigma) grown to hold the current
-// colour: the variance box alone can leave out a pixel of fine detail that differs from its
-// neighbours, and the filter would then pull it towards their mean on every frame, a blur that never
-// settles (a kept inset sample shown over a fine pattern lost a seventh of its contrast); with the
-// current colour inside, a still pixel converges to what retention shows.
-WRS_FN vec3 wrs_display_step(vec3 nb[9], vec3 shown, vec3 hist, bool has_history, bool wide, float alpha) {
-    if (!wide || !has_history || !wrs_finite3(hist)) return shown;
-    vec3 mu, sigma;
-    wrs_taa_moments(nb, mu, sigma);
-    vec3 lo = min(mu - sigma, nb[4]);
-    vec3 hi = max(mu + sigma, nb[4]);
+// The box's half-width in standard deviations of the wide neighbourhood. Headset cell (0.3 and 0.2
+// density, 10-degree inset, 8 phases): temporal instability 0.00967 and 0.00927 at 1, 0.00878 and 0.00869
+// at 2, 0.00816 and 0.00857 at 4 (JOD 8.46 / 8.05, 8.47 / 8.07, 8.49 / 8.08); the wide taps lie a wide
+// pixel apart, where what retention shows varies within a pixel.
+const float WRS_DISPLAY_GAMMA = 4.0f;
+// A tap of the box's neighbourhood (decoded: validity in alpha); a tap whose input was not finite counts as
+// the pixel's own composed colour `own`.
+WRS_FN vec3 wrs_display_tap(vec4 tap, vec4 own) { return tap.w > 0.5f ? vec3(tap) : vec3(own); }
+// One step of the steady display at a pixel of the wide views: `mu`, `sigma` the moments of its wide
+// neighbourhood (wrs_moments_of_nine of wrs_display_tap, YCoCg), `shown` what retention shows there
+// (linear RGB), `hist` the display's previous colour reprojected (linear RGB) where `has_history`.
+// Returns the colour displayed, which is also the display's history.
+WRS_FN vec3 wrs_display_fold_step(vec3 mu, vec3 sigma, vec3 shown, vec3 hist, bool has_history, float alpha) {
+    if (!has_history || !wrs_finite3(hist)) return shown;
+    vec3 s = wrs_rgb_to_ycocg(shown);
+    vec3 lo = min(mu - 4.0f * sigma, s);
+    vec3 hi = max(mu + 4.0f * sigma, s);
     WRS_PRECISE vec3 centre = (lo + hi) * 0.5f;
     WRS_PRECISE vec3 extent = (hi - lo) * 0.5f;
     vec3 h = wrs_clip_box(wrs_rgb_to_ycocg(hist), centre, extent);
-    WRS_PRECISE vec3 out_ycocg = h + (nb[4] - h) * alpha;
+    WRS_PRECISE vec3 out_ycocg = h + (s - h) * alpha;
     return max(wrs_ycocg_to_rgb(out_ycocg), vec3(0.0f, 0.0f, 0.0f));
 }
 

@@ -1434,30 +1434,44 @@ TEST(Input, BothViewsOfAnSrgbImageDecodeToTheSameBits) {
 namespace wrsfov::gpu {
 namespace {
 
-// The steady display (wrs_display_step): the inset's pixels, a pixel without history and a history that
-// is not finite show retention's colour as it is; a still pixel converges to it, also where it stands out
-// of its neighbourhood's variance box (the box grows to hold it); a history far outside is clipped to
-// the box before the blend, so a change shows within a frame.
+// The steady display (wrs_display_fold_step): a pixel without history and a history that is not finite show
+// retention's colour as it is; a still pixel converges to it, also where it stands out of its wide
+// neighbourhood's box (the box grows to hold it); a history far outside is clipped to the box before the
+// blend, so a change shows within a frame.
 struct DisplayNeighbourhood {
-    vec3 nb[9];
+    vec3 mu, sigma;  // the moments of the wide taps around the pixel (YCoCg)
     explicit DisplayNeighbourhood(vec3 centre, vec3 around) {
-        for (int i = 0; i < 9; ++i) nb[i] = wrs_rgb_to_ycocg(i == 4 ? centre : around);
+        vec3 m1(0.0f), m2(0.0f);
+        for (int i = 0; i < 9; ++i) wrs_moments_add(m1, m2, wrs_rgb_to_ycocg(i == 4 ? centre : around));
+        wrs_moments_of_nine(m1, m2, mu, sigma);
+    }
+    vec3 step(vec3 shown, vec3 hist, bool has, float alpha = WRS_DISPLAY_ALPHA) const {
+        return wrs_display_fold_step(mu, sigma, shown, hist, has, alpha);
     }
 };
 
-TEST(SteadyDisplay, InsetPixelsNoHistoryAndNonFiniteHistoryShowRetentionsColour) {
+TEST(SteadyDisplay, NoHistoryAndNonFiniteHistoryShowRetentionsColour) {
     const vec3 shown(0.6f, 0.3f, 0.2f), hist(0.1f, 0.1f, 0.1f);
     DisplayNeighbourhood n(shown, vec3(0.5f, 0.3f, 0.2f));
-    for (vec3 r : {wrs_display_step(n.nb, shown, hist, true, false, 0.15f),
-                   wrs_display_step(n.nb, shown, hist, false, true, 0.15f),
-                   wrs_display_step(n.nb, shown, vec3(std::nanf(""), 0.0f, 0.0f), true, true, 0.15f),
-                   wrs_display_step(n.nb, shown, vec3(0.0f, std::numeric_limits<float>::infinity(), 0.0f), true, true,
-                                    0.15f)})
+    for (vec3 r : {n.step(shown, hist, false), n.step(shown, vec3(std::nanf(""), 0.0f, 0.0f), true),
+                   n.step(shown, vec3(0.0f, std::numeric_limits<float>::infinity(), 0.0f), true)})
         for (int k = 0; k < 3; ++k) EXPECT_EQ(r[k], shown[k]);
+    // The moments are the nine taps' (wrs_taa_moments of the same taps, one at a time).
+    vec3 nb[9];
+    for (int i = 0; i < 9; ++i) nb[i] = wrs_rgb_to_ycocg(i == 4 ? shown : vec3(0.5f, 0.3f, 0.2f));
+    vec3 mu, sigma;
+    wrs_taa_moments(nb, mu, sigma);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(mu[k], n.mu[k]);
+        EXPECT_EQ(sigma[k], n.sigma[k]);
+    }
+    // A tap whose input was not finite counts as the pixel's own composed colour.
+    EXPECT_EQ(wrs_display_tap(vec4(0.1f, 0.2f, 0.3f, 0.0f), vec4(0.7f, 0.6f, 0.5f, 1.0f)), vec3(0.7f, 0.6f, 0.5f));
+    EXPECT_EQ(wrs_display_tap(vec4(0.1f, 0.2f, 0.3f, 1.0f), vec4(0.7f, 0.6f, 0.5f, 1.0f)), vec3(0.1f, 0.2f, 0.3f));
 }
 
-// What the display stores of a colour (the retain pass's shown colour, its own history): fp16 RGB, the
-// hand conversion's values, and a flag that a never-written (zeroed) buffer does not have.
+// What the display stores of a colour (its history): fp16 RGB, the hand conversion's values, and a flag that
+// a never-written (zeroed) buffer does not have.
 TEST(SteadyDisplay, ShownColoursAreStoredInFp16WithAWrittenFlag) {
     for (vec3 c : {vec3(0.0f), vec3(0.9f, 0.123456f, 1e-6f), vec3(65504.0f, 3.0e-5f, 0.5f), vec3(7.77777f)}) {
         const glm::uvec2 w = wrs_pack_shown(c);
@@ -1471,47 +1485,45 @@ TEST(SteadyDisplay, ShownColoursAreStoredInFp16WithAWrittenFlag) {
     DisplayNeighbourhood n(shown, vec3(0.5f, 0.3f, 0.2f));
     const vec3 huge = wrs_unpack_shown(wrs_pack_shown(vec3(1e6f, 0.0f, 0.0f)));
     EXPECT_FALSE(wrs_finite3(huge));
-    const vec3 r = wrs_display_step(n.nb, shown, huge, true, true, 0.15f);
+    const vec3 r = n.step(shown, huge, true);
     for (int k = 0; k < 3; ++k) EXPECT_EQ(r[k], shown[k]);
 }
 
-TEST(SteadyDisplay, AStillPixelConvergesToWhatRetentionShowsEvenOutsideTheVarianceBox) {
-    // A bright pixel of fine detail among dark neighbours: outside mean ± sigma of its neighbourhood.
+TEST(SteadyDisplay, AStillPixelConvergesToWhatRetentionShowsEvenOutsideTheBox) {
+    // A bright pixel of fine detail in a dark wide neighbourhood: far outside mean ± gamma sigma of it.
     const vec3 shown(0.9f), around(0.05f);
-    DisplayNeighbourhood n(shown, around);
-    vec3 mu, sigma;
-    wrs_taa_moments(n.nb, mu, sigma);
-    ASSERT_GT(n.nb[4].x, mu.x + sigma.x) << "the case the grown box is for";
+    DisplayNeighbourhood n(around, around);
+    ASSERT_GT(wrs_rgb_to_ycocg(shown).x, n.mu.x + WRS_DISPLAY_GAMMA * n.sigma.x) << "the case the grown box is for";
     vec3 d = vec3(0.5f);  // a history halfway
-    for (int i = 0; i < 200; ++i) d = wrs_display_step(n.nb, shown, d, true, true, 0.15f);
+    for (int i = 0; i < 200; ++i) d = n.step(shown, d, true);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(d[k], shown[k], 1e-4f);
     // With the history stored in fp16, as the display stores it, a step under half an fp16 step stalls:
     // within 2e-3 of what retention shows, and shown with its 8-bit code.
     vec3 h = vec3(0.5f), c(0.0f);
     for (int i = 0; i < 200; ++i) {
-        c = wrs_display_step(n.nb, wrs_unpack_shown(wrs_pack_shown(shown)), h, true, true, 0.15f);
+        c = n.step(shown, h, true);
         h = wrs_unpack_shown(wrs_pack_shown(c));
     }
     for (int k = 0; k < 3; ++k) {
         EXPECT_NEAR(h[k], shown[k], 2e-3f);
         EXPECT_EQ(std::lround(wrs_output_value(c)[k] * 255.0f), std::lround(wrs_output_value(shown)[k] * 255.0f)) << k;
     }
-    // The variance box alone would hold it below: the step towards the history stays bounded by the box's
-    // edge, which a plain TAA clip puts at mean + sigma.
-    vec3 t = vec3(0.9f);
-    for (int i = 0; i < 200; ++i) t = wrs_taa_step(n.nb, t, true, 0.15f);
-    EXPECT_LT(t.x, 0.8f) << "the blur the grown box removes";
 }
 
 TEST(SteadyDisplay, AHistoryFarOutsideIsClippedBeforeTheBlend) {
     const vec3 shown(0.2f);
     DisplayNeighbourhood n(shown, vec3(0.2f));  // a flat neighbourhood: the box is one 8-bit step wide
-    const vec3 r = wrs_display_step(n.nb, shown, vec3(1.0f), true, true, 0.15f);
+    const vec3 r = n.step(shown, vec3(1.0f), true);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.2f, 2.0f / 255.0f) << "a white history does not ghost";
     // Inside the box, the blend weighs the current colour by alpha.
     DisplayNeighbourhood m(vec3(0.5f), vec3(0.3f));
-    const vec3 inside = wrs_display_step(m.nb, vec3(0.5f), vec3(0.45f), true, true, 0.25f);
+    const vec3 inside = m.step(vec3(0.5f), vec3(0.45f), true, 0.25f);
     EXPECT_NEAR(inside.x, 0.45f + 0.25f * (0.5f - 0.45f), 1e-5f);
+    // The box is mean ± WRS_DISPLAY_GAMMA sigma: a history just outside it is pulled onto its edge first.
+    DisplayNeighbourhood w(vec3(0.3f), vec3(0.3f, 0.32f, 0.3f));
+    const vec3 edge = w.mu + WRS_DISPLAY_GAMMA * w.sigma;
+    const vec3 far = w.step(vec3(0.3f), vec3(0.9f, 0.3f, 0.3f), true, 0.0f);
+    EXPECT_LE(wrs_rgb_to_ycocg(far).x, std::max(edge.x, wrs_rgb_to_ycocg(vec3(0.3f)).x) + 1e-5f);
 }
 
 }  // namespace

@@ -217,12 +217,12 @@ TEST(CostModel, VariantKeysRoundTrip) {
             ASSERT_TRUE(back) << toString(k);
             EXPECT_EQ(*back, k);
         }
-    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 1, 4, 0, 1, 0, 0}};
-    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,1,4,0,1,0,0"), compose);
+    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 1, 4, 0, 1, 0, 0, 0}};
+    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,1,4,0,1,0,0,0"), compose);
     EXPECT_FALSE(parseVariantKey("retain:1,2"));
     EXPECT_FALSE(parseVariantKey("copy:0,0,0,0,0,0"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4,7"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4,0,7"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4"));
     EXPECT_FALSE(parseStatsTarget("device:"));
     EXPECT_FALSE(parseStatsTarget("GFX 1100"));
     EXPECT_EQ(parseStatsTarget("vangogh")->family, "vangogh");
@@ -437,8 +437,15 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
         return c;
     };
     const auto wrs = pipelineVariants(quadConfig(Method::Wrs), g->inputs);
-    EXPECT_EQ(names(wrs), (V{"compose/outside", "compose/inset", "reach/whole", "classify/whole", "pyramid/whole",
-                             "retain/any", "retain/fovea", "retain/mid", "retain/far", "skip/skip", "display/whole"}));
+    // The steady display runs in the retain pass (constant 10), which then retains in every pixel: no
+    // classification, no tile lists.
+    EXPECT_EQ(names(wrs), (V{"compose/outside", "compose/inset", "pyramid/whole", "retain/whole"}));
+    EXPECT_EQ(wrs[3].constants[10], 1u);
+    CompositorConfig undisplayed = quadConfig(Method::Wrs);
+    undisplayed.steadyDisplay = 0.0f;
+    EXPECT_EQ(names(pipelineVariants(undisplayed, g->inputs)),
+              (V{"compose/outside", "compose/inset", "reach/whole", "classify/whole", "pyramid/whole", "retain/any",
+                 "retain/fovea", "retain/mid", "retain/far", "skip/skip"}));
     // compose.comp's constants as ComposePass binds them: quad views (1), depth, motion, the method's
     // wide samples (composeLanded: `wrs` its landed ones, `taau` the gathered ones, `fov` none), the wide
     // views' and the insets' encodings (RGBA8 sRGB: 1), the inset's groups, and `fov`'s output; nothing else.
