@@ -51,6 +51,9 @@ public:
     /// Points the pass's output binding (method fov on quad views writes the output) at `view`, the
     /// compositor's output image (2 layers, storage, GENERAL).
     void bindOutput(VkImageView view);
+    /// The parameters of the last frame prepared (gpu::ComposeParams, a uniform buffer), which the retain
+    /// pass reads too (its landed wide samples).
+    VkBuffer paramsBuffer() const { return params_.handle(); }
     /// The pass's descriptor set layout and push constants (the cost model compiles with the same).
     static std::vector<VkDescriptorSetLayoutBinding> setBindings();
     static constexpr uint32_t kPushBytes = 16;  ///< compose.comp's origin (uvec4)

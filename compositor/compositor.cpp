@@ -50,7 +50,9 @@ enum Binding : uint32_t {
     kTileHeld = 14,
     kQuality = 15,
     kReference = 16,
-    kDisplay = 17
+    kDisplay = 17,
+    kCompose = 18,
+    kWide = 19
 };
 static_assert(gpu::WRS_TILE == WRS_GROUP_X && gpu::WRS_TILE == WRS_GROUP_Y, "a tiled dispatch runs one group per tile");
 
@@ -211,7 +213,7 @@ std::vector<VkDescriptorSetLayoutBinding> Compositor::passSetBindings() {
             binding(kResPrev, ssbo), binding(kResCur, ssbo), binding(kOutput, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE),
             binding(kBirthPrev, ssbo), binding(kBirthCur, ssbo), binding(kSrgbTable, ssbo),
             binding(kTiles, ssbo), binding(kTileHeld, ssbo), binding(kQuality, ssbo), binding(kReference, image, 2),
-            binding(kDisplay, ssbo)};
+            binding(kDisplay, ssbo), binding(kCompose, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER), binding(kWide, image, 2)};
 }
 
 Status Compositor::init() {
@@ -238,8 +240,8 @@ Status Compositor::init() {
     const VkDescriptorSetLayout sl = setLayout_.get(), csl = copySetLayout_.get();
 
     // Four pass sets (two ping-pong, two in place, see sets_) and the copy kernel's.
-    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 4},
-                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 32},
+    VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 8},
+                                    {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 40},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 46},
                                     {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 4}};
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -432,7 +434,7 @@ Result<VkPipeline> Compositor::pipeline(int shader, const SpecConstants& passCon
     SpecConstants constants = passConstants;
     constants[7] = hardwareHalf_;
     constants[8] = birthAllocated_;
-    std::array<uint32_t, 12> key{uint32_t(shader)};
+    std::array<uint32_t, 13> key{uint32_t(shader)};
     std::copy(constants.begin(), constants.end(), key.begin() + 1);
     auto it = pipelines_.find(key);
     if (it != pipelines_.end()) return it->second;
@@ -781,8 +783,8 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
             }
             if (v.rateMap) work.srcRate[eye] = sampledView(v.rateMap->subImage);
         }
-        if (Status s = prepareSubmitted(work.w, work.h, composeParams_.eye[0].landed.z != 0.0f ||
-                                                            composeParams_.eye[1].landed.z != 0.0f);
+        if (Status s = prepareSubmitted(work.w, work.h, composeParams_.eye[0].landed.z == 2.0f ||
+                                                            composeParams_.eye[1].landed.z == 2.0f);
             !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
         const ComposePass::Sources sources{work.srcColor, work.srcDepth, work.srcMotion, work.srcRate};
@@ -950,11 +952,19 @@ void Compositor::bindInputs(const layers::FrameEndInfo& frame, FrameWork& work) 
         ri[eye] = {sampler_.get(), v.reference ? sampledView(*v.reference) : dummy_.layerView(0),
                    VK_IMAGE_LAYOUT_GENERAL};
     }
-    VkWriteDescriptorSet wr[4];
+    // Quad views: the compose pass's parameters and the wide views, from which the retain pass takes each
+    // pixel's landed wide sample (placeholders otherwise).
+    VkDescriptorImageInfo wi[2];
+    for (int eye = 0; eye < 2; ++eye)
+        wi[eye] = {sampler_.get(), composed ? work.srcColor[eye] : dummy_.layerView(0), VK_IMAGE_LAYOUT_GENERAL};
+    const VkDescriptorBufferInfo ci{composed ? compose_->paramsBuffer() : ubo_.handle(), 0, sizeof(gpu::ComposeParams)};
+    VkWriteDescriptorSet wr[6];
     for (uint32_t k = 0; k < 3; ++k)
         wr[k] = vk::imageWrite(work.set, kColor + k, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, &ii[2 * k], 2);
     wr[3] = vk::imageWrite(work.set, kReference, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, ri, 2);
-    vkUpdateDescriptorSets(ctx_.device(), 4, wr, 0, nullptr);
+    wr[4] = vk::imageWrite(work.set, kWide, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, wi, 2);
+    wr[5] = vk::bufferWrite(work.set, kCompose, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ci);
+    vkUpdateDescriptorSets(ctx_.device(), 6, wr, 0, nullptr);
 }
 
 void Compositor::restorePlan(const FrameWork& work) {
@@ -1021,7 +1031,7 @@ void Compositor::keepFrame(const layers::FrameEndInfo& frame, const FrameWork& w
     validator_.accept(frame);
 }
 
-Status Compositor::prepareSubmitted(uint32_t width, uint32_t height, bool landed) {
+Status Compositor::prepareSubmitted(uint32_t width, uint32_t height, bool gathered) {
     // Made on the first frame submitted foveated, so that a compositor of full-resolution frames
     // allocates and submits nothing more than before.
     if (!compose_) {
@@ -1046,9 +1056,10 @@ Status Compositor::prepareSubmitted(uint32_t width, uint32_t height, bool landed
         if (!st) return st;
         dummyUint_ = std::move(*img);
     }
-    // Each pixel's quality, then each tile's largest, then each pixel's landed sample (compose.comp).
+    // Each pixel's quality, then each tile's largest, then (taau) each pixel's gathered wide samples
+    // (compose.comp; `wrs`'s retain pass reads its landed samples from the wide views).
     const uint64_t tiles = uint64_t(groups(width, gpu::WRS_TILE)) * groups(height, gpu::WRS_TILE);
-    const uint64_t bytes = (uint64_t(width) * height * (landed ? 3 : 1) + tiles) * WRS_EYES * 4;
+    const uint64_t bytes = (uint64_t(width) * height * (gathered ? 3 : 1) + tiles) * WRS_EYES * 4;
     if (quality_.size() != bytes) {
         auto q = ctx_.createBuffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
         if (!q) return named("rendered qualities", q.error());

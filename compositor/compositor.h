@@ -43,8 +43,8 @@ namespace wrsfov {
 
 /// A pipeline's specialisation constants: 0..6 the pass's own (compose.comp: 0..5), 7 HARDWARE_HALF and
 /// 8 TRACK_BIRTH (every pass but compose; the compositor sets them), 9 INPUT_ENCODING (the passes that read
-/// the submitted colour; shaders/bindings.glsl), 10 the pass's own again (retain.comp: DISPLAY).
-using SpecConstants = std::array<uint32_t, 11>;
+/// the submitted colour; shaders/bindings.glsl), 10 and 11 the pass's own again (retain.comp: DISPLAY, WIDE_ENCODING).
+using SpecConstants = std::array<uint32_t, 12>;
 struct PassDispatch;           // compositor/pass_table.h
 enum class Barrier : uint8_t;  // compositor/pass_table.h
 
@@ -249,6 +249,8 @@ struct TrafficInputs {
     /// foveated), and how the compose pass reads the wide views' and the insets' colour; WRS_INPUT_ANY
     /// where the two eyes differ (or it is not known).
     uint32_t colorEncoding = gpu::WRS_INPUT_ANY, wideEncoding = gpu::WRS_INPUT_ANY, insetEncoding = gpu::WRS_INPUT_ANY;
+    /// Quad views: bytes per output pixel of the wide views' colour (their texels once).
+    double wideColorRead = 0;
     /// Quad views: the share of both eyes' 8x8 groups of output pixels in which the compose pass reads
     /// the inset (insetGroups, compositor/input.h).
     double insetShare = 0;
@@ -501,7 +503,7 @@ private:
     vk::Sampler sampler_;
     vk::QueryPool queries_;
     std::vector<vk::ShaderModule> modules_;
-    std::map<std::array<uint32_t, 12>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
+    std::map<std::array<uint32_t, 13>, VkPipeline> pipelines_;  // the context's (Context::sharedPipeline)
 
     uint32_t width_ = 0, height_ = 0;
     vk::Buffer ubo_;
@@ -577,7 +579,7 @@ private:
     void recordCompose(const FramePlan& plan, const PassDispatch& d);
     /// The compose pass, the rate-map placeholder and the rendered qualities for an output of
     /// width x height, made on the first frame submitted foveated (and the qualities again on a resize).
-    Status prepareSubmitted(uint32_t width, uint32_t height, bool landed);
+    Status prepareSubmitted(uint32_t width, uint32_t height, bool gathered);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
     void recordHistoryStart(const FramePlan& plan);
     /// The tile lists emptied before the classification fills them.

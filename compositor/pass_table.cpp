@@ -139,9 +139,11 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     const bool composed = in.composeWrite > 0;
     const bool quad = in.composeWrite > 4;  // a rate map's compose pass writes its qualities alone
     const uint32_t landed = quad ? landedMode : 0u;
-    // The compose pass's landed (wrs) or gathered (taau) wide samples: two words a pixel, written by it and
-    // read by the pass that takes them (retain, taa).
-    const double landedWords = landed != 0 ? 8.0 : 0.0;
+    // taau: the compose pass's gathered wide samples, two words a pixel, written by it and read by the taa
+    // pass. wrs: its retain pass reads each pixel's landed wide sample from the wide view itself (a texel
+    // of it per landed sample, cached: the wide colour's bytes).
+    const double landedWords = landed == 2 ? 8.0 : 0.0;
+    const double wideColor = landed == 1 ? in.wideColorRead : 0.0;
     const double quality = composed && (plan.retain || plan.display) ? 4 : 0;  // each pixel's rendered quality
     const double history = 16, output = 4;
     // The steady display, in the retain pass (constant 10): its history in (bilinear, once) and out.
@@ -258,10 +260,10 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
         const Barrier last = plan.sparse ? (plan.inPlace ? Barrier::Compute : Barrier::None) : Barrier::Compute;
         const double displayed = display ? shown : 0.0;  // the display's history, read and written
         addPixels(PassId::Retain, ShaderId::Retain,
-                  {hasMotion, hasDepth, fov, retainRule(c), plan.inPlace, 0, plan.sparse, 0, 0, 0, display},
+                  {hasMotion, hasDepth, fov, retainRule(c), plan.inPlace, 0, plan.sparse, 0, 0, 0, display,
+                   landed == 1 ? in.wideEncoding : 0u},
                   plan.inPlace, last,
-                  in.colorBytes + levelsRead + history + depth + motion + birth + quality +
-                      (landed == 1 ? landedWords : 0.0) + displayed,
+                  in.colorBytes + levelsRead + history + depth + motion + birth + quality + wideColor + displayed,
                   history + output + birth + displayed, share);
         if (plan.sparse) {
             PassDispatch& s = add(PassId::Skip, ShaderId::Foveate, {fov, 1u, 0, 0, 0, 1 + gpu::WRS_TILE_SKIP, 0},

@@ -109,6 +109,7 @@ TrafficInputs trafficInputs(const layers::ProjectionLayer& layer) {
         const layers::InsetView& n = *v.inset;
         const double wide = double(v.color.rect.width) * v.color.rect.height / px;
         const double inset = double(n.color.rect.width) * n.color.rect.height / px;
+        in.wideColorRead = wide * in.colorBytes;
         in.composeRead = wide * (in.colorBytes + in.depthBytes + in.motionBytes) +
                          inset * (bytes(n.color) + in.depthBytes + in.motionBytes);
         in.colorBytes = 8;

@@ -22,6 +22,7 @@ layout(constant_id = 9) const uint INPUT_ENCODING = 4u;
 #include "wrs_common.h"
 #include "wrs_submitted.h"
 #include "wrs_params.h"
+#include "compose_params.h"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameParams frame; };
 layout(set = 0, binding = 1) uniform sampler2D colorIn[2];   // RGBA8 (sRGB viewed as UNORM or sRGB), RGBA16F
@@ -57,6 +58,10 @@ layout(set = 0, binding = 16) uniform sampler2D referenceIn[2];
 // colour (wrs_pack_shown: fp16, 1 where written), slot-major then as the reservoirs; a placeholder where it
 // does not run.
 layout(std430, set = 0, binding = 17) buffer Display { uvec2 display_history[]; };
+// Quad views: the compose pass's parameters (compose.comp) and the submitted wide views, from which the
+// retain pass takes each pixel's landed wide sample (landed_sample); placeholders otherwise.
+layout(std140, set = 0, binding = 18) uniform ComposeBlock { ComposeParams compose; };
+layout(set = 0, binding = 19) uniform sampler2D wideIn[2];
 // Output per eye (layer = eye), sRGB-encoded 8-bit.
 layout(set = 0, binding = 9, rgba8) uniform writeonly image2DArray outImage;
 

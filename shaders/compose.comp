@@ -141,16 +141,13 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
         quality[at] = words.x;
         quality[at + 1u] = words.y;
     } else if (LANDED == 1u && ce.landed.z != 0.0) {
-        // The wide sample nearest the pixel's centre (not read where the inset alone shows).
+        // The wide sample nearest the pixel's centre (not read where the inset alone shows): the tile's
+        // largest quality counts what retention may take. The retain pass reads the sample itself from the
+        // wide view (retain.comp landed_sample).
         uvec2 k = nearest(wpos, wsize);
         float ql = inset_only ? 0.0 : wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));
-        vec4 s = ql > 0.0 ? source_texel(eye, k, ce.wide_color) : vec4(0.0);
-        if (s.w == 0.0) ql = 0.0;
-        uvec2 words = wrs_pack_landed(s.rgb, ql);
-        uint at = landed_base(size) + 2u * idx;
-        quality[at] = words.x;
-        quality[at + 1u] = words.y;
-        q = max(q, ql);  // the tile's largest quality counts what retention may take
+        if (ql > 0.0 && source_texel(eye, k, ce.wide_color).w == 0.0) ql = 0.0;
+        q = max(q, ql);
     }
     bool from_inset = t >= 0.5;
     if (HAS_DEPTH) {

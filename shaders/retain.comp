@@ -24,6 +24,9 @@ layout(constant_id = 6) const bool SPARSE = false;
 // (wrs_display_fold_step) and writes the output and the display's history, slot push.pad0 (the last
 // frame's, push.pad1, valid where push.pad2 says so).
 layout(constant_id = 10) const bool DISPLAY = false;
+// Quad views with landed samples: how the wide views' colour is encoded (WRS_INPUT_*, ComposeEye
+// wide_color.z, the same for both eyes), or WRS_INPUT_ANY (each eye's, read at run time).
+layout(constant_id = 11) const uint WIDE_ENCODING = 4u;
 layout(push_constant) uniform Push { LevelPush push; };
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
@@ -33,6 +36,25 @@ shared uint group_held;
 uvec4 history_tap(uint eye, uvec2 q) {
     if (SPARSE && tile_held[frame.held.x + tile_index(eye, q / WRS_TILE)] == 0u) return wrs_floor_sample(frame.tuning.w);
     return res_prev[pixel_index(eye, q)];
+}
+
+// Quad views: pixel p's landed wide sample (colour, quality; quality 0: none), as the compose pass's LANDED 1
+// finds it (wrs_landed_quality of the wide texel nearest the pixel's centre) and as it would store it
+// (wrs_pack_landed), read from the wide view here rather than through memory. Where the inset alone shows
+// the compose pass offers none; here the sample may be found, but a candidate of the inset's quality (1)
+// is above any landed sample's, so wrs_offer_landed never takes it there: the same outcome.
+vec4 landed_sample(uint eye, uvec2 p) {
+    ComposeEye ce = compose.eye[eye];
+    vec2 wpos = wrs_source_pos(p, ce.wide_map);
+    uvec2 k = uvec2(clamp(ivec2(floor(wpos)), ivec2(0), ivec2(ce.sizes.xy) - ivec2(1)));
+    float ql = wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));
+    if (!(ql > 0.0)) return vec4(0.0);
+    uint encoding = WIDE_ENCODING == WRS_INPUT_ANY ? ce.wide_color.z : WIDE_ENCODING;
+    vec4 s = wrs_decode_input(vec4(texelFetch(wideIn[eye], ivec2(k + ce.wide_color.xy), 0).rgb, 1.0), encoding);
+    if (s.w == 0.0) return vec4(0.0);
+    // wrs_unpack_landed(wrs_pack_landed(s.rgb, ql)): the colour rounded to fp16 (wrs_f16_value: the same
+    // bits), and the quality, which fp16 holds exactly.
+    return vec4(wrs_f16_value(s.x), wrs_f16_value(s.y), wrs_f16_value(s.z), ql);
 }
 
 // The steady display's previous colour at pixel q (wrs_pack_shown), of slot push.pad1.
@@ -89,7 +111,7 @@ float retain_pixel(uint eye, uvec2 p) {
                 if (filters) wrs_moments_add(m1, m2, wrs_rgb_to_ycocg(wrs_display_tap(t, ref)));
             }
         }
-        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) wrs_offer_landed(c, submitted_landed(idx));
+        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) wrs_offer_landed(c, landed_sample(eye, p));
     }
 
     // Tracked reprojection of the kept sample.

@@ -93,6 +93,11 @@ stage 1/3 "speed, HMD stereo, atrium, 512^2 to 2048^2 per eye; then at steady st
   | grep --line-buffered -E '^\[|^wrsfov-bench'
 "$bench" --scaling 512 --frames 330 --warmup 300 --methods fov,wrs --out out/report/steady \
   | grep --line-buffered -E '^\[|^wrsfov-bench'
+# What compositing a headset's frames costs (a few seconds, no GPU needed): the headset cell's quad views
+# (100° per eye, wide views at 0.3 of the density jittered over 8 phases, a 10° inset) at 2 x 1920^2 and
+# at the Steam Deck's 2 x 1832x1920, fov, taau and wrs, from the compiler's statistics on RADV's null device.
+"$bench" --cost-model --cost-quad --hmd-fov 100 --wide-scale 0.3 --inset-degs 10 --jitter 8 --size 1920x1920 \
+  --methods fov,taau,wrs --out out/report/headset/cost | grep --line-buffered -E '^wrsfov-bench'
 stage 2/3 "seven cells, two at a time, longest first: monitor mode (text, 1024x768); HMD stereo (dynamic, 504x504 per eye over 40x40 degrees); rendering saved on the text (monitor mode, 13.5 px/deg) and the atrium (HMD stereo, 12.6 px/deg); a headset's field of view (atrium, 100 degrees per eye at 768x768): jittered wide views at 0.3 and 0.2, and the unjittered target"
 cell monitor --monitor --size 1024x768 --scenes text --methods fov,wrs-paper,wrs,oracle,oracle-q --no-stale "${common[@]}" \
   "${worth[@]}" --out out/report/monitor
@@ -124,6 +129,7 @@ stage 3/3 "a headset's field of view: JOD against pixels across its three cells"
   echo "- [speed at steady state: fov and wrs at 512^2 per eye after 3.3 s of gaze](steady/scaling.md)"
   echo "- [rendering saved: quad views and shading rates, atrium at 12.6 px/deg](saving/atrium/saving.md) and"
   echo "  [text at the monitor's density](saving/text/saving.md)"
+  echo "- [a headset's compositing cost: fov, taau and wrs on its quad views, static estimate](headset/cost/cost_model.md)"
   echo "- [a headset's field of view: JOD against pixels](headset/jod_vs_pixels.md) from jittered wide views at"
   echo "  [0.3](headset/jittered/saving.md) and [0.2](headset/sparser/saving.md) composed with fov, taau and wrs,"
   echo "  against [the unjittered 30° target](headset/target/saving.md)"
@@ -174,6 +180,14 @@ stage 3/3 "a headset's field of view: JOD against pixels across its three cells"
         $c["fovea_deg"], $c["jod"], $c["jod_near_gaze_psnr"], $c["psnr"] }' "out/report/$cell/results.csv"
     echo
   done
+  echo "## a headset's compositing cost (static estimate, RADV null device)"
+  echo
+  echo "Per frame, both eyes: the headset cell's quad views (0.3 / 10°, 8 phases) at 2×1920² and the Steam Deck's 2×1832×1920"
+  echo "([per pass](headset/cost/cost_model.md)):"
+  echo
+  { sed -n '/^## Totals per frame/,/^## GPUs/p' out/report/headset/cost/cost_model.md | grep -E '^\|' | head -2
+    grep -E '^\| (gfx1100 \| 2x1920x1920|vangogh \| 2x1832x1920) ' out/report/headset/cost/cost_model.md; } || true
+  echo
   echo "## speed"
   echo
   sed -n '/^| size per eye/,$p' out/report/speed/scaling.md

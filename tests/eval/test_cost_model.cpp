@@ -217,12 +217,12 @@ TEST(CostModel, VariantKeysRoundTrip) {
             ASSERT_TRUE(back) << toString(k);
             EXPECT_EQ(*back, k);
         }
-    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 1, 4, 0, 1, 0, 0, 0}};
-    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,1,4,0,1,0,0,0"), compose);
+    const VariantKey compose{ShaderId::Compose, {1, 1, 1, 0, 1, 4, 0, 1, 0, 0, 0, 0}};
+    EXPECT_EQ(parseVariantKey("compose:1,1,1,0,1,4,0,1,0,0,0,0"), compose);
     EXPECT_FALSE(parseVariantKey("retain:1,2"));
     EXPECT_FALSE(parseVariantKey("copy:0,0,0,0,0,0"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4,0,7"));
-    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4,0,0,7"));
+    EXPECT_FALSE(parseVariantKey("retain:1,1,1,0,0,1,1,1,0,4,0"));
     EXPECT_FALSE(parseStatsTarget("device:"));
     EXPECT_FALSE(parseStatsTarget("GFX 1100"));
     EXPECT_EQ(parseStatsTarget("vangogh")->family, "vangogh");
@@ -441,6 +441,7 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
     // classification, no tile lists.
     EXPECT_EQ(names(wrs), (V{"compose/outside", "compose/inset", "pyramid/whole", "retain/whole"}));
     EXPECT_EQ(wrs[3].constants[10], 1u);
+    EXPECT_EQ(wrs[3].constants[11], 1u) << "the wide views' encoding, from which it takes the landed samples";
     CompositorConfig undisplayed = quadConfig(Method::Wrs);
     undisplayed.steadyDisplay = 0.0f;
     EXPECT_EQ(names(pipelineVariants(undisplayed, g->inputs)),
