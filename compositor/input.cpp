@@ -48,7 +48,9 @@ float wideQuality(const layers::ProjectionView& v) {
     const glm::dvec2 wide = density(tangents(v.fov), v.color.rect.width, v.color.rect.height);
     const glm::dvec2 inset = density(tangents(v.inset->fov), v.inset->color.rect.width, v.inset->color.rect.height);
     const double q = (wide.x / inset.x) * (wide.y / inset.y);
-    return float(std::clamp(q, 1e-6, 1.0));
+    // On fp16's grid: the composed colour carries each pixel's quality in fp16 (wrs_composed_alpha), and a
+    // wide view's pixel's is then this value exactly.
+    return gpu::wrs_f16_value(float(std::clamp(q, 1e-6, 1.0)));
 }
 
 float submittedFloor(const layers::ProjectionLayer& layer) {

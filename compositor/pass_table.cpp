@@ -144,7 +144,8 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     // of it per landed sample, cached: the wide colour's bytes).
     const double landedWords = landed == 2 ? 8.0 : 0.0;
     const double wideColor = landed == 1 ? in.wideColorRead : 0.0;
-    const double quality = composed && (plan.retain || plan.display) ? 4 : 0;  // each pixel's rendered quality
+    // A rate map's rendered quality, a word a pixel (quad views carry it in the composed colour's alpha).
+    const double quality = composed && !quad && plan.retain ? 4 : 0;
     const double history = 16, output = 4;
     // The steady display, in the retain pass (constant 10): its history in (bilinear, once) and out.
     const bool display = plan.display && quad;
@@ -282,7 +283,7 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
         const bool upsample = c.method == Method::Taau;
         add(PassId::Taa, ShaderId::Taa, {hasMotion, upsample, 0, taaReadsComposed}, DispatchShape::Pixels,
             Barrier::Compute,
-            (taaReadsComposed ? in.colorBytes : 16.0) + history + motion + (upsample && landed == 2 ? landedWords + 4 : 0.0),
+            (taaReadsComposed ? in.colorBytes : 16.0) + history + motion + (upsample && landed == 2 ? landedWords : 0.0),
             history + output);
     }
     return d;

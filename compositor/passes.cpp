@@ -104,8 +104,8 @@ TrafficInputs trafficInputs(const layers::ProjectionLayer& layer) {
         }
         in.insetShare = insetGroupCount / (2.0 * groups(out.x, WRS_GROUP_X) * groups(out.y, WRS_GROUP_Y));
         // Every texel of both sources once (bilinear neighbourhoods cached), per output pixel; the
-        // composed colour (RGBA16F), depth (R32F), motion (RGBA16F) and quality out, which the later
-        // passes read in place of the submitted images.
+        // composed colour (RGBA16F, the rendered quality in its alpha), depth (R32F) and motion (RGBA16F)
+        // out, which the later passes read in place of the submitted images.
         const layers::InsetView& n = *v.inset;
         const double wide = double(v.color.rect.width) * v.color.rect.height / px;
         const double inset = double(n.color.rect.width) * n.color.rect.height / px;
@@ -115,7 +115,7 @@ TrafficInputs trafficInputs(const layers::ProjectionLayer& layer) {
         in.colorBytes = 8;
         if (v.depth) in.depthBytes = 4;
         if (v.motion) in.motionBytes = 8;
-        in.composeWrite = in.colorBytes + in.depthBytes + in.motionBytes + 4;
+        in.composeWrite = in.colorBytes + in.depthBytes + in.motionBytes;  // the quality in the colour's alpha
     } else if (v.rateMap) {
         // A rate map's colour is read as submitted, by the passes; its compose pass reads the map alone.
         in.composeRead = 1.0 / (double(v.rateMap->texelWidth) * v.rateMap->texelHeight);

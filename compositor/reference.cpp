@@ -91,8 +91,10 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             const vec4 inset = t > 0.0f ? sourceBilinear(src.insetColor, ipos, ce.inset_color.z) : vec4(0.0f);
             t = wrs_quad_weight(t, inset.w != 0.0f, wide.w != 0.0f);
             const vec4 c = wrs_quad_color(wide, inset, t);
-            out.quality[std::size_t(y) * size.x + x] = wrs_quad_quality(ce.wide_motion.w, t);
-            out.color.store(x, y, roundF16(c));
+            // As compose.comp: the quality in the composed colour's alpha, rounded as stored.
+            const vec4 stored = roundF16(vec4(vec3(c), wrs_composed_alpha(c.w > 0.5f, wrs_quad_quality(ce.wide_motion.w, t))));
+            out.quality[std::size_t(y) * size.x + x] = stored.w;
+            out.color.store(x, y, stored);
             const bool insetOnly = t == 1.0f && inset.w != 0.0f;
             if (ce.landed.z == 2.0f) {
                 // As compose.comp: taau's gather of the four wide samples of the pixel's bilinear cell.

@@ -75,8 +75,14 @@ uint tile_index(uint eye, uvec2 t) { uvec2 n = tile_count(); return (eye * n.y +
 float submitted_tile_quality(uint eye, uvec2 t) {
     return uintBitsToFloat(submitted_words[2u * frame.size.x * frame.size.y + tile_index(eye, t)]);
 }
-// Submitted foveation: pixel idx's rendered quality.
-float submitted_quality(uint idx) { return uintBitsToFloat(submitted_words[idx]); }
+// Submitted foveation: the rendered quality of pixel p (index idx) of an eye: quad views carry it in the
+// composed colour's alpha (wrs_composed_alpha), a rate map's compose pass writes it to the buffer.
+float submitted_quality(uint eye, uvec2 p, uint idx) {
+    EyeParams ep = frame.eye[eye];
+    uint encoding = INPUT_ENCODING == WRS_INPUT_ANY ? ep.color_rect.z : INPUT_ENCODING;
+    if (encoding == WRS_INPUT_COMPOSED) return texelFetch(colorIn[eye], ivec2(p + ep.color_rect.xy), 0).a;
+    return uintBitsToFloat(submitted_words[idx]);
+}
 // Quad views with landed samples (EyeParams::motion_rect.z): the wide sample that landed in pixel idx,
 // colour and quality (0: none).
 vec4 submitted_landed(uint idx) {
@@ -167,8 +173,8 @@ float load_depth(uint eye, uvec2 p) {
 bool input_reads_srgb_table() { return INPUT_ENCODING == WRS_INPUT_ANY || wrs_input_srgb8(INPUT_ENCODING); }
 // Whether the steady display filters pixel idx of an eye (retain.comp DISPLAY): a wide view's pixel of quad
 // views with landed samples; the inset's are shown as retention shows them.
-bool display_filters(uint eye, uint idx) {
-    return frame.eye[eye].motion_rect.z != 0u && wrs_is_wide_quality(submitted_quality(idx), frame.eye[eye].tile.w);
+bool display_filters(uint eye, uvec2 p, uint idx) {
+    return frame.eye[eye].motion_rect.z != 0u && wrs_is_wide_quality(submitted_quality(eye, p, idx), frame.eye[eye].tile.w);
 }
 // What a pass shows at pixel p, into the output image (sRGB-encoded 8-bit).
 void store_output(uint eye, uvec2 p, vec3 linear_rgb) {

@@ -118,9 +118,11 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
         imageStore(outImage, ivec3(p, eye), vec4(wrs_output_value(vec3(round_f16(c))), 1.0));
         return 0.0;
     }
-    float q = wrs_quad_quality(ce.wide_motion.w, t);
-    quality[idx] = floatBitsToUint(q);
-    imageStore(composedColor, ivec3(p, eye), round_f16(c));
+    // The pixel's rendered quality in the composed colour's alpha (wrs_composed_quality: 0 where no source tap
+    // was valid), rounded to fp16 as it is stored; the tile's largest counts the same value.
+    vec4 stored = round_f16(vec4(c.x, c.y, c.z, wrs_composed_alpha(c.w > 0.5, wrs_quad_quality(ce.wide_motion.w, t))));
+    float q = stored.w;
+    imageStore(composedColor, ivec3(p, eye), stored);
     if (LANDED == 2u && ce.landed.z == 2.0) {
         // Method taau: the four wide samples of the pixel's bilinear cell gathered by the kernel of
         // their distance (wrs_taau_add), radius 1 / sqrt(landed.w) output pixels.

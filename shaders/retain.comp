@@ -91,14 +91,14 @@ float retain_pixel(uint eye, uvec2 p) {
     float e;
     vec3 lv = pixel_levels(TILE, FOV_MODE, eye, p, e);
     vec4 ref = load_color(eye, p);
-    float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality(idx) : 0.0;
+    float q_sub = FOV_MODE == WRS_FOV_SUBMITTED ? submitted_quality(eye, p, idx) : 0.0;
     RetainInput c = wrs_candidate_at(eye_pyramid(eye), FOV_MODE, p, ref, lv, e, ep.gaze.w, q_sub, true).rule;
     c.z = HAS_DEPTH ? load_depth(eye, p) : 0.0;
     c.q_floor = frame.tuning.w;
     // The wide view's composed colour at the 3x3 taps one wide pixel apart, in one pass over them: every
     // phase merged, a wide candidate's box spans them; the steady display clips its history to their
     // moments where it filters the pixel (display.x and depth_rect.w are the same spacing where both are set).
-    bool filters = DISPLAY && display_filters(eye, idx);
+    bool filters = DISPLAY && display_filters(eye, p, idx);
     vec3 m1 = vec3(0.0), m2 = vec3(0.0);
     if (FOV_MODE == WRS_FOV_SUBMITTED) {
         c.jittered = ep.motion_rect.w != 0u;

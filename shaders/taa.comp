@@ -49,7 +49,7 @@ void main() {
         vec4 g = gathered ? submitted_landed(idx) : vec4(0.0);
         // Without gathered samples (a frame not of quad views): the composed colour is the sample, weight 1.
         if (!gathered) g = vec4(candidate_at(eye, p), 1.0);
-        bool inset = gathered && !wrs_is_wide_quality(submitted_quality(idx), ep.tile.w);
+        bool inset = gathered && !wrs_is_wide_quality(submitted_quality(eye, p, idx), ep.tile.w);
         float acc = has ? uintBitsToFloat(res_prev[idx].w) : 0.0;
         vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
         res_cur[idx] = uvec4(floatBitsToUint(r.xyz), floatBitsToUint(max(r.w, WRS_TAAU_PRIOR)));

@@ -396,9 +396,10 @@ WRS_FN uint wrs_srgb8_code_of(float decoded) {
 WRS_FN uint wrs_input_code(float v, uint encoding) {
     return encoding == WRS_INPUT_SRGB_VIEW ? wrs_srgb8_code_of(v) : wrs_srgb8_code(v);
 }
-// Whether a decoded input texel is usable: finite, and for composed input marked valid in alpha.
+// Whether a decoded input texel is usable: finite, and for composed input marked valid in alpha (its
+// rendered quality there, above 0; 0 where no source tap was valid: wrs_composed_alpha).
 WRS_FN bool wrs_input_valid(bool finite, uint encoding, float alpha) {
-    return finite && (encoding != WRS_INPUT_COMPOSED || alpha > 0.5f);
+    return finite && (encoding != WRS_INPUT_COMPOSED || alpha > 0.0f);
 }
 
 // t^(1/3) for t > 0 from additions and multiplications only: three Newton steps for t^(-1/3) from a

@@ -87,6 +87,11 @@ WRS_FN vec4 wrs_quad_color(vec4 wide, vec4 inset, float t) {
     return wrs_lerp_exact(wide, inset, t);
 }
 
+// The composed colour's alpha (the compose pass's output, read as WRS_INPUT_COMPOSED): the pixel's rendered
+// quality q where a source tap was valid, 0 where none was (wrs_input_valid reads alpha > 0 as valid), so
+// that the quality travels with the colour instead of in a buffer of its own.
+WRS_FN float wrs_composed_alpha(bool valid, float q) { return valid ? q : 0.0f; }
+
 // Quality of a quad-view pixel: 1 where the inset alone shows, q_wide (the wide view's density over
 // the inset's, squared) where the wide view alone shows, linear across the blend.
 WRS_FN float wrs_quad_quality(float q_wide, float t) {

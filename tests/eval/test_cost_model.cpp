@@ -405,11 +405,11 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
     o.hmdFovDeg = 100.0f;
     auto g = quadCellGeometry(o, SceneKind::Atrium, 768, 768, 0.3f, 10.0f, false);
     ASSERT_TRUE(g) << g.error().message;
-    // The composed images: RGBA16F colour, R32F depth, RGBA16F motion, and the 4-byte quality.
+    // The composed images: RGBA16F colour (the rendered quality in its alpha), R32F depth, RGBA16F motion.
     EXPECT_EQ(g->inputs.colorBytes, 8u);
     EXPECT_EQ(g->inputs.depthBytes, 4u);
     EXPECT_EQ(g->inputs.motionBytes, 8u);
-    EXPECT_DOUBLE_EQ(g->inputs.composeWrite, 24.0);
+    EXPECT_DOUBLE_EQ(g->inputs.composeWrite, 20.0);
     // Read: the wide view's 230^2 texels and the inset's of RGBA8, D32F and RGBA16F (16 B), per output pixel.
     // The inset: 10° across at 768 px over 100°: 2 tan 5° x 768 / (2 tan 50°) = 56 px.
     const double wide = 230.0 * 230.0 / (768.0 * 768.0), inset = 56.0 * 56.0 / (768.0 * 768.0);
