@@ -82,7 +82,7 @@ Result<std::unique_ptr<ComposePass>> ComposePass::create(vk::Context& ctx, VkBuf
     return c;
 }
 
-Result<VkPipeline> ComposePass::pipeline(const std::array<uint32_t, 8>& constants, vk::PipelineTally* tally) {
+Result<VkPipeline> ComposePass::pipeline(const std::array<uint32_t, 9>& constants, vk::PipelineTally* tally) {
     if (auto it = pipelines_.find(constants); it != pipelines_.end()) return it->second;
     // Shared on the context: every compose pass defines its pipeline layout the same way (create).
     std::vector<uint32_t> shared{kSharedPipelineTag};
@@ -163,7 +163,7 @@ Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeP
     return {};
 }
 
-Status ComposePass::record(VkCommandBuffer cb, const std::array<uint32_t, 8>& constants,
+Status ComposePass::record(VkCommandBuffer cb, const std::array<uint32_t, 9>& constants,
                            std::span<const ComposeDispatch> dispatches, vk::PipelineTally* tally) {
     Result<VkPipeline> pipe = pipeline(constants, tally);
     if (!pipe) return pipe.error();

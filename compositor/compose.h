@@ -43,10 +43,10 @@ public:
     Status prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,
                    VkBuffer quality, VkSampler sampler, VkImageView placeholder, VkImageView placeholderUint);
     /// Records the pass's `dispatches` with specialisation constants `constants` (kind, depth, motion, landed,
-    /// the wide views' and the insets' encodings, inset, output: the frame's pass table,
+    /// the wide views' and the insets' encodings, inset, output, tiles: the frame's pass table,
     /// compositor/pass_table.h; the caller records the barrier after it). Fails, having recorded nothing,
     /// where its pipeline cannot be made. `tally` counts the pipelines this call made.
-    Status record(VkCommandBuffer cb, const std::array<uint32_t, 8>& constants,
+    Status record(VkCommandBuffer cb, const std::array<uint32_t, 9>& constants,
                   std::span<const ComposeDispatch> dispatches, vk::PipelineTally* tally = nullptr);
     /// Points the pass's output binding (method fov on quad views writes the output) at `view`, the
     /// compositor's output image (2 layers, storage, GENERAL).
@@ -66,7 +66,7 @@ public:
 
 private:
     explicit ComposePass(vk::Context& ctx) : ctx_(ctx) {}
-    Result<VkPipeline> pipeline(const std::array<uint32_t, 8>& constants, vk::PipelineTally* tally);
+    Result<VkPipeline> pipeline(const std::array<uint32_t, 9>& constants, vk::PipelineTally* tally);
     vk::Context& ctx_;
     vk::DescriptorSetLayout setLayout_;
     vk::PipelineLayout pipelineLayout_;
@@ -74,7 +74,7 @@ private:
     VkDescriptorSet set_ = VK_NULL_HANDLE;
     vk::ShaderModule module_;
     // By constants; the context's (vk::Context::sharedPipeline)
-    std::map<std::array<uint32_t, 8>, VkPipeline> pipelines_;
+    std::map<std::array<uint32_t, 9>, VkPipeline> pipelines_;
     vk::Buffer params_;
     VkBuffer srgbTable_ = VK_NULL_HANDLE;
     vk::Image color_, depth_, motion_;

@@ -200,18 +200,18 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     const bool composeOutput = quad && c.method == Method::Fov;
     if (quad) {
         const double insetShare = std::clamp(in.insetShare, 0.0, 1.0);
-        const double written = composeOutput ? output : in.composeWrite + kTileWord + landedWords;
+        const double written = composeOutput ? output : in.composeWrite + (plan.tiled ? kTileWord : 0.0) + landedWords;
         for (const bool inset : {false, true}) {
             PassDispatch& x = add(PassId::Compose, ShaderId::Compose,
                                   {1u, hasDepth && !composeOutput, hasMotion && !composeOutput, landed,
-                                   in.wideEncoding, in.insetEncoding, inset, composeOutput},
+                                   in.wideEncoding, in.insetEncoding, inset, composeOutput, plan.tiled},
                                   inset ? DispatchShape::InsetGroups : DispatchShape::OutsideInset,
                                   inset ? Barrier::Compute : Barrier::None, in.composeRead, written);
             x.cover = inset ? insetShare : 1.0 - insetShare;
         }
     } else if (composed) {
-        add(PassId::Compose, ShaderId::Compose, {2u, 0u, 0u, 0u, in.wideEncoding, in.insetEncoding},
-            DispatchShape::Pixels, Barrier::Compute, in.composeRead, in.composeWrite + kTileWord);
+        add(PassId::Compose, ShaderId::Compose, {2u, 0u, 0u, 0u, in.wideEncoding, in.insetEncoding, 0u, 0u, plan.tiled},
+            DispatchShape::Pixels, Barrier::Compute, in.composeRead, in.composeWrite + (plan.tiled ? kTileWord : 0.0));
     }
     // The classification: one invocation per tile, each writing its list entry; with sparse retention it
     // reads the held qualities and, where a sharper sample is within reach, the tile's motion.

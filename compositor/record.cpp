@@ -134,7 +134,7 @@ void Compositor::stamp(const FramePlan& plan, uint32_t i) {
 
 void Compositor::recordCompose(const FramePlan& plan, const PassDispatch& d) {
     if (recordError_) return;
-    std::array<uint32_t, 8> k;
+    std::array<uint32_t, 9> k;
     std::copy_n(d.constants.begin(), k.size(), k.begin());
     // Its dispatches: the whole output (a rate map), or per eye the groups of its inset rectangle
     // (insetGroups) or the up to four rectangles around it.

@@ -41,6 +41,9 @@ layout(constant_id = 6) const bool INSET = true;
 // foveating pass would write it) instead of the composed images, qualities and landed samples that only
 // the later passes of the other methods read.
 layout(constant_id = 7) const bool OUTPUT = false;
+// A classification follows (the frame is tiled: sparse retention): each group writes its tile's largest
+// quality, counting the landed wide samples; otherwise nothing reads them and the pass writes none.
+layout(constant_id = 8) const bool TILES = true;
 // The dispatch's first group (xy) and eye (z, added to gl_WorkGroupID.z): a dispatch may cover a
 // rectangle of one eye's groups.
 layout(push_constant) uniform Push { uvec4 origin; } push;
@@ -142,7 +145,7 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
         uint at = landed_base(size) + 2u * idx;
         quality[at] = words.x;
         quality[at + 1u] = words.y;
-    } else if (LANDED == 1u && ce.landed.z != 0.0) {
+    } else if (TILES && LANDED == 1u && ce.landed.z != 0.0) {
         // The wide sample nearest the pixel's centre (not read where the inset alone shows): the tile's
         // largest quality counts what retention may take. The retain pass reads the sample itself from the
         // wide view (retain.comp landed_sample).
@@ -173,16 +176,17 @@ void main() {
     uvec2 group = gl_WorkGroupID.xy + push.origin.xy;
     uvec2 p = group * uvec2(WRS_GROUP_X, WRS_GROUP_Y) + gl_LocalInvocationID.xy;
     uvec2 size = params.size.xy;
-    if (gl_LocalInvocationIndex == 0u) tile_q = 0u;
+    if (TILES && gl_LocalInvocationIndex == 0u) tile_q = 0u;
     if (KIND == 1u && (reads_srgb_table(WIDE_ENCODING) || reads_srgb_table(INSET_ENCODING)))
         for (uint i = gl_LocalInvocationIndex; i < 256u; i += WRS_GROUP_X * WRS_GROUP_Y) s_srgb[i] = srgb_table[i];
     barrier();
     if (all(lessThan(p, size))) {
         float q = compose_pixel(eye, p, size);
-        if (!OUTPUT) atomicMax(tile_q, floatBitsToUint(q));
+        if (TILES && !OUTPUT) atomicMax(tile_q, floatBitsToUint(q));
     }
+    if (!TILES || OUTPUT) return;
     barrier();
-    if (gl_LocalInvocationIndex == 0u && !OUTPUT) {
+    if (gl_LocalInvocationIndex == 0u) {
         uvec2 tiles = tile_count(size);
         uvec2 t = group;
         quality[2u * size.x * size.y + (eye * tiles.y + t.y) * tiles.x + t.x] = tile_q;
