@@ -157,11 +157,12 @@ struct CompositorConfig {
     /// frames that offer landed samples (landedSamples on), whose classes it merges too.
     bool phaseMerge = true;
     /// Quad views, `wrs`, on frames that offer landed samples (landedSamples on): the steady display
-    /// (wrs_display_step; docs/retention.md "Steady display"). What retention shows at a pixel of the wide
-    /// views is filtered over time as TAA filters a frame, the display's previous colour reprojected with
-    /// the motion and clipped to the neighbourhood of what retention shows now; this is the weight of
-    /// the current frame, in [0, 1] (0: off; the default is shaders/wrs_submitted.h's WRS_DISPLAY_ALPHA,
-    /// which a test checks). Display only: the reservoirs do not change. 32 B/px more.
+    /// (wrs_display_fold_step, in the retain pass; docs/retention.md "Steady display"). What retention shows
+    /// at a pixel of the wide views is filtered over time as TAA filters a frame, the display's previous
+    /// colour reprojected with the motion and clipped to the wide view around the pixel; this is the weight
+    /// of the current frame, in [0, 1] (0: off; the default is shaders/wrs_submitted.h's WRS_DISPLAY_ALPHA,
+    /// which a test checks). Display only: the reservoirs do not change. Its history is 32 B/px of memory
+    /// (two slots), 16 B/px of traffic; with it no tile skips retention on quad views.
     float steadyDisplay = 0.15f;
     /// Method taau's parameters (docs/retention.md "The field's baseline: taau", chosen for its best
     /// JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
