@@ -1,6 +1,6 @@
 # Installation (cmake --install, cpack): the public headers, the shared libraries with their CMake
 # package (find_package(wrsfov): wrsfov::compositor, wrsfov::gaze) and pkg-config file, the tools,
-# the OpenXR runtime and API layer with their manifests (runtime/, layer/), and the docs.
+# the OpenXR runtime and API layer with their manifests (runtime/, openxr_layer/), and the docs.
 # docs/integrating.md says what is public and how to use it.
 include(CMakePackageConfigHelpers)
 

@@ -5,7 +5,7 @@
 
 #include <openxr/openxr_reflection.h>
 
-#include "runtime/xr_inset.h"
+#include "xr_common/xr_inset.h"
 #include "runtime/xr_objects.h"
 #include "runtime/xr_verify.h"
 

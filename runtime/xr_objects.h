@@ -47,7 +47,7 @@
 #include "compositor/compositor.h"
 #include "eval/sequence.h"
 #include "gaze/source.h"
-#include "runtime/xr_config.h"
+#include "xr_common/xr_config.h"
 #include "runtime/xr_quad.h"
 #include "runtime/xr_window.h"
 

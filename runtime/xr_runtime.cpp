@@ -9,7 +9,7 @@
 #include <ctime>
 #include <new>
 
-#include "runtime/loader_negotiation.h"
+#include "xr_common/loader_negotiation.h"
 #include "runtime/xr_objects.h"
 #include "runtime/xr_verify.h"
 

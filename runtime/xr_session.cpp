@@ -19,8 +19,8 @@
 #include "scenes/png.h"
 
 #include <opencv2/imgcodecs.hpp>
-#include "runtime/xr_frame.h"
-#include "runtime/xr_inset.h"
+#include "xr_common/xr_frame.h"
+#include "xr_common/xr_inset.h"
 #include "runtime/xr_objects.h"
 #include "runtime/xr_verify.h"
 
@@ -1113,12 +1113,17 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
             logLine("quad layers without a projection layer are not shown (the display is the projection's output)");
         return false;
     }
-    const bool depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
-    const bool warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
-    bool locomotion = false;
-    layers::FrameEndInfo f;
-    f.frameIndex = frameIndex;
-    f.time_s = s->instance->seconds(plan.displayTime);
+    const RuntimeConfig& c = s->instance->config;
+    LayerReading reading;
+    reading.depthExt = s->instance->enabled(XR_KHR_COMPOSITION_LAYER_DEPTH_EXTENSION_NAME);
+    reading.warpExt = s->instance->enabled(XR_FB_SPACE_WARP_EXTENSION_NAME);
+    // Quad views: composed at the display's size (or the wide views' where an application renders
+    // them larger); wide views rendered jittered about the located field of view are composed on its
+    // grid, their samples where they were taken.
+    reading.quadViews = proj->viewCount == 4;
+    reading.displayWidth = c.width;
+    reading.displayHeight = c.height;
+    reading.located = std::array<layers::Fov, 2>{c.fov[0], c.fov[1]};
     // Every swapchain of a verified frame end is one of this session's.
     auto sub = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
         return layers::SubImage{getSwapchain(x.swapchain)->images.get(),
@@ -1126,39 +1131,20 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
                                  uint32_t(x.imageRect.extent.height)},
                                 x.imageArrayIndex};
     };
-    auto viewOf = [&](const XrCompositionLayerProjectionView& xv) {
-        ViewExtras ex;
-        std::optional<layers::ProjectionView> pv = projectionView(xv, sub, depthExt, warpExt, &ex);
-        if (ex.depthRangeUnused && s->refusalsLogged.insert(-2).second)
-            logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
-        locomotion = locomotion || ex.locomotion;
-        return *pv;
-    };
-    layers::ProjectionLayer layer;
-    if (proj->viewCount == 4) {
-        // Quad views: views 0, 1 the wide views, 2, 3 their insets, composed at the display's size (or
-        // the wide views' where an application renders them larger).
-        std::array<layers::ProjectionView, 4> v;
-        for (uint32_t i = 0; i < 4; ++i) v[i] = viewOf(proj->views[i]);
-        const RuntimeConfig& c = s->instance->config;
-        // Wide views rendered jittered (the located field of view shifted by under half a pixel) are
-        // composed on the located grid, their samples where they were taken (placeJitter); the insets
-        // are placed by the field of view they were rendered with.
-        for (uint32_t e = 0; e < 2; ++e) placeJitter(v[e], c.fov[e]);
-        // Depth (and motion) is used where all four views have it with one range per eye; else it is
-        // not used, and the frame is composited without it.
-        bool dropped = false;
-        layer = layers::quadLayer(v, c.width, c.height, &dropped);
-        if (dropped && s->refusalsLogged.insert(-4).second)
-            logLine(
-                "quad views: depth or motion not given for all four views (or depth ranges that differ "
-                "between a wide view and its inset) are not used");
-    } else {
-        for (uint32_t v = 0; v < 2; ++v) layer.views.push_back(viewOf(proj->views[v]));
-        // (A jittered full-resolution view is composed in its own field of view: the passes read it at
-        // its pixels; ProjectionView::sampleOffset.)
-    }
-    f.layers.push_back(std::move(layer));
+    LayerExtras ex;
+    std::optional<layers::ProjectionLayer> layer = projectionLayer(*proj, sub, reading, &ex);
+    if (!layer) return false;  // not reached: a verified frame end has the configuration's views
+    if (ex.depthRangeUnused && s->refusalsLogged.insert(-2).second)
+        logLine("depth with a range other than [0, 1] is not used (the compositor reads depth in [0, 1])");
+    if (ex.quadDepthDropped && s->refusalsLogged.insert(-4).second)
+        logLine(
+            "quad views: depth or motion not given for all four views (or depth ranges that differ "
+            "between a wide view and its inset) are not used");
+    const bool locomotion = ex.locomotion;
+    layers::FrameEndInfo f;
+    f.frameIndex = frameIndex;
+    f.time_s = s->instance->seconds(plan.displayTime);
+    f.layers.push_back(std::move(*layer));
     const auto gaze = frameGaze(*s, plan.displayTime, f.layers[0].views[0]);
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
@@ -1191,7 +1177,6 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
         const FrameStats& st = s->compositor->stats();
         char gpu[64];
         std::snprintf(gpu, sizeof gpu, "GPU %.2f ms", st.gpu.total);
-        const RuntimeConfig& c = s->instance->config;
         std::vector<std::string> items = {
             s->instance->applicationName, std::string(toString(c.compositor.method)),
             std::string(toString(c.compositor.foveation)),

@@ -8,7 +8,7 @@
 #include <string>
 #include <tuple>
 
-#include "runtime/xr_frame.h"
+#include "xr_common/xr_frame.h"
 
 namespace wrsfov::xr {
 

@@ -8,9 +8,9 @@
 #include <map>
 
 #include "compositor/host_app.h"
-#include "runtime/xr_config.h"
-#include "runtime/xr_frame.h"
-#include "runtime/xr_inset.h"
+#include "xr_common/xr_config.h"
+#include "xr_common/xr_frame.h"
+#include "xr_common/xr_inset.h"
 
 namespace wrsfov::xr {
 namespace {

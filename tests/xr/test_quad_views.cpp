@@ -23,10 +23,10 @@
 #include "compositor/host_app.h"
 #include "eval/sequence.h"
 #include "gaze/gaze_file.h"
-#include "runtime/xr_config.h"
+#include "xr_common/xr_config.h"
 #include "layers/jitter.h"
-#include "runtime/xr_frame.h"
-#include "runtime/xr_inset.h"
+#include "xr_common/xr_frame.h"
+#include "xr_common/xr_inset.h"
 #include "tests/xr/xr_client.h"
 
 namespace wrsfov::xrtest {

@@ -1,4 +1,4 @@
-#include "runtime/xr_inset.h"
+#include "xr_common/xr_inset.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "layers/frame.h"
-#include "runtime/xr_config.h"
+#include "xr_common/xr_config.h"
 
 namespace wrsfov::xr {
 

@@ -1,10 +1,12 @@
-// Reading an OpenXR frame end into the layers API: what the simulated-HMD runtime and the API layer
-// both need (one copy of the OpenXR conventions for depth ranges and space-warp motion).
+// Reading an OpenXR frame end into the layers API: the simulated-HMD runtime's and the API layer's one
+// conversion (projectionLayer, projectionView) and the OpenXR conventions it follows (depth ranges,
+// space-warp motion, jittered views).
 #pragma once
 
 #include <openxr/openxr.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -146,6 +148,61 @@ std::optional<layers::ProjectionView> projectionView(const XrCompositionLayerPro
     }
     if (extras) *extras = ex;
     return pv;
+}
+
+/// How projectionLayer reads a frame's projection layer.
+struct LayerReading {
+    bool depthExt = false;  ///< XR_KHR_composition_layer_depth is enabled
+    bool warpExt = false;   ///< XR_FB_space_warp is enabled
+    /// The session's views are quad views (XR_VARJO_quad_views): four views, 0 and 1 the wide views,
+    /// 2 and 3 their insets, composed into stereo at displayWidth x displayHeight. Else two views.
+    bool quadViews = false;
+    uint32_t displayWidth = 0, displayHeight = 0;
+    /// Quad views: each eye's located field of view, where the wide views may come jittered about it
+    /// (placeJitter); nullopt where it is not known (the wide views are then composed as submitted).
+    std::optional<std::array<layers::Fov, 2>> located;
+};
+
+/// What projectionLayer found beside the layer's images.
+struct LayerExtras {
+    bool depthRangeUnused = false;   ///< a view's depth came with a range other than [0, 1]: not used
+    bool locomotion = false;         ///< a space warp's appSpaceDeltaPose moved the layer space
+    bool quadDepthDropped = false;   ///< quad views: depth or motion not on all four views, not used
+};
+
+/// A projection layer as the compositor reads it: the runtime's and the API layer's one conversion of
+/// an XrCompositionLayerProjection (each view by projectionView; quad views composed by layers::quadLayer,
+/// their wide views placed on the located grid where they came jittered). nullopt where the layer does
+/// not have the views `r` names or a view's colour is in a swapchain the compositor does not read
+/// (`subImageOf` as projectionView's).
+template <class SubImageOf>
+std::optional<layers::ProjectionLayer> projectionLayer(const XrCompositionLayerProjection& proj, SubImageOf&& subImageOf,
+                                                       const LayerReading& r, LayerExtras* extras = nullptr) {
+    const uint32_t count = r.quadViews ? 4 : 2;
+    if (proj.viewCount != count || !proj.views) return std::nullopt;
+    LayerExtras ex;
+    std::array<layers::ProjectionView, 4> v;
+    for (uint32_t i = 0; i < count; ++i) {
+        ViewExtras vx;
+        std::optional<layers::ProjectionView> pv = projectionView(proj.views[i], subImageOf, r.depthExt, r.warpExt, &vx);
+        if (!pv) return std::nullopt;
+        v[i] = *pv;
+        ex.depthRangeUnused = ex.depthRangeUnused || vx.depthRangeUnused;
+        ex.locomotion = ex.locomotion || vx.locomotion;
+    }
+    layers::ProjectionLayer layer;
+    if (r.quadViews) {
+        if (r.located)
+            for (uint32_t e = 0; e < 2; ++e) placeJitter(v[e], (*r.located)[e]);
+        // Depth (and motion) is used where all four views have it with one range per eye.
+        layer = layers::quadLayer(v, r.displayWidth, r.displayHeight, &ex.quadDepthDropped);
+    } else {
+        // (A jittered full-resolution view is composed in its own field of view: the passes read it at
+        // its pixels; ProjectionView::sampleOffset.)
+        layer.views = {v[0], v[1]};
+    }
+    if (extras) *extras = ex;
+    return layer;
 }
 
 }  // namespace wrsfov::xr

@@ -1,4 +1,4 @@
-#include "runtime/xr_config.h"
+#include "xr_common/xr_config.h"
 
 #include <cctype>
 #include <cmath>
