@@ -11,6 +11,8 @@ set(WRSFOV_PUBLIC_HEADERS
   compositor/compositor.h compositor/vk_context.h compositor/host_image.h compositor/host_app.h
   compositor/reference.h compositor/swapchain_vk.h compositor/input.h compositor/compose.h
   shaders/glsl_cpp.h shaders/device_rounding.h shaders/config.h shaders/wrs_common.h shaders/wrs_params.h
+  shaders/wrs_numbers.h shaders/wrs_views.h shaders/wrs_foveation.h shaders/wrs_colour.h shaders/wrs_depth.h shaders/wrs_random.h
+  shaders/wrs_reservoir.h shaders/wrs_retention.h shaders/wrs_sparse.h shaders/wrs_taa.h shaders/wrs_floor.h
   shaders/wrs_submitted.h
   shaders/compose_params.h)
 set(WRSFOV_GAZE_HEADERS
