@@ -1,5 +1,5 @@
 // What the compositor's sources share and nobody else needs: the passes' shader indices, the frame's
-// timestamps, and the helpers every part records with (compositor.cpp: resources and endFrame;
+// timestamps, and the helpers every part records with (compositor.cpp: resources; end_frame.cpp: endFrame, stage by stage;
 // passes.cpp: configuration, the pass plan and the traffic model; record.cpp: the passes' commands
 // and their times; readback.cpp: what the tests and tools read back). Internal to the compositor.
 #pragma once
@@ -13,6 +13,33 @@
 #include "layers/status.h"
 
 namespace wrsfov::detail {
+
+// The bindings of the passes' descriptor set (Compositor::passSetBindings).
+enum Binding : uint32_t {
+    kFrame = 0,
+    kColor = 1,
+    kDepth = 2,
+    kMotion = 3,
+    kPyramidBuf = 4,  // binding 5 (a linear-depth buffer) is gone: passes linearize where they read
+    kCandidate = 6,
+    kResPrev = 7,
+    kResCur = 8,
+    kOutput = 9,
+    kBirthPrev = 10,
+    kBirthCur = 11,
+    kSrgbTable = 12,
+    kTiles = 13,
+    kTileHeld = 14,
+    kQuality = 15,
+    kReference = 16,
+    kDisplay = 17,
+    kCompose = 18,
+    kWide = 19
+};
+
+inline constexpr const char* kDeviceLost =
+    "the Vulkan device was lost (VK_ERROR_DEVICE_LOST): this compositor refuses every frame from now on; "
+    "create a new vk::Context and Compositor";
 
 enum Shader : int { kPyramid, kFoveate, kWrs, kTaa, kCopy, kRetain, kClassify, kHalfProbe, kShaderCount };
 
