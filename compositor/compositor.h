@@ -564,7 +564,7 @@ private:
     void keepFrame(const layers::FrameEndInfo& frame, const FrameWork& work);
     /// What a frame runs, decided once in endFrame; each pass records itself from it (recordX, in the
     /// order endFrame calls them).
-    struct FramePlan {
+    struct Recording {
         VkCommandBuffer cb;
         uint32_t w, h, eyes;  ///< size per eye; eyes the passes run for (1 with mono views)
         bool hasDepth, hasMotion;
@@ -575,23 +575,23 @@ private:
         uint32_t written;      ///< the reservoir buffer the frame writes
         uint32_t tilesPerEye;  ///< 8x8 tiles of one eye
     };
-    void stamp(const FramePlan& plan, uint32_t i);
+    void stamp(const Recording& plan, uint32_t i);
     /// The compose pass (frames submitted foveated: ComposePass), with the barrier after it.
-    void recordCompose(const FramePlan& plan, const PassDispatch& d);
+    void recordCompose(const Recording& plan, const PassDispatch& d);
     /// The compose pass, the rate-map placeholder and the rendered qualities for an output of
     /// width x height, made on the first frame submitted foveated (and the qualities again on a resize).
     Status prepareSubmitted(uint32_t width, uint32_t height, bool gathered);
     /// Reservoirs zeroed after a history reset; the held qualities the frame reads where unrecorded.
-    void recordHistoryStart(const FramePlan& plan);
+    void recordHistoryStart(const Recording& plan);
     /// The tile lists emptied before the classification fills them.
-    void recordListsReset(const FramePlan& plan);
+    void recordListsReset(const Recording& plan);
     /// One dispatch of the pass table (its push constants, pipeline, dispatch and the barrier after it).
-    void recordDispatch(const FramePlan& plan, const PassDispatch& d);
+    void recordDispatch(const Recording& plan, const PassDispatch& d);
     static void recordBarrier(VkCommandBuffer cb, Barrier b);
     /// Mono views: the right eye's output, reservoirs, births and held qualities from the left's.
-    void recordMonoCopies(const FramePlan& plan);
+    void recordMonoCopies(const Recording& plan);
     /// The tile lists' counts into host memory (FrameStats::tiles).
-    void recordTileCounts(const FramePlan& plan, bool record);
+    void recordTileCounts(const Recording& plan, bool record);
     /// Reads the frame's timestamps into stats_.gpu (and the copy kernels when measured).
     void collectTimes(double hostMs, const TrafficInputs& trafficIn, uint32_t eyes);
     TrafficInputs inFlightTraffic_;

@@ -81,7 +81,7 @@ Status Compositor::recordPasses(VkCommandBuffer cb, bool own, const layers::Fram
     };
     transitionInputs(true);
     const PassPlan& p = work.passes;
-    const FramePlan plan{cb,         work.w,     work.h,      work.eyes,    work.hasDepth, work.hasMotion,
+    const Recording plan{cb,         work.w,     work.h,      work.eyes,    work.hasDepth, work.hasMotion,
                          p.retain,   p.wrsPaper, p.taa,       p.temporal,   p.pyramid,     work.tiled,
                          work.sparse, work.inPlace, work.mono, timing,       work.steady,   p.display,
                          work.written, work.tilesPerEye};
@@ -128,11 +128,11 @@ Status Compositor::recordPasses(VkCommandBuffer cb, bool own, const layers::Fram
     return {};
 }
 
-void Compositor::stamp(const FramePlan& plan, uint32_t i) {
+void Compositor::stamp(const Recording& plan, uint32_t i) {
     if (plan.timing) vkCmdWriteTimestamp(plan.cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_.get(), i);
 }
 
-void Compositor::recordCompose(const FramePlan& plan, const PassDispatch& d) {
+void Compositor::recordCompose(const Recording& plan, const PassDispatch& d) {
     if (recordError_) return;
     std::array<uint32_t, 9> k;
     std::copy_n(d.constants.begin(), k.size(), k.begin());
@@ -169,7 +169,7 @@ void Compositor::recordCompose(const FramePlan& plan, const PassDispatch& d) {
     recordBarrier(plan.cb, d.after);
 }
 
-void Compositor::recordHistoryStart(const FramePlan& plan) {
+void Compositor::recordHistoryStart(const Recording& plan) {
     VkCommandBuffer cb = plan.cb;
     if (plan.temporal && !historyValid_) {
         // No usable history: all-zero reservoirs are invalid on load (M = 0), so every pixel starts anew.
@@ -188,7 +188,7 @@ void Compositor::recordHistoryStart(const FramePlan& plan) {
     }
 }
 
-void Compositor::recordListsReset(const FramePlan& plan) {
+void Compositor::recordListsReset(const Recording& plan) {
     uint32_t args[gpu::WRS_TILE_LISTS][4];
     for (auto& a : args) a[0] = 0, a[1] = 1, a[2] = 1, a[3] = 0;  // no tiles yet; y = z = 1
     vkCmdUpdateBuffer(plan.cb, tiles_.handle(), 0, sizeof(args), args);
@@ -201,7 +201,7 @@ void Compositor::recordBarrier(VkCommandBuffer cb, Barrier b) {
     if (b == Barrier::Lists) listsBarrier(cb);
 }
 
-void Compositor::recordDispatch(const FramePlan& plan, const PassDispatch& d) {
+void Compositor::recordDispatch(const Recording& plan, const PassDispatch& d) {
     VkCommandBuffer cb = plan.cb;
     auto push = [&](const gpu::LevelPush& lp) {
         vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(lp), &lp);
@@ -246,7 +246,7 @@ void Compositor::recordDispatch(const FramePlan& plan, const PassDispatch& d) {
     recordBarrier(cb, d.after);
 }
 
-void Compositor::recordMonoCopies(const FramePlan& plan) {
+void Compositor::recordMonoCopies(const Recording& plan) {
     if (!plan.mono) return;
     VkCommandBuffer cb = plan.cb;
     // Right eye = left eye: output layer, and the history this frame wrote; the copies read and
@@ -284,7 +284,7 @@ void Compositor::recordMonoCopies(const FramePlan& plan) {
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
 }
 
-void Compositor::recordTileCounts(const FramePlan& plan, bool record) {
+void Compositor::recordTileCounts(const Recording& plan, bool record) {
     if (!plan.tiled || record) return;  // Record mode: the caller's submission, no statistics
     // The lists' counts, for FrameStats::tiles.
     vk::memoryBarrier(plan.cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,

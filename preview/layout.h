@@ -28,7 +28,7 @@ View nextView(View v);
 /// True when the view needs the reference compositor.
 bool needsReference(View v);
 
-/// Values equal WRS_PANEL_* in compose_params.h.
+/// Values equal WRS_PANEL_* in panel_params.h.
 enum class PanelKind : uint32_t { Output = 0, Reference = 1, Error = 2, Visible = 4 };
 
 struct Panel {

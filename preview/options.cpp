@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "tools/cli.h"
+#include "cli/cli.h"
 
 namespace wrsfov::preview {
 

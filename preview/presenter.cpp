@@ -9,7 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "compose_spv.h"
+#include "panel_spv.h"
 #include "shaders/config.h"
 
 namespace wrsfov::preview {
@@ -81,7 +81,7 @@ Status Presenter::init() {
         ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::ComposePush), VK_SHADER_STAGE_COMPUTE_BIT);
     if (!pipelineLayout) return pipelineLayout.error();
     pipelineLayout_ = std::move(*pipelineLayout);
-    auto module = ctx_.createShaderModule(compose_spv, sizeof(compose_spv));
+    auto module = ctx_.createShaderModule(panel_spv, sizeof(panel_spv));
     if (!module) return module.error();
     module_ = std::move(*module);
     VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};

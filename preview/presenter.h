@@ -1,4 +1,4 @@
-// Presentation: a Vulkan swapchain on the window's surface, the compose pass that builds the
+// Presentation: a Vulkan swapchain on the window's surface, the panel pass that builds the
 // preview image (panels of the compositor's output, reference or error map, gaze marker and
 // fovea circles, the stats strip) and the blit of that image into the swapchain image, with two
 // frames in flight. Recreates the swapchain when the window changes size or the surface reports
@@ -14,7 +14,7 @@
 #include "compositor/compositor.h"
 #include "compositor/vk_context.h"
 #include "layers/status.h"
-#include "preview/compose_params.h"
+#include "preview/panel_params.h"
 #include "preview/layout.h"
 
 struct GLFWwindow;

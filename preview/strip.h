@@ -1,5 +1,5 @@
 // The stats strip under the panels: lines of text drawn on the CPU with OpenCV, premultiplied RGBA
-// over transparent black, which the compose pass lays over a dark background.
+// over transparent black, which the panel pass lays over a dark background.
 #pragma once
 
 #include <opencv2/core.hpp>

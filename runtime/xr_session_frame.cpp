@@ -229,37 +229,37 @@ void recordFrame(Session* s, const layers::FrameEndInfo& f, bool withOutput) {
 
 /// What xrEndFrame hands to the compositor besides the application's structures: the frame's
 /// display time and the poses of the quad layers' spaces (read under the instance's lock first).
-struct FramePlan {
+struct LayerPoses {
     XrTime displayTime = 0;
     std::vector<std::optional<Pose>> layerSpaces;  // per layer: its space's pose at displayTime (quads only)
 };
 
 /// The poses of the quad layers' spaces (an action space's pose depends on the action state).
-FramePlan planFrame(Session* s, const XrFrameEndInfo* info, XrTime displayTime) {
-    FramePlan plan;
-    plan.displayTime = displayTime;
-    plan.layerSpaces.resize(info->layerCount);
+LayerPoses layerPoses(Session* s, const XrFrameEndInfo* info, XrTime displayTime) {
+    LayerPoses poses;
+    poses.displayTime = displayTime;
+    poses.layerSpaces.resize(info->layerCount);
     std::lock_guard lock(s->instance->mutex);
     for (uint32_t i = 0; i < info->layerCount; ++i) {
         if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
         Pose space;
-        if (spacePose(*getSpace(info->layers[i]->space), displayTime, space)) plan.layerSpaces[i] = space;
+        if (spacePose(*getSpace(info->layers[i]->space), displayTime, space)) poses.layerSpaces[i] = space;
     }
-    return plan;
+    return poses;
 }
 
 /// Quad layers after the projection layer, in order, over the composited output (those before it
 /// are hidden by the opaque projection).
 void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const layers::FrameEndInfo& f,
-               const FramePlan& plan) {
+               const LayerPoses& poses) {
     std::vector<QuadDraw> draws;
-    const XrTime t = plan.displayTime;
+    const XrTime t = poses.displayTime;
     for (uint32_t i = projIndex + 1; i < info->layerCount; ++i) {
         if (info->layers[i]->type != XR_TYPE_COMPOSITION_LAYER_QUAD) continue;
         auto* q = reinterpret_cast<const XrCompositionLayerQuad*>(info->layers[i]);
         if (q->size.width == 0.0f || q->size.height == 0.0f) continue;  // covers nothing
-        if (!plan.layerSpaces[i]) continue;  // an untracked space: not shown
-        const Pose quadInStage = *plan.layerSpaces[i] * fromXr(q->pose);
+        if (!poses.layerSpaces[i]) continue;  // an untracked space: not shown
+        const Pose quadInStage = *poses.layerSpaces[i] * fromXr(q->pose);
         Swapchain* sc = getSwapchain(q->subImage.swapchain);
         const XrRect2Di& r = q->subImage.imageRect;
         for (uint32_t e = 0; e < 2; ++e) {
@@ -291,7 +291,7 @@ void drawQuads(Session* s, const XrFrameEndInfo* info, uint32_t projIndex, const
 /// Runs the first stereo projection layer through the compositor: submits its passes, the quads and
 /// the window's copy to the session's queue without waiting for them (with `record`, the read-backs
 /// wait). Returns whether the window asked the application to stop. With gpuMutex held.
-bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint64_t frameIndex) {
+bool compose(Session* s, const XrFrameEndInfo* info, const LayerPoses& poses, uint64_t frameIndex) {
     const XrCompositionLayerProjection* proj = nullptr;
     uint32_t projIndex = 0;
     for (uint32_t i = 0; i < info->layerCount; ++i)
@@ -336,9 +336,9 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
     const bool locomotion = ex.locomotion;
     layers::FrameEndInfo f;
     f.frameIndex = frameIndex;
-    f.time_s = s->instance->seconds(plan.displayTime);
+    f.time_s = s->instance->seconds(poses.displayTime);
     f.layers.push_back(std::move(*layer));
-    const auto gaze = frameGaze(*s, plan.displayTime, f.layers[0].views[0]);
+    const auto gaze = frameGaze(*s, poses.displayTime, f.layers[0].views[0]);
     f.gaze[0] = gaze[0];
     f.gaze[1] = gaze[1];
     {
@@ -364,7 +364,7 @@ bool compose(Session* s, const XrFrameEndInfo* info, const FramePlan& plan, uint
     ++s->framesComposited;
     s->pipelinesMade += s->compositor->stats().pipelinesMade;
     s->pipelineMs += s->compositor->stats().pipelineMs;
-    drawQuads(s, info, projIndex, f, plan);
+    drawQuads(s, info, projIndex, f, poses);
     recordFrame(s, f, true);
     if (s->window) {
         const FrameStats& st = s->compositor->stats();
@@ -433,7 +433,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* inf
         logLine("xrEndFrame: " + describe(r));
         return r.result;
     }
-    const FramePlan plan = planFrame(s, info, displayTime);
+    const LayerPoses poses = layerPoses(s, info, displayTime);
 
     std::lock_guard gpu(s->gpuMutex);
     uint64_t serial;
@@ -448,7 +448,7 @@ XRAPI_ATTR XrResult XRAPI_CALL xrEndFrame(XrSession h, const XrFrameEndInfo* inf
         logLine(std::string("xrEndFrame: vkResetFences failed: ") + vk::resultString(r));
         return XR_ERROR_RUNTIME_FAILURE;
     }
-    const bool closed = compose(s, info, plan, s->framesEnded + 1);
+    const bool closed = compose(s, info, poses, s->framesEnded + 1);
     markReadBy(s, info, serial);
     // After everything the frame submitted (queue order): the compositor thread waits for this fence.
     const VkResult submitted = s->context->deviceLost()

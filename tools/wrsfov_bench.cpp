@@ -17,7 +17,7 @@
 #include "eval/flicker.h"
 #include "eval/cost_model.h"
 #include "eval/sequence.h"
-#include "tools/cli.h"
+#include "cli/cli.h"
 
 using namespace wrsfov;
 

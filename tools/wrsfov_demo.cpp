@@ -20,7 +20,7 @@
 #include "compositor/host_app.h"
 #include "compositor/vk_context.h"
 #include "eval/metrics.h"
-#include "tools/cli.h"
+#include "cli/cli.h"
 
 using namespace wrsfov;
 namespace fs = std::filesystem;

@@ -20,7 +20,7 @@
 #include "gaze/hid_eyetracker.h"
 #include "gaze/plot.h"
 #include "gaze/stats.h"
-#include "tools/cli.h"
+#include "cli/cli.h"
 
 namespace g = wrsfov::gaze;
 namespace hid = wrsfov::gaze::hid;

@@ -3,7 +3,7 @@
 
 #include "preview/options.h"
 #include "preview/preview_app.h"
-#include "tools/cli.h"
+#include "cli/cli.h"
 
 int main(int argc, char** argv) {
     using namespace wrsfov::preview;

@@ -13,7 +13,7 @@
 #include "compositor/vk_context.h"
 #include "stress/report.h"
 #include "stress/retain_stress.h"
-#include "tools/cli.h"
+#include "cli/cli.h"
 
 namespace st = wrsfov::stress;
 namespace cli = wrsfov::cli;

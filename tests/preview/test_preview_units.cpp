@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "compositor/host_app.h"
-#include "preview/compose_params.h"
+#include "preview/panel_params.h"
 #include "preview/gaze_input.h"
 #include "preview/layout.h"
 #include "preview/live_jod.h"

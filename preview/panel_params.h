@@ -1,7 +1,7 @@
-// Push constants of the preview's compose pass (preview/compose.comp), shared by C++ and GLSL.
+// Push constants of the preview's panel pass (preview/panel.comp), shared by C++ and GLSL.
 // One dispatch per panel of the preview image; 16-byte rows, explicit padding.
-#ifndef WRSFOV_PREVIEW_COMPOSE_PARAMS_H
-#define WRSFOV_PREVIEW_COMPOSE_PARAMS_H
+#ifndef WRSFOV_PREVIEW_PANEL_PARAMS_H
+#define WRSFOV_PREVIEW_PANEL_PARAMS_H
 
 #ifdef __cplusplus
 #include "shaders/glsl_cpp.h"

@@ -1,4 +1,4 @@
-// The preview's compose pass: one panel of the preview image per dispatch. Copies one eye of the
+// The preview's panel pass: one panel of the preview image per dispatch. Copies one eye of the
 // compositor's output (or of the reference, their difference as an error map, or FovVideoVDP's
 // visible distortion) into the preview image and draws the gaze marker and the fovea /
 // mid-periphery circles at their eccentricities, computed with the compositor's own ray and angle
@@ -6,7 +6,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "wrs_common.h"
-#include "compose_params.h"
+#include "panel_params.h"
 
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
