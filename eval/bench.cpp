@@ -32,6 +32,22 @@ namespace wrsfov::eval {
 
 using namespace detail;
 
+CompositorConfig compositorConfig(const BenchOptions& o) {
+    CompositorConfig c;
+    c.seed = o.seed;
+    c.change = o.change;
+    c.skipTiles = o.skipTiles;
+    c.sparseRetention = o.sparseRetention;
+    c.landedSamples = o.landedSamples;
+    c.phaseMerge = o.phaseMerge;
+    c.floorMerge = o.floorMerge;
+    c.steadyFloor = o.steadyFloor;
+    c.steadyDisplay = o.steadyDisplay;
+    c.taau = o.taau;
+    c.motionReachDeg = o.motionReachDeg;
+    return c;
+}
+
 namespace {
 
 // Adds each pixel's squared error (sRGB, mean over channels, as psnr) to its eccentricity band.
@@ -260,19 +276,11 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
                 std::vector<Run> runs;
                 for (int i = -1; i < methodRuns + int(sweepFoveas.size()); ++i) {
                     const bool sweep = i >= methodRuns;
-                    CompositorConfig cc;
+                    CompositorConfig cc = compositorConfig(o);
                     cc.method = i < 0 || sweep ? Method::Fov : o.methods[i];
                     cc.foveation = i < 0 ? FoveationMode::None : mode;
                     cc.foveaDeg = sweep ? sweepFoveas[size_t(i - methodRuns)] : fovea;
-                    cc.seed = o.seed;
-                    cc.change = o.change;
                     cc.measureCopy = i >= 0 && !sweep;
-                    cc.skipTiles = o.skipTiles;
-                    cc.sparseRetention = o.sparseRetention;
-                    cc.floorMerge = o.floorMerge;
-                    cc.steadyFloor = o.steadyFloor;
-                    cc.steadyDisplay = o.steadyDisplay;
-                    cc.motionReachDeg = o.motionReachDeg;
                     cc.trackBirth = i >= 0 && o.staleStats && tracksBirth(cc.method);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();

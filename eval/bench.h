@@ -104,6 +104,12 @@ struct BenchOptions {
     std::function<void(const std::string&)> progress;
 };
 
+/// The compositor's configuration the options give: the seed, the change metric and every research
+/// switch (tiles, sparse retention, landed samples, phase merge, the steady floor and display, taau's
+/// parameters, the motion reach). The one mapping from the options to CompositorConfig: each study
+/// sets its runs' method, foveation and fovea (and what it measures) on it.
+CompositorConfig compositorConfig(const BenchOptions& o);
+
 /// One cell of the sweep: means over the counted frames and both eyes.
 /// Edges of the eccentricity bands of CellResult::bandMse, in degrees from the gaze: [0, 5), [5, 10),
 /// [10, 20), [20, 30), [30, ∞).

@@ -106,19 +106,11 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
                 };
                 std::vector<Run> runs;
                 for (Method m : o.methods) {
-                    CompositorConfig cc;
+                    CompositorConfig cc = compositorConfig(o);
                     cc.method = m;
                     cc.foveation = mode;
                     cc.foveaDeg = fovea;
-                    cc.seed = o.seed;
-                    cc.change = o.change;
                     cc.measureCopy = true;
-                    cc.skipTiles = o.skipTiles;
-                    cc.sparseRetention = o.sparseRetention;
-                    cc.floorMerge = o.floorMerge;
-                    cc.steadyFloor = o.steadyFloor;
-                    cc.steadyDisplay = o.steadyDisplay;
-                    cc.motionReachDeg = o.motionReachDeg;
                     cc.trackBirth = o.staleStats && tracksBirth(m);
                     auto c = Compositor::create(ctx, cc);
                     if (!c) return c.error();

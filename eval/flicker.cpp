@@ -74,17 +74,10 @@ Result<FlickerReport> analyseFlicker(vk::Context& ctx, const BenchOptions& o, co
         const HostStereoApp::Options& app = si.app;
         if (!runs[0].comp) {
             for (int r = 0; r < 3; ++r) {
-                CompositorConfig cc;
+                CompositorConfig cc = compositorConfig(o);
                 cc.method = r == 2 ? Method::Wrs : Method::Fov;
                 cc.foveation = r == 0 ? FoveationMode::None : o.modes.front();
                 cc.foveaDeg = o.foveas.front();
-                cc.seed = o.seed;
-                cc.skipTiles = o.skipTiles;
-                cc.sparseRetention = o.sparseRetention;
-                cc.floorMerge = o.floorMerge;
-                cc.steadyFloor = o.steadyFloor;
-                cc.steadyDisplay = o.steadyDisplay;
-                cc.motionReachDeg = o.motionReachDeg;
                 auto c = Compositor::create(ctx, cc);
                 if (!c) return c.error();
                 auto a = HostStereoApp::create(**c, app);

@@ -363,16 +363,9 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
             r.input = in;
             r.method = m;
             r.insetDeg = deg;
-            CompositorConfig cfg;
+            CompositorConfig cfg = compositorConfig(o);
             cfg.method = m;
             cfg.foveation = FoveationMode::None;  // the full-resolution row: composed as submitted
-            cfg.seed = o.seed;
-            cfg.sparseRetention = o.sparseRetention;  // --dense-retention: retention in every tile
-            cfg.landedSamples = o.landedSamples;      // --no-landed
-            cfg.phaseMerge = o.phaseMerge;            // --no-phase-merge
-            cfg.steadyDisplay = o.steadyDisplay;      // --steady-display
-            cfg.taau = o.taau;                        // --taau
-            cfg.floorMerge = o.floorMerge;            // --floor-merge
             auto c = Compositor::create(ctx, cfg);
             if (!c) return c.error();
             r.comp = std::move(*c);

@@ -87,20 +87,10 @@ CostModelRun runCostModel(const eval::BenchOptions& o, const std::vector<std::st
     const FoveationMode mode = o.modes.front();
     const float fovea = o.foveas.front();
     auto configFor = [&](Method m) {
-        CompositorConfig c;
+        CompositorConfig c = eval::compositorConfig(o);
         c.method = m;
-        c.sparseRetention = o.sparseRetention;
-        c.landedSamples = o.landedSamples;
-        c.phaseMerge = o.phaseMerge;
-        c.taau = o.taau;
-        c.floorMerge = o.floorMerge;
-        c.steadyFloor = o.steadyFloor;
-        c.steadyDisplay = o.steadyDisplay;
-        c.motionReachDeg = o.motionReachDeg;
         c.foveation = quad ? FoveationMode::Submitted : mode;
         c.foveaDeg = fovea;
-        c.change = o.change;
-        c.skipTiles = o.skipTiles;
         return c;  // no stale tracking: the passes as an application gets them
     };
     // The views' bytes and tile shares at a size: the cell's own gaze replayed (simulated foveation), or
