@@ -1,7 +1,8 @@
-// What the compositor's sources share and nobody else needs: the passes' shader indices, the frame's
-// timestamps, and the helpers every part records with (compositor.cpp: resources; end_frame.cpp: endFrame, stage by stage;
-// passes.cpp: configuration, the pass plan and the traffic model; record.cpp: the passes' commands
-// and their times; readback.cpp: what the tests and tools read back). Internal to the compositor.
+// What the compositor's sources share and nobody else needs: the passes' descriptor bindings and shader
+// indices, the device-lost message, the frame's timestamps, and the helpers every part records with
+// (compositor.cpp: resources; end_frame.cpp: endFrame, stage by stage; passes.cpp: configuration, the
+// pass plan and the traffic model; record.cpp: the passes' commands and their times; readback.cpp:
+// what the tests and tools read back). Internal to the compositor.
 #pragma once
 
 #include <cstdint>

@@ -43,10 +43,6 @@ bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w,
     return true;
 }
 
-/// Per-eye gaze for views at `poses` in `space`: the runtime's eye gaze located there (the direction
-/// of the cyclopean gaze in each eye's space), else the configured source; invalid gives the
-/// compositor's fallback.
-
 /// Composites the projection layer and copies the output into the layer's swapchain; false when the
 /// frame must pass through (logged once per reason).
 bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEndInfo& info,
@@ -75,12 +71,16 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
     xr::LayerReading reading;
     reading.depthExt = reading.warpExt = true;
     reading.quadViews = quad;
+    reading.displayWidth = s.displayWidth;
+    reading.displayHeight = s.displayHeight;
+    xr::LayerExtras ex;
+    std::optional<std::array<layers::ProjectionView, 4>> views4 = xr::projectionViews(proj, imported, reading, &ex);
+    if (ex.locomotion) s.comp->resetHistory();
+    if (!views4) return once(2, "a view's swapchain is not one the compositor reads");
     if (quad) {
         // Quad views: each wide view with its inset, composed at the runtime's stereo size. Wide views
         // rendered jittered (the runtime's located stereo field of view shifted by under half a pixel)
         // are composed on the located grid with their samples where they were taken.
-        reading.displayWidth = s.displayWidth;
-        reading.displayHeight = s.displayHeight;
         XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO};
         li.viewConfigurationType = kStereo;
         li.displayTime = info.displayTime;
@@ -97,11 +97,7 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
             reading.located = fov;
         }
     }
-    xr::LayerExtras ex;
-    std::optional<layers::ProjectionLayer> converted = xr::projectionLayer(proj, imported, reading, &ex);
-    if (!converted) return once(2, "a view's swapchain is not one the compositor reads");
-    if (ex.locomotion) s.comp->resetHistory();
-    const layers::ProjectionLayer& layer = *converted;
+    const layers::ProjectionLayer layer = xr::composedLayer(*views4, reading, &ex);
     fe.layers.push_back(layer);
     const auto g = eyeGaze(s, n, proj, info.displayTime);
     fe.gaze[0] = g[0];

@@ -1,5 +1,6 @@
 // The API layer XR_APILAYER_WRSFOV_foveation: the state its API areas share (one file each: layer_instance.cpp,
-// layer_session.cpp, layer_swapchain.cpp, layer_views.cpp, layer_frame.cpp; what the whole layer does is said
+// layer_session.cpp, layer_swapchain.cpp, layer_views.cpp, layer_frame.cpp; the state and helpers in
+// layer_state.cpp; what the whole layer does is said
 // in layer_instance.cpp) and the functions one area calls in another.
 #pragma once
 

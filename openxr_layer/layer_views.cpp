@@ -4,6 +4,9 @@
 
 namespace wrsfov::xrlayer {
 
+/// Per-eye gaze for views at `poses` in `space`: the runtime's eye gaze located there (the direction
+/// of the cyclopean gaze in each eye's space), else the configured source; invalid gives the
+/// compositor's fallback.
 std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, XrSpace space, const XrPosef (&poses)[2],
                                        XrTime time) {
     std::array<layers::EyeGaze, 2> g{};

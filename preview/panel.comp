@@ -16,7 +16,7 @@ layout(std430, set = 0, binding = 2) readonly buffer Strip { uint strip[]; };  /
 layout(set = 0, binding = 3, rgba8) uniform writeonly image2D target;  // the preview image (UNORM view)
 // Visible distortion in JOD units per eye (eye-major rows of size.x; zeros when none was computed).
 layout(std430, set = 0, binding = 4) readonly buffer Visible { float visible[]; };
-layout(push_constant) uniform Push { ComposePush pc; };
+layout(push_constant) uniform Push { PanelPush pc; };
 
 // Error ramp: black -> purple -> orange -> light yellow.
 vec3 heat(float t) {
@@ -64,7 +64,7 @@ void main() {
     }
 
     uint flags = pc.size.w;
-    if ((flags & WRS_COMPOSE_CIRCLES) != 0u) {
+    if ((flags & WRS_PANEL_CIRCLES) != 0u) {
         float e = eccentricity(p);
         // Angular size of this pixel from its right / lower neighbour (left / upper at the edge).
         ivec2 qx = ivec2(p.x + 1 < int(pc.size.x) ? p.x + 1 : p.x - 1, p.y);
@@ -74,7 +74,7 @@ void main() {
         if (on_circle(e, deg_per_px, pc.radii.x)) c = vec3(WRS_MID_R, WRS_MID_G, WRS_MID_B) / 255.0;
         if (on_circle(e, deg_per_px, pc.gaze.w)) c = vec3(WRS_FOVEA_R, WRS_FOVEA_G, WRS_FOVEA_B) / 255.0;
     }
-    if ((flags & WRS_COMPOSE_MARKER) != 0u && pc.gaze.z < 0.0) {
+    if ((flags & WRS_PANEL_MARKER) != 0u && pc.gaze.z < 0.0) {
         // The gaze ray through the image plane, in continuous pixel coordinates (centres at +0.5).
         vec2 t = pc.gaze.xy / -pc.gaze.z;
         vec2 g = vec2((t.x - pc.fov_tan.x) / (pc.fov_tan.y - pc.fov_tan.x) * float(pc.size.x),

@@ -16,9 +16,9 @@
 #define WRS_PANEL_STRIP 3u      // the stats strip: dark background under the CPU-drawn text
 #define WRS_PANEL_VISIBLE 4u    // FovVideoVDP's visible distortion (JOD units, from the CPU), colour-mapped
 
-// Flags (ComposePush.size.w).
-#define WRS_COMPOSE_CIRCLES 1u  // fovea and mid-periphery circles at their eccentricities
-#define WRS_COMPOSE_MARKER 2u   // the gaze marker (only for a valid, non-fallback gaze)
+// Flags (PanelPush.size.w).
+#define WRS_PANEL_CIRCLES 1u  // fovea and mid-periphery circles at their eccentricities
+#define WRS_PANEL_MARKER 2u   // the gaze marker (only for a valid, non-fallback gaze)
 
 // Overlay colours (sRGB-encoded, 0..255); tests look for them in screenshots.
 #define WRS_MARKER_R 255u
@@ -33,9 +33,9 @@
 
 WRS_BEGIN
 
-struct ComposePush {
+struct PanelPush {
     ivec4 panel;   // x, y: origin in the preview image; z: WRS_PANEL_*; w: eye (layer of the output image)
-    uvec4 size;    // x, y: panel size (one eye's image); z: preview image width; w: WRS_COMPOSE_* flags
+    uvec4 size;    // x, y: panel size (one eye's image); z: preview image width; w: WRS_PANEL_CIRCLES, WRS_PANEL_MARKER flags
     vec4 fov_tan;  // the eye's field of view: tan left, right, up, down
     vec4 gaze;     // xyz: unit gaze direction the compositor used; w: fovea radius r_f in degrees
     vec4 radii;    // x: mid-periphery radius r_m in degrees; y: error-map gain; z: marker radius (pixels);
@@ -45,7 +45,7 @@ struct ComposePush {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::ComposePush) == 80);
+static_assert(sizeof(wrsfov::gpu::PanelPush) == 80);
 #endif
 
 #endif

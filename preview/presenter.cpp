@@ -78,7 +78,7 @@ Status Presenter::init() {
     if (!setLayout) return setLayout.error();
     setLayout_ = std::move(*setLayout);
     auto pipelineLayout =
-        ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::ComposePush), VK_SHADER_STAGE_COMPUTE_BIT);
+        ctx_.createPipelineLayout(setLayout_.get(), sizeof(gpu::PanelPush), VK_SHADER_STAGE_COMPUTE_BIT);
     if (!pipelineLayout) return pipelineLayout.error();
     pipelineLayout_ = std::move(*pipelineLayout);
     auto module = ctx_.createShaderModule(panel_spv, sizeof(panel_spv));
@@ -378,15 +378,15 @@ Result<PresentOutcome> Presenter::present(const ComposeFrame& f) {
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelineLayout_.get(), 0, 1, &slot.set, 0, nullptr);
-    auto dispatch = [&](const gpu::ComposePush& push, uint32_t w, uint32_t h) {
+    auto dispatch = [&](const gpu::PanelPush& push, uint32_t w, uint32_t h) {
         vkCmdPushConstants(cb, pipelineLayout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
         vkCmdDispatch(cb, groups(w, WRS_GROUP_X), groups(h, WRS_GROUP_Y), 1);
     };
     for (const Panel& p : layout.panels) {
         const EyeOverlay& eo = f.eyes[p.eye];
-        gpu::ComposePush push{};
+        gpu::PanelPush push{};
         push.panel = glm::ivec4(int(p.x), int(p.y), int(p.kind), int(p.eye));
-        uint32_t flags = (f.circles ? WRS_COMPOSE_CIRCLES : 0u) | (f.marker && eo.gazeValid ? WRS_COMPOSE_MARKER : 0u);
+        uint32_t flags = (f.circles ? WRS_PANEL_CIRCLES : 0u) | (f.marker && eo.gazeValid ? WRS_PANEL_MARKER : 0u);
         push.size = glm::uvec4(layout.eyeWidth, layout.eyeHeight, layout.width, flags);
         push.fov_tan = eo.fovTan;
         push.gaze = eo.gaze;
@@ -394,7 +394,7 @@ Result<PresentOutcome> Presenter::present(const ComposeFrame& f) {
         dispatch(push, layout.eyeWidth, layout.eyeHeight);
     }
     // Panels that a view leaves empty (none today) and the strip.
-    gpu::ComposePush strip{};
+    gpu::PanelPush strip{};
     strip.panel = glm::ivec4(0, int(layout.stripY), int(WRS_PANEL_STRIP), 0);
     strip.size = glm::uvec4(layout.width, layout.stripHeight, layout.width, 0);
     dispatch(strip, layout.width, layout.stripHeight);

@@ -32,7 +32,7 @@ WRS_FN float wrs_gauss_level_sigma(uint k) {
     return 0.5f * wrs_sqrt(p - 1.0f);
 }
 
-// sigma(e) for `gauss` (documented in README "Foveation modes"): 0 inside the fovea, rising linearly
+// sigma(e) for `gauss` (documented in docs/conventions.md "Foveation"): 0 inside the fovea, rising linearly
 // from 0.5 at r_f to 4 (= 8x8 rate / 2) at the end of the mid-periphery, then linearly to 8
 // (= 16x16 rate / 2) over the next 5°, constant after. r_mid = max(r_m, r_f); the first ramp is at
 // least 1° long so that a fovea larger than the mid-periphery still blends.

@@ -32,7 +32,7 @@ WRS_FN Reservoir wrs_reservoir(vec3 color, float w, float w_sum, uint M, float z
     return r;
 }
 
-// Packed storage: 4 x 32 bits = 16 bytes per pixel (README "Reservoir layout").
+// Packed storage: 4 x 32 bits = 16 bytes per pixel (docs/stability.md "The layout of `wrs-paper`").
 //   word 0: colour R | G    (fp16, fp16)
 //   word 1: colour B | w    (fp16, fp16)
 //   word 2: w_sum           (fp32)

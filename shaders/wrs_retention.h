@@ -123,7 +123,7 @@ WRS_FN float wrs_offset_value(uint code) {
     return float(c) * 0.00393700786f;  // 1 / WRS_OFFSET_SCALE (exactly -0.5 for -127)
 }
 
-// Packed storage, 16 bytes per pixel like the paper's reservoir (README "Reservoir layout"):
+// Packed storage, 16 bytes per pixel like the paper's reservoir (docs/retention.md "Reservoir layout"):
 //   word 0: colour R | G           (fp16, fp16)
 //   word 1: colour B | q           (fp16, fp16)
 //   word 2: w_sum | fp | flags     (fp16, uint8, uint8)

@@ -1,6 +1,6 @@
 // Reservoir storage formats for the precision study (docs/stability.md).
 //
-// The shipping layout is wrs_pack/wrs_unpack in shaders/wrs_common.h (README "Reservoir layout").
+// The shipping layout is wrs_pack/wrs_unpack in shaders/wrs_reservoir.h (docs/stability.md "The layout of `wrs-paper`").
 // Every other format here is a STUDY VARIANT: it exists only in the stress code, to show where a
 // cheaper or a wider layout would behave differently. A format is simulated by what a reservoir
 // looks like after it has been stored and loaded again (the combine itself always runs in fp32).

@@ -34,9 +34,9 @@ WRSFOV_VALIDATION=1 VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATIO
 echo "== [2/3] AddressSanitizer + UndefinedBehaviorSanitizer build $(at)"
 # -O1, as the sanitizers' documentation suggests: 35-45 % less compile time than -O2 under
 # instrumentation (eval/bench.cpp 12.8 s against 23.0 s), the largest part of this stage; the tests' and
-# tools' own code at -O0 there (tests/CMakeLists.txt, tools/CMakeLists.txt). Compiled by clang, which
+# tools' own code at -O0 there (tests/CMakeLists.txt, tools/CMakeLists.txt, cli/CMakeLists.txt). Compiled by clang, which
 # builds the instrumented code in 25-50 % less time than GCC (eval/sequence.cpp 14.8 s against 20.1 s,
-# tools/cli.cpp 5.9 s against 11.7 s) and gives the code a second compiler's warnings; the release
+# cli/cli.cpp 5.9 s against 11.7 s) and gives the code a second compiler's warnings; the release
 # build stays with GCC. A build-asan/ configured with another compiler is made afresh.
 if [ -f build-asan/CMakeCache.txt ] && ! grep -q "^CMAKE_CXX_COMPILER:.*clang++" build-asan/CMakeCache.txt; then
   rm -rf build-asan

@@ -170,39 +170,60 @@ struct LayerExtras {
     bool quadDepthDropped = false;   ///< quad views: depth or motion not on all four views, not used
 };
 
-/// A projection layer as the compositor reads it: the runtime's and the API layer's one conversion of
-/// an XrCompositionLayerProjection (each view by projectionView; quad views composed by layers::quadLayer,
-/// their wide views placed on the located grid where they came jittered). nullopt where the layer does
-/// not have the views `r` names or a view's colour is in a swapchain the compositor does not read
-/// (`subImageOf` as projectionView's).
+/// The views of a projection layer as the compositor reads them (projectionView each; the first two,
+/// or four with quad views): nullopt where the layer does not have the views `r` names or a view's
+/// colour is in a swapchain the compositor does not read (`subImageOf` as projectionView's). `extras`
+/// is filled either way, with what the views converted before one failed carried.
 template <class SubImageOf>
-std::optional<layers::ProjectionLayer> projectionLayer(const XrCompositionLayerProjection& proj, SubImageOf&& subImageOf,
-                                                       const LayerReading& r, LayerExtras* extras = nullptr) {
+std::optional<std::array<layers::ProjectionView, 4>> projectionViews(const XrCompositionLayerProjection& proj,
+                                                                     SubImageOf&& subImageOf, const LayerReading& r,
+                                                                     LayerExtras* extras = nullptr) {
     const uint32_t count = r.quadViews ? 4 : 2;
-    if (proj.viewCount != count || !proj.views) return std::nullopt;
     LayerExtras ex;
     std::array<layers::ProjectionView, 4> v;
-    for (uint32_t i = 0; i < count; ++i) {
+    bool ok = proj.viewCount == count && proj.views;
+    for (uint32_t i = 0; ok && i < count; ++i) {
         ViewExtras vx;
         std::optional<layers::ProjectionView> pv = projectionView(proj.views[i], subImageOf, r.depthExt, r.warpExt, &vx);
-        if (!pv) return std::nullopt;
-        v[i] = *pv;
         ex.depthRangeUnused = ex.depthRangeUnused || vx.depthRangeUnused;
         ex.locomotion = ex.locomotion || vx.locomotion;
+        if (pv) v[i] = *pv;
+        ok = pv.has_value();
     }
+    if (extras) *extras = ex;
+    if (!ok) return std::nullopt;
+    return v;
+}
+
+/// The projection layer the compositor composites from the views projectionViews read: with quad
+/// views the four composed by layers::quadLayer at the display's size, the wide views placed on the
+/// located grid where they came jittered (r.located); else the first two as submitted.
+inline layers::ProjectionLayer composedLayer(std::array<layers::ProjectionView, 4> v, const LayerReading& r,
+                                             LayerExtras* extras = nullptr) {
     layers::ProjectionLayer layer;
     if (r.quadViews) {
         if (r.located)
             for (uint32_t e = 0; e < 2; ++e) placeJitter(v[e], (*r.located)[e]);
         // Depth (and motion) is used where all four views have it with one range per eye.
-        layer = layers::quadLayer(v, r.displayWidth, r.displayHeight, &ex.quadDepthDropped);
+        bool dropped = false;
+        layer = layers::quadLayer(v, r.displayWidth, r.displayHeight, &dropped);
+        if (extras) extras->quadDepthDropped = dropped;
     } else {
         // (A jittered full-resolution view is composed in its own field of view: the passes read it at
         // its pixels; ProjectionView::sampleOffset.)
         layer.views = {v[0], v[1]};
     }
-    if (extras) *extras = ex;
     return layer;
+}
+
+/// A projection layer as the compositor reads it: the runtime's and the API layer's one conversion of
+/// an XrCompositionLayerProjection (projectionViews, then composedLayer). nullopt as projectionViews.
+template <class SubImageOf>
+std::optional<layers::ProjectionLayer> projectionLayer(const XrCompositionLayerProjection& proj, SubImageOf&& subImageOf,
+                                                       const LayerReading& r, LayerExtras* extras = nullptr) {
+    std::optional<std::array<layers::ProjectionView, 4>> v = projectionViews(proj, subImageOf, r, extras);
+    if (!v) return std::nullopt;
+    return composedLayer(*v, r, extras);
 }
 
 }  // namespace wrsfov::xr
