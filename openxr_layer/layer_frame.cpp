@@ -6,6 +6,8 @@ namespace wrsfov::xrlayer {
 
 // ---- Frame end --------------------------------------------------------------------------------
 
+namespace {
+
 /// The layer's output swapchain of w x h, two layers; made (again) when the size changes.
 bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w, uint32_t h) {
     if (s.out && s.outWidth == w && s.outHeight == h) return true;
@@ -42,6 +44,8 @@ bool ensureOutput(SessionState& s, const Next& n, XrSession session, uint32_t w,
     s.outHeight = h;
     return true;
 }
+
+}  // namespace
 
 /// Composites the projection layer and copies the output into the layer's swapchain; false when the
 /// frame must pass through (logged once per reason).
@@ -219,6 +223,8 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
     return true;
 }
 
+namespace {
+
 /// A frame end the layer does not composite, down the chain. In a session with the quad views the
 /// layer offers, each four-view projection layer goes down as its two wide views (the runtime's
 /// session is stereo): the application's frame is still shown, at the wide views' density.
@@ -237,6 +243,8 @@ XrResult endDown(const SessionState& s, const Next& n, XrSession session, const 
     fe.layers = layers.data();
     return n.endFrame(session, &fe);
 }
+
+}  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL layerEndFrame(XrSession session, const XrFrameEndInfo* info) {
     std::lock_guard lock(g_mutex);

@@ -317,10 +317,14 @@ XRAPI_ATTR XrResult XRAPI_CALL layerPollEvent(XrInstance instance, XrEventDataBu
 
 // ---- Dispatch ---------------------------------------------------------------------------------
 
+namespace {
+
 struct Entry {
     const char* name;
     PFN_xrVoidFunction fn;
 };
+
+}  // namespace
 #define WRSFOV_ENTRY(api, ours) {#api, reinterpret_cast<PFN_xrVoidFunction>(&ours)}
 const Entry kEntries[] = {
     WRSFOV_ENTRY(xrGetInstanceProcAddr, layerGetInstanceProcAddr),

@@ -5,10 +5,14 @@ namespace wrsfov::xrlayer {
 
 // ---- Swapchains -------------------------------------------------------------------------------
 
+namespace {
+
 const Next* nextOfSession(XrSession session) {
     auto it = g_sessions.find(session);
     return it == g_sessions.end() ? nullptr : &g_instances.at(it->second.instance).next;
 }
+
+}  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL layerCreateSwapchain(XrSession session, const XrSwapchainCreateInfo* info,
                                                     XrSwapchain* swapchain) {

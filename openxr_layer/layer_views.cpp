@@ -41,6 +41,8 @@ std::array<layers::EyeGaze, 2> eyeGaze(SessionState& s, const Next& n, const XrC
 // one, its four views from the runtime's two and the gaze, the combined-eye space from a VIEW space
 // and the gaze, and at xrEndFrame the four views composed into the layer's stereo swapchain.
 
+namespace {
+
 /// The runtime's stereo views (their recommended size is the size the four views are composed at).
 XrResult stereoViews(const Next& n, XrInstance instance, XrSystemId system, XrViewConfigurationView (&v)[2]) {
     v[0] = v[1] = {XR_TYPE_VIEW_CONFIGURATION_VIEW};
@@ -58,6 +60,8 @@ xr::QuadViewSizes quadSizes(const RuntimeConfig& config, uint32_t width, uint32_
     c.fov[0] = c.fov[1] = layers::Fov{};  // +-45 degrees
     return xr::quadViewSizes(c);
 }
+
+}  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL layerEnumerateViewConfigurations(XrInstance instance, XrSystemId system,
                                                                 uint32_t capacity, uint32_t* countOutput,
@@ -258,6 +262,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerCreateReferenceSpace(XrSession session, cons
     return r;
 }
 
+namespace {
+
 /// The next link of an instance that offers the combined-eye space, for the calls on spaces (a space
 /// does not name its instance; the next link's functions are the same for every instance of a
 /// process). The layer intercepts them only for such instances.
@@ -267,6 +273,8 @@ const Next& anyNext() {
         if (st.foveatedRendering) return st.next;
     return none;
 }
+
+}  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL layerDestroySpace(XrSpace space) {
     PFN_xrDestroySpace next = nullptr;
@@ -283,6 +291,8 @@ XRAPI_ATTR XrResult XRAPI_CALL layerDestroySpace(XrSpace space) {
     return next ? next(space) : XR_ERROR_HANDLE_INVALID;
 }
 
+namespace {
+
 /// The rendering gaze of a combined-eye space's session at `time`: its orientation in the VIEW space
 /// (the cyclopean gaze, looking along -Z), or nullopt while the gaze is invalid.
 std::optional<glm::quat> renderingGaze(SessionState& s, const Next& n, XrSpace view, XrTime time) {
@@ -297,6 +307,8 @@ std::optional<glm::quat> renderingGaze(SessionState& s, const Next& n, XrSpace v
     if (!(glm::length(sum) > 0.0f)) return std::nullopt;
     return glm::rotation(glm::vec3(0, 0, -1), glm::normalize(sum));
 }
+
+}  // namespace
 
 XRAPI_ATTR XrResult XRAPI_CALL layerLocateSpace(XrSpace space, XrSpace base, XrTime time, XrSpaceLocation* location) {
     std::lock_guard lock(g_mutex);

@@ -56,15 +56,20 @@ void beginStopping(Session* s) {
     setState(s, XR_SESSION_STATE_STOPPING);
 }
 
+namespace {
 
 Pose headAt(const Session& s, XrTime t) {
     const scenes::HeadPose h = scenes::headPose(s.instance->config.head, s.instance->seconds(t));
     return {glm::angleAxis(h.yaw, glm::vec3(0, 1, 0)), h.position};
 }
 
+}  // namespace
+
 Pose eyeAt(const Session& s, XrTime t, int eye) {
     return headAt(s, t) * Pose{glm::quat(1, 0, 0, 0), {(eye == 0 ? -0.5f : 0.5f) * s.instance->config.ipd_m, 0, 0}};
 }
+
+namespace {
 
 /// Rotation taking -Z to `dir` (unit).
 glm::quat lookRotation(const glm::vec3& dir) { return glm::rotation(glm::vec3(0, 0, -1), glm::normalize(dir)); }
@@ -95,6 +100,8 @@ std::optional<glm::vec3> depthAlong(const Session& s, const layers::ProjectionVi
     if (!(z > 0.0f)) return std::nullopt;
     return eye + d * (z / -d.z);
 }
+
+}  // namespace
 
 /// Both eyes' gaze for a frame shown at `t`, in each eye's space. The generator is cyclopean: both
 /// eyes turn to one point (binocular vergence, so the left and right directions differ as in a real
@@ -127,6 +134,8 @@ std::array<layers::EyeGaze, 2> frameGaze(Session& s, XrTime t, const layers::Pro
     return g;
 }
 
+namespace {
+
 /// The gaze xrLocateViews puts the insets on: frameGaze's without depth (the frame is not rendered
 /// yet), or with the mouse the last frame's (the window is xrEndFrame's).
 std::array<layers::EyeGaze, 2> locateGaze(Session& s, XrTime t) {
@@ -136,6 +145,8 @@ std::array<layers::EyeGaze, 2> locateGaze(Session& s, XrTime t) {
     }
     return frameGaze(s, t, layers::ProjectionView{});
 }
+
+}  // namespace
 
 
 bool boundToEyeGaze(const Session& s, const Action* a) {
@@ -216,6 +227,8 @@ bool spacePose(const Space& space, XrTime time, Pose& out, GazeState* gazeOut) {
 // ---------------------------------------------------------------------------------------------
 // The compositor thread
 
+namespace {
+
 /// The session's compositor thread: waits for each frame's GPU work (the passes, the quads, the
 /// window's copy) and marks the frame complete, which frees the swapchain images it read and lets
 /// xrWaitFrame hand out the next frame. It makes no other Vulkan call and never touches the queue.
@@ -242,6 +255,8 @@ void compositorThread(Session* s) {
         s->frameCv.notify_all();
     }
 }
+
+}  // namespace
 
 /// With the session's frameMutex held (by `lock`): waits until frame `serial` is complete, at most
 /// `timeout` (XR_INFINITE_DURATION: no limit). False when the time ran out. A wait of no time only
