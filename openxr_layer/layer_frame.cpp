@@ -63,14 +63,11 @@ bool process(SessionState& s, const Next& n, XrSession session, const XrFrameEnd
     fe.frameIndex = s.frames;
     fe.time_s = double(info.displayTime) * 1e-9;
     // The application's views, their colour, depth and motion where the compositor reads them
-    // (xr::projectionLayer, the runtime's conversion): an imported sub-image of the application's, or none.
+    // (xr::projectionViews, the runtime's conversion): an imported sub-image of the application's, or none.
     auto imported = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
         auto it = g_swapchains.find(x.swapchain);
         if (it == g_swapchains.end() || !it->second.imported) return std::nullopt;
-        return layers::SubImage{it->second.imported.get(),
-                                {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
-                                 uint32_t(x.imageRect.extent.height)},
-                                x.imageArrayIndex};
+        return xr::subImage(it->second.imported.get(), x);
     };
     xr::LayerReading reading;
     reading.depthExt = reading.warpExt = true;

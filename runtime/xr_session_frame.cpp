@@ -319,10 +319,7 @@ bool compose(Session* s, const XrFrameEndInfo* info, const LayerPoses& poses, ui
     reading.located = std::array<layers::Fov, 2>{c.fov[0], c.fov[1]};
     // Every swapchain of a verified frame end is one of this session's.
     auto sub = [](const XrSwapchainSubImage& x) -> std::optional<layers::SubImage> {
-        return layers::SubImage{getSwapchain(x.swapchain)->images.get(),
-                                {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
-                                 uint32_t(x.imageRect.extent.height)},
-                                x.imageArrayIndex};
+        return subImage(getSwapchain(x.swapchain)->images.get(), x);
     };
     LayerExtras ex;
     std::optional<layers::ProjectionLayer> layer = projectionLayer(*proj, sub, reading, &ex);

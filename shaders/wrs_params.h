@@ -33,7 +33,7 @@ struct FrameParams {
     EyeParams eye[2];
     uvec4 size;    // x: width, y: height (both eyes), z: frame index, w: seed
     vec4 tuning;   // x: r_m (degrees), y: tau_depth (relative), z: the steady display's weight
-                   // (wrs_display_step; 0 where it does not run), w: the floor rule's quality (floorQuality)
+                   // (wrs_display_fold_step; 0 where it does not run), w: the floor rule's quality (floorQuality)
     // Per pyramid level (wrs_level_size, wrs_level_offset, once per frame rather than per tap):
     // xy: size; z: first texel of the level in an eye's stored pyramid (levels 1.. only, so level 1
     // starts at 0); w: texels of an eye's stored pyramid.

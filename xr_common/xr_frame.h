@@ -52,6 +52,15 @@ inline XrPosef spaceWarpDeltaPose(XrPosef d) {
     return d;
 }
 
+/// An XrSwapchainSubImage as the compositor reads it, in `swapchain` (the image of the application's
+/// swapchain the compositor has: the runtime's own, or the layer's import).
+inline layers::SubImage subImage(layers::Swapchain* swapchain, const XrSwapchainSubImage& x) {
+    return layers::SubImage{swapchain,
+                            {x.imageRect.offset.x, x.imageRect.offset.y, uint32_t(x.imageRect.extent.width),
+                             uint32_t(x.imageRect.extent.height)},
+                            x.imageArrayIndex};
+}
+
 /// The space-warp appSpaceDeltaPose moved the layer space (artificial locomotion the motion vectors
 /// do not carry): the history no longer lines up.
 inline bool movesLayerSpace(XrPosef d) {
