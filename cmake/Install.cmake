@@ -4,17 +4,13 @@
 # docs/integrating.md says what is public and how to use it.
 include(CMakePackageConfigHelpers)
 
-# The public API: the layers submission API, the compositor with its Vulkan context and CPU
-# reference, the shader-shared parameter and math headers they include, and the gaze sources.
+# The public API: the front class and the few structs an integrator fills (include/wrsfov/), the layers
+# submission API they take, and the gaze sources. The compositor's internals (compositor/, shaders/) are
+# not installed: the library exports them for the project's own runtime and layer only.
+set(WRSFOV_FRONT_HEADERS
+  include/wrsfov/stereo_compositor.h include/wrsfov/settings.h include/wrsfov/submission.h include/wrsfov/image.h)
 set(WRSFOV_PUBLIC_HEADERS
-  layers/formats.h layers/frame.h layers/jitter.h layers/status.h layers/swapchain.h
-  compositor/compositor.h compositor/vk_context.h compositor/host_image.h compositor/host_app.h
-  compositor/reference.h compositor/swapchain_vk.h compositor/input.h compositor/compose.h
-  shaders/glsl_cpp.h shaders/device_rounding.h shaders/config.h shaders/wrs_common.h shaders/wrs_params.h
-  shaders/wrs_numbers.h shaders/wrs_views.h shaders/wrs_foveation.h shaders/wrs_colour.h shaders/wrs_depth.h shaders/wrs_random.h
-  shaders/wrs_reservoir.h shaders/wrs_retention.h shaders/wrs_sparse.h shaders/wrs_taa.h shaders/wrs_floor.h
-  shaders/wrs_submitted.h
-  shaders/compose_params.h)
+  layers/formats.h layers/frame.h layers/jitter.h layers/status.h layers/swapchain.h)
 set(WRSFOV_GAZE_HEADERS
   gaze/sample.h gaze/result.h gaze/angles.h gaze/generator.h gaze/gaze_file.h gaze/source.h
   gaze/hid_descriptor.h gaze/hid_eyetracker.h gaze/hid_device.h gaze/frame_gaze.h gaze/detect.h gaze/stats.h)
@@ -29,6 +25,7 @@ set_target_properties(wrsfov_compositor_shared PROPERTIES EXPORT_NAME compositor
 if(TARGET wrsfov_gaze_shared)
   set_target_properties(wrsfov_gaze_shared PROPERTIES EXPORT_NAME gaze)
 endif()
+install(FILES ${WRSFOV_FRONT_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/wrsfov COMPONENT dev)
 foreach(h ${headers})
   get_filename_component(dir ${h} DIRECTORY)
   install(FILES ${h} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/wrsfov/${dir} COMPONENT dev)

@@ -27,6 +27,7 @@ function(wrsfov_add_shared_library target)
     LINK_DEPENDS "${PROJECT_SOURCE_DIR}/cmake/wrsfov.map")
   target_include_directories(${target} INTERFACE
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/wrsfov>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 endfunction()

@@ -30,7 +30,7 @@
 #include <glm/glm.hpp>
 
 #include "compositor/compose.h"
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 #include "compositor/vk_context.h"
 #include "layers/frame.h"
 #include "layers/status.h"
@@ -38,6 +38,8 @@
 #include "shaders/wrs_common.h"
 #include "shaders/compose_params.h"
 #include "shaders/wrs_params.h"
+#include "wrsfov/settings.h"
+#include "wrsfov/submission.h"
 
 namespace wrsfov {
 
@@ -48,45 +50,26 @@ using SpecConstants = std::array<uint32_t, 12>;
 struct PassDispatch;           // compositor/pass_table.h
 enum class Barrier : uint8_t;  // compositor/pass_table.h
 
-/// fov: foveation only; fovTaa: foveation + TAA baseline (Karis/Salvi); wrsPaper: foveation + WRS
-/// as published (eq. 6 + eq. 7); wrs: foveation + quality-aware retention (wrs_common.h, the
-/// default); oracle: keeps whichever of history and candidate is closer to the submitted
-/// (unfoveated) colour, the ceiling of any keep-or-replace rule with wrs's reprojection; oracleQ:
-/// the oracle restricted to retention, keeping the history only when it is closer and of higher
-/// quality than the candidate (the ceiling of keeping what foveation throws away, without choosing
-/// among equally sharp samples). The oracles exist for evaluation only: they need the full-rate
-/// image, which a foveated renderer never has. taau: the field's temporal upsampling of jittered wide
-/// views (quad views; wrs_taau_step, docs/retention.md "The field's baseline: taau"), composed with the
-/// inset as fov is; on other frames TAA by accumulated weight.
-enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle, OracleQ, Taau };
-/// The evaluation-only methods (Oracle, OracleQ).
-constexpr bool isOracle(Method m) { return m == Method::Oracle || m == Method::OracleQ; }
 /// Methods whose foveation and retention run fused in the retain pass (wrs and the oracles).
 constexpr bool usesRetainPass(Method m) { return m == Method::Wrs || isOracle(m); }
 /// What `wrs` does with a candidate of the same quality as the kept sample (shader WRS_RULE_*).
 enum class EqualQuality : uint8_t { Merge = 0, Reservoir = 1 };
-/// Values equal the shader constants WRS_FOV_*. None, Mip and Gauss are configuration values: how a
-/// full-resolution frame is foveated. Submitted is what the compositor runs a frame with that came
-/// foveated already (quad views or a rate map, layers/frame.h), whatever the configured mode; it is
-/// not a configuration value (setConfig refuses it).
-enum class FoveationMode : uint8_t { None = 0, Mip = 1, Gauss = 2, Submitted = 3 };
 /// Whether a mode foveates a full-resolution frame itself (mip, gauss): levels, tile classes, a floor.
 constexpr bool simulatesFoveation(FoveationMode m) { return m == FoveationMode::Mip || m == FoveationMode::Gauss; }
 /// Values equal the shader constants WRS_CHANGE_*.
 enum class ChangeMetric : uint8_t { Off = 0, LStar = 1, DeltaE94 = 2 };
 
-std::string_view toString(Method m);
 std::string_view toString(EqualQuality e);
-/// "fov", "fov+taa", "wrs-paper", "wrs", "oracle", "oracle-q"; nullopt for anything else.
-std::optional<Method> parseMethod(std::string_view name);
-std::string_view toString(FoveationMode m);
-/// "none", "mip", "gauss"; nullopt for anything else.
-std::optional<FoveationMode> parseFoveationMode(std::string_view name);
 std::string_view toString(ChangeMetric m);
 
 /// Refusal of a configuration (Compositor::create, Compositor::setConfig).
 enum class ConfigError : int { InvalidValue = 100 };
 
+/// The compositor's whole configuration: what an integrator sets (Settings, wrsfov/settings.h) and the
+/// switches the evaluation and its studies vary (the published rule's terms, tile skipping, sparse
+/// retention, the steady floor and display, birth tracking, copy-kernel timing, the parameters of
+/// `taau`). This header is the evaluation build's and the project's own programs'; it is not installed.
+/// An integrator's program uses StereoCompositor (wrsfov/stereo_compositor.h).
 struct CompositorConfig {
     Method method = Method::Wrs;
     FoveationMode foveation = FoveationMode::Mip;
@@ -174,6 +157,9 @@ struct CompositorConfig {
         float clipGamma = 20.0f;
     } taau;
 };
+/// An integrator's Settings as the compositor's configuration (every other field its default), as
+/// StereoCompositor runs them; refused (ConfigError::InvalidValue) for the evaluation-only methods.
+Result<CompositorConfig> compositorConfig(const Settings& settings);
 /// The retention rule (shader WRS_RULE_*) the retain pass runs for a method with usesRetainPass:
 /// the oracle's, the retention oracle's, or `wrs`'s equal-quality rule.
 uint32_t retainRule(const CompositorConfig& c);
@@ -323,52 +309,6 @@ struct FrameStats {
     /// took, inside endFrame: the frame's compile hitch. 0 once every variant the frames use exists.
     uint32_t pipelinesMade = 0;
     double pipelineMs = 0.0;
-};
-
-/// How a swapchain's images are made when an application renders into them with Vulkan (an OpenXR
-/// runtime handing them out): extra usage and create flags, and the layout the application leaves
-/// them in. The compositor moves the images it reads to GENERAL and back inside its own submission.
-struct SwapchainImageOptions {
-    VkImageUsageFlags usage = 0;  ///< added to what the compositor needs (sampled, transfer, attachment)
-    VkImageCreateFlags flags = 0;
-    VkImageLayout restingLayout = VK_IMAGE_LAYOUT_GENERAL;
-    /// Leave the images uninitialised until VulkanSwapchain::prepare() (an OpenXR runtime may use the
-    /// application's queue only in some calls: xrCreateSwapchain is not one of them).
-    bool deferInitialization = false;
-    /// createSwapchain: make the images with `flags` alone. By default the compositor adds
-    /// VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT to sRGB images and reads them through UNORM views; without
-    /// it they are read through sRGB views (the device decodes, shaders/wrs_input.h), as imported
-    /// images are unless `flags` says they were made MUTABLE_FORMAT.
-    bool exactFlags = false;
-};
-
-/// How Compositor::endFrame hands its GPU work over. The output image (outputImage(), 2 layers,
-/// layer = eye, RGBA8 sRGB-encoded, VK_IMAGE_LAYOUT_GENERAL) is complete when the work is.
-struct FrameSubmission {
-    enum class Mode : uint8_t {
-        /// Submit to the context's queue and wait for it (the default): stats() carries GPU times.
-        Wait,
-        /// Submit to the context's queue with the caller's semaphores and return without waiting:
-        /// the caller's compositor never blocks on the compositor's fence. The next call that needs
-        /// the frame finished (endFrame, waitFrame, read*, writeReservoirs, a swapchain write through
-        /// this compositor, destruction) waits for it; waitFrame() also fills stats().gpu.
-        Submit,
-        /// Record into the caller's primary command buffer (recording, from a pool of the context's
-        /// queue family) and return; the caller submits it on that queue family, after its own
-        /// writes of the inputs and before its reads of the output (the recorded work starts with a
-        /// barrier against all earlier work on the queue and ends with one making the output
-        /// visible to all later commands), and must see that submission complete before its next
-        /// call into this compositor or its swapchains. No GPU times, no copy kernels.
-        Record,
-    };
-    Mode mode = Mode::Wait;
-    /// Submit: semaphores the compositor's submission waits for, each with the stages that wait
-    /// (VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT covers every pass), and semaphores it signals.
-    std::span<const VkSemaphore> waitSemaphores;
-    std::span<const VkPipelineStageFlags> waitStages;
-    std::span<const VkSemaphore> signalSemaphores;
-    /// Record: the command buffer.
-    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
 };
 
 /// Builds the shader parameter block of a frame (gaze fallback included). Used by the compositor

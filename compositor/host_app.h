@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "compositor/compositor.h"
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 #include "layers/frame.h"
 
 namespace wrsfov {

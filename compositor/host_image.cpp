@@ -1,4 +1,4 @@
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 
 #include <algorithm>
 #include <cmath>

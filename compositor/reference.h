@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "compositor/compositor.h"
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 #include "shaders/compose_params.h"
 #include "shaders/wrs_params.h"
 

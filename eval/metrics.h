@@ -22,7 +22,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 #include "layers/status.h"
 #include "shaders/wrs_params.h"
 

@@ -1,6 +1,6 @@
 // wrsfov-example: what an HMD compositor does with the installed wrsfov library.
 //
-//  1. It owns its Vulkan instance, device and queue, and hands them to wrsfov (vk::Context::adopt).
+//  1. It owns its Vulkan instance, device and queue, and hands them to wrsfov (StereoCompositor::create).
 //  2. It creates stereo swapchains (colour, depth, motion; one array layer per eye) on the compositor.
 //  3. Every frame it fills them (here from the CPU: a scene panning sideways, so motion vectors are
 //     non-zero and the history has to follow), takes the gaze from a synthetic eye-movement source,
@@ -11,12 +11,10 @@
 // usage: wrsfov-example [FRAMES] [OUT_PREFIX]   (default 60 frames, no files)
 #include <vulkan/vulkan.h>
 
-#include <wrsfov/compositor/compositor.h>
-#include <wrsfov/compositor/host_image.h>
-#include <wrsfov/compositor/vk_context.h>
 #include <wrsfov/gaze/frame_gaze.h>
 #include <wrsfov/gaze/source.h>
 #include <wrsfov/layers/frame.h>
+#include <wrsfov/stereo_compositor.h>
 
 #include <cmath>
 #include <cstdio>
@@ -30,6 +28,12 @@ using namespace wrsfov;
 namespace {
 
 constexpr uint32_t kWidth = 256, kHeight = 224;
+
+// A GPU before a CPU device (Mesa lavapipe on a machine without one).
+int typeScore(VkPhysicalDeviceType t) {
+    if (t == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU) return 3;
+    return t == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1 : 2;
+}
 
 int fail(const std::string& what) {
     std::fprintf(stderr, "wrsfov-example: %s\n", what.c_str());
@@ -68,8 +72,8 @@ struct AppVulkan {
             VkPhysicalDeviceProperties props;
             vkGetPhysicalDeviceProperties(d, &props);
             for (uint32_t f = 0; f < qn; ++f)
-                if ((families[f].queueFlags & VK_QUEUE_COMPUTE_BIT) && vk::deviceTypeScore(props.deviceType) > best) {
-                    best = vk::deviceTypeScore(props.deviceType);
+                if ((families[f].queueFlags & VK_QUEUE_COMPUTE_BIT) && typeScore(props.deviceType) > best) {
+                    best = typeScore(props.deviceType);
                     physical = d;
                     family = f;
                     break;
@@ -158,14 +162,11 @@ int main(int argc, char** argv) {
     AppVulkan app;
     std::string error;
     if (!app.create(error)) return fail(error);
-    auto ctx = vk::Context::adopt({app.instance, app.physical, app.device, app.family, 0});
-    if (!ctx) return fail(ctx.error().message);
-    std::printf("device: %s\n", (*ctx)->deviceName().c_str());
-
-    CompositorConfig config;  // wrs, mip foveation, 5° fovea: the defaults
-    auto compositor = Compositor::create(**ctx, config);
+    Settings settings;  // wrs, mip foveation, 5° fovea: the defaults
+    auto compositor = StereoCompositor::create({app.instance, app.physical, app.device, app.family, 0}, settings);
     if (!compositor) return fail(compositor.error().message);
-    Compositor& comp = **compositor;
+    StereoCompositor& comp = **compositor;
+    std::printf("device: %s\n", comp.deviceName().c_str());
 
     auto swapchain = [&](layers::Usage usage, layers::Format format) {
         layers::SwapchainCreateInfo info;
@@ -250,12 +251,12 @@ int main(int argc, char** argv) {
         vkWaitForFences(app.device, 1, &app.presented, VK_TRUE, UINT64_MAX);
         vkResetFences(app.device, 1, &app.presented);
 
-        // Statistics of the frame: waitFrame() collects its GPU times (already finished here).
+        // What the frame did: waitFrame() collects its GPU time (already finished here).
         if (Status s = comp.waitFrame(); !s) return fail(s.message());
-        const FrameStats& st = comp.stats();
+        const FrameReport st = comp.lastFrame();
         if (i % 10 == 0 || i == frames - 1)
             std::printf("%6d %9s %8.2f %6s %6s %8s\n", i + 1, st.gazeFallback[0] ? "fallback" : "tracked",
-                        st.gpu.total, st.usedDepth ? "yes" : "no", st.usedMotion ? "yes" : "no",
+                        st.gpuMs, st.usedDepth ? "yes" : "no", st.usedMotion ? "yes" : "no",
                         st.historyReset ? "reset" : "kept");
     }
 

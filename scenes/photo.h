@@ -16,7 +16,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 #include "layers/frame.h"
 #include "layers/status.h"
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "compositor/host_image.h"
+#include "wrsfov/image.h"
 #include "layers/status.h"
 
 namespace wrsfov {

@@ -29,8 +29,8 @@ exports_only_wrsfov() {  # every exported symbol of the library demangles into w
 }
 layout="lib/libwrsfov_compositor.so lib/libwrsfov_compositor.so.0.1 lib/libwrsfov_gaze.so.0.1
  lib/libwrsfov_xr.so lib/libwrsfov_xr_layer.so
- include/wrsfov/compositor/compositor.h include/wrsfov/layers/frame.h include/wrsfov/gaze/source.h
- include/wrsfov/shaders/wrs_common.h
+ include/wrsfov/stereo_compositor.h include/wrsfov/settings.h include/wrsfov/submission.h include/wrsfov/image.h
+ include/wrsfov/layers/frame.h include/wrsfov/gaze/source.h
  lib/cmake/wrsfov/wrsfovConfig.cmake lib/cmake/wrsfov/wrsfovConfigVersion.cmake lib/cmake/wrsfov/wrsfovTargets.cmake
  lib/pkgconfig/wrsfov.pc lib/pkgconfig/wrsfov-gaze.pc
  bin/wrsfov-bench bin/wrsfov-demo bin/wrsfov-gaze bin/wrsfov-preview bin/wrsfov-stress
@@ -43,8 +43,17 @@ cli_check install_layout 0 "all present" files_present "$prefix" $layout
 cli_check install_soname 0 "SONAME.*libwrsfov_compositor.so.0.1" readelf -d "$prefix/lib/libwrsfov_compositor.so"
 cli_check install_exports_compositor 0 "all in wrsfov::" exports_only_wrsfov "$prefix/lib/libwrsfov_compositor.so"
 cli_check install_exports_gaze 0 "all in wrsfov::" exports_only_wrsfov "$prefix/lib/libwrsfov_gaze.so"
-# The internal static libraries and test-only headers stay out.
-cli_check install_no_internals 1 "" sh -c "{ ls '$prefix/lib' | grep -E '\\.a\$'; ls -R '$prefix/include' | grep -E 'gpu_rig|bindings|xr_|reference_impl'; } | grep ."
+# The internal static libraries, the compositor's and shaders' headers and test-only headers stay out.
+cli_check install_no_internals 1 "" sh -c "{ ls '$prefix/lib' | grep -E '\\.a\$'; ls -R '$prefix/include' | grep -E 'compositor:|shaders:|gpu_rig|bindings|xr_|reference_impl'; } | grep ."
+# Each installed header compiles on its own.
+headers_compile_alone() {
+    for h in $(cd "$prefix/include" && find wrsfov -name '*.h'); do
+        echo "#include <$h>" | c++ -std=c++20 -fsyntax-only -x c++ -I"$prefix/include" -I"$prefix/include/wrsfov" - ||
+            { echo "does not compile alone: $h"; return 1; }
+    done
+    echo "every header compiles alone"
+}
+cli_check install_headers_alone 0 "every header compiles alone" headers_compile_alone
 
 # ---- the example, built with find_package against the prefix, run under validation ---------------
 ex="$out/example"
@@ -86,7 +95,7 @@ cli_check co_no_other_dependencies 1 "" grep -E "^(OpenCV_DIR|GTest_DIR|OpenXR_D
 cli_check co_build 0 "" cmake --build "$co/build" -j "$jobs"
 cli_check co_install 0 "" cmake --install "$co/build" --prefix "$co/prefix"
 cli_check co_layout 0 "all present" files_present "$co/prefix" lib/libwrsfov_compositor.so.0.1 \
-    include/wrsfov/compositor/compositor.h lib/cmake/wrsfov/wrsfovConfig.cmake lib/pkgconfig/wrsfov.pc
+    include/wrsfov/stereo_compositor.h lib/cmake/wrsfov/wrsfovConfig.cmake lib/pkgconfig/wrsfov.pc
 cli_check co_no_gaze 1 "" test -e "$co/prefix/lib/libwrsfov_gaze.so"
 cli_check co_links_vulkan_only 1 "" sh -c "readelf -d '$co/prefix/lib/libwrsfov_compositor.so' | grep NEEDED | grep -v -E 'libvulkan|libstdc|libm\\.|libgcc_s|libc\\.'"
 cli_check co_consumer_build 0 "" sh -c "cmake -S '$src/tests/install/compositor_only' -B '$co/consumer' -DCMAKE_PREFIX_PATH='$co/prefix' && cmake --build '$co/consumer' -j $jobs"

@@ -1,4 +1,5 @@
-// CPU-side images: what tests, tools and the CPU reference upload, read back and compare.
+// CPU-side images: what an application uploads and reads back (StereoCompositor::readOutput), and what
+// tests, tools and the CPU reference compare.
 #pragma once
 
 #include <cstddef>
