@@ -270,9 +270,11 @@ HostImage rateMapFor(const layers::Fov& fov, uint32_t W, uint32_t H, uint32_t T,
 }  // namespace
 
 Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, const SavingOptions& so) {
-    if (scene != SceneKind::Atrium && scene != SceneKind::Text && scene != SceneKind::Photo)
-        return savingError("the study renders the atrium, the text page or the photo, not scene " +
+    if (scene != SceneKind::Atrium && scene != SceneKind::Dynamic && scene != SceneKind::Text &&
+        scene != SceneKind::Photo)
+        return savingError("the study renders the atrium, dynamic, the text page or the photo, not scene " +
                            std::string(toString(scene)));
+    if (so.split != "train" && so.split != "test") return savingError("the split must be train or test, not " + so.split);
     if (so.insetDegs.empty()) return savingError("no inset sizes");
     for (float d : so.insetDegs)
         if (!(d > 0.0f && d < 170.0f)) return savingError("inset sizes must be in (0°, 170°)");
@@ -290,7 +292,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
     std::unique_ptr<AtriumViews> atriumViews;
     std::unique_ptr<scenes::TextScene> text;
     std::unique_ptr<scenes::PhotoScene> photo;
-    if (scene == SceneKind::Atrium) {
+    if (scene == SceneKind::Atrium || scene == SceneKind::Dynamic) {
         auto a = AtriumViews::create(ctx, atriumOptions(o, scene));
         if (!a) return a.error();
         atriumViews = std::move(*a);
@@ -433,8 +435,9 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         Views wide, half, quarter;
         double ms = 0;
         // Jittered wide views (SavingOptions::jitterPhases): the projection shifted by this frame's phase,
-        // materials filtered over the display's pixel; submitted with the shift as their sample offset.
-        const glm::vec2 jitter = layers::haltonJitter(uint64_t(f), so.jitterPhases);
+        // materials filtered over the display's pixel; submitted with the shift as their sample offset. The
+        // sequence starts at phase seed - 1 (seed 1: at its start), so seeds differ in the jitter too.
+        const glm::vec2 jitter = layers::haltonJitter(uint64_t(f) + (o.seed - 1), so.jitterPhases);
         std::array<layers::Fov, 2> wideFov = fullFov;
         if (so.jitterPhases > 1)
             for (int e = 0; e < 2; ++e) wideFov[e] = layers::jitteredFov(fullFov[e], jitter, wideW, wideH);
@@ -608,6 +611,15 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         for (int e = 0; e < evalEyes; ++e) ti += r.instability[e].mean();
         row.temporalInstability = ti / evalEyes;
         if (r.input == SavingInput::Quad) row.wideScale = so.wideScale, row.jitterPhases = so.jitterPhases;
+        if (atriumViews) {
+            row.headPath = std::string(scenes::toString(o.path));
+            row.headDegPerS = scenes::headDegPerS(o.path);
+        } else if (photo) {
+            row.headPath = "photo-" + std::string(scenes::toString(o.photoMotion));
+            row.headDegPerS = std::numeric_limits<double>::quiet_NaN();
+        }
+        row.seed = o.seed;
+        row.split = so.split;
         row.nearGazePsnr = psnrFromMse(r.nearMseSum / n);
         if (so.jod) {
             double jod = 0;
@@ -701,12 +713,13 @@ Status writeSavingReport(const std::vector<SavingRow>& rows, const SavingOptions
         std::ofstream csv(dir + "/saving.csv");
         if (!csv) return savingError("cannot write " + dir + "/saving.csv");
         csv << "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr,wide_density,jitter,"
-               "temporal_instability\n";
+               "temporal_instability,head_path,head_deg_per_s,seed,split\n";
         csv << std::setprecision(6);
         for (const SavingRow& r : rows)
             csv << toString(r.scene) << ',' << toString(r.input) << ',' << toString(r.method) << ',' << r.insetDeg << ','
                 << std::llround(r.pixelsRendered) << ',' << r.renderMs << ',' << r.composeMs << ',' << r.jod << ','
-                << r.nearGazePsnr << ',' << r.wideScale << ',' << r.jitterPhases << ',' << r.temporalInstability << '\n';
+                << r.nearGazePsnr << ',' << r.wideScale << ',' << r.jitterPhases << ',' << r.temporalInstability << ','
+                << r.headPath << ',' << r.headDegPerS << ',' << r.seed << ',' << r.split << '\n';
     }
     const SavingRow* full = nullptr;
     for (const SavingRow& r : rows)

@@ -58,6 +58,9 @@ struct SavingOptions {
     /// sharper than the frame's floor quality (the inset's, once the inset moved on). outcomes.csv and a
     /// table in saving.md. The CPU reference costs about as much as the study at the main job's sizes.
     bool outcomes = false;
+    /// Which part of a study this run is (saving.csv's `split` column): "train" where a method's
+    /// parameters are chosen, "test" where the figures are reported (`wrsfov-bench --saving --split`).
+    std::string split = "test";
 };
 
 /// Retention outcomes of one composition (SavingOptions::outcomes): pixel counts over the scored frames
@@ -119,6 +122,14 @@ struct SavingRow {
     double retainShare = std::numeric_limits<double>::quiet_NaN();
     float wideScale = 0.0f;     ///< the wide views' density (quad views; 0 otherwise)
     uint32_t jitterPhases = 0;  ///< SavingOptions::jitterPhases of quad views (0 otherwise)
+    /// The cell: the head's path (the atrium's and dynamic's camera path; the photo's motion as
+    /// "photo-<motion>"; "static" for the text page), its largest angular speed in degrees per second
+    /// (NaN for the photo, whose speed is in pixels a frame), the seed (gaze, jitter start, the compositor's
+    /// random choices) and the split the run was made for (SavingOptions::split).
+    std::string headPath = "static";
+    double headDegPerS = 0.0;
+    uint32_t seed = 1;
+    std::string split = "test";
 };
 
 /// The sizes of a quad view as the study renders it, which the cost model's quad cell

@@ -60,9 +60,8 @@ layers::Fov monitorFov() {
 }
 
 std::optional<CameraPath> parseCameraPath(std::string_view name) {
-    if (name == "static") return CameraPath::Static;
-    if (name == "lateral") return CameraPath::Lateral;
-    if (name == "turn") return CameraPath::Turn;
+    for (CameraPath p : kCameraPaths)
+        if (name == toString(p)) return p;
     return std::nullopt;
 }
 
@@ -74,14 +73,38 @@ std::string_view toString(CameraPath path) {
             return "lateral";
         case CameraPath::Turn:
             return "turn";
+        case CameraPath::Yaw30:
+            return "yaw30";
+        case CameraPath::Yaw60:
+            return "yaw60";
+        case CameraPath::Yaw120:
+            return "yaw120";
     }
     return "?";
+}
+
+// The turn's peak speed: d/dt of 25° sin(2πt / 6 s) at t = 0.
+double headDegPerS(CameraPath path) {
+    switch (path) {
+        case CameraPath::Turn:
+            return 25.0 * kTwoPi / 6.0;
+        case CameraPath::Yaw30:
+            return 30.0;
+        case CameraPath::Yaw60:
+            return 60.0;
+        case CameraPath::Yaw120:
+            return 120.0;
+        default:
+            return 0.0;
+    }
 }
 
 HeadPose headPose(CameraPath path, double t) {
     HeadPose h;
     if (path == CameraPath::Lateral) h.position.x = 0.5f * float(std::sin(kTwoPi * t / 4.0));
     if (path == CameraPath::Turn) h.yaw = 25.0f * kDeg * float(std::sin(kTwoPi * t / 6.0));
+    if (path == CameraPath::Yaw30 || path == CameraPath::Yaw60 || path == CameraPath::Yaw120)
+        h.yaw = float(std::fmod(headDegPerS(path) * t, 360.0)) * kDeg;
     return h;
 }
 

@@ -24,12 +24,20 @@ namespace wrsfov::scenes {
 enum class CameraPath : uint8_t {
     Static,   ///< head still, looking down the room
     Lateral,  ///< back-and-forth sideways motion, 0.5 m amplitude, 4 s period
-    Turn,     ///< head yaw ±25°, 6 s period
+    Turn,     ///< head yaw ±25°, 6 s period (26 °/s at its peak)
+    Yaw30,    ///< head yaw at a constant 30 °/s (turning left), from looking down the room at t = 0
+    Yaw60,    ///< the same at 60 °/s
+    Yaw120,   ///< the same at 120 °/s
 };
+/// Every path, in the order the tools list them.
+constexpr CameraPath kCameraPaths[] = {CameraPath::Static, CameraPath::Lateral, CameraPath::Turn,
+                                       CameraPath::Yaw30,  CameraPath::Yaw60,   CameraPath::Yaw120};
 
-/// "static", "lateral", "turn"; nullopt for anything else.
+/// "static", "lateral", "turn", "yaw30", "yaw60", "yaw120"; nullopt for anything else.
 std::optional<CameraPath> parseCameraPath(std::string_view name);
 std::string_view toString(CameraPath path);
+/// The head's largest angular speed on the path, degrees per second (0 for the still and sideways paths).
+double headDegPerS(CameraPath path);
 
 /// Where the head of a camera path is at time t: world position (y up, eyes 1.6 m above the
 /// floor) and yaw about +Y in radians. The atrium's cameras and the OpenXR runtime's simulated

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -334,10 +335,18 @@ int runSavingPlot(const std::vector<std::string>& files, const std::string& targ
 
 // The names an option takes for `values`: the enums' own names.
 template <typename T>
-std::vector<std::pair<std::string, T>> named(std::initializer_list<T> values) {
+std::vector<std::pair<std::string, T>> named(std::span<const T> values) {
     std::vector<std::pair<std::string, T>> out;
     for (T v : values) out.emplace_back(std::string(toString(v)), v);
     return out;
+}
+template <typename T>
+std::vector<std::pair<std::string, T>> named(std::initializer_list<T> values) {
+    return named(std::span<const T>(values.begin(), values.size()));
+}
+template <typename T, size_t N>
+std::vector<std::pair<std::string, T>> named(const T (&values)[N]) {
+    return named(std::span<const T>(values));
 }
 
 }  // namespace
@@ -415,8 +424,9 @@ int main(int argc, char** argv) {
                 "The copy kernels (one moving the passes' bytes, one the method's floor) after every N-th counted "
                 "frame (1..100000), each in a submission of its own.");
     cli::option(app, "--path", o.path,
-                cli::oneOf(named({scenes::CameraPath::Static, scenes::CameraPath::Lateral, scenes::CameraPath::Turn})),
-                "Camera path of atrium and dynamic: static, lateral (sideways back and forth) or turn (head yaw).");
+                cli::oneOf(named(scenes::kCameraPaths)),
+                "Camera path of atrium and dynamic: static, lateral (sideways back and forth), turn (head yaw ±25°) "
+                "or yaw30, yaw60, yaw120 (head yaw at a constant 30, 60, 120 °/s).");
     cli::option(app, "--change", o.change,
                 cli::oneOf(named({ChangeMetric::Off, ChangeMetric::LStar, ChangeMetric::DeltaE94})),
                 "The change term of method wrs-paper, its published eq. 7: the history's weight is scaled by one "
@@ -534,7 +544,7 @@ int main(int argc, char** argv) {
                  "pixels, split by what wrs showed: its candidate or a kept sample by quality, and state changes), "
                  "for the first scene, mode and fovea: flicker.md, flicker.csv and flicker.png in --out.");
     app.add_flag("--saving", saving,
-                 "What rendering foveated saves (docs/metrics.md, \"Rendering saved\"): the first scene (atrium or text) "
+                 "What rendering foveated saves (docs/metrics.md, \"Rendering saved\"): the first scene (atrium, dynamic, text or photo) "
                  "rendered at full resolution, as quad views with an inset on the gaze (--inset-degs, wide views at "
                  "--wide-scale of the display's density) and at gaze-centred shading rates, each composed with fov, wrs, "
                  "the oracle and the retention oracle oracle-q (--methods, unless given), against the full-resolution render: pixels rendered, render "
@@ -564,6 +574,11 @@ int main(int argc, char** argv) {
                  "--saving: count what the retention rule did at each pixel (kept, changed, merged, ...) for wrs and "
                  "the oracle on quad views, by whether the history was sharper than the floor: the CPU reference steps "
                  "beside each composition (as costly again as the study). outcomes.csv and a table in saving.md.");
+    cli::option(app, "--split", savingOptions.split,
+                cli::oneOf(std::vector<std::pair<std::string, std::string>>{{"train", "train"}, {"test", "test"}}),
+                "--saving: the part of a study this run is, written to saving.csv's split column: train (where "
+                "parameters are chosen) or test (where figures are reported; the default).")
+        ->type_name("SPLIT");
     cli::listOption(app, "--rate-degs", savingOptions.rateDegs, cli::list(cli::number<float>(0, 170, cli::Ends::OpenLow)),
                 "--saving: the shading-rate rows' 1x1-region diameters in degrees (default: --inset-degs).")
         ->type_name("DEG,...");

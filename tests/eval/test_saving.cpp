@@ -109,9 +109,13 @@ TEST_F(Saving, RowsCountWhatWasRenderedAndTheOracleBoundsEachInput) {
     std::string header, line;
     std::getline(csv, header);
     EXPECT_EQ(header, "scene,input,method,inset_deg,pixels_rendered,render_ms,compose_ms,jod,near_gaze_psnr,"
-                      "wide_density,jitter,temporal_instability");
+                      "wide_density,jitter,temporal_instability,head_path,head_deg_per_s,seed,split");
     int n = 0;
-    while (std::getline(csv, line)) n++;
+    while (std::getline(csv, line)) {
+        n++;
+        // The cell's columns: the atrium's lateral path (no rotation), the options' seed, the default split.
+        EXPECT_TRUE(line.ends_with(",lateral,0," + std::to_string(so.bench.seed) + ",test")) << line;
+    }
     EXPECT_EQ(n, int(rows->size()));
     EXPECT_GT(std::filesystem::file_size(dir + "/saving.png"), 5000u);
     EXPECT_NE(headline.find("matches composition alone at a 20° inset"), std::string::npos) << headline;
@@ -195,6 +199,44 @@ TEST_F(Saving, PhotoQuadViewsWithoutJod) {
     EXPECT_FALSE(std::filesystem::exists(dir + "/saving.png"));
 }
 
+// A cell of the moving-content study: `dynamic` (moving boxes) with the head turning at 60 °/s, jittered
+// quad views. Its rows name the cell (path, speed, seed, split), and another seed is another gaze path and
+// jitter start: the same cell, different frames.
+TEST_F(Saving, DynamicSceneUnderFastYawNamesItsCell) {
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 96;
+    o.height = 96;
+    o.hmdFovDeg = 40.0f;
+    o.frames = 10;
+    o.warmup = 3;
+    o.jodFrames = 4;
+    o.path = scenes::CameraPath::Yaw60;
+    so.insetDegs = {15.0f};
+    so.rate = false;
+    so.jod = false;
+    so.jitterPhases = 4;
+    so.methods = {Method::Fov, Method::Wrs};
+    so.split = "train";
+    std::array<std::vector<eval::SavingRow>, 2> bySeed;
+    for (uint32_t seed : {2u, 3u}) {
+        o.seed = seed;
+        auto rows = eval::runSaving(context(), eval::SceneKind::Dynamic, so);
+        ASSERT_TRUE(rows.ok()) << rows.error().message;
+        ASSERT_EQ(rows->size(), 3u);
+        for (const eval::SavingRow& r : *rows) {
+            EXPECT_EQ(r.scene, eval::SceneKind::Dynamic);
+            EXPECT_EQ(r.headPath, "yaw60");
+            EXPECT_EQ(r.headDegPerS, 60.0);
+            EXPECT_EQ(r.seed, seed);
+            EXPECT_EQ(r.split, "train");
+            EXPECT_FALSE(std::isnan(r.nearGazePsnr));  // +inf for the full-resolution row, its own reference
+        }
+        bySeed[seed - 2] = std::move(*rows);
+    }
+    EXPECT_NE(bySeed[0][2].mse, bySeed[1][2].mse) << "seeds 2 and 3 gave wrs the same frames";
+}
+
 // The retention outcomes (--outcomes): the CPU reference stepped beside `wrs` and the oracle on quad views
 // counts every evaluated pixel of every scored frame once, agrees with the compositor's reservoirs, and
 // finds the inset's samples (a history sharper than the floor) among them; the report lists them.
@@ -269,7 +311,12 @@ TEST_F(Saving, BadOptionsAreRefusedWithAMessage) {
     so.bench.warmup = 1;
     auto seq = eval::runSaving(context(), eval::SceneKind::Sequence, so);
     ASSERT_FALSE(seq.ok());
-    EXPECT_NE(seq.error().message.find("the atrium, the text page or the photo"), std::string::npos);
+    EXPECT_NE(seq.error().message.find("the atrium, dynamic, the text page or the photo"), std::string::npos);
+    so.split = "validation";
+    auto split = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_FALSE(split.ok());
+    EXPECT_NE(split.error().message.find("train or test"), std::string::npos);
+    so.split = "test";
     so.insetDegs = {0.0f};
     auto zero = eval::runSaving(context(), eval::SceneKind::Atrium, so);
     ASSERT_FALSE(zero.ok());

@@ -116,7 +116,7 @@ TEST_F(Atrium, MotionVectorsMatchCameraReprojection) {
         bool monitor;
     };
     for (Case c : {Case{scenes::CameraPath::Lateral, false}, Case{scenes::CameraPath::Turn, false},
-                   Case{scenes::CameraPath::Lateral, true}}) {
+                   Case{scenes::CameraPath::Yaw120, false}, Case{scenes::CameraPath::Lateral, true}}) {
         const scenes::CameraPath path = c.path;
         scenes::AtriumOptions o;
         o.width = W;
