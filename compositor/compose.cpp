@@ -99,7 +99,7 @@ Result<VkPipeline> ComposePass::pipeline(const std::array<uint32_t, 9>& constant
 uint32_t composeLandedMode(const gpu::ComposeParams& params) {
     float mode = 0.0f;
     for (const gpu::ComposeEye& e : params.eye) mode = std::max(mode, e.landed.z);
-    return mode >= 2.0f ? 2u : mode > 0.0f ? 1u : 0u;
+    return mode >= 3.0f ? 3u : mode >= 2.0f ? 2u : mode > 0.0f ? 1u : 0u;
 }
 
 Status ComposePass::prepare(layers::SubmittedFoveation kind, const gpu::ComposeParams& params, const Sources& sources,

@@ -24,7 +24,7 @@ struct ComposeDispatch {
 };
 
 /// The compose pass's LANDED constant for `params` (shaders/compose.comp): 0 none, 1 landed wide samples
-/// (`wrs`), 2 gathered wide samples (`taau`); the largest of the two eyes' ComposeEye::landed.z.
+/// (`wrs`), 2 gathered wide samples (`taau-simple`), 3 their Lanczos-2 gather (`taau`); the largest of the two eyes' ComposeEye::landed.z.
 uint32_t composeLandedMode(const gpu::ComposeParams& params);
 
 class ComposePass {

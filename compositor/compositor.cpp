@@ -47,11 +47,19 @@ Status checkConfig(const CompositorConfig& c) {
     if (!std::isfinite(c.motionReachDeg) || c.motionReachDeg < 0.0f || c.motionReachDeg > 180.0f)
         return refuse("motion reach must be in [0°, 180°] (0: no limit)");
     // Enums may come from casts of file or command-line values: out-of-range ones are refused, not guessed.
-    if (uint8_t(c.method) > uint8_t(Method::Taau))
-        return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle, oracle-q or taau");
-    if (bad(c.taau.radius, 0.0f, 8.0f)) return refuse("taau radius must be in (0, 8] output pixels");
+    if (uint8_t(c.method) > uint8_t(Method::TaauSimple))
+        return refuse("method must be fov, fov+taa, wrs-paper, wrs, oracle, oracle-q, taau or taau-simple");
+    if (bad(c.taauSimple.radius, 0.0f, 8.0f)) return refuse("taau-simple radius must be in (0, 8] output pixels");
+    if (bad(c.taauSimple.maxWeight, 0.0f, 1024.0f)) return refuse("taau-simple weight cap must be in (0, 1024]");
+    if (bad(c.taauSimple.clipGamma, 0.0f, 64.0f)) return refuse("taau-simple clip box must be in (0, 64] sigmas");
+    if (bad(c.taau.kernel, 0.0f, 4.0f)) return refuse("taau kernel scale must be in (0, 4] wide pixels");
     if (bad(c.taau.maxWeight, 0.0f, 1024.0f)) return refuse("taau weight cap must be in (0, 1024]");
-    if (bad(c.taau.clipGamma, 0.0f, 64.0f)) return refuse("taau clip box must be in (0, 64] sigmas");
+    if (bad(c.taau.boxSigma, 0.0f, 64.0f)) return refuse("taau clamp box must be in (0, 64] sigmas");
+    if (bad(c.taau.fullVelocity, 0.0f, 1e4f)) return refuse("taau box velocity must be in (0, 1e4] output pixels a frame");
+    auto outside = [](float v, float lo, float hi) { return !std::isfinite(v) || v < lo || v > hi; };
+    if (outside(c.taau.lockFrames, 0.0f, 64.0f)) return refuse("taau lock lifetime must be in [0, 64] frames");
+    if (bad(c.taau.lockThreshold, 0.0f, 16.0f)) return refuse("taau lock threshold must be in (0, 16]");
+    if (outside(c.taau.stability, 0.0f, 1024.0f)) return refuse("taau luma stability must be in [0, 1024]");
     if (uint8_t(c.equalQuality) > uint8_t(EqualQuality::Reservoir)) return refuse("equal-quality rule must be merge or reservoir");
     if (uint8_t(c.foveation) > uint8_t(FoveationMode::Gauss))
         return refuse("foveation mode must be none, mip or gauss (submitted foveation comes with the frame: quad "

@@ -147,14 +147,30 @@ struct CompositorConfig {
     /// which a test checks). Display only: the reservoirs do not change. Its history is 32 B/px of memory
     /// (two slots), 16 B/px of traffic; with it no tile skips retention on quad views.
     float steadyDisplay = 0.15f;
-    /// Method taau's parameters (docs/retention.md "The field's baseline: taau", chosen for its best
-    /// JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
+    /// Method taau-simple's parameters (docs/retention.md "The first baseline: taau-simple", chosen for its
+    /// best JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
     /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas
     /// of the composed neighbourhood.
-    struct Taau {
+    struct TaauSimple {
         float radius = 1.25f;
         float maxWeight = 2.0f;
         float clipGamma = 20.0f;
+    } taauSimple;
+    /// Method taau's parameters (wrs_taau_step; docs/retention.md "The field's baseline: taau"): the
+    /// Lanczos-2 kernel's scale in wide pixels (1: the wide views' own resolution), the cap of the history's
+    /// accumulated weight (a sample at a wide texel's centre weighs 1), the clamp box in sigmas of the wide
+    /// samples around the pixel when still, the motion (output pixels a frame) at which the box has shrunk to
+    /// one sigma, a thin-feature lock's lifetime in frames and the luma contrast (relative) that sets one,
+    /// and how strongly an oscillating luma weighs a new sample down (0: not at all). The defaults are the
+    /// best JOD of a 21-point search on a training cell (docs/retention.md, "The field's baseline: taau").
+    struct Taau {
+        float kernel = 0.35f;
+        float maxWeight = 1.5f;
+        float boxSigma = 6.0f;
+        float fullVelocity = 8.0f;
+        float lockFrames = 8.0f;
+        float lockThreshold = 0.2f;
+        float stability = 0.0f;
     } taau;
 };
 /// An integrator's Settings as the compositor's configuration (every other field its default), as

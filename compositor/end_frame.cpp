@@ -172,13 +172,14 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
     if (work.kind != layers::SubmittedFoveation::Full) {
         composeParams_ = makeComposeParams(layer, glm::uvec2(work.w, work.h), work.next.insetBlendPx);
         // Landed wide samples: only `wrs`'s retention reads them (the oracles do not: wrs_offer_landed).
-        // Method taau: the compose pass gathers the wide samples in their place (landed.z 2).
+        // Methods taau-simple and taau: the compose pass gathers the wide samples in their place (landed.z 2
+        // and 3; landed.w the kernel's 1 / r^2 in output pixels, or 1 / scale^2 in wide pixels).
         const bool quad = work.kind == layers::SubmittedFoveation::Quad;
-        const bool landed = quad && composeLanded(work.next) == 1;
-        const bool gather = quad && composeLanded(work.next) == 2;
+        const uint32_t mode = quad ? composeLanded(work.next) : 0u;
         for (gpu::ComposeEye& e : composeParams_.eye) {
-            e.landed.z = gather ? 2.0f : landed && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
-            e.landed.w = float(1.0 / (double(work.next.taau.radius) * work.next.taau.radius));
+            e.landed.z = mode >= 2 ? float(mode) : mode == 1 && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
+            const double r = mode == 3 ? double(work.next.taau.kernel) : double(work.next.taauSimple.radius);
+            e.landed.w = float(1.0 / (r * r));
         }
         for (int eye = 0; eye < 2; ++eye) {
             const layers::ProjectionView& v = layer.views[eye];
@@ -192,8 +193,8 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
             }
             if (v.rateMap) work.srcRate[eye] = sampledView(v.rateMap->subImage);
         }
-        if (Status s = prepareSubmitted(work.w, work.h, composeParams_.eye[0].landed.z == 2.0f ||
-                                                            composeParams_.eye[1].landed.z == 2.0f);
+        if (Status s = prepareSubmitted(work.w, work.h, composeParams_.eye[0].landed.z >= 2.0f ||
+                                                            composeParams_.eye[1].landed.z >= 2.0f);
             !s)
             return submitError(SubmitError::DeviceFailure, ctx_.deviceLost() ? std::string(kDeviceLost) : s.message());
         const ComposePass::Sources sources{work.srcColor, work.srcDepth, work.srcMotion, work.srcRate};
@@ -258,9 +259,19 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
         // The wide views' quality (0 without quad views): taau's inset shows above it, and the wide
         // box of a frame that merges every phase applies up to it.
         params_.eye[eye].tile.w = composeParams_.eye[eye].wide_motion.w;
-        if (frame_.method == Method::Taau)
+        if (frame_.method == Method::TaauSimple)
             params_.eye[eye].depth_range = glm::vec4(glm::vec2(params_.eye[eye].depth_range),
-                                                     frame_.taau.maxWeight, frame_.taau.clipGamma);
+                                                     frame_.taauSimple.maxWeight, frame_.taauSimple.clipGamma);
+        if (frame_.method == Method::Taau) {
+            const CompositorConfig::Taau& t = frame_.taau;
+            params_.eye[eye].depth_range = glm::vec4(glm::vec2(params_.eye[eye].depth_range), t.maxWeight, t.stability);
+            params_.eye[eye].taau = glm::vec4(t.boxSigma, t.fullVelocity, t.lockFrames, t.lockThreshold);
+            // Its box's taps one wide pixel apart (on full-resolution frames, adjacent pixels).
+            const glm::vec2 perWide = composeParams_.eye[eye].landed.z == 3.0f
+                                          ? glm::vec2(composeParams_.eye[eye].landed)
+                                          : glm::vec2(1.0f);
+            params_.eye[eye].display.x = gpu::wrs_wide_box_steps(perWide);
+        }
         params_.eye[eye].motion_rect.w = offsets != lastOffsets_[eye] ? 1u : 0u;
         lastOffsets_[eye] = offsets;
     }

@@ -131,7 +131,7 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     const uint32_t first = gpu::wrs_first_stored_level(fov);
     double levels = 0;
     for (uint32_t k = first; k < WRS_LEVELS; ++k) levels += level[k];
-    const bool usesDepth = plan.wrsPaper || plan.retain;
+    const bool usesDepth = plan.wrsPaper || plan.retain || (plan.taa && c.method == Method::Taau);
     const double depth = usesDepth ? in.depthBytes : 0, motion = plan.temporal ? in.motionBytes : 0;
     const double birth = c.trackBirth && (plan.wrsPaper || plan.retain) ? 16 : 0;
     const double levelsRead = plan.pyramid ? levels * kTexel : 0;  // every stored level is sampled somewhere
@@ -142,7 +142,7 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
     // taau: the compose pass's gathered wide samples, two words a pixel, written by it and read by the taa
     // pass. wrs: its retain pass reads each pixel's landed wide sample from the wide view itself (a texel
     // of it per landed sample, cached: the wide colour's bytes).
-    const double landedWords = landed == 2 ? 8.0 : 0.0;
+    const double landedWords = landed >= 2 ? 8.0 : 0.0;
     const double wideColor = landed == 1 ? in.wideColorRead : 0.0;
     // A rate map's rendered quality, a word a pixel (quad views carry it in the composed colour's alpha).
     const double quality = composed && !quad && plan.retain ? 4 : 0;
@@ -250,8 +250,8 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
         }
     }
     // The output, or the candidate the temporal pass reads. Not on quad views for `fov` (the compose pass
-    // wrote the output) nor for `taau` (its pass reads the composed colour).
-    const bool taaReadsComposed = quad && c.method == Method::Taau;
+    // wrote the output) nor for `taau` and `taau-simple` (their pass reads the composed colour).
+    const bool taaReadsComposed = quad && isTaau(c.method);
     if (!plan.retain && !composeOutput && !taaReadsComposed)
         addPixels(PassId::Foveate, ShaderId::Foveate, {fov, plan.temporal ? 0u : 1u}, false, Barrier::Compute,
                   in.colorBytes + levelsRead, plan.temporal ? 16.0 : 4.0, 1.0);
@@ -278,12 +278,15 @@ std::vector<PassDispatch> framePasses(const CompositorConfig& c, const PassPlan&
             DispatchShape::Pixels, Barrier::Compute, 16 + history + depth + motion + (birth ? birth + in.colorBytes : 0),
             history + output + birth);
     } else if (plan.taa) {
-        // Its neighbourhood: the foveating pass's candidates (16 B), or on quad views for `taau` the composed
-        // colour itself (constant 3).
-        const bool upsample = c.method == Method::Taau;
-        add(PassId::Taa, ShaderId::Taa, {hasMotion, upsample, 0, taaReadsComposed}, DispatchShape::Pixels,
-            Barrier::Compute,
-            (taaReadsComposed ? in.colorBytes : 16.0) + history + motion + (upsample && landed == 2 ? landedWords : 0.0),
+        // Its neighbourhood: the foveating pass's candidates (16 B), or on quad views for `taau` and
+        // `taau-simple` the composed colour itself (constant 3); `taau` (constant 2) reads the depth too
+        // (constant 4).
+        const bool upsample = isTaau(c.method);
+        const bool fsr = c.method == Method::Taau;
+        add(PassId::Taa, ShaderId::Taa, {hasMotion, upsample, fsr, taaReadsComposed, fsr && hasDepth},
+            DispatchShape::Pixels, Barrier::Compute,
+            (taaReadsComposed ? in.colorBytes : 16.0) + history + motion + depth +
+                (upsample && landed >= 2 ? landedWords : 0.0),
             history + output);
     }
     return d;

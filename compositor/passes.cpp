@@ -32,13 +32,15 @@ std::string_view toString(Method m) {
             return "oracle-q";
         case Method::Taau:
             return "taau";
+        case Method::TaauSimple:
+            return "taau-simple";
     }
     return "?";
 }
 std::string_view toString(EqualQuality e) { return e == EqualQuality::Merge ? "merge" : "reservoir"; }
 std::optional<Method> parseMethod(std::string_view name) {
     for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Oracle, Method::OracleQ,
-                     Method::Taau})
+                     Method::Taau, Method::TaauSimple})
         if (name == toString(m)) return m;
     return std::nullopt;
 }
@@ -177,7 +179,7 @@ PassPlan planPasses(const CompositorConfig& c, bool hasMotion, bool birth, bool 
     PassPlan p;
     p.retain = usesRetainPass(c.method);
     p.wrsPaper = c.method == Method::WrsPaper;
-    p.taa = c.method == Method::FovTaa || c.method == Method::Taau;
+    p.taa = c.method == Method::FovTaa || isTaau(c.method);
     p.temporal = p.retain || p.wrsPaper || p.taa;
     p.pyramid = simulatesFoveation(c.foveation) || p.retain;
     // Tile classes (docs/speed.md "Tiles"): where a pass's levels can be constants for whole tiles. A
@@ -203,7 +205,8 @@ bool displayActive(const CompositorConfig& c) {
 }
 
 uint32_t composeLanded(const CompositorConfig& c) {
-    if (c.method == Method::Taau) return 2;
+    if (c.method == Method::TaauSimple) return 2;
+    if (c.method == Method::Taau) return 3;
     return c.method == Method::Wrs && c.landedSamples ? 1 : 0;
 }
 

@@ -96,8 +96,23 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             out.quality[std::size_t(y) * size.x + x] = stored.w;
             out.color.store(x, y, stored);
             const bool insetOnly = t == 1.0f && inset.w != 0.0f;
-            if (ce.landed.z == 2.0f) {
-                // As compose.comp: taau's gather of the four wide samples of the pixel's bilinear cell.
+            if (ce.landed.z == 3.0f) {
+                // As compose.comp: taau's Lanczos-2 gather of the 4x4 wide texels around the pixel.
+                TaauGather gather = wrs_taau_gather_start();
+                if (!insetOnly) {
+                    uvec2 i0, i1;
+                    wrs_bilinear_taps(wpos, wsize, i0, i1);
+                    for (uint j = 0; j < 16u; ++j) {
+                        uvec2 k;
+                        if (!wrs_taau_block_tap(i0, wsize, j, k)) continue;
+                        wrs_taau_gather_add(gather, sourceTexel(src.wideColor, k, ce.wide_color.z), wpos, k, ce.landed.w);
+                    }
+                }
+                const vec4 g = wrs_taau_gather_result(gather);
+                if (out.landed.empty()) out.landed.resize(std::size_t(size.x) * size.y);
+                out.landed[std::size_t(y) * size.x + x] = wrs_unpack_landed(wrs_pack_landed(vec3(g), g.w));
+            } else if (ce.landed.z == 2.0f) {
+                // As compose.comp: taau-simple's gather of the four wide samples of the pixel's bilinear cell.
                 vec4 acc(0.0f);
                 if (!insetOnly) {
                     uvec2 i0, i1;
@@ -105,7 +120,7 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
                     for (uint j = 0; j < 4u; ++j) {
                         uvec2 k;
                         if (!wrs_taau_cell_tap(i0, i1, j, k)) continue;
-                        acc = wrs_taau_add(acc, sourceTexel(src.wideColor, k, ce.wide_color.z),
+                        acc = wrs_taau_simple_add(acc, sourceTexel(src.wideColor, k, ce.wide_color.z),
                                            wrs_landed_offset(wpos, k, vec2(ce.landed)), ce.landed.w);
                     }
                 }
@@ -162,7 +177,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
     const uint mode = uint(cfg.foveation);
     const bool wrs = config_.method == Method::WrsPaper;
     const bool retain = usesRetainPass(config_.method);
-    const bool taau = config_.method == Method::Taau;
+    const bool taau = isTaau(config_.method);
+    const bool fsr = config_.method == Method::Taau;
     const bool taa = config_.method == Method::FovTaa || taau;
     motionTiles_ = 0;
 
@@ -292,6 +308,41 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
             for (uint y = 0; y < H; ++y)
                 for (uint x = 0; x < W; ++x) {
                     uvec2 p(x, y);
+                    std::size_t idx = std::size_t(y) * W + x;
+                    if (fsr) {  // as taa.comp's taau_pixel
+                        vec3 nb[9];
+                        for (uint k = 0; k < 9u; ++k) {
+                            const uvec2 q = wrs_wide_box_tap(p, k, ep.display.x, size0);
+                            nb[k] = wrs_rgb_to_ycocg(vec3(cand_[eye][std::size_t(q.y) * W + q.x]));
+                        }
+                        const vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
+                        const float depth = hasDepth ? zlin[idx] : 0.0f;
+                        uvec2 i0, i1;
+                        vec2 f;
+                        bool has = wrs_taa_reproject(p, size0, mv, i0, i1, f) && wrs_taau_packed_valid(prev_[eye][idx]);
+                        TaauHistory h{};
+                        if (has) {
+                            auto at = [&](uvec2 q) { return wrs_taau_unpack(prev_[eye][std::size_t(q.y) * W + q.x]); };
+                            const TaauHistory a = at(i0), b = at(uvec2(i1.x, i0.y)), c = at(uvec2(i0.x, i1.y)), d = at(i1);
+                            h = wrs_taau_blend(a, b, c, d, f);
+                            const float tau = params.tuning.y;
+                            has = wrs_finite3(h.color) &&
+                                  (wrs_taau_depth_matches(a.depth, depth, tau) || wrs_taau_depth_matches(b.depth, depth, tau) ||
+                                   wrs_taau_depth_matches(c.depth, depth, tau) || wrs_taau_depth_matches(d.depth, depth, tau));
+                        }
+                        const bool gathered = ep.motion_rect.z != 0u && !in.landed.empty();
+                        const vec4 g = gathered ? in.landed[idx] : vec4(vec3(cand_[eye][idx]), 1.0f);
+                        const bool inset = gathered && !wrs_is_wide_quality(in.quality[idx], ep.tile.w);
+                        const bool finiteXy = wrs_finite(mv.x) && wrs_finite(mv.y);
+                        const float vel = finiteXy ? wrs_length(vec2(mv)) : 0.0f;
+                        TaauHistory next{};
+                        const vec3 c = wrs_taau_step(nb, g, inset, h, has, depth, vel, ep.depth_range.z, ep.depth_range.w,
+                                                     ep.taau, next);
+                        res_[eye][idx] = wrs_taau_pack(next);
+                        glm::u8vec4 o = encodeOutput(c);
+                        std::memcpy(out_[eye].data.data() + idx * 4, &o, 4);
+                        continue;
+                    }
                     vec3 nb[9];
                     taaNeighbourhood(p, size0, [&](uvec2 q) { return vec3(cand_[eye][std::size_t(q.y) * W + q.x]); }, nb);
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
@@ -304,14 +355,13 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                                  histAt(i1), f));
                         has = wrs_finite3(hist);
                     }
-                    std::size_t idx = std::size_t(y) * W + x;
                     vec3 c;
                     if (taau) {  // as taa.comp's UPSAMPLE
                         const bool gathered = ep.motion_rect.z != 0u && !in.landed.empty();
                         const vec4 g = gathered ? in.landed[idx] : vec4(vec3(cand_[eye][idx]), 1.0f);
                         const bool inset = gathered && !wrs_is_wide_quality(in.quality[idx], ep.tile.w);
                         const float acc = has ? uintBitsToFloat(prev_[eye][idx].w) : 0.0f;
-                        const vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
+                        const vec4 r = wrs_taau_simple_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
                         c = vec3(r);
                         res_[eye][idx] = uvec4(floatBitsToUint(c.x), floatBitsToUint(c.y), floatBitsToUint(c.z),
                                                floatBitsToUint(std::max(r.w, WRS_TAAU_PRIOR)));

@@ -44,6 +44,7 @@ CompositorConfig compositorConfig(const BenchOptions& o) {
     c.steadyFloor = o.steadyFloor;
     c.steadyDisplay = o.steadyDisplay;
     c.taau = o.taau;
+    c.taauSimple = o.taauSimple;
     c.motionReachDeg = o.motionReachDeg;
     return c;
 }

@@ -54,8 +54,9 @@ struct BenchOptions {
     bool phaseMerge = true;
     /// CompositorConfig::steadyDisplay (--steady-display A; 0: off).
     float steadyDisplay = CompositorConfig{}.steadyDisplay;
-    /// CompositorConfig::taau (--taau R,W,G).
+    /// CompositorConfig::taau (--taau K,W,B,V,L,T,S) and CompositorConfig::taauSimple (--taau-simple R,W,G).
     CompositorConfig::Taau taau;
+    CompositorConfig::TaauSimple taauSimple;
     /// CompositorConfig::floorMerge (--floor-merge: equal-quality merging at the floor too, retention in
     /// every tile).
     bool floorMerge = false;

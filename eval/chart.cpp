@@ -102,6 +102,7 @@ cv::Scalar methodColour(Method m) {
     case Method::Oracle: return {170, 40, 170};
     case Method::OracleQ: return {120, 170, 230};
     case Method::Taau: return {20, 200, 200};
+    case Method::TaauSimple: return {120, 200, 240};
     }
     return {0, 0, 0};
 }

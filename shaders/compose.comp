@@ -8,7 +8,8 @@
 //   With ComposeEye::landed.z, each pixel's landed wide sample too (wrs_landed_offset): the wide texel
 //   nearest its centre and its quality, packed (wrs_pack_landed) after the tiles' largest qualities,
 //   for retention's own candidate; the composed colour is the same either way. With landed.z == 2
-//   (method taau) in their place the pixel's gathered wide samples (wrs_taau_add), colour and weight.
+//   (method taau-simple) in their place the pixel's gathered wide samples (wrs_taau_simple_add), colour and
+//   weight; with 3 (method taau) the Lanczos-2 gather of the 4x4 wide texels around it (wrs_taau_gather_add).
 //   KIND 2 (a rate map): the submitted colour is the candidate as it is; the quality
 //     wrs_rate_quality of the pixel's texel.
 // Each group is one 8x8 tile (WRS_TILE): after the pixels' qualities (eye-major, 2 W H of them) it
@@ -26,7 +27,8 @@ layout(constant_id = 1) const bool HAS_DEPTH = false;
 layout(constant_id = 2) const bool HAS_MOTION = false;
 // What the pass writes beside the composed images, the largest of the two eyes' ComposeEye::landed.z:
 // 0 nothing, 1 the landed wide samples (`wrs`; an eye's landed.z is 1 or 0), 2 the gathered wide
-// samples (`taau`; both eyes' are 2). A pipeline carries its method's code only.
+// samples (`taau-simple`; both eyes' are 2), 3 the Lanczos-2 gather (`taau`; both eyes' are 3). A
+// pipeline carries its method's code only.
 layout(constant_id = 3) const uint LANDED = 0u;
 // How the wide views' and the insets' colour is encoded (WRS_INPUT_*, ComposeEye wide_color.z and
 // inset_color.z, the same for both eyes), so that the pass carries that decoding only; WRS_INPUT_ANY
@@ -126,9 +128,27 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
     vec4 stored = round_f16(vec4(c.x, c.y, c.z, wrs_composed_alpha(c.w > 0.5, wrs_quad_quality(ce.wide_motion.w, t))));
     float q = stored.w;
     imageStore(composedColor, ivec3(p, eye), stored);
-    if (LANDED == 2u && ce.landed.z == 2.0) {
-        // Method taau: the four wide samples of the pixel's bilinear cell gathered by the kernel of
-        // their distance (wrs_taau_add), radius 1 / sqrt(landed.w) output pixels.
+    if (LANDED == 3u && ce.landed.z == 3.0) {
+        // Method taau: the wide samples of the 4x4 texels around the pixel's bilinear cell, Lanczos-2 in wide
+        // pixels over the kernel scale (landed.w: 1 / scale^2), deringed (wrs_taau_gather_result).
+        TaauGather gather = wrs_taau_gather_start();
+        if (!inset_only) {
+            uvec2 i0, i1;
+            wrs_bilinear_taps(wpos, wsize, i0, i1);
+            for (uint j = 0u; j < 16u; ++j) {
+                uvec2 k;
+                if (!wrs_taau_block_tap(i0, wsize, j, k)) continue;
+                wrs_taau_gather_add(gather, source_texel(eye, k, ce.wide_color), wpos, k, ce.landed.w);
+            }
+        }
+        vec4 g = wrs_taau_gather_result(gather);
+        uvec2 words = wrs_pack_landed(g.rgb, g.w);
+        uint at = landed_base(size) + 2u * idx;
+        quality[at] = words.x;
+        quality[at + 1u] = words.y;
+    } else if (LANDED == 2u && ce.landed.z == 2.0) {
+        // Method taau-simple: the four wide samples of the pixel's bilinear cell gathered by the kernel of
+        // their distance (wrs_taau_simple_add), radius 1 / sqrt(landed.w) output pixels.
         vec4 acc = vec4(0.0);
         if (!inset_only) {
             uvec2 i0, i1;
@@ -136,7 +156,7 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
             for (uint j = 0u; j < 4u; ++j) {
                 uvec2 k;
                 if (!wrs_taau_cell_tap(i0, i1, j, k)) continue;
-                acc = wrs_taau_add(acc, source_texel(eye, k, ce.wide_color), wrs_landed_offset(wpos, k, ce.landed.xy),
+                acc = wrs_taau_simple_add(acc, source_texel(eye, k, ce.wide_color), wrs_landed_offset(wpos, k, ce.landed.xy),
                                    ce.landed.w);
             }
         }

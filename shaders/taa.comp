@@ -6,18 +6,61 @@
 #include "bindings.glsl"
 
 layout(constant_id = 0) const bool HAS_MOTION = false;
-// Method taau (wrs_taau_step): this frame's gathered wide samples accumulated with the history by weight
-// (EyeParams::motion_rect.z: the compose pass gathered them; depth_range.zw: the weight cap, the clip
-// box's sigmas); the history's alpha holds its accumulated weight.
+// Methods taau and taau-simple: this frame's gathered wide samples accumulated with the history by weight
+// (EyeParams::motion_rect.z: the compose pass gathered them; depth_range.zw: the weight cap and
+// taau-simple's clip box in sigmas, or taau's luma stability).
 layout(constant_id = 1) const bool UPSAMPLE = false;
+// Method taau (wrs_taau_step, with UPSAMPLE): FSR 2's design. The box of the wide samples around the
+// pixel (EyeParams::display.x: one wide pixel's spacing), depth disocclusion (HAS_DEPTH), the velocity,
+// locks and luma stability; its history packed in fp16 (wrs_taau_pack). Without it, taau-simple
+// (wrs_taau_simple_step): the composed neighbourhood's box, the history's alpha its accumulated weight.
+layout(constant_id = 2) const bool FSR = false;
 // Method taau on quad views: the neighbourhood and the candidate are the composed colour itself
 // (load_color), which no foveating pass copies into the candidate buffer first.
 layout(constant_id = 3) const bool COMPOSED = false;
+// Method taau: the frame has depth (the composed depth on quad views).
+layout(constant_id = 4) const bool HAS_DEPTH = false;
 layout(local_size_x = WRS_GROUP_X, local_size_y = WRS_GROUP_Y, local_size_z = 1) in;
 
 vec3 history_at(uint eye, uvec2 q) { return uintBitsToFloat(res_prev[pixel_index(eye, q)].xyz); }
 // The candidate at pixel q: the foveating pass's, or the composed colour (COMPOSED).
 vec3 candidate_at(uint eye, uvec2 q) { return COMPOSED ? load_color(eye, q).rgb : candidate[pixel_index(eye, q)].rgb; }
+
+// Method taau at pixel p.
+void taau_pixel(uint eye, uvec2 p, uvec2 size, EyeParams ep) {
+    uint idx = pixel_index(eye, p);
+    vec3 nb[9];
+    uint steps = ep.display.x;
+    for (uint k = 0u; k < 9u; ++k)
+        nb[k] = wrs_rgb_to_ycocg(candidate_at(eye, wrs_wide_box_tap(p, k, steps, size)));
+    vec3 mv = HAS_MOTION ? texelFetch(motionIn[eye], ivec2(p + ep.motion_rect.xy), 0).xyz * ep.motion_scale.xyz
+                         : vec3(0.0);
+    float depth = HAS_DEPTH ? load_depth(eye, p) : 0.0;
+    uvec2 i0, i1;
+    vec2 f;
+    bool has = wrs_taa_reproject(p, size, mv, i0, i1, f) && wrs_taau_packed_valid(res_prev[idx]);
+    TaauHistory h;
+    if (has) {
+        TaauHistory a = wrs_taau_unpack(res_prev[pixel_index(eye, i0)]);
+        TaauHistory b = wrs_taau_unpack(res_prev[pixel_index(eye, uvec2(i1.x, i0.y))]);
+        TaauHistory c = wrs_taau_unpack(res_prev[pixel_index(eye, uvec2(i0.x, i1.y))]);
+        TaauHistory d = wrs_taau_unpack(res_prev[pixel_index(eye, i1)]);
+        h = wrs_taau_blend(a, b, c, d, f);
+        float tau = frame.tuning.y;
+        has = wrs_finite3(h.color) &&
+              (wrs_taau_depth_matches(a.depth, depth, tau) || wrs_taau_depth_matches(b.depth, depth, tau) ||
+               wrs_taau_depth_matches(c.depth, depth, tau) || wrs_taau_depth_matches(d.depth, depth, tau));
+    }
+    bool gathered = ep.motion_rect.z != 0u;
+    vec4 g = gathered ? submitted_landed(idx) : vec4(candidate_at(eye, p), 1.0);
+    bool inset = gathered && !wrs_is_wide_quality(submitted_quality(eye, p, idx), ep.tile.w);
+    bool finite_xy = wrs_finite(mv.x) && wrs_finite(mv.y);
+    float vel = finite_xy ? wrs_length(mv.xy) : 0.0;
+    TaauHistory next;
+    vec3 r = wrs_taau_step(nb, g, inset, h, has, depth, vel, ep.depth_range.z, ep.depth_range.w, ep.taau, next);
+    res_cur[idx] = wrs_taau_pack(next);
+    store_output(eye, p, r);
+}
 
 void main() {
     uint eye = gl_WorkGroupID.z;
@@ -25,6 +68,10 @@ void main() {
     uvec2 size = frame.size.xy;
     if (any(greaterThanEqual(p, size))) return;
     EyeParams ep = frame.eye[eye];
+    if (UPSAMPLE && FSR) {
+        taau_pixel(eye, p, size, ep);
+        return;
+    }
 
     vec3 nb[9];
     for (int j = 0; j < 3; ++j)
@@ -51,7 +98,7 @@ void main() {
         if (!gathered) g = vec4(candidate_at(eye, p), 1.0);
         bool inset = gathered && !wrs_is_wide_quality(submitted_quality(eye, p, idx), ep.tile.w);
         float acc = has ? uintBitsToFloat(res_prev[idx].w) : 0.0;
-        vec4 r = wrs_taau_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
+        vec4 r = wrs_taau_simple_step(nb, g, inset, hist, acc, has, ep.depth_range.z, ep.depth_range.w);
         res_cur[idx] = uvec4(floatBitsToUint(r.xyz), floatBitsToUint(max(r.w, WRS_TAAU_PRIOR)));
         store_output(eye, p, r.xyz);
         return;

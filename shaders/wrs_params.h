@@ -16,7 +16,8 @@ struct EyeParams {
                         // the wide box's tap spacing (wrs_wide_box_steps); 0 otherwise
     uvec4 motion_rect;  // x, y offset in the motion image; z: 1 where the compose pass wrote landed
                         // samples (or taau's gathered ones); w: 1 where the views' sample offsets moved
-    vec4 depth_range;   // near, far (may be +inf), zw: method taau's weight cap and clip box (sigmas)
+    vec4 depth_range;   // near, far (may be +inf), zw: the weight cap and, for method taau-simple, the clip
+                        // box (sigmas), for method taau the luma stability
     vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion);
                         // w: the motion reach in pixels (wrs_within_reach; +inf: no limit)
     vec4 tile;          // the classification's view constants (wrs_tile_geometry): xy: a pixel's width
@@ -25,8 +26,10 @@ struct EyeParams {
                         // phase: up to it a candidate takes the wide box); 0 otherwise
     uvec4 ref_rect;     // evaluation only (the oracles with submitted foveation): x, y offset of the
                         // full-resolution reference in its image; z: its encoding (WRS_INPUT_*); w: layer
-    uvec4 display;      // the steady display (frame.tuning.z > 0): x, the spacing of its neighbourhood's taps
-                        // (wrs_wide_box_steps: one wide pixel); yzw: pad
+    uvec4 display;      // the steady display (frame.tuning.z > 0), and method taau's box: x, the spacing of
+                        // the neighbourhood's taps (wrs_wide_box_steps: one wide pixel); yzw: pad
+    vec4 taau;          // method taau (wrs_taau_step): x, the still box in sigmas; y, the velocity (output pixels
+                        // a frame) at which it is one sigma; z, the lock's frames; w, the lock's threshold
 };
 
 struct FrameParams {
@@ -58,8 +61,8 @@ struct LevelPush {
 WRS_END
 
 #ifdef __cplusplus
-static_assert(sizeof(wrsfov::gpu::EyeParams) == 160);
-static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 160 + 32 + 2 * 16 * WRS_LEVELS + 16);
+static_assert(sizeof(wrsfov::gpu::EyeParams) == 176);
+static_assert(sizeof(wrsfov::gpu::FrameParams) == 2 * 176 + 32 + 2 * 16 * WRS_LEVELS + 16);
 static_assert(sizeof(wrsfov::gpu::LevelPush) == 16);
 #endif
 

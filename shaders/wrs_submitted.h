@@ -217,17 +217,18 @@ WRS_FN void wrs_wide_box_add(WRS_INOUT(vec3) lo, WRS_INOUT(vec3) hi, vec4 tap) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Method `taau` (docs/retention.md "The field's baseline: taau"): temporal upsampling of jittered wide
-// views as engines ship it (FSR 2, TAAU). Each frame, each output pixel gathers the wide samples
-// around it (the four of its bilinear cell) weighted by a kernel of their distance from its centre in
-// output pixels; the reprojected history, clipped to the variance box of the composed neighbourhood,
-// is accumulated with them by weight, its accumulated weight capped so that it keeps following the
-// scene. Where the inset shows, the composed frame as it is (what `fov` shows there).
+// Method `taau-simple` (docs/retention.md "The first baseline: taau-simple"): the project's first temporal
+// upsampling of jittered wide views. Each frame, each output pixel gathers the wide samples around it (the
+// four of its bilinear cell) weighted by a kernel of their distance from its centre in output pixels; the
+// reprojected history, clipped to the variance box of the composed neighbourhood, is accumulated with them
+// by weight, its accumulated weight capped so that it keeps following the scene. Where the inset shows,
+// the composed frame as it is (what `fov` shows there). Method `taau` (below) is the upsampler as engines
+// ship it.
 // ---------------------------------------------------------------------------------------------
 
 // The gather's kernel: (1 - d^2 / r^2)^2 inside radius r (inv_r2 = 1 / r^2), 0 outside; smooth, compact,
 // and multiplications only, so that the GPU and the reference agree on every weight.
-WRS_FN float wrs_taau_kernel(vec2 d, float inv_r2) {
+WRS_FN float wrs_taau_simple_kernel(vec2 d, float inv_r2) {
     WRS_PRECISE float dx2 = d.x * d.x;
     WRS_PRECISE float dy2 = d.y * d.y;
     WRS_PRECISE float d2 = dx2 + dy2;
@@ -245,9 +246,9 @@ WRS_FN bool wrs_taau_cell_tap(uvec2 i0, uvec2 i1, uint j, WRS_OUT(uvec2) k) {
 }
 // Adds a decoded wide texel (validity in alpha) at offset d from the pixel's centre to the gather
 // (xyz: the weighted sum of colours, w: the sum of weights).
-WRS_FN vec4 wrs_taau_add(vec4 acc, vec4 texel, vec2 d, float inv_r2) {
+WRS_FN vec4 wrs_taau_simple_add(vec4 acc, vec4 texel, vec2 d, float inv_r2) {
     if (!(texel.w > 0.5f)) return acc;
-    float w = wrs_taau_kernel(d, inv_r2);
+    float w = wrs_taau_simple_kernel(d, inv_r2);
     WRS_PRECISE vec3 s = vec3(texel) * w;
     WRS_PRECISE vec4 r = vec4(acc.x + s.x, acc.y + s.y, acc.z + s.z, acc.w + w);
     return r;
@@ -265,12 +266,12 @@ WRS_FN vec4 wrs_taau_gathered(vec4 acc) {
 // (up to 1 at the centre, 0.17 a frame on average at 0.4 density with radius 1).
 const float WRS_TAAU_PRIOR = 0.02f;
 
-// One TAAU step at a pixel. nb: the composed neighbourhood (YCoCg, centre 4); gathered: this frame's
+// One taau-simple step at a pixel. nb: the composed neighbourhood (YCoCg, centre 4); gathered: this frame's
 // gathered samples (colour, weight; weight 0: none); inset: the inset shows here (the composed colour is
 // taken as it is, with the full history weight); hist, acc: the reprojected history and its accumulated
 // weight (has_history); max_acc: the accumulated weight's cap; gamma: the clip box's width in sigmas.
 // Returns the colour (linear RGB) and the accumulated weight to store.
-WRS_FN vec4 wrs_taau_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, float acc, bool has_history,
+WRS_FN vec4 wrs_taau_simple_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, float acc, bool has_history,
                           float max_acc, float gamma) {
     vec3 cand = wrs_ycocg_to_rgb(nb[4]);
     if (inset) return vec4(cand.x, cand.y, cand.z, max_acc);
@@ -285,6 +286,208 @@ WRS_FN vec4 wrs_taau_step(vec3 nb[9], vec4 gathered, bool inset, vec3 hist, floa
     WRS_PRECISE vec3 num = h * a + vec3(gathered) * w + cand * WRS_TAAU_PRIOR;
     vec3 c = max(wrs_div(num, den), vec3(0.0f, 0.0f, 0.0f));
     return vec4(c.x, c.y, c.z, min(den, max_acc));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Method `taau` (docs/retention.md "The field's baseline: taau"): temporal upsampling of jittered wide views
+// after FSR 2's published design, the project's own code.
+//   Reconstruction (the compose pass): each output pixel gathers the wide samples of the 4x4 wide texels
+//     around it with a Lanczos-2 kernel of their distance in wide pixels (the output's distance scaled by
+//     the upsampling ratio) over the kernel scale; the gathered colour deringed to the range of the taps
+//     that weigh.
+//   Accumulation (the taa pass): the history reprojected with the motion; dropped where the depth it was
+//     seen at matches none of the current depth (disocclusion); clipped to a box of the wide samples around
+//     the pixel (the composed colour at 3x3 taps one wide pixel apart) of boxSigma standard deviations when
+//     still, shrinking to one as the pixel's motion reaches fullVelocity output pixels a frame; widened where
+//     a thin feature is locked (a pixel whose luma stands out of all of its neighbours' locks for lockFrames
+//     frames, unless its luma then changes by half); the new sample weighed down where its luma oscillates
+//     from frame to frame (luma stability); accumulated with the history by weight, capped.
+// The history is 16 bytes a pixel as the reservoirs are: colour and accumulated weight, linear depth and
+// lock, the last sample's luma and its change, each in fp16 (rounded by hand: the same bits everywhere).
+// ---------------------------------------------------------------------------------------------
+
+// Lanczos-2 as a polynomial in x^2 (multiplications only, so the GPU and the reference agree on every
+// weight): (25/16 (2/5 x^2 - 1)^2 - 9/16) (x^2/4 - 1)^2 for x^2 < 4, 0 beyond; 1 at 0, 0 at 1 and 2, a
+// negative lobe between.
+WRS_FN float wrs_lanczos2_sq(float x2) {
+    if (!(x2 < 4.0f)) return 0.0f;
+    WRS_PRECISE float a = 0.4f * x2 - 1.0f;
+    WRS_PRECISE float b = 0.25f * x2 - 1.0f;
+    WRS_PRECISE float la = 1.5625f * a;
+    WRS_PRECISE float l = la * a - 0.5625f;
+    WRS_PRECISE float bb = b * b;
+    WRS_PRECISE float w = l * bb;
+    return w;
+}
+// Tap j (0..15) of the 4x4 wide texels around the bilinear cell at i0 (wrs_bilinear_taps) in a wide view of
+// `size`: false off the view.
+WRS_FN bool wrs_taau_block_tap(uvec2 i0, uvec2 size, uint j, WRS_OUT(uvec2) k) {
+    ivec2 t = ivec2(i0) + ivec2(int(j & 3u) - 1, int(j >> 2u) - 1);
+    k = uvec2(max(t, ivec2(0, 0)));
+    return t.x >= 0 && t.y >= 0 && t.x < int(size.x) && t.y < int(size.y);
+}
+// The gather of the wide samples around a pixel: the weighted sum (xyz: colour, w: weight) and the range of
+// the taps that weigh (lo, hi), which deringing clamps the gathered colour to.
+struct TaauGather {
+    vec4 acc;
+    vec3 lo;
+    vec3 hi;
+};
+WRS_FN TaauGather wrs_taau_gather_start() {
+    TaauGather g;
+    g.acc = vec4(0.0f, 0.0f, 0.0f, 0.0f);
+    g.lo = vec3(65504.0f, 65504.0f, 65504.0f);
+    g.hi = vec3(0.0f, 0.0f, 0.0f);
+    return g;
+}
+// Adds a decoded wide texel (validity in alpha) centred at wide texel k to the gather of the pixel at wide
+// position `pos`; inv_k2 = 1 / kernel scale^2 (wide pixels).
+WRS_FN void wrs_taau_gather_add(WRS_INOUT(TaauGather) g, vec4 texel, vec2 pos, uvec2 k, float inv_k2) {
+    if (!(texel.w > 0.5f)) return;
+    WRS_PRECISE vec2 ds = vec2(k) + vec2(0.5f, 0.5f) - pos;
+    WRS_PRECISE float dx2 = ds.x * ds.x;
+    WRS_PRECISE float dy2 = ds.y * ds.y;
+    WRS_PRECISE float d2 = dx2 + dy2;
+    WRS_PRECISE float x2 = d2 * inv_k2;
+    float w = wrs_lanczos2_sq(x2);
+    if (w == 0.0f) return;
+    WRS_PRECISE vec3 sc = vec3(texel) * w;
+    WRS_PRECISE vec4 r = vec4(g.acc.x + sc.x, g.acc.y + sc.y, g.acc.z + sc.z, g.acc.w + w);
+    g.acc = r;
+    if (w > 0.0f) {
+        g.lo = min(g.lo, vec3(texel));
+        g.hi = max(g.hi, vec3(texel));
+    }
+}
+// The gathered colour (deringed) and its weight; nothing where the weights sum to none (packed as a landed
+// sample: wrs_pack_landed).
+WRS_FN vec4 wrs_taau_gather_result(TaauGather g) {
+    vec4 c = wrs_taau_gathered(g.acc);
+    if (!(c.w > 0.0f)) return c;
+    vec3 d = clamp(vec3(c), g.lo, g.hi);
+    return vec4(d.x, d.y, d.z, c.w);
+}
+
+// A pixel's history (unpacked).
+struct TaauHistory {
+    vec3 color;    // linear RGB
+    float weight;  // accumulated weight (0: no history)
+    float depth;   // linear depth it was seen at (<= 0: unknown)
+    float lock;    // frames the thin-feature lock has left
+    float luma;    // the last sample's luma
+    float delta;   // its change from the frame before
+};
+WRS_FN uvec4 wrs_taau_pack(TaauHistory h) {
+    return uvec4(wrs_f32_to_f16(h.color.x) | (wrs_f32_to_f16(h.color.y) << 16u),
+                 wrs_f32_to_f16(h.color.z) | (wrs_f32_to_f16(h.weight) << 16u),
+                 wrs_f32_to_f16(h.depth) | (wrs_f32_to_f16(h.lock) << 16u),
+                 wrs_f32_to_f16(h.luma) | (wrs_f32_to_f16(h.delta) << 16u));
+}
+WRS_FN TaauHistory wrs_taau_unpack(uvec4 p) {
+    TaauHistory h;
+    h.color = vec3(wrs_f16_to_f32(p.x & 0xffffu), wrs_f16_to_f32(p.x >> 16u), wrs_f16_to_f32(p.y & 0xffffu));
+    h.weight = wrs_f16_to_f32(p.y >> 16u);
+    h.depth = wrs_f16_to_f32(p.z & 0xffffu);
+    h.lock = wrs_f16_to_f32(p.z >> 16u);
+    h.luma = wrs_f16_to_f32(p.w & 0xffffu);
+    h.delta = wrs_f16_to_f32(p.w >> 16u);
+    return h;
+}
+// Whether a packed history holds a pixel (its weight is never 0 once written: at least WRS_TAAU_PRIOR).
+WRS_FN bool wrs_taau_packed_valid(uvec4 p) { return (p.y >> 16u) != 0u; }
+// Whether depth `prev` (where the history was seen) is the surface at current depth `cur`, within the
+// relative tolerance tau; unknown depths (<= 0 or not finite) match anything.
+WRS_FN bool wrs_taau_depth_matches(float prev, float cur, float tau) {
+    if (!(prev > 0.0f) || !(cur > 0.0f) || !wrs_finite(prev) || !wrs_finite(cur)) return true;
+    WRS_PRECISE float d = abs(prev - cur);
+    WRS_PRECISE float m = max(prev, cur) * tau;
+    return d <= m;
+}
+// The four reprojected histories blended with the bilinear weights f (colour, weight, luma and its
+// change), the lock of the nearest; the depths are tested apart (wrs_taau_depth_matches).
+WRS_FN TaauHistory wrs_taau_blend(TaauHistory a, TaauHistory b, TaauHistory c, TaauHistory d, vec2 f) {
+    TaauHistory h;
+    h.color = vec3(wrs_bilinear(vec4(a.color, a.weight), vec4(b.color, b.weight), vec4(c.color, c.weight),
+                                vec4(d.color, d.weight), f));
+    h.weight = wrs_bilinear(vec4(a.weight), vec4(b.weight), vec4(c.weight), vec4(d.weight), f).x;
+    h.luma = wrs_bilinear(vec4(a.luma), vec4(b.luma), vec4(c.luma), vec4(d.luma), f).x;
+    h.delta = wrs_bilinear(vec4(a.delta), vec4(b.delta), vec4(c.delta), vec4(d.delta), f).x;
+    bool right = f.x >= 0.5f, down = f.y >= 0.5f;
+    h.lock = down ? (right ? d.lock : c.lock) : (right ? b.lock : a.lock);
+    h.depth = 0.0f;
+    return h;
+}
+
+// One taau step at a pixel. nb: the box taps (the composed colour at 3x3 taps one wide pixel apart, YCoCg,
+// centre 4: the pixel's own); g: the gathered samples (colour, weight; 0: none); inset: the inset shows here
+// (the composed colour as it is); h: the reprojected history where has_history (already false where the
+// depth disoccluded it); depth: the pixel's linear depth; vel: its motion in output pixels a frame; max_acc,
+// stability (depth_range.zw), box (EyeParams::taau: still box sigmas, full velocity, lock frames, lock
+// threshold). Returns the colour shown; `next` the history to store.
+WRS_FN vec3 wrs_taau_step(vec3 nb[9], vec4 g, bool inset, TaauHistory h, bool has_history, float depth, float vel,
+                          float max_acc, float stability, vec4 box, WRS_OUT(TaauHistory) next) {
+    vec3 cand = wrs_ycocg_to_rgb(nb[4]);
+    float lc = nb[4].x;
+    next.depth = depth;
+    next.delta = 0.0f;
+    if (inset) {
+        next.color = cand;
+        next.weight = max_acc;
+        next.lock = 0.0f;
+        next.luma = lc;
+        return cand;
+    }
+    // A thin feature: the pixel's luma above all of its neighbours' by the threshold (relative), or below.
+    float lmax = 0.0f;
+    float lmin = 65504.0f;
+    for (int i = 0; i < 9; ++i) {
+        if (i == 4) continue;
+        lmax = max(lmax, nb[i].x);
+        lmin = min(lmin, nb[i].x);
+    }
+    WRS_PRECISE float above = lc - lmax;
+    WRS_PRECISE float below = lmin - lc;
+    WRS_PRECISE float ta = box.w * lc;
+    WRS_PRECISE float tb = box.w * lmin;
+    bool thin = above > ta || below > tb;
+    float lock = 0.0f;
+    float a = 0.0f;
+    vec3 hc = vec3(0.0f, 0.0f, 0.0f);
+    float w = g.w > 0.0f ? g.w : 0.0f;
+    float ls = w > 0.0f ? wrs_rgb_to_ycocg(vec3(g)).x : lc;  // this frame's sample luma
+    if (has_history) {
+        // The box: boxSigma when still, one sigma at full velocity; locked: twice the still box.
+        float vf = clamp(wrs_div(vel, box.y), 0.0f, 1.0f);
+        WRS_PRECISE float gamma = box.x + (1.0f - box.x) * vf;
+        WRS_PRECISE float hl = wrs_rgb_to_ycocg(h.color).x;
+        WRS_PRECISE float change = abs(hl - lc);
+        WRS_PRECISE float half_max = 0.5f * max(hl, lc);
+        bool locked = h.lock > 0.0f && !(change > half_max);
+        if (locked) gamma = 2.0f * box.x;
+        if (locked) lock = h.lock - 1.0f;
+        hc = max(wrs_ycocg_to_rgb(wrs_taa_clip(nb, h.color, gamma)), vec3(0.0f, 0.0f, 0.0f));
+        a = min(h.weight, max_acc);
+        // Luma stability: a sample whose luma turned back against last frame's change weighs less.
+        WRS_PRECISE float d_now = ls - h.luma;
+        WRS_PRECISE float turn = d_now * h.delta;
+        if (turn < 0.0f) {
+            WRS_PRECISE float osc = min(abs(d_now), abs(h.delta));
+            WRS_PRECISE float ref = max(ls, h.luma) + 0.05f;
+            WRS_PRECISE float rel = wrs_div(osc, ref);
+            WRS_PRECISE float damp = 1.0f + stability * rel;
+            w = wrs_div(w, damp);
+        }
+        next.delta = d_now;
+    }
+    if (thin) lock = box.z;
+    WRS_PRECISE float den = a + w + WRS_TAAU_PRIOR;
+    WRS_PRECISE vec3 num = hc * a + vec3(g) * w + cand * WRS_TAAU_PRIOR;
+    vec3 c = max(wrs_div(num, den), vec3(0.0f, 0.0f, 0.0f));
+    next.color = c;
+    next.weight = min(den, max_acc);
+    next.lock = lock;
+    next.luma = ls;
+    return c;
 }
 
 // The steady display (docs/retention.md "Steady display"; `wrs` on quad views with landed samples,

@@ -362,7 +362,7 @@ int main(int argc, char** argv) {
     bool flicker = false, noJod = false;
     bool quick = false, noStale = false, noSkip = false, dense = false, floorMerge = false, costModel = false,
          noLanded = false, noPhaseMerge = false;
-    std::vector<float> taauParams;
+    std::vector<float> taauParams, taauSimpleParams;
     bool steadyFloor = false;
     bool costQuad = false;
     std::vector<std::string> savingPlot;
@@ -398,13 +398,13 @@ int main(int argc, char** argv) {
         ->type_name("PX");
     cli::listOption(app, "--methods", o.methods,
                 cli::list(cli::oneOf(named({Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs,
-                                            Method::Oracle, Method::OracleQ, Method::Taau}))),
+                                            Method::Oracle, Method::OracleQ, Method::Taau, Method::TaauSimple}))),
                 "Methods: fov (foveation only), fov+taa (foveation and TAA), wrs-paper (WRS as published), wrs "
                 "(quality-aware retention), oracle (keeps whichever of history and candidate is closer to the "
                 "reference: the ceiling of a keep-or-replace rule, evaluation only), oracle-q (the oracle keeping "
                 "the history only where it is also of higher quality than the candidate: the ceiling of retention "
-                "alone, evaluation only), taau (temporal upsampling of jittered quad views as engines ship it, "
-                "--taau).");
+                "alone, evaluation only), taau (temporal upsampling of jittered quad views as engines ship it, after "
+                "FSR 2's design, --taau), taau-simple (the first, simpler upsampler, --taau-simple).");
     cli::listOption(app, "--fovea", o.foveas, cli::list(cli::number<float>(0, 60, cli::Ends::OpenLow)),
                 "Fovea diameters in degrees, each in (0, 60].")
         ->type_name("DEG,...");
@@ -478,11 +478,19 @@ int main(int argc, char** argv) {
                  "wrs merges equal-quality samples at the floor quality too (the far periphery's running mean, "
                  "which smooths its flicker under motion), with retention in every tile: the rule before sparse "
                  "retention (docs/retention.md \"Sparse retention\").");
-    cli::listOption(app, "--taau", taauParams, cli::list(cli::number<float>(0, 1024, cli::Ends::OpenLow)),
-                    "Method taau's gather radius (output pixels), cap of the history's accumulated weight and clip "
-                    "box (sigmas) (CompositorConfig::taau; docs/retention.md \"The field's baseline: taau\").")
+    cli::listOption(app, "--taau-simple", taauSimpleParams, cli::list(cli::number<float>(0, 1024, cli::Ends::OpenLow)),
+                    "Method taau-simple's gather radius (output pixels), cap of the history's accumulated weight and "
+                    "clip box (sigmas) (CompositorConfig::taauSimple; docs/retention.md \"The first baseline: "
+                    "taau-simple\").")
         ->type_name("R,W,G")
         ->default_str("1.25,2,20");
+    cli::listOption(app, "--taau", taauParams, cli::list(cli::number<float>(0, 1024)),
+                    "Method taau's Lanczos-2 kernel scale (wide pixels), cap of the history's accumulated weight, "
+                    "still clamp box (sigmas), velocity at which the box is one sigma (output pixels a frame), "
+                    "thin-feature lock frames and threshold, luma stability (CompositorConfig::taau; "
+                    "docs/retention.md \"The field's baseline: taau\").")
+        ->type_name("K,W,B,V,L,T,S")
+        ->default_str("0.35,1.5,6,8,8,0.2,0");
     cli::option(app, "--motion-reach", o.motionReachDeg, cli::number<float>(0, 180),
                 "Degrees per frame (at the view's centre) beyond which a pixel's motion tracks no kept sample "
                 "(docs/retention.md \"Motion reach\"); 0: no limit, the classification reads every far tile's "
@@ -598,12 +606,21 @@ int main(int argc, char** argv) {
     o.sparseRetention = !dense;
     o.landedSamples = !noLanded;
     o.phaseMerge = !noPhaseMerge;
-    if (!taauParams.empty()) {
-        if (taauParams.size() != 3) {
-            std::fprintf(stderr, "wrsfov-bench: --taau takes three values: radius, weight cap, clip box\n");
+    if (!taauSimpleParams.empty()) {
+        if (taauSimpleParams.size() != 3) {
+            std::fprintf(stderr, "wrsfov-bench: --taau-simple takes three values: radius, weight cap, clip box\n");
             return 2;
         }
-        o.taau = {taauParams[0], taauParams[1], taauParams[2]};
+        o.taauSimple = {taauSimpleParams[0], taauSimpleParams[1], taauSimpleParams[2]};
+    }
+    if (!taauParams.empty()) {
+        if (taauParams.size() != 7) {
+            std::fprintf(stderr, "wrsfov-bench: --taau takes seven values: kernel scale, weight cap, still box, "
+                                 "full velocity, lock frames, lock threshold, luma stability\n");
+            return 2;
+        }
+        o.taau = {taauParams[0], taauParams[1], taauParams[2], taauParams[3],
+                  taauParams[4], taauParams[5], taauParams[6]};
     }
     o.floorMerge = floorMerge;
     o.steadyFloor = steadyFloor;

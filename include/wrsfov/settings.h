@@ -17,10 +17,16 @@ namespace wrsfov {
 /// the oracle restricted to retention, keeping the history only when it is closer and of higher
 /// quality than the candidate (the ceiling of keeping what foveation throws away, without choosing
 /// among equally sharp samples). The oracles exist for evaluation only: they need the full-rate
-/// image, which a foveated renderer never has (StereoCompositor refuses them). taau: the field's
-/// temporal upsampling of jittered wide views (quad views; wrs_taau_step, docs/retention.md "The
-/// field's baseline: taau"), composed with the inset as fov is; on other frames TAA by accumulated weight.
-enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle, OracleQ, Taau };
+/// image, which a foveated renderer never has (StereoCompositor refuses them). taau: temporal upsampling
+/// of jittered wide views as engines ship it, after FSR 2's published design (quad views; wrs_taau_step,
+/// docs/retention.md "The field's baseline: taau"): a Lanczos-2 reconstruction of the wide samples, depth
+/// disocclusion, a clamp box of the wide samples that shrinks with velocity, luma-stability-weighted
+/// history and thin-feature locks, composed with the inset as fov is; on other frames TAA by accumulated
+/// weight. taauSimple: the project's first temporal upsampler (wrs_taau_simple_step): the four samples of
+/// the pixel's bilinear cell, a wide variance clip, no disocclusion, kept for comparison.
+enum class Method : uint8_t { Fov, FovTaa, WrsPaper, Wrs, Oracle, OracleQ, Taau, TaauSimple };
+/// The temporal upsamplers (taau, taau-simple).
+constexpr bool isTaau(Method m) { return m == Method::Taau || m == Method::TaauSimple; }
 /// The evaluation-only methods (Oracle, OracleQ).
 constexpr bool isOracle(Method m) { return m == Method::Oracle || m == Method::OracleQ; }
 
@@ -30,7 +36,7 @@ constexpr bool isOracle(Method m) { return m == Method::Oracle || m == Method::O
 /// not a configuration value (refused where one is set).
 enum class FoveationMode : uint8_t { None = 0, Mip = 1, Gauss = 2, Submitted = 3 };
 
-/// "fov", "fov+taa", "wrs-paper", "wrs", "oracle", "oracle-q", "taau".
+/// "fov", "fov+taa", "wrs-paper", "wrs", "oracle", "oracle-q", "taau", "taau-simple".
 std::string_view toString(Method m);
 /// The inverse of toString(Method); nullopt for anything else.
 std::optional<Method> parseMethod(std::string_view name);

@@ -326,7 +326,7 @@ std::array<Reference::EyeInput, 2> composed(const Compositor& c, const QuadApp::
 class Submitted : public GpuTest {};
 
 TEST_F(Submitted, QuadViewsMatchTheReferenceForEveryMethod) {
-    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Taau}) {
+    for (Method m : {Method::Fov, Method::FovTaa, Method::WrsPaper, Method::Wrs, Method::Taau, Method::TaauSimple}) {
         for (bool withDepthMotion : {false, true}) {
             SCOPED_TRACE(std::string(toString(m)) + (withDepthMotion ? " with depth and motion" : ""));
             auto c = compositor(m);
@@ -409,8 +409,8 @@ TEST_F(Submitted, JitteredViewsArePlacedWhereTheirSamplesWereTaken) {
     std::printf("[jitter] ramp error placed %.5f, offsets ignored %.5f\n", worstPlaced, worstCentred);
 
     // The GPU against the reference on jittered frames: each frame a new phase (Halton 2, 3), the gaze
-    // moving, for fov, wrs and taau.
-    for (Method m : {Method::Fov, Method::Wrs, Method::Taau}) {
+    // moving, for fov, wrs, taau and taau-simple.
+    for (Method m : {Method::Fov, Method::Wrs, Method::Taau, Method::TaauSimple}) {
         SCOPED_TRACE(toString(m));
         auto g = compositor(m);
         QuadApp q(*g, true, true);
@@ -919,10 +919,10 @@ TEST_F(Submitted, RateMapsMatchTheReferenceAndGiveEachPixelItsRate) {
 }
 
 TEST_F(Submitted, NonFiniteTexelsNeverReachAReservoirOrAnOutput) {
-    // taau: its gather skips the poisoned texels, and its history (colour and accumulated weight as
-    // float bits) stays finite.
-    {
-        auto t = compositor(Method::Taau);
+    // taau and taau-simple: their gathers skip the poisoned texels, and their histories stay finite (taau's
+    // colour and accumulated weight in fp16, wrs_taau_pack; taau-simple's as float bits).
+    for (Method m : {Method::Taau, Method::TaauSimple}) {
+        auto t = compositor(m);
         QuadApp app(*t, true, true);
         const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
         for (uint64_t i = 1; i <= 3; ++i) {
@@ -935,10 +935,18 @@ TEST_F(Submitted, NonFiniteTexelsNeverReachAReservoirOrAnOutput) {
             for (uint32_t e = 0; e < 2; ++e) {
                 auto res = t->readReservoirs(e);
                 ASSERT_TRUE(res.ok());
-                for (const glm::uvec4& r : *res)
+                for (const glm::uvec4& r : *res) {
+                    if (m == Method::Taau) {
+                        const gpu::TaauHistory h = gpu::wrs_taau_unpack(r);
+                        ASSERT_TRUE(gpu::wrs_finite3(h.color) && gpu::wrs_finite(h.weight) && h.weight > 0.0f &&
+                                    gpu::wrs_finite(h.luma) && gpu::wrs_finite(h.delta))
+                            << "taau frame " << i;
+                        continue;
+                    }
                     ASSERT_TRUE(gpu::wrs_finite3(glm::uintBitsToFloat(glm::uvec3(r))) &&
                                 gpu::wrs_finite(glm::uintBitsToFloat(r.w)))
-                        << "taau frame " << i;
+                        << "taau-simple frame " << i;
+                }
             }
         }
     }

@@ -448,12 +448,15 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
               (V{"compose/outside", "compose/inset", "reach/whole", "classify/whole", "pyramid/whole", "retain/any",
                  "retain/fovea", "retain/mid", "retain/far", "skip/skip"}));
     // compose.comp's constants as ComposePass binds them: quad views (1), depth, motion, the method's
-    // wide samples (composeLanded: `wrs` its landed ones, `taau` the gathered ones, `fov` none), the wide
+    // wide samples (composeLanded: `wrs` its landed ones, `taau-simple` the gathered ones, `taau` their
+    // Lanczos-2 gather, `fov` none), the wide
     // views' and the insets' encodings (RGBA8 sRGB: 1), the inset's groups, and `fov`'s output; nothing else.
     EXPECT_EQ(wrs[0].shader, ShaderId::Compose);
     EXPECT_EQ(wrs[0].constants, (SpecConstants{1, 1, 1, 1, 1, 1, 0, 0, 0, 0}));
     EXPECT_EQ(wrs[1].constants, (SpecConstants{1, 1, 1, 1, 1, 1, 1, 0, 0, 0}));
     EXPECT_EQ(pipelineVariants(quadConfig(Method::Taau), g->inputs)[0].constants,
+              (SpecConstants{1, 1, 1, 3, 1, 1, 0, 0, 0, 0}));
+    EXPECT_EQ(pipelineVariants(quadConfig(Method::TaauSimple), g->inputs)[0].constants,
               (SpecConstants{1, 1, 1, 2, 1, 1, 0, 0, 0, 0}));
     EXPECT_EQ(pipelineVariants(quadConfig(Method::Fov), g->inputs)[0].constants,
               (SpecConstants{1, 0, 0, 0, 1, 1, 0, 1, 0, 0}));
@@ -472,7 +475,7 @@ TEST(CostModel, QuadViewsComposeFirstWithTheLayersBytes) {
     EXPECT_EQ(names(pipelineVariants(quadConfig(Method::Taau), g->inputs)),
               (V{"compose/outside", "compose/inset", "taa/whole"}));
     // Every pass of traffic() on these views has its variant with its bytes (the compose pass's among them).
-    for (Method m : {Method::Fov, Method::Taau, Method::Wrs}) {
+    for (Method m : {Method::Fov, Method::Taau, Method::TaauSimple, Method::Wrs}) {
         const Traffic t = traffic(quadConfig(m), g->inputs);
         const auto vs = pipelineVariants(quadConfig(m), g->inputs);
         for (const PassTraffic& p : t.passes) {

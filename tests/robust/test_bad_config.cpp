@@ -49,27 +49,51 @@ std::vector<ConfigRow> refusedRows() {
                      [m = f.member, v = f.tooLarge](CompositorConfig& c) { c.*m = v; }, f.message});
     }
     // The first value past each enum's last, and 255.
-    // Method taau's parameters (CompositorConfig::Taau): non-finite, zero, negative and too large.
+    // Method taau-simple's parameters (CompositorConfig::TaauSimple): non-finite, zero, negative and too large.
+    struct SimpleField {
+        const char* name;
+        float CompositorConfig::TaauSimple::*member;
+        const char* message;
+        float tooLarge;
+    };
+    const SimpleField simpleFields[] = {
+        {"taau_simple_radius", &CompositorConfig::TaauSimple::radius, "taau-simple radius must be in (0, 8] output pixels", 8.5f},
+        {"taau_simple_weight", &CompositorConfig::TaauSimple::maxWeight, "taau-simple weight cap must be in (0, 1024]", 2048.0f},
+        {"taau_simple_clip", &CompositorConfig::TaauSimple::clipGamma, "taau-simple clip box must be in (0, 64] sigmas", 65.0f},
+    };
+    for (const SimpleField& f : simpleFields)
+        for (float v : {kNaN, kInf, 0.0f, -1.0f, f.tooLarge})
+            r.push_back({std::string(f.name) + "_" + std::to_string(int(r.size())),
+                         [m = f.member, v](CompositorConfig& c) { c.taauSimple.*m = v; }, f.message});
+    // Method taau's (CompositorConfig::Taau): non-finite, negative and too large; zero where it means nothing
+    // (the lock's lifetime and the luma stability may be 0: off).
     struct TaauField {
         const char* name;
         float CompositorConfig::Taau::*member;
         const char* message;
         float tooLarge;
+        bool zeroAllowed;
     };
     const TaauField taauFields[] = {
-        {"taau_radius", &CompositorConfig::Taau::radius, "taau radius must be in (0, 8] output pixels", 8.5f},
-        {"taau_weight", &CompositorConfig::Taau::maxWeight, "taau weight cap must be in (0, 1024]", 2048.0f},
-        {"taau_clip", &CompositorConfig::Taau::clipGamma, "taau clip box must be in (0, 64] sigmas", 65.0f},
+        {"taau_kernel", &CompositorConfig::Taau::kernel, "taau kernel scale must be in (0, 4] wide pixels", 4.5f, false},
+        {"taau_weight", &CompositorConfig::Taau::maxWeight, "taau weight cap must be in (0, 1024]", 2048.0f, false},
+        {"taau_box", &CompositorConfig::Taau::boxSigma, "taau clamp box must be in (0, 64] sigmas", 65.0f, false},
+        {"taau_velocity", &CompositorConfig::Taau::fullVelocity, "taau box velocity must be in (0, 1e4]", 2e4f, false},
+        {"taau_lock_frames", &CompositorConfig::Taau::lockFrames, "taau lock lifetime must be in [0, 64] frames", 65.0f, true},
+        {"taau_lock_threshold", &CompositorConfig::Taau::lockThreshold, "taau lock threshold must be in (0, 16]", 17.0f, false},
+        {"taau_stability", &CompositorConfig::Taau::stability, "taau luma stability must be in [0, 1024]", 1025.0f, true},
     };
     for (const TaauField& f : taauFields)
-        for (float v : {kNaN, kInf, 0.0f, -1.0f, f.tooLarge})
+        for (float v : {kNaN, kInf, 0.0f, -1.0f, f.tooLarge}) {
+            if (v == 0.0f && f.zeroAllowed) continue;
             r.push_back({std::string(f.name) + "_" + std::to_string(int(r.size())),
                          [m = f.member, v](CompositorConfig& c) { c.taau.*m = v; }, f.message});
+        }
     // The steady display's weight: [0, 1] (0 turns it off).
     for (float v : {kNaN, kInf, -0.5f, 1.5f})
         r.push_back({"steady_display_" + std::to_string(int(r.size())), [v](CompositorConfig& c) { c.steadyDisplay = v; },
                      "steady display weight must be in [0, 1]"});
-    for (uint8_t v : {uint8_t(uint8_t(Method::Taau) + 1), uint8_t(255)})
+    for (uint8_t v : {uint8_t(uint8_t(Method::TaauSimple) + 1), uint8_t(255)})
         r.push_back({"method_" + std::to_string(v), [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
     for (uint8_t v : {uint8_t(5), uint8_t(255)}) {
         const std::string n = std::to_string(v);
