@@ -45,12 +45,11 @@ cli_check install_exports_compositor 0 "all in wrsfov::" exports_only_wrsfov "$p
 cli_check install_exports_gaze 0 "all in wrsfov::" exports_only_wrsfov "$prefix/lib/libwrsfov_gaze.so"
 # The internal static libraries, the compositor's and shaders' headers and test-only headers stay out.
 cli_check install_no_internals 1 "" sh -c "{ ls '$prefix/lib' | grep -E '\\.a\$'; ls -R '$prefix/include' | grep -E 'compositor:|shaders:|gpu_rig|bindings|xr_|reference_impl'; } | grep ."
-# Each installed header compiles on its own.
+# Each installed header compiles on its own (one compiler a header, as many at a time as there are cores).
 headers_compile_alone() {
-    for h in $(cd "$prefix/include" && find wrsfov -name '*.h'); do
-        echo "#include <$h>" | c++ -std=c++20 -fsyntax-only -x c++ -I"$prefix/include" -I"$prefix/include/wrsfov" - ||
-            { echo "does not compile alone: $h"; return 1; }
-    done
+    (cd "$prefix/include" && find wrsfov -name '*.h') | xargs -P "$jobs" -I{} sh -c \
+        'echo "#include <{}>" | c++ -std=c++20 -fsyntax-only -x c++ -I"$1/include" -I"$1/include/wrsfov" - ||
+         { echo "does not compile alone: {}"; exit 255; }' sh "$prefix" || return 1
     echo "every header compiles alone"
 }
 cli_check install_headers_alone 0 "every header compiles alone" headers_compile_alone
