@@ -324,11 +324,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                         if (has) {
                             auto at = [&](uvec2 q) { return wrs_taau_unpack(prev_[eye][std::size_t(q.y) * W + q.x]); };
                             const TaauHistory a = at(i0), b = at(uvec2(i1.x, i0.y)), c = at(uvec2(i0.x, i1.y)), d = at(i1);
-                            h = wrs_taau_blend(a, b, c, d, f);
-                            const float tau = params.tuning.y;
-                            has = wrs_finite3(h.color) &&
-                                  (wrs_taau_depth_matches(a.depth, depth, tau) || wrs_taau_depth_matches(b.depth, depth, tau) ||
-                                   wrs_taau_depth_matches(c.depth, depth, tau) || wrs_taau_depth_matches(d.depth, depth, tau));
+                            has = wrs_taau_reproject(a, b, c, d, f, depth, params.tuning.y, h);
                         }
                         const bool gathered = ep.motion_rect.z != 0u && !in.landed.empty();
                         const vec4 g = gathered ? in.landed[idx] : vec4(vec3(cand_[eye][idx]), 1.0f);

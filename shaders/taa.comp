@@ -45,11 +45,7 @@ void taau_pixel(uint eye, uvec2 p, uvec2 size, EyeParams ep) {
         TaauHistory b = wrs_taau_unpack(res_prev[pixel_index(eye, uvec2(i1.x, i0.y))]);
         TaauHistory c = wrs_taau_unpack(res_prev[pixel_index(eye, uvec2(i0.x, i1.y))]);
         TaauHistory d = wrs_taau_unpack(res_prev[pixel_index(eye, i1)]);
-        h = wrs_taau_blend(a, b, c, d, f);
-        float tau = frame.tuning.y;
-        has = wrs_finite3(h.color) &&
-              (wrs_taau_depth_matches(a.depth, depth, tau) || wrs_taau_depth_matches(b.depth, depth, tau) ||
-               wrs_taau_depth_matches(c.depth, depth, tau) || wrs_taau_depth_matches(d.depth, depth, tau));
+        has = wrs_taau_reproject(a, b, c, d, f, depth, frame.tuning.y, h);
     }
     bool gathered = ep.motion_rect.z != 0u;
     vec4 g = gathered ? submitted_landed(idx) : vec4(candidate_at(eye, p), 1.0);

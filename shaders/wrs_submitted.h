@@ -417,6 +417,15 @@ WRS_FN TaauHistory wrs_taau_blend(TaauHistory a, TaauHistory b, TaauHistory c, T
     h.depth = 0.0f;
     return h;
 }
+// The history at a pixel from its four reprojected taps (bilinear weights f): blended into `h`; true where
+// it is usable, finite and seen at the pixel's depth by at least one tap (false: disoccluded).
+WRS_FN bool wrs_taau_reproject(TaauHistory a, TaauHistory b, TaauHistory c, TaauHistory d, vec2 f, float depth,
+                               float tau, WRS_OUT(TaauHistory) h) {
+    h = wrs_taau_blend(a, b, c, d, f);
+    return wrs_finite3(h.color) &&
+           (wrs_taau_depth_matches(a.depth, depth, tau) || wrs_taau_depth_matches(b.depth, depth, tau) ||
+            wrs_taau_depth_matches(c.depth, depth, tau) || wrs_taau_depth_matches(d.depth, depth, tau));
+}
 
 // One taau step at a pixel. nb: the box taps (the composed colour at 3x3 taps one wide pixel apart, YCoCg,
 // centre 4: the pixel's own); g: the gathered samples (colour, weight; 0: none); inset: the inset shows here
