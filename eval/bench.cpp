@@ -243,7 +243,7 @@ Result<std::vector<CellResult>> runBench(vk::Context& ctx, const BenchOptions& o
         auto setup = openScene(ctx, scene, o);
         if (!setup) return setup.error();
         SceneFrames* frames = setup->frames.get();
-        gaze::SyntheticSource* gazeSource = setup->gaze.get();
+        gaze::GazeSource* gazeSource = setup->gaze.get();
         const HostStereoApp::Options appOpt = frames->appOptions();
         auto texel = [](std::optional<layers::Format> f) { return f ? uint32_t(layers::bytesPerTexel(*f)) : 0u; };
         const TrafficInputs trafficIn{o.width, o.height, texel(appOpt.color), texel(appOpt.depth), texel(appOpt.motion)};

@@ -20,10 +20,16 @@
 
 namespace wrsfov::eval {
 
-/// Built-in scenes, and `Sequence`: the frames of BenchOptions::sequenceDir.
-enum class SceneKind : uint8_t { Text, Atrium, Dynamic, Sequence, Photo };
+/// Built-in scenes, and `Sequence`: the frames of BenchOptions::sequenceDir. `Thin`: the atrium with
+/// thin high-contrast geometry (railings, wires, cut-out foliage) and specular shading
+/// (scenes::AtriumOptions::thin).
+enum class SceneKind : uint8_t { Text, Atrium, Dynamic, Sequence, Photo, Thin };
 std::string_view toString(SceneKind s);
 std::optional<SceneKind> parseScene(std::string_view name);
+/// The scenes the atrium renderer draws (atrium, dynamic, thin): depth, motion, a camera path.
+constexpr bool isAtriumScene(SceneKind s) {
+    return s == SceneKind::Atrium || s == SceneKind::Dynamic || s == SceneKind::Thin;
+}
 
 struct BenchOptions {
     std::vector<SceneKind> scenes{SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic};

@@ -52,8 +52,14 @@ HostStereoApp::Options atriumAppOptions(const scenes::AtriumOptions& o);
 // A scene's frames and the synthetic gaze that goes with it (reading for text, free viewing else).
 struct SceneSetup {
     std::unique_ptr<SceneFrames> frames;
-    std::unique_ptr<gaze::SyntheticSource> gaze;
+    std::unique_ptr<gaze::GazeSource> gaze;
 };
+
+/// The sweep's gaze source from the generator configuration `gc` (o.seed): the generator's gaze, or on
+/// the atrium's and dynamic's look-around path (scenes::CameraPath::LookAround) the generator's free
+/// viewing kept within 6° of each target, turned to where that path's eye looks in the head.
+Result<std::unique_ptr<gaze::GazeSource>> sweepGazeSource(const BenchOptions& o, SceneKind scene,
+                                                          gaze::GeneratorConfig gc);
 
 /// Opens a scene of the sweep: its frames and its synthetic gaze (o.seed).
 Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptions& o);

@@ -19,6 +19,7 @@
 
 #include <filesystem>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -39,12 +40,14 @@ std::string_view toString(SceneKind s) {
     case SceneKind::Dynamic: return "dynamic";
     case SceneKind::Sequence: return "sequence";
     case SceneKind::Photo: return "photo";
+    case SceneKind::Thin: return "thin";
     }
     return "?";
 }
 
 std::optional<SceneKind> parseScene(std::string_view name) {
-    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Sequence, SceneKind::Photo})
+    for (SceneKind s : {SceneKind::Text, SceneKind::Atrium, SceneKind::Dynamic, SceneKind::Sequence, SceneKind::Photo,
+                        SceneKind::Thin})
         if (toString(s) == name) return s;
     return std::nullopt;
 }
@@ -248,6 +251,50 @@ gaze::GeneratorConfig sweepGaze(const BenchOptions& o, const scenes::TextLayout*
 
 }  // namespace detail
 
+namespace {
+
+// The look-around path's gaze (detail::sweepGazeSource): each eye's direction of the local free viewing
+// turned by scenes::lookAroundGaze, azimuth about the head's +Y (left-positive), elevation about +X.
+class LookAroundGaze final : public gaze::GazeSource {
+public:
+    explicit LookAroundGaze(std::unique_ptr<gaze::GazeSource> local) : local_(std::move(local)) {}
+    gaze::GazeSample sample(double t) override {
+        gaze::GazeSample s = local_->sample(t);
+        const scenes::GazeInHead g = scenes::lookAroundGaze(t);
+        constexpr float kRad = 3.14159265358979f / 180.0f;
+        const glm::mat3 turn(glm::rotate(glm::mat4(1.0f), g.azimuthDeg * kRad, glm::vec3(0, 1, 0)) *
+                             glm::rotate(glm::mat4(1.0f), g.elevationDeg * kRad, glm::vec3(1, 0, 0)));
+        for (gaze::EyeGaze& e : s.eye)
+            if (e.valid) e.dir = glm::normalize(turn * e.dir);
+        return s;
+    }
+
+private:
+    std::unique_ptr<gaze::GazeSource> local_;
+};
+
+}  // namespace
+
+namespace detail {
+
+Result<std::unique_ptr<gaze::GazeSource>> sweepGazeSource(const BenchOptions& o, SceneKind scene,
+                                                          gaze::GeneratorConfig gc) {
+    const bool lookAround = o.path == scenes::CameraPath::LookAround &&
+                            isAtriumScene(scene);
+    if (lookAround) {
+        // Looking around within ±6° of where the path's gaze shift landed, saccades up to 10°.
+        gc.scene.half_width_deg = 6.0;
+        gc.scene.half_height_deg = 6.0;
+        gc.scene.saccade_max_deg = 10.0;
+    }
+    auto g = gaze::SyntheticSource::create(gc);
+    if (!g) return benchError("bench: gaze generator: " + g.error().message);
+    if (!lookAround) return std::unique_ptr<gaze::GazeSource>(std::move(*g));
+    return std::unique_ptr<gaze::GazeSource>(std::make_unique<LookAroundGaze>(std::move(*g)));
+}
+
+}  // namespace detail
+
 // The photo scene's options for a cell of the sweep.
 scenes::PhotoOptions photoOptions(const BenchOptions& o) {
     scenes::PhotoOptions po;
@@ -268,6 +315,7 @@ scenes::AtriumOptions atriumOptions(const BenchOptions& o, SceneKind scene) {
     ao.width = o.width;
     ao.height = o.height;
     ao.dynamic = scene == SceneKind::Dynamic;
+    ao.thin = scene == SceneKind::Thin;
     ao.path = o.path;
     ao.monitor = o.monitor;
     ao.fovDeg = o.hmdFovDeg;
@@ -307,8 +355,8 @@ Result<SceneSetup> openScene(vk::Context& ctx, SceneKind scene, const BenchOptio
         setup.frames = std::move(*af);
     }
     gc.seconds = o.frames / setup.frames->fps() + 2.0;
-    auto gazeSource = gaze::SyntheticSource::create(gc);
-    if (!gazeSource) return benchError("bench: gaze generator: " + gazeSource.error().message);
+    auto gazeSource = sweepGazeSource(o, scene, gc);
+    if (!gazeSource) return gazeSource.error();
     setup.gaze = std::move(*gazeSource);
     return setup;
 }
@@ -373,8 +421,8 @@ Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, 
         gc = sweepGaze(o, nullptr);
     }
     gc.seconds = o.frames / kFps + 2.0;
-    auto gazeSource = gaze::SyntheticSource::create(gc);
-    if (!gazeSource) return benchError("bench: gaze generator: " + gazeSource.error().message);
+    auto gazeSource = detail::sweepGazeSource(o, scene, gc);
+    if (!gazeSource) return gazeSource.error();
 
     auto texel = [](std::optional<layers::Format> f) { return f ? uint32_t(layers::bytesPerTexel(*f)) : 0u; };
     CellGeometry g;
@@ -422,7 +470,7 @@ Result<CellGeometry> cellGeometry(const BenchOptions& options, SceneKind scene, 
 
 Result<CellGeometry> quadCellGeometry(const BenchOptions& options, SceneKind scene, uint32_t width, uint32_t height,
                                       float wideScale, float insetDeg, bool allTilesAny) {
-    if (scene != SceneKind::Atrium && scene != SceneKind::Dynamic)
+    if (!isAtriumScene(scene))
         return benchError("bench: the cost model's quad views are the atrium's (HMD stereo), not scene " +
                           std::string(toString(scene)));
     if (width < 32 || height < 32) return benchError("bench: images must be at least 32x32 per eye");

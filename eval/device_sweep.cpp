@@ -46,11 +46,11 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
     for (SceneKind scene : o.scenes) {
         // The scene's inputs: one image per swapchain (every frame end waits for its work), owned by a
         // compositor that never composites; the atrium renders into them, the other scenes upload.
-        const bool rendered = scene == SceneKind::Atrium || scene == SceneKind::Dynamic;
+        const bool rendered = isAtriumScene(scene);
         const scenes::AtriumOptions ao = atriumOptions(o, scene);
         std::unique_ptr<scenes::AtriumRenderer> renderer;
         std::unique_ptr<SceneFrames> hostFrames;
-        std::unique_ptr<gaze::SyntheticSource> gazeSource;
+        std::unique_ptr<gaze::GazeSource> gazeSource;
         HostStereoApp::Options appOpt;
         double fps = kFps;
         if (rendered) {
@@ -60,8 +60,8 @@ Result<std::vector<CellResult>> runDeviceSweep(vk::Context& ctx, const BenchOpti
             appOpt = atriumAppOptions(ao);
             gaze::GeneratorConfig gc = sweepGaze(o, nullptr);
             gc.seconds = o.frames / fps + 2.0;
-            auto g = gaze::SyntheticSource::create(gc);
-            if (!g) return benchError("bench: gaze generator: " + g.error().message);
+            auto g = sweepGazeSource(o, scene, gc);
+            if (!g) return g.error();
             gazeSource = std::move(*g);
         } else {
             auto setup = openScene(ctx, scene, o);

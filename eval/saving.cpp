@@ -270,9 +270,8 @@ HostImage rateMapFor(const layers::Fov& fov, uint32_t W, uint32_t H, uint32_t T,
 }  // namespace
 
 Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, const SavingOptions& so) {
-    if (scene != SceneKind::Atrium && scene != SceneKind::Dynamic && scene != SceneKind::Text &&
-        scene != SceneKind::Photo)
-        return savingError("the study renders the atrium, dynamic, the text page or the photo, not scene " +
+    if (!isAtriumScene(scene) && scene != SceneKind::Text && scene != SceneKind::Photo)
+        return savingError("the study renders the atrium, dynamic, thin, the text page or the photo, not scene " +
                            std::string(toString(scene)));
     if (so.split != "train" && so.split != "test") return savingError("the split must be train or test, not " + so.split);
     if (so.insetDegs.empty()) return savingError("no inset sizes");
@@ -292,7 +291,7 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
     std::unique_ptr<AtriumViews> atriumViews;
     std::unique_ptr<scenes::TextScene> text;
     std::unique_ptr<scenes::PhotoScene> photo;
-    if (scene == SceneKind::Atrium || scene == SceneKind::Dynamic) {
+    if (isAtriumScene(scene)) {
         auto a = AtriumViews::create(ctx, atriumOptions(o, scene));
         if (!a) return a.error();
         atriumViews = std::move(*a);

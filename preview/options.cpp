@@ -142,7 +142,7 @@ struct CommandLine {
                     "Scene photo's speed in pixels per frame at 90 Hz at the view's centre (default 0.37).")
             ->type_name("PX");
         cli::option(app, "--path", o.path, cli::oneOf(named(kPaths)),
-                    "Camera path of atrium and dynamic: static, lateral, turn, yaw30, yaw60 or yaw120.");
+                    "Camera path of atrium and dynamic: static, lateral, turn, yaw30, yaw60, yaw120 or look-around.");
         cli::option(app, "--method", o.method,
                     cli::parsedBy<PreviewMethod>(
                         parseMethod, [](const PreviewMethod& m) { return std::string(toString(m)); },
@@ -252,7 +252,7 @@ std::string keyHelp() {
     return "keys:\n"
            "  1 2 3 4 5 method: reference, FOV, FOV+TAA, WRS-paper, WRS   M  next method\n"
            "  F         fovea size 5 -> 7.5 -> 10 degrees         G  foveation mip <-> gauss\n"
-           "  N         scene text -> atrium -> dynamic -> photo  P  camera path static -> lateral -> turn -> yaw30/60/120\n"
+           "  N         scene text -> atrium -> dynamic -> photo  P  camera path static -> lateral -> turn -> yaw30/60/120 -> look-around\n"
            "  V         view stereo -> left -> right -> compare -> error -> visible\n"
            "  I         gaze source (mouse, generator, and the one given with --gaze)\n"
            "  O         gaze marker and circles on/off\n"

@@ -79,12 +79,79 @@ std::string_view toString(CameraPath path) {
             return "yaw60";
         case CameraPath::Yaw120:
             return "yaw120";
+        case CameraPath::LookAround:
+            return "look-around";
     }
     return "?";
 }
 
+namespace {
+
+// The look-around path (CameraPath::LookAround): gaze targets in the world (azimuth left-positive and
+// elevation, degrees), one every kLookDwell seconds from kLookStart, cycled; the first holds until then.
+struct LookTarget {
+    float az, el;
+};
+constexpr LookTarget kLookTargets[] = {{0, 0}, {30, -4}, {-15, 4}, {25, -6}, {-25, 2}, {5, 6}, {-10, -5}};
+constexpr int kLookCount = int(std::size(kLookTargets));
+constexpr double kLookStart = 0.2, kLookDwell = 0.6;
+constexpr double kHeadShare = 0.85;    // the head turns through this share of each gaze shift
+constexpr double kHeadLatency = 0.02;  // the head starts this long after the saccade
+constexpr double kEyeRange = 35.0;     // the eye's range in the head, degrees either way
+
+// Minimum-jerk progress 0..1 of a movement over the unit interval.
+double minJerk(double u) {
+    u = std::clamp(u, 0.0, 1.0);
+    return u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
+}
+// The head's turn for a shift of A degrees: 0.15 s + A / 150 °/s, so a 40° turn takes 0.42 s and
+// peaks at 1.875 A / D = 180 °/s (head movements of gaze shifts: Freedman 2008).
+double headDuration(double a) { return 0.15 + std::abs(a) / 150.0; }
+// Gaze saccade duration on the main sequence (gaze::MainSequence's 2.2 ms a degree + 21 ms).
+double saccadeDuration(double a) { return 0.021 + 0.0022 * std::abs(a); }
+
+const LookTarget& lookTarget(long k) { return kLookTargets[k <= 0 ? 0 : 1 + (k - 1) % (kLookCount - 1)]; }
+
+// The index of the last shift at or before t (0: none yet).
+long lookShift(double t) { return t < kLookStart ? 0 : 1 + long(std::floor((t - kLookStart) / kLookDwell)); }
+
+// The head's yaw and the gaze's azimuth and elevation in the world at t, degrees.
+struct LookState {
+    double headYaw, gazeAz, gazeEl;
+};
+LookState lookState(double t) {
+    const long k = lookShift(t);
+    const LookTarget &from = lookTarget(k - 1), &to = lookTarget(k);
+    if (k == 0) return {kHeadShare * to.az, to.az, to.el};
+    const double t0 = kLookStart + double(k - 1) * kLookDwell;
+    const double a = double(to.az) - from.az, ha = kHeadShare * a;
+    const double gs = minJerk((t - t0) / saccadeDuration(std::hypot(a, double(to.el) - from.el)));
+    LookState s;
+    s.headYaw = kHeadShare * from.az + ha * minJerk((t - t0 - kHeadLatency) / headDuration(ha));
+    s.gazeAz = from.az + a * gs;
+    s.gazeEl = from.el + (double(to.el) - from.el) * gs;
+    return s;
+}
+
+}  // namespace
+
+GazeInHead lookAroundGaze(double t) {
+    const LookState s = lookState(t);
+    return {float(std::clamp(s.gazeAz - s.headYaw, -kEyeRange, kEyeRange)),
+            float(std::clamp(s.gazeEl, -kEyeRange, kEyeRange))};
+}
+
 // The turn's peak speed: d/dt of 25° sin(2πt / 6 s) at t = 0.
 double headDegPerS(CameraPath path) {
+    if (path == CameraPath::LookAround) {
+        // The fastest head turn of the cycle: minimum jerk peaks at 1.875 A / D.
+        double peak = 0.0;
+        for (long k = 1; k <= kLookCount; ++k) {
+            const double ha = kHeadShare * std::abs(double(lookTarget(k).az) - lookTarget(k - 1).az);
+            peak = std::max(peak, 1.875 * ha / headDuration(ha));
+        }
+        return peak;
+    }
     switch (path) {
         case CameraPath::Turn:
             return 25.0 * kTwoPi / 6.0;
@@ -105,6 +172,7 @@ HeadPose headPose(CameraPath path, double t) {
     if (path == CameraPath::Turn) h.yaw = 25.0f * kDeg * float(std::sin(kTwoPi * t / 6.0));
     if (path == CameraPath::Yaw30 || path == CameraPath::Yaw60 || path == CameraPath::Yaw120)
         h.yaw = float(std::fmod(headDegPerS(path) * t, 360.0)) * kDeg;
+    if (path == CameraPath::LookAround) h.yaw = float(lookState(t).headYaw) * kDeg;
     return h;
 }
 
@@ -191,6 +259,48 @@ Status AtriumRenderer::init() {
          3);
     for (Vertex& q : v)
         if (q.material == 3) q.uv.y = 1.0f - q.uv.y;
+    if (options_.thin) {
+        // A tube from a to b of radius r: `sides` faces with normals smooth around it (metal, material 6),
+        // so its highlight is a thin line that slides along it as the eye moves.
+        auto tube = [&](glm::vec3 a, glm::vec3 b, float r, int sides = 6) {
+            const glm::vec3 axis = glm::normalize(b - a);
+            const glm::vec3 side = glm::normalize(glm::cross(axis, std::abs(axis.y) < 0.9f ? glm::vec3(0, 1, 0)
+                                                                                            : glm::vec3(1, 0, 0)));
+            const glm::vec3 up = glm::cross(side, axis);
+            const float len = glm::length(b - a);
+            for (int i = 0; i < sides; ++i) {
+                const float a0 = 6.2831853f * float(i) / float(sides), a1 = 6.2831853f * float(i + 1) / float(sides);
+                const glm::vec3 n0 = std::cos(a0) * side + std::sin(a0) * up, n1 = std::cos(a1) * side + std::sin(a1) * up;
+                const Vertex q[4] = {{a + r * n0, n0, {0, 0}, 6}, {b + r * n0, n0, {len, 0}, 6},
+                                     {b + r * n1, n1, {len, 1}, 6}, {a + r * n1, n1, {0, 1}, 6}};
+                for (int k : {0, 1, 2, 0, 2, 3}) v.push_back(q[k]);
+            }
+        };
+        // A railing across the room 2.2 m ahead (top rail 5 cm, middle rail 2.4 cm, balusters 1.6 cm every
+        // 10 cm) and one along the room on the left, 1.8 m out (balusters every 15 cm).
+        tube({-4.5f, 1.0f, -2.2f}, {4.5f, 1.0f, -2.2f}, 0.025f, 8);
+        tube({-4.5f, 0.55f, -2.2f}, {4.5f, 0.55f, -2.2f}, 0.012f);
+        for (int i = 0; i <= 90; ++i) tube({-4.5f + 0.1f * i, 0.0f, -2.2f}, {-4.5f + 0.1f * i, 1.0f, -2.2f}, 0.008f);
+        tube({-1.8f, 1.0f, -3.0f}, {-1.8f, 1.0f, -11.0f}, 0.025f, 8);
+        for (int i = 0; i <= 53; ++i) tube({-1.8f, 0.0f, -3.0f - 0.15f * i}, {-1.8f, 1.0f, -3.0f - 0.15f * i}, 0.008f);
+        // Cables of 8 mm from wall to wall at five depths, two heights each, and six from the ceiling to the
+        // floor at a slant.
+        for (float z : {-4.0f, -5.5f, -7.0f, -8.5f, -10.0f})
+            for (float y : {2.7f, 3.3f}) tube({-X, y + 0.02f * z, z}, {X, y - 0.03f * z, z + 0.4f}, 0.004f, 4);
+        for (int i = 0; i < 6; ++i) {
+            const float x = -3.5f + 1.4f * i, z = -3.5f - 1.3f * i;
+            tube({x, Y, z}, {x + 0.8f, 0.0f, z - 0.9f}, 0.004f, 4);
+        }
+        // Foliage: crossed cut-out panels (two quads at right angles, leaves alpha-tested, material 7).
+        for (glm::vec3 p : {glm::vec3(1.3f, 0, -4.5f), glm::vec3(-0.9f, 0, -7.5f), glm::vec3(1.0f, 0, -10.5f),
+                            glm::vec3(3.8f, 0, -6.0f)}) {
+            const float w = 0.7f, h = 2.2f;
+            quad(p + glm::vec3(-w, 0, 0), p + glm::vec3(w, 0, 0), p + glm::vec3(w, h, 0), p + glm::vec3(-w, h, 0),
+                 {1, 1}, 7);
+            quad(p + glm::vec3(0, 0, -w), p + glm::vec3(0, 0, w), p + glm::vec3(0, h, w), p + glm::vec3(0, h, -w),
+                 {1, 1}, 7);
+        }
+    }
     room_ = {0, uint32_t(v.size())};
     box({-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}, 4, 2.0f);
     cube_ = {room_.count, uint32_t(v.size()) - room_.count};
@@ -495,7 +605,8 @@ Status AtriumRenderer::renderViews(double t, double prevT, const std::array<laye
         cam.viewport = glm::vec4(W, H, options_.nearZ, options_.farZ);
         cam.eye_pos = glm::vec4(glm::vec3(glm::inverse(cam.view)[3]), options_.reversedZ ? 1.0f : 0.0f);
         cam.light = glm::vec4(atriumLight(options_, t), float(options_.materialSamples),
-                              std::isfinite(footprint) && footprint > 0.0f ? std::min(footprint, 1.0f) : 1.0f, 0.0f);
+                              std::isfinite(footprint) && footprint > 0.0f ? std::min(footprint, 1.0f) : 1.0f,
+                              options_.thin ? 1.0f : 0.0f);
         std::memcpy(cameras_[e].mapped(), &cam, sizeof(cam));
     }
     VkFormat colorViewFormat = cf;

@@ -28,12 +28,19 @@ enum class CameraPath : uint8_t {
     Yaw30,    ///< head yaw at a constant 30 °/s (turning left), from looking down the room at t = 0
     Yaw60,    ///< the same at 60 °/s
     Yaw120,   ///< the same at 120 °/s
+    /// Looking around: the gaze shifts between targets 15-50° apart every 0.6 s and the head follows
+    /// each shift (eye-head coordination): a saccade on the main sequence, the head starting 20 ms later
+    /// with a minimum-jerk turn over 85 % of the shift (up to about 190 °/s), the eye counter-rotating
+    /// while the head catches up and never more than 35° from the head's straight ahead
+    /// (lookAroundGaze: the study's gaze follows it).
+    LookAround,
 };
 /// Every path, in the order the tools list them.
 constexpr CameraPath kCameraPaths[] = {CameraPath::Static, CameraPath::Lateral, CameraPath::Turn,
-                                       CameraPath::Yaw30,  CameraPath::Yaw60,   CameraPath::Yaw120};
+                                       CameraPath::Yaw30,  CameraPath::Yaw60,   CameraPath::Yaw120,
+                                       CameraPath::LookAround};
 
-/// "static", "lateral", "turn", "yaw30", "yaw60", "yaw120"; nullopt for anything else.
+/// "static", "lateral", "turn", "yaw30", "yaw60", "yaw120", "look-around"; nullopt for anything else.
 std::optional<CameraPath> parseCameraPath(std::string_view name);
 std::string_view toString(CameraPath path);
 /// The head's largest angular speed on the path, degrees per second (0 for the still and sideways paths).
@@ -48,9 +55,23 @@ struct HeadPose {
 };
 HeadPose headPose(CameraPath path, double t);
 
+/// Where the eye looks in the head on CameraPath::LookAround at time t, degrees (azimuth positive to the
+/// left, as the head's yaw; elevation positive up): the scripted gaze shift's target in the world less
+/// the head's yaw, within the eye's ±35° range. The local exploration around each target (fixations,
+/// small saccades, drift, blinks) comes from the gaze generator, added on top.
+struct GazeInHead {
+    float azimuthDeg = 0.0f, elevationDeg = 0.0f;
+};
+GazeInHead lookAroundGaze(double t);
+
 struct AtriumOptions {
     uint32_t width = 256, height = 256;  ///< per eye
     bool dynamic = false;                ///< moving boxes that occlude and disocclude the room, a light change
+    /// The `thin` scene: the room with thin high-contrast geometry where temporal methods ghost and
+    /// shimmer: railings of 1.6-5 cm tubes, cables of 8 mm across the room and down from the ceiling,
+    /// alpha-tested foliage cut-outs, and view-dependent (Blinn-Phong) highlights from two ceiling lights on
+    /// the tubes, the leaves and a glossy floor.
+    bool thin = false;
     CameraPath path = CameraPath::Lateral;
     float ipd = 0.063f;                  ///< metres
     float nearZ = 0.05f, farZ = 100.0f;

@@ -18,7 +18,8 @@ struct AtriumCamera {
                           // per pixel of the procedural materials (1 or 4, AtriumOptions::materialSamples),
                           // z: the footprint the materials and the poster are filtered over, as a fraction of
                           // the view's pixel (1; a wide view rendered for temporal upsampling: the display's
-                          // density over its own, a texture LOD bias of log2 z), w: pad
+                          // density over its own, a texture LOD bias of log2 z), w: the `thin` scene's
+                          // specular floor (1) or none (0)
 };
 
 // Per draw: object transform now and one frame ago, material.

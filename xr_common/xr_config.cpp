@@ -109,7 +109,7 @@ Status applyConfigKey(RuntimeConfig& c, std::string_view key, std::string_view v
         c.record = std::string(v);
     } else if (key == "head") {
         auto p = scenes::parseCameraPath(v);
-        if (!p) return bad(key, v, "static, lateral, turn, yaw30, yaw60 or yaw120");
+        if (!p) return bad(key, v, "static, lateral, turn, yaw30, yaw60, yaw120 or look-around");
         c.head = *p;
     } else if (key == "gaze") {
         if (v == "generator") c.gaze = GazeKind::Generator;

@@ -44,7 +44,7 @@ check bench_methods_unknown 2 "--methods: 'magic' is not one of fov, fov+taa, wr
 check bench_methods_empty 2 "--methods: missing value (NAME,...)" "$bench" --methods ,
 check bench_modes_unknown 2 "--modes: 'blur' is not one of mip, gauss, none" "$bench" --modes blur
 check bench_change_unknown 2 "--change: 'lab' is not one of off, lstar, de94" "$bench" --change lab
-check bench_path_unknown 2 "--path: 'orbit' is not one of static, lateral, turn, yaw30, yaw60, yaw120" "$bench" --path orbit
+check bench_path_unknown 2 "--path: 'orbit' is not one of static, lateral, turn, yaw30, yaw60, yaw120, look-around" "$bench" --path orbit
 check bench_out_not_a_directory 1 "cannot create $out/afile/sub" "$bench" --out "$out/afile/sub"
 check bench_scene_sequence_without_dir 2 "scene 'sequence' needs --sequence DIR" "$bench" --scenes sequence
 check bench_write_sequence_two_scenes 2 "--write-sequence writes one scene" "$bench" --write-sequence "$out/seq" --scenes text,atrium

@@ -114,15 +114,18 @@ TEST_F(Atrium, MotionVectorsMatchCameraReprojection) {
     struct Case {
         scenes::CameraPath path;
         bool monitor;
+        bool thin = false;
     };
     for (Case c : {Case{scenes::CameraPath::Lateral, false}, Case{scenes::CameraPath::Turn, false},
-                   Case{scenes::CameraPath::Yaw120, false}, Case{scenes::CameraPath::Lateral, true}}) {
+                   Case{scenes::CameraPath::Yaw120, false}, Case{scenes::CameraPath::Lateral, true},
+                   Case{scenes::CameraPath::Yaw30, false, true}}) {
         const scenes::CameraPath path = c.path;
         scenes::AtriumOptions o;
         o.width = W;
         o.height = H;
         o.path = path;
         o.monitor = c.monitor;
+        o.thin = c.thin;
         auto r = scenes::AtriumRenderer::create(context(), o);
         ASSERT_TRUE(r.ok());
         const double dt = 4.0 / 90.0;  // a few frames apart, so the motion is several pixels
@@ -136,8 +139,8 @@ TEST_F(Atrium, MotionVectorsMatchCameraReprojection) {
             float maxMv = 0;
             for (uint32_t y = 0; y < H; ++y)
                 for (uint32_t x = 0; x < W; ++x) maxMv = std::max(maxMv, glm::length(glm::vec2(cur.motion.fetch(x, y))));
-            std::printf("path %d%s eye %u: max |mv| %.2f px, reprojection error %.2f with motion, %.2f without\n",
-                        int(path), c.monitor ? " (monitor)" : "", eye, maxMv, withMv, without);
+            std::printf("path %d%s%s eye %u: max |mv| %.2f px, reprojection error %.2f with motion, %.2f without\n",
+                        int(path), c.monitor ? " (monitor)" : "", c.thin ? " (thin)" : "", eye, maxMv, withMv, without);
             EXPECT_GT(maxMv, c.monitor ? 1.0f : 1.5f);  // the monitor view sees less of the near walls
             // Colour reprojection is limited by the aliasing of the high-frequency materials; it must
             // still be clearly better with the motion vectors than without.
@@ -187,6 +190,78 @@ TEST_F(Atrium, MonitorModeShowsOneViewToBothEyes) {
     auto rs = scenes::AtriumRenderer::create(context(), o);
     ASSERT_TRUE(rs.ok());
     EXPECT_NE(render(**rs, 0.5, 0.5 - 1 / 90.0, 0).color.data, render(**rs, 0.5, 0.5 - 1 / 90.0, 1).color.data);
+}
+
+// The `thin` scene: the room with railings, cables and cut-out foliage in front of it, and highlights on
+// the glossy floor. Where it shows the room (the same depth as the atrium's), the floor is lit as in the
+// atrium plus a specular term, never darker; the thin geometry covers a part of the view and the cut-outs
+// leave holes (the foliage's panels show both leaves and the room through them).
+TEST_F(Atrium, ThinSceneAddsThinGeometryAndHighlights) {
+    scenes::AtriumOptions o;
+    o.width = W;
+    o.height = H;
+    o.path = scenes::CameraPath::Static;
+    auto plain = scenes::AtriumRenderer::create(context(), o);
+    o.thin = true;
+    auto thin = scenes::AtriumRenderer::create(context(), o);
+    ASSERT_TRUE(plain.ok() && thin.ok());
+    const Frame a = render(**plain, 0.5, 0.5, 0), b = render(**thin, 0.5, 0.5, 0);
+    uint64_t nearer = 0, same = 0, brighter = 0, darker = 0;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            const float da = a.depth.fetch(x, y).x, db = b.depth.fetch(x, y).x;
+            if (db < da - 1e-6f) {
+                ++nearer;
+                continue;
+            }
+            ASSERT_LE(std::fabs(db - da), 1e-6f) << "the thin scene hides nothing behind the room: " << x << "," << y;
+            ++same;
+            const glm::vec4 ca = a.color.fetch(x, y), cb = b.color.fetch(x, y);
+            const float d = (cb.x + cb.y + cb.z - ca.x - ca.y - ca.z) / 3.0f;
+            darker += d < -1.5f / 255.0f;
+            brighter += d > 0.1f;
+        }
+    std::printf("thin: %.1f %% of the pixels nearer (thin geometry), %.1f %% of the room brighter by > 0.1 (highlights)\n",
+                100.0 * double(nearer) / double(W * H), 100.0 * double(brighter) / double(same));
+    EXPECT_GT(nearer, W * H / 50);   // railings, cables and leaves cover more than 2 % of the view
+    EXPECT_LT(nearer, W * H / 2);    // and the cut-outs let the room through
+    EXPECT_EQ(darker, 0u);           // the specular term only adds light
+    EXPECT_GT(brighter, same / 500);  // highlights on the floor
+}
+
+// The look-around path: the gaze in the world (the head's yaw plus where the eye looks in the head)
+// lands on each target after its saccade and stays there while the head turns (the eye counter-rotates),
+// the head turns through 85 % of each shift at up to headDegPerS, and the eye stays within ±35°.
+TEST(CameraPaths, LookAroundHeadFollowsTheGazeShifts) {
+    const scenes::CameraPath p = scenes::CameraPath::LookAround;
+    EXPECT_EQ(scenes::parseCameraPath("look-around"), p);
+    EXPECT_EQ(scenes::toString(p), "look-around");
+    const double peak = scenes::headDegPerS(p);
+    EXPECT_NEAR(peak, 1.875 * 42.5 / (0.15 + 42.5 / 150.0), 1e-6);  // the 50° shift's turn
+    constexpr double kDeg = 180.0 / 3.14159265358979;
+    auto worldGaze = [&](double t) { return scenes::headPose(p, t).yaw * kDeg + scenes::lookAroundGaze(t).azimuthDeg; };
+    double fastest = 0, widest = 0;
+    for (double t = 0; t < 6.0; t += 0.001) {
+        const double v = std::abs(scenes::headPose(p, t + 0.001).yaw - scenes::headPose(p, t).yaw) * kDeg / 0.001;
+        fastest = std::max(fastest, v);
+        widest = std::max(widest, double(std::abs(scenes::lookAroundGaze(t).azimuthDeg)));
+    }
+    EXPECT_NEAR(fastest, peak, 0.01 * peak);
+    EXPECT_LE(widest, 35.0 + 1e-4);
+    EXPECT_GT(widest, 20.0);  // the eye leads each large shift
+    // Each shift: from 0.2 s every 0.6 s. 0.2 s after its onset the saccade has landed and the head is
+    // still turning, yet the gaze in the world holds the target; by the next shift the head has arrived.
+    const double targets[] = {30, -15, 25, -25, 5, -10, 30};
+    for (int k = 0; k < 7; ++k) {
+        const double t0 = 0.2 + 0.6 * k;
+        EXPECT_NEAR(worldGaze(t0 + 0.2), targets[k], 1e-3) << "shift " << k;
+        EXPECT_NEAR(worldGaze(t0 + 0.4), targets[k], 1e-3) << "shift " << k;
+        const double headMid = scenes::headPose(p, t0 + 0.2).yaw * kDeg;
+        const double from = k == 0 ? 0.0 : 0.85 * targets[k - 1];
+        EXPECT_GT(std::abs(headMid - from), 1.0) << "the head is turning at shift " << k;
+        EXPECT_LT(std::abs(headMid - 0.85 * targets[k]), std::abs(from - 0.85 * targets[k])) << "shift " << k;
+        EXPECT_NEAR(scenes::headPose(p, t0 + 0.59).yaw * kDeg, 0.85 * targets[k], 1e-3) << "shift " << k;
+    }
 }
 
 TEST_F(Atrium, StaticCameraHasZeroMotion) {

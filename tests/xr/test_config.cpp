@@ -94,7 +94,7 @@ TEST(XrConfig, EveryBadValueNamesItsKeyAndSource) {
         {"display_hz", "inf", "[10, 240]"},
         {"pace", "fast", "realtime or free"},
         {"frames", "-1", "0: until the application exits"},
-        {"head", "spin", "static, lateral, turn, yaw30, yaw60 or yaw120"},
+        {"head", "spin", "static, lateral, turn, yaw30, yaw60, yaw120 or look-around"},
         {"gaze", "eyes", "generator, file, hid, mouse or none"},
         {"gaze_mode", "stare", "fixation, scene, reading or pursuit"},
         {"gaze_seed", "x", "integer >= 0"},
