@@ -79,7 +79,9 @@ cv::Mat chart(const std::string& title, const std::string& xLabel, const std::st
                 }
             }
         }
-        // The legend wraps to a second row where an entry would leave the image.
+        // The legend wraps to a second row where an entry would leave the image; a series without a name
+        // (an error bar) has no entry.
+        if (s.name.empty()) continue;
         int base = 0;
         const int tw = cv::getTextSize(s.name, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, &base).width;
         if (lx > L && lx + 10 + tw > W - 5) lx = L, ly += 18;

@@ -11,7 +11,8 @@
 namespace wrsfov::eval {
 
 /// One series: its points (non-finite ones are skipped), optional per-point labels (drawn where they
-/// overlap no other label), whether consecutive points are joined, and whether each has a dot.
+/// overlap no other label), whether consecutive points are joined, and whether each has a dot. A series
+/// with an empty name has no legend entry (an error bar beside its series).
 struct Series {
     std::string name;
     cv::Scalar colour;

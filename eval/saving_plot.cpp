@@ -108,6 +108,24 @@ Result<std::vector<SavingRow>> readSavingCsv(const std::string& path) {
         r.insetDeg = float(inset);
         r.wideScale = float(wide);
         r.jitterPhases = uint32_t(jitter);
+        // The cell's columns (SavingRow::headPath ...), where the file has them.
+        if (col.count("head_path")) r.headPath = cell("head_path");
+        if (col.count("split")) {
+            r.split = cell("split");
+            if (r.split != "train" && r.split != "test")
+                return plotError(where + ": split must be train or test, not \"" + r.split + "\"");
+        }
+        if (col.count("head_deg_per_s")) {
+            const auto v = number(cell("head_deg_per_s"));
+            if (!v) return plotError(where + ": column head_deg_per_s is not a number: \"" + cell("head_deg_per_s") + "\"");
+            r.headDegPerS = *v;
+        }
+        if (col.count("seed")) {
+            const auto v = number(cell("seed"));
+            if (!v || !(*v >= 1 && *v <= 4294967295.0) || *v != std::floor(*v))
+                return plotError(where + ": seed must be a whole number from 1, not \"" + cell("seed") + "\"");
+            r.seed = uint32_t(*v);
+        }
         rows.push_back(r);
     }
     return rows;

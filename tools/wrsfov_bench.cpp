@@ -15,6 +15,7 @@
 
 #include "eval/bench.h"
 #include "eval/saving.h"
+#include "eval/study.h"
 #include "eval/flicker.h"
 #include "eval/cost_model.h"
 #include "eval/sequence.h"
@@ -333,6 +334,33 @@ int runSavingPlot(const std::vector<std::string>& files, const std::string& targ
                        "JOD against pixels in " + out + " (jod_vs_pixels.md, jod_vs_pixels.png)");
 }
 
+// --study: the rows of every run of the moving-content study, grouped and paired (eval::writeStudyReport).
+int runStudy(const std::vector<std::string>& files, const std::string& out) {
+    std::vector<eval::SavingRow> rows;
+    for (const std::string& f : files) {
+        auto r = eval::readSavingCsv(f);
+        if (!r) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
+            return 1;
+        }
+        rows.insert(rows.end(), r->begin(), r->end());
+    }
+    auto study = eval::summarizeStudy(rows);
+    if (!study) {
+        std::fprintf(stderr, "wrsfov-bench: %s\n", study.error().message.c_str());
+        return 1;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) {
+        std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
+        return 1;
+    }
+    return printReport(eval::writeStudyReport(*study, out), out + "/study.md",
+                       "study in " + out + " (study.md, study.csv, study.png) from " + std::to_string(files.size()) +
+                           " runs");
+}
+
 // The names an option takes for `values`: the enums' own names.
 template <typename T>
 std::vector<std::pair<std::string, T>> named(std::span<const T> values) {
@@ -365,7 +393,7 @@ int main(int argc, char** argv) {
     std::vector<float> taauParams, taauSimpleParams;
     bool steadyFloor = false;
     bool costQuad = false;
-    std::vector<std::string> savingPlot;
+    std::vector<std::string> savingPlot, studyFiles;
     std::string savingTarget;
     std::vector<std::string> costTargets{"gfx1100", "vangogh"};
     bool saving = false, noRate = false;
@@ -384,9 +412,10 @@ int main(int argc, char** argv) {
                 "--scaling, scaling.md, scaling.csv, scaling.png and each size's report in DIR/WxH.");
     cli::listOption(app, "--scenes", o.scenes,
                 cli::list(cli::oneOf(named({eval::SceneKind::Text, eval::SceneKind::Atrium, eval::SceneKind::Dynamic,
-                                            eval::SceneKind::Sequence, eval::SceneKind::Photo}))),
+                                            eval::SceneKind::Sequence, eval::SceneKind::Photo, eval::SceneKind::Thin}))),
                 "Scenes: text (a page of text, reading gaze), atrium and dynamic (3D rooms with depth and motion, "
-                "free-viewing gaze), sequence (the frames of --sequence), photo (see --photo).");
+                "free-viewing gaze), sequence (the frames of --sequence), photo (see --photo), thin (the atrium "
+                "with railings, wires and cut-out foliage under specular light).");
     cli::option(app, "--photo", o.photoImage, cli::text("an image file, grass or wood", "IMAGE"),
                 "Scene photo's image: a PNG or JPEG file (one texel per pixel at the view's centre, repeated "
                 "mirrored), or a generated texture: grass (1/f noise with strands, the default) or wood.");
@@ -426,7 +455,8 @@ int main(int argc, char** argv) {
     cli::option(app, "--path", o.path,
                 cli::oneOf(named(scenes::kCameraPaths)),
                 "Camera path of atrium and dynamic: static, lateral (sideways back and forth), turn (head yaw ±25°) "
-                "or yaw30, yaw60, yaw120 (head yaw at a constant 30, 60, 120 °/s).");
+                "yaw30, yaw60, yaw120 (head yaw at a constant 30, 60, 120 °/s) or look-around (the head follows "
+                "gaze shifts of 15-50° every 0.6 s, up to 184 °/s, the gaze with it).");
     cli::option(app, "--change", o.change,
                 cli::oneOf(named({ChangeMetric::Off, ChangeMetric::LStar, ChangeMetric::DeltaE94})),
                 "The change term of method wrs-paper, its published eq. 7: the history's weight is scaled by one "
@@ -575,6 +605,13 @@ int main(int argc, char** argv) {
                 "apart), and the fewest pixels at which each curve reaches --saving-target. Writes "
                 "jod_vs_pixels.png and jod_vs_pixels.md in --out; needs no device.")
         ->type_name("CSV,...");
+    cli::listOption(app, "--study", studyFiles, cli::list(cli::text("a saving.csv path", "CSV")),
+                "Instead of a study: the moving-content study's summary from the saving.csv files of its runs (one "
+                "a cell, seed and configuration; tools/run-study.sh): cells by scene, head path and split, wrs "
+                "against taau, fov and taau-simple paired over seeds with 95 % intervals, the pixels each needs to "
+                "reach the cell's target, the goals on the test cells. Writes study.md, study.csv and study.png in "
+                "--out; needs no device.")
+        ->type_name("CSV,...");
     cli::option(app, "--saving-target", savingTarget, cli::text("a target", "METHOD,DENSITY,INSET[,JITTER]"),
                 "--saving-plot: the row whose JOD the curves must reach, e.g. fov,0.4,30 (fov on unjittered quad "
                 "views at wide density 0.4 with a 30-degree inset; JITTER > 1: the jittered views' row).");
@@ -661,6 +698,7 @@ int main(int argc, char** argv) {
         return cli::usageError(app, "scenes, methods, fovea sizes and modes must not be empty");
     if (writeDir.empty() && o.frames <= o.warmup) return cli::usageError(app, "--frames must exceed --warmup");
     if (!savingPlot.empty()) return runSavingPlot(savingPlot, savingTarget, out);
+    if (!studyFiles.empty()) return runStudy(studyFiles, out);
     if (!savingTarget.empty()) return cli::usageError(app, "--saving-target is --saving-plot's: give the files to plot");
     // --write-sequence, --flicker and --saving: one Vulkan context, progress lines on stdout.
     std::unique_ptr<vk::Context> toolCtx;

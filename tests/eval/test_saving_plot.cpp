@@ -132,6 +132,30 @@ TEST_F(SavingPlot, RefusesAMalformedFileNamingLineAndField) {
     }
 }
 
+// The cell's columns the moving-content study reads (head_path, head_deg_per_s, seed, split): read where
+// present, refused where malformed.
+TEST_F(SavingPlot, ReadsTheCellColumnsAndRefusesMalformedOnes) {
+    const std::string header = std::string(kHeader).substr(0, std::string(kHeader).size() - 1) +
+                               ",head_path,head_deg_per_s,seed,split\n";
+    const std::string row = "dynamic,quad,wrs,10,95000,11,7,8.4,30,0.3,8,0.008,";
+    auto rows = readSavingCsv(write("cell.csv", header + row + "look-around,183.9,3,train\n"));
+    ASSERT_TRUE(rows) << rows.error().message;
+    ASSERT_EQ(rows->size(), 1u);
+    EXPECT_EQ((*rows)[0].headPath, "look-around");
+    EXPECT_DOUBLE_EQ((*rows)[0].headDegPerS, 183.9);
+    EXPECT_EQ((*rows)[0].seed, 3u);
+    EXPECT_EQ((*rows)[0].split, "train");
+    for (auto [tail, expect] : {std::pair{"yaw60,60,1,dev\n", "split must be train or test, not \"dev\""},
+                                std::pair{"yaw60,60,0,test\n", "seed must be a whole number from 1"},
+                                std::pair{"yaw60,60,1.5,test\n", "seed must be a whole number from 1"},
+                                std::pair{"yaw60,fast,1,test\n", "column head_deg_per_s is not a number"}}) {
+        auto bad = readSavingCsv(write("bad.csv", header + row + tail));
+        ASSERT_FALSE(bad) << tail;
+        EXPECT_NE(bad.error().message.find(expect), std::string::npos) << bad.error().message;
+        EXPECT_NE(bad.error().message.find("bad.csv:2"), std::string::npos) << bad.error().message;
+    }
+}
+
 TEST_F(SavingPlot, ParsesATargetAndRefusesAMalformedOne) {
     auto t = parseSavingTarget("fov,0.4,30");
     ASSERT_TRUE(t) << t.error().message;
