@@ -237,6 +237,53 @@ TEST_F(Saving, DynamicSceneUnderFastYawNamesItsCell) {
     EXPECT_NE(bySeed[0][2].mse, bySeed[1][2].mse) << "seeds 2 and 3 gave wrs the same frames";
 }
 
+// The thin scene on the look-around path: the study names the cell, and the sweep's gaze is the path's:
+// each valid eye's azimuth in the head within the local exploration's 6° (and its small saccades'
+// overshoot) of scenes::lookAroundGaze, so the inset follows the big gaze shifts the head follows.
+TEST_F(Saving, ThinSceneOnTheLookAroundPathFollowsItsGaze) {
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 96;
+    o.height = 96;
+    o.hmdFovDeg = 100.0f;
+    o.frames = 8;
+    o.warmup = 3;
+    o.jodFrames = 4;
+    o.path = scenes::CameraPath::LookAround;
+    so.insetDegs = {10.0f};
+    so.rate = false;
+    so.jod = false;
+    so.jitterPhases = 4;
+    so.methods = {Method::Fov, Method::Taau, Method::Wrs};
+    auto rows = eval::runSaving(context(), eval::SceneKind::Thin, so);
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    ASSERT_EQ(rows->size(), 4u);
+    for (const eval::SavingRow& r : *rows) {
+        EXPECT_EQ(r.scene, eval::SceneKind::Thin);
+        EXPECT_EQ(r.headPath, "look-around");
+        EXPECT_NEAR(r.headDegPerS, scenes::headDegPerS(scenes::CameraPath::LookAround), 1e-9);
+        EXPECT_TRUE(std::isfinite(r.mse));
+    }
+    o.frames = 60;  // to 0.66 s: the first shift (to 30° at 0.2 s) and the head's turn after it
+    double lo = 1e9, hi = -1e9;
+    int valid = 0;
+    Status s = eval::forEachSceneFrame(context(), eval::SceneKind::Thin, o,
+                                       [&](const eval::SceneFrameInfo&, int, double t, std::array<EyeSubmission, 2>& eyes) {
+                                           for (const EyeSubmission& e : eyes) {
+                                               if (!e.gaze.valid) continue;
+                                               ++valid;
+                                               const double az = std::atan2(-e.gaze.dir.x, -e.gaze.dir.z) * 180.0 / 3.14159265358979;
+                                               const double expect = scenes::lookAroundGaze(t).azimuthDeg;
+                                               EXPECT_NEAR(az, expect, 9.0) << "t " << t;
+                                               lo = std::min(lo, expect), hi = std::max(hi, expect);
+                                           }
+                                           return Status{};
+                                       });
+    ASSERT_TRUE(s.ok()) << s.message();
+    EXPECT_GT(valid, 100);
+    EXPECT_GT(hi - lo, 25.0);  // the eye led the 30° shift before the head caught up
+}
+
 // The retention outcomes (--outcomes): the CPU reference stepped beside `wrs` and the oracle on quad views
 // counts every evaluated pixel of every scored frame once, agrees with the compositor's reservoirs, and
 // finds the inset's samples (a history sharper than the floor) among them; the report lists them.
