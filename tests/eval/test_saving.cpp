@@ -264,7 +264,7 @@ TEST_F(Saving, ThinSceneOnTheLookAroundPathFollowsItsGaze) {
         EXPECT_NEAR(r.headDegPerS, scenes::headDegPerS(scenes::CameraPath::LookAround), 1e-9);
         EXPECT_TRUE(std::isfinite(r.mse));
     }
-    o.frames = 60;  // to 0.66 s: the first shift (to 30° at 0.2 s) and the head's turn after it
+    o.frames = 40;  // to 0.44 s: the first shift (to 30° at 0.2 s) and the head's turn after it
     double lo = 1e9, hi = -1e9;
     int valid = 0;
     Status s = eval::forEachSceneFrame(context(), eval::SceneKind::Thin, o,
