@@ -415,7 +415,7 @@ int main(int argc, char** argv) {
                                             eval::SceneKind::Sequence, eval::SceneKind::Photo, eval::SceneKind::Thin}))),
                 "Scenes: text (a page of text, reading gaze), atrium and dynamic (3D rooms with depth and motion, "
                 "free-viewing gaze), sequence (the frames of --sequence), photo (see --photo), thin (the atrium "
-                "with railings, wires and cut-out foliage under specular light).");
+                "with railings, cables and foliage under highlights).");
     cli::option(app, "--photo", o.photoImage, cli::text("an image file, grass or wood", "IMAGE"),
                 "Scene photo's image: a PNG or JPEG file (one texel per pixel at the view's centre, repeated "
                 "mirrored), or a generated texture: grass (1/f noise with strands, the default) or wood.");

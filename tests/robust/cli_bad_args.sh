@@ -198,6 +198,18 @@ printf '%s,wide_density,jitter,temporal_instability\natrium,full,fov,0,1000,8,1,
 check bench_saving_plot_bad_target 2 "a target is METHOD,DENSITY,INSET[,JITTER]" "$bench" --saving-plot "$out/ok.csv" --saving-target fov --out "$out/sp"
 check bench_saving_plot_unmatched_target 1 "for the target" "$bench" --saving-plot "$out/ok.csv" --saving-target fov,0.4,30 --out "$out/sp"
 check bench_saving_plot_ok 0 "| wrs (jittered) | 10.0 % or less |" "$bench" --saving-plot "$out/ok.csv" --saving-target wrs,0.3,10,8 --out "$out/sp"
+# --study (no device): a malformed cell column, rows without wrs, and two seeds of one cell summarised.
+sh_="$h,wide_density,jitter,temporal_instability,head_path,head_deg_per_s,seed,split"
+printf '%s\natrium,quad,wrs,10,100,2,1,8,30,0.3,8,0.01,yaw60,60,1,dev\n' "$sh_" >"$out/study_split.csv"
+check bench_study_bad_split 1 "study_split.csv:2: split must be train or test, not \"dev\"" "$bench" --study "$out/study_split.csv" --out "$out/st"
+printf '%s\natrium,full,fov,0,1000,8,1,10,inf,0,0,0\natrium,quad,fov,10,100,2,1,8,30,0.3,8,0.01\n' "$h,wide_density,jitter,temporal_instability" >"$out/study_fov.csv"
+check bench_study_no_wrs 1 "study: no jittered quad views composed with wrs" "$bench" --study "$out/study_fov.csv" --out "$out/st"
+for seed in 1 2; do
+  printf '%s\ndynamic,full,fov,0,1000,8,1,10,inf,0,0,0,yaw60,60,%s,test\ndynamic,quad,fov,30,200,2,1,8.0,30,0.4,0,0.01,yaw60,60,%s,test\ndynamic,quad,taau,10,90,2,1,7.9,30,0.3,8,0.010,yaw60,60,%s,test\ndynamic,quad,wrs,10,90,2,1,8.%s,30,0.3,8,0.010,yaw60,60,%s,test\n' \
+    "$sh_" "$seed" "$seed" "$seed" "$seed" "$seed" >"$out/study_s$seed.csv"
+done
+check bench_study_ok 0 "| test | dynamic yaw60 | 0.30 / 10° | 9.0 % | wrs | taau | 2 | 8.150 | 7.900 | +0.250 [-0.385, +0.885] | tie |" \
+  "$bench" --study "$out/study_s1.csv,$out/study_s2.csv" --out "$out/st"
 check bench_cost_quad_alone 2 "--cost-quad is a --cost-model cell of its own" "$bench" --cost-quad
 
 echo "$count checks, $fails failed"
