@@ -139,6 +139,12 @@ struct CompositorConfig {
     /// fresh. Such a frame skips no tile (sparse retention has nothing to skip there). It runs on the
     /// frames that offer landed samples (landedSamples on), whose classes it merges too.
     bool phaseMerge = true;
+    /// Quad views, `wrs`, with landed samples: each landed sample weighs into the running mean of its
+    /// class by its footprint's overlap with the pixel, (1 - |dx|)(1 - |dy|), rather than equally
+    /// (wrs_landed_weight; docs/retention.md "Landed weights"): a tent-filtered estimate of the pixel in
+    /// place of the plain mean of everything within 3/4 of a pixel. Off by default until the
+    /// moving-content study has run with it (`wrsfov-bench --landed-weights`).
+    bool landedWeights = false;
     /// Quad views, `wrs`, on frames that offer landed samples (landedSamples on): the steady display
     /// (wrs_display_fold_step, in the retain pass; docs/retention.md "Steady display"). What retention shows
     /// at a pixel of the wide views is filtered over time as TAA filters a frame, the display's previous

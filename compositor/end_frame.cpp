@@ -255,7 +255,9 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     for (int eye = 0; eye < 2; ++eye) {
         const layers::ProjectionView& v = frame.layers[0].views[eye];
         const glm::vec4 offsets(v.sampleOffset, v.inset ? v.inset->sampleOffset : glm::vec2(0.0f));
-        params_.eye[eye].motion_rect.z = composeParams_.eye[eye].landed.z != 0.0f ? 1u : 0u;
+        params_.eye[eye].motion_rect.z = composeParams_.eye[eye].landed.z != 0.0f ? gpu::WRS_LANDED_ON : 0u;
+        if (params_.eye[eye].motion_rect.z != 0u && frame_.method == Method::Wrs && frame_.landedWeights)
+            params_.eye[eye].motion_rect.z |= gpu::WRS_LANDED_WEIGHTED;
         // The wide views' quality (0 without quad views): taau's inset shows above it, and the wide
         // box of a frame that merges every phase applies up to it.
         params_.eye[eye].tile.w = composeParams_.eye[eye].wide_motion.w;

@@ -130,11 +130,14 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             } else if (ce.landed.z != 0.0f) {
                 // As compose.comp: the wide sample nearest the centre, not read where the inset alone shows.
                 const uvec2 k = nearestTexel(wpos, wsize);
-                float ql = insetOnly ? 0.0f : wrs_landed_quality(wrs_landed_offset(wpos, k, vec2(ce.landed)));
+                const vec2 d = wrs_landed_offset(wpos, k, vec2(ce.landed));
+                float ql = insetOnly ? 0.0f : wrs_landed_quality(d);
                 const vec4 s = ql > 0.0f ? sourceTexel(src.wideColor, k, ce.wide_color.z) : vec4(0.0f);
                 if (s.w == 0.0f) ql = 0.0f;
                 if (out.landed.empty()) out.landed.resize(std::size_t(size.x) * size.y);
+                if (out.landedOverlap.empty()) out.landedOverlap.resize(std::size_t(size.x) * size.y);
                 out.landed[std::size_t(y) * size.x + x] = wrs_unpack_landed(wrs_pack_landed(vec3(s), ql));
+                out.landedOverlap[std::size_t(y) * size.x + x] = ql > 0.0f ? wrs_landed_weight(d, true) : 0.0f;
             }
             const bool fromInset = t >= 0.5f;
             const uvec2 q = fromInset ? nearestTexel(ipos, isize) : nearestTexel(wpos, wsize);
@@ -480,8 +483,15 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                 if (filters) wrs_moments_add(m1, m2, wrs_rgb_to_ycocg(wrs_display_tap(tk, ref)));
                             }
                         }
-                        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(rule) && !in.landed.empty())
-                            wrs_offer_landed(c, in.landed[idx]);
+                        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(rule) && !in.landed.empty()) {
+                            // As retain.comp's landed_sample: colour and weight (fp16), 0 where none landed.
+                            vec4 l = in.landed[idx];
+                            if (l.w > 0.0f)
+                                l.w = (ep.motion_rect.z & WRS_LANDED_WEIGHTED) != 0u && !in.landedOverlap.empty()
+                                          ? wrs_round_f16(in.landedOverlap[idx])
+                                          : 1.0f;
+                            wrs_offer_landed(c, l);
+                        }
                     }
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);
                     c.moved = wrs_finite(mv.x) && wrs_finite(mv.y) && (mv.x != 0.0f || mv.y != 0.0f);

@@ -29,6 +29,9 @@ public:
         /// Quad views with landed samples (ComposeEye::landed.z): each pixel's landed wide sample as the
         /// compose pass stores it (wrs_unpack_landed: colour, quality; W*H). Empty otherwise.
         std::vector<glm::vec4> landed;
+        /// With `landed`, of method wrs: the footprint overlap of each pixel's landed sample (its weight
+        /// under landed weights, wrs_landed_weight; 0 where none landed).
+        std::vector<float> landedOverlap;
         /// Submitted foveation, the oracles: the full-resolution reference (ProjectionView::reference).
         std::optional<HostImage> reference;
     };

@@ -40,6 +40,7 @@ CompositorConfig compositorConfig(const BenchOptions& o) {
     c.sparseRetention = o.sparseRetention;
     c.landedSamples = o.landedSamples;
     c.phaseMerge = o.phaseMerge;
+    c.landedWeights = o.landedWeights;
     c.floorMerge = o.floorMerge;
     c.steadyFloor = o.steadyFloor;
     c.steadyDisplay = o.steadyDisplay;

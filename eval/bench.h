@@ -58,6 +58,8 @@ struct BenchOptions {
     bool landedSamples = true;
     /// CompositorConfig::phaseMerge (--no-phase-merge: each phase's wide candidate taken fresh).
     bool phaseMerge = true;
+    /// CompositorConfig::landedWeights (--landed-weights: landed samples weighed by their overlap).
+    bool landedWeights = CompositorConfig{}.landedWeights;
     /// CompositorConfig::steadyDisplay (--steady-display A; 0: off).
     float steadyDisplay = CompositorConfig{}.steadyDisplay;
     /// CompositorConfig::taau (--taau K,W,B,V,L,T,S) and CompositorConfig::taauSimple (--taau-simple R,W,G).

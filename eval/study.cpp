@@ -341,7 +341,7 @@ Status writeStudyReport(const StudyResult& study, const std::string& dir, std::s
         series.insert(series.end(), bars.begin(), bars.end());
     }
     series.push_back(zero);
-    const cv::Mat img = chart("wrs against taau and fov at equal pixels, test cells (95 % intervals over seeds)",
+    const cv::Mat img = chart("wrs - taau, wrs - fov at equal pixels, test cells (95 % intervals)",
                               "test cell and configuration", "JOD difference", series);
     if (!cv::imwrite(dir + "/study.png", img)) return studyError("cannot write " + dir + "/study.png");
     return {};

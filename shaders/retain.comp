@@ -47,14 +47,15 @@ vec4 landed_sample(uint eye, uvec2 p) {
     ComposeEye ce = compose.eye[eye];
     vec2 wpos = wrs_source_pos(p, ce.wide_map);
     uvec2 k = uvec2(clamp(ivec2(floor(wpos)), ivec2(0), ivec2(ce.sizes.xy) - ivec2(1)));
-    float ql = wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));
+    bool weighted = (frame.eye[eye].motion_rect.z & WRS_LANDED_WEIGHTED) != 0u;
+    float ql = wrs_landed_weight(wrs_landed_offset(wpos, k, ce.landed.xy), weighted);
     if (!(ql > 0.0)) return vec4(0.0);
     uint encoding = WIDE_ENCODING == WRS_INPUT_ANY ? ce.wide_color.z : WIDE_ENCODING;
     vec4 s = wrs_decode_input(vec4(texelFetch(wideIn[eye], ivec2(k + ce.wide_color.xy), 0).rgb, 1.0), encoding);
     if (s.w == 0.0) return vec4(0.0);
-    // wrs_unpack_landed(wrs_pack_landed(s.rgb, ql)): the colour rounded to fp16 (wrs_f16_value: the same
-    // bits), and the quality, which fp16 holds exactly.
-    return vec4(wrs_f16_value(s.x), wrs_f16_value(s.y), wrs_f16_value(s.z), ql);
+    // wrs_unpack_landed(wrs_pack_landed(s.rgb, ql)): the colour and the weight rounded to fp16
+    // (wrs_f16_value: the same bits; a weight of 1 fp16 holds exactly).
+    return vec4(wrs_f16_value(s.x), wrs_f16_value(s.y), wrs_f16_value(s.z), wrs_f16_value(ql));
 }
 
 // The steady display's previous colour at pixel q (wrs_pack_shown), of slot push.pad1.
@@ -194,7 +195,7 @@ float retain_pixel(uint eye, uvec2 p) {
         if (gap) b = birth_prev[pixel_index(eye, qg)];  // what is shown
         // A clipped merge (WRS_OUT_OUTSIDE) counts as taken now: its colour lies within the box of the
         // candidate's own taps, the bound a fresh candidate has.
-        if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * wrs_merge_weight(h.w_sum, c.q);
+        if (outcome == WRS_OUT_MERGED) b = hb + (b - hb) * wrs_merge_weight(h.w_sum, c.q * c.weight);
         birth_cur[idx] = b;
     }
     return r.q;

@@ -14,8 +14,9 @@ struct EyeParams {
     uvec4 color_rect;   // x, y offset of the view in the colour image; z: 1 if sRGB-encoded; w: image layer
     uvec4 depth_rect;   // x, y offset in the depth image; z: 1 if reversed-Z; w: `wrs` merging every phase:
                         // the wide box's tap spacing (wrs_wide_box_steps); 0 otherwise
-    uvec4 motion_rect;  // x, y offset in the motion image; z: 1 where the compose pass wrote landed
-                        // samples (or taau's gathered ones); w: 1 where the views' sample offsets moved
+    uvec4 motion_rect;  // x, y offset in the motion image; z: WRS_LANDED_ON where the compose pass wrote
+                        // landed samples (or taau's gathered ones), | WRS_LANDED_WEIGHTED where `wrs` weighs
+                        // them by their overlap (landed weights); w: 1 where the views' sample offsets moved
     vec4 depth_range;   // near, far (may be +inf), zw: the weight cap and, for method taau-simple, the clip
                         // box (sigmas), for method taau the luma stability
     vec4 motion_scale;  // xyz: multiplies the motion texel (MotionInfo::scale; 1 without motion);

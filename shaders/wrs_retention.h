@@ -416,6 +416,9 @@ struct RetainInput {
     // so that a new phase of the same content is not read as a change.
     bool jittered;
     uint flags;  // WRS_FLAG_* a fresh sample is stored with (WRS_FLAG_LANDED)
+    // Its weight in a merge of its class, as a share of its quality (1; a landed sample's footprint
+    // overlap under landed weights, wrs_landed_weight).
+    float weight;
 };
 
 // Whether a gap's sample (wrs_track_gap) is shown: where the retention rule would keep it as sharper
@@ -515,7 +518,7 @@ WRS_FN float wrs_srgb_dist2(vec3 a, vec3 b) {
 // that comparison's own relative units, so tests can tell a rounding difference from a bug.
 WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, RetainInput c, vec3 ref, float rnd,
                           WRS_OUT(uint) outcome, WRS_OUT(float) margin) {
-    Tracked fresh = wrs_tracked_from(c, max(c.q, WRS_WSUM_MIN));
+    Tracked fresh = wrs_tracked_from(c, max(c.q * c.weight, WRS_WSUM_MIN));
     margin = 1.0f;
     outcome = WRS_OUT_FRESH;
     if (!has_history) return fresh;
@@ -605,11 +608,11 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
         if (all(equal(c.lo, c.hi))) return fresh;
         hist = clamp(h.color, c.lo, c.hi);
     }
-    float t = wrs_merge_weight(h.w_sum, c.q);
+    float t = wrs_merge_weight(h.w_sum, c.q * c.weight);
     Tracked r = kept;
     r.color = hist + (c.color - hist) * t;
     r.d = d_new * (1.0f - t);
-    r.w_sum = min(h.w_sum + c.q, WRS_MERGE_CAP * c.q);
+    r.w_sum = min(h.w_sum + c.q * c.weight, WRS_MERGE_CAP * c.q);
     return r;
 }
 

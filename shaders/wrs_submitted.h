@@ -144,6 +144,22 @@ WRS_FN float wrs_landed_quality(vec2 d) {
     float o = wrs_landed_overlap(d);
     return o >= WRS_LANDED_MIN_OVERLAP ? WRS_LANDED_Q : 0.0f;
 }
+// Landed weights (CompositorConfig::landedWeights; EyeParams::motion_rect.z = WRS_LANDED_ON |
+// WRS_LANDED_WEIGHTED): a landed sample's weight in the running mean of its class is its footprint's
+// overlap with the pixel, (1 - |dx|)(1 - |dy|), from 1/4 to 1, instead of 1 for every sample offered:
+// the mean is then a tent-filtered estimate of the pixel, as a temporal upsampler's reconstruction
+// kernel weighs its samples, rather than the plain mean of everything within 3/4 of a pixel, which
+// blurs where the head moves slowly and samples of many positions accumulate (docs/retention.md,
+// "Landed weights").
+const uint WRS_LANDED_ON = 1u;
+const uint WRS_LANDED_WEIGHTED = 2u;
+// The weight of a sample that landed at offset d (0: not offered, wrs_landed_quality): its overlap where
+// `weighted`, else 1.
+WRS_FN float wrs_landed_weight(vec2 d, bool weighted) {
+    float o = wrs_landed_overlap(d);
+    if (!(o >= WRS_LANDED_MIN_OVERLAP)) return 0.0f;
+    return weighted ? o : 1.0f;
+}
 // A landed sample as the compose pass stores it for retention (two words a pixel after the qualities
 // and the tiles' largest): fp16 R | G, fp16 B | quality; colour rounded by hand as every stored value.
 // Quality 0: none landed in the pixel (or its texel was not finite), the words read back as no sample.
@@ -163,10 +179,12 @@ WRS_FN vec4 wrs_unpack_landed(uvec2 w) {
 // it), so that an equal-quality history within the local variation merges and one outside is clipped
 // to it first; the composed candidate otherwise. The fingerprint stays the composed frame's. The
 // oracles are not offered it (they bound what any retention of the composed candidates can reach).
+// `landed`: colour and weight (wrs_landed_weight; 0: none landed); its quality is WRS_LANDED_Q.
 WRS_FN void wrs_offer_landed(WRS_INOUT(RetainInput) c, vec4 landed) {
-    if (!(landed.w > c.q)) return;
+    if (!(landed.w > 0.0f) || !(WRS_LANDED_Q > c.q)) return;
     c.color = vec3(landed);
-    c.q = landed.w;
+    c.q = WRS_LANDED_Q;
+    c.weight = landed.w;
     c.lo = min(c.lo, c.color);  // the composed candidate's box: its colour, or the wide box around it
     c.hi = max(c.hi, c.color);
     c.flags = WRS_FLAG_LANDED;

@@ -40,6 +40,7 @@ std::vector<RetainStats> runRetainStress(uint64_t frames, uint32_t pixels, uint3
                     c.moved = false;
                     c.jittered = false;
                     c.flags = 0u;
+                    c.weight = 1.0f;
                     c.z = wrs_linear_depth(in.depth, kNearZ, kFarZ, false);
                     c.q_floor = 0.0f;  // streams of arbitrary weights: no floor quality
                     const Tracked h = wrs_unpack_tracked(stored);

@@ -13,8 +13,9 @@
 #   STUDY_SIZE (320: 3.2 px/deg at the centre, for this machine's time; the main job's headset cells run
 #   768), STUDY_FRAMES (120), STUDY_SCORED (40: JOD and temporal instability over the last 40 frames),
 #   STUDY_SEEDS ("1 2 3"), STUDY_CELLS (the cells above, as split:scene:path, e.g. "test:thin:yaw30"),
-#   STUDY_METHODS (fov,taau,wrs; add taau-simple or oracle), STUDY_JOBS (2: runs side by side, one
-#   lavapipe thread each).
+#   STUDY_METHODS (fov,taau,wrs; add taau-simple or oracle), STUDY_ARGS (more wrsfov-bench options for
+#   every run, e.g. --landed-weights), STUDY_TARGET (1; 0: no target runs, for a variant of a method
+#   compared with an earlier study's rows), STUDY_JOBS (2: runs side by side, one lavapipe thread each).
 # On this 2-core machine without a GPU the default study takes about 50 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,6 +29,8 @@ scored=${STUDY_SCORED:-40}
 seeds=${STUDY_SEEDS:-1 2 3}
 jobs_max=${STUDY_JOBS:-2}
 methods=${STUDY_METHODS:-fov,taau,wrs}
+read -r -a extra <<< "${STUDY_ARGS:-}"
+targets=${STUDY_TARGET:-1}
 cells=${STUDY_CELLS:-"train:dynamic:turn test:atrium:yaw120 test:dynamic:yaw60 test:dynamic:look-around test:thin:look-around test:photo:turn"}
 rm -rf "$out"
 mkdir -p "$out/runs"
@@ -55,11 +58,11 @@ for c in $cells; do
     motion=(--scenes "$scene" --path "$path")
   fi
   for seed in $seeds; do
-    cellargs=("${motion[@]}" "${common[@]}" --seed "$seed" --split "$split")
+    cellargs=("${motion[@]}" "${common[@]}" --seed "$seed" --split "$split" ${extra[@]+"${extra[@]}"})
     tag="$split-$scene-$path-s$seed"
     run "$tag-wide0.3" "${cellargs[@]}" --inset-degs 10 --wide-scale 0.3 --jitter 8 --methods "$methods"
     run "$tag-wide0.2" "${cellargs[@]}" --inset-degs 10 --wide-scale 0.2 --jitter 8 --methods "$methods"
-    run "$tag-target" "${cellargs[@]}" --inset-degs 30 --wide-scale 0.4 --methods fov
+    [ "$targets" = 0 ] || run "$tag-target" "${cellargs[@]}" --inset-degs 30 --wide-scale 0.4 --methods fov
   done
 done
 wait
@@ -69,5 +72,9 @@ if [ -s "$failed" ]; then
 fi
 rm -f "$failed"
 csvs=$(find "$out/runs" -name saving.csv | sort | paste -sd, -)
+if [ "$targets" = 0 ]; then
+  echo "== runs in $(pwd)/$out/runs after $(($(date +%s) - start)) s (no target runs: no study summary)"
+  exit 0
+fi
 "$bench" --study "$csvs" --out "$out" | grep -E '^wrsfov-bench|^- '
 echo "== study in $(pwd)/$out (study.md, study.png) after $(($(date +%s) - start)) s"

@@ -495,6 +495,10 @@ int main(int argc, char** argv) {
     app.add_flag("--no-phase-merge", noPhaseMerge,
                  "Quad views jittered, wrs: each phase's wide candidate taken fresh under the floor rule instead of "
                  "merged over the phases (CompositorConfig::phaseMerge, docs/retention.md \"Every phase merged\").");
+    app.add_flag("--landed-weights", o.landedWeights,
+                 "Quad views, wrs: each landed wide sample weighs into its pixel's running mean by its footprint's "
+                 "overlap with the pixel rather than equally (CompositorConfig::landedWeights, docs/retention.md "
+                 "\"Landed weights\").");
     app.add_option("--steady-display", o.steadyDisplay,
                    "Quad views, wrs: weight of the current frame in the steady display, which filters what retention "
                    "shows in the wide views over time (CompositorConfig::steadyDisplay, docs/retention.md \"Steady "

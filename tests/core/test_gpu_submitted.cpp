@@ -254,13 +254,15 @@ public:
     std::function<void()> beforeEnd;  ///< runs after the uploads, just before endFrame
 };
 
-std::unique_ptr<Compositor> compositor(Method m, bool sparse = true, bool landed = true, bool phaseMerge = true) {
+std::unique_ptr<Compositor> compositor(Method m, bool sparse = true, bool landed = true, bool phaseMerge = true,
+                                       bool landedWeights = false) {
     CompositorConfig cfg;
     cfg.method = m;
     cfg.seed = 5;
     cfg.sparseRetention = sparse;
     cfg.landedSamples = landed;
     cfg.phaseMerge = phaseMerge;
+    cfg.landedWeights = landedWeights;
     auto c = Compositor::create(context(), cfg);
     EXPECT_TRUE(c.ok());
     return c.ok() ? std::move(*c) : nullptr;
@@ -621,6 +623,56 @@ TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
     EXPECT_GT(sharp, wide / 2);
     // Without the jitter's allowance (RetainInput::jittered) two thirds of these decisions read a change.
     EXPECT_LT(double(changed), 5e-3 * double(decided)) << "a new phase read as a change";
+}
+
+// Landed weights (CompositorConfig::landedWeights): each landed sample weighs into its pixel's running
+// mean by its footprint's overlap, so on a still jittered view, where the sample nearest the centre is
+// the best estimate, the wide-only pixels end nearer the full-resolution render than with every sample
+// equal. The GPU agrees with the reference on every frame (from its history), reservoirs bit for bit.
+TEST_F(Submitted, LandedWeightsFavourTheNearestSamplesOfAJitteredStillView) {
+    auto plain = compositor(Method::Wrs), weighted = compositor(Method::Wrs, true, true, true, true);
+    QuadApp plainApp(*plain, false, false), weightedApp(*weighted, false, false);
+    plainApp.wideFine = weightedApp.wideFine = true;
+    plainApp.edges = weightedApp.edges = true;
+    Reference ref(weighted->config());
+    const glm::vec2 g(-0.4f, 0.2f);
+    const WideOnly wideOnly{insetTan(g.x, g.y)};
+    QuadApp::Frame f;
+    for (uint64_t i = 0; i < 16; ++i) {
+        plainApp.wideOffset = weightedApp.wideOffset = layers::haltonJitter(i, 8);
+        f = weightedApp.make(g.x, g.y);
+        if (i > 0)
+            for (uint32_t e = 0; e < 2; ++e) ref.setHistory(e, *weighted->readReservoirs(e), *weighted->readTileHeld(e));
+        plainApp.submit(*plain, i + 1, f);
+        weightedApp.submit(*weighted, i + 1, f);
+        ASSERT_EQ(weighted->lastParams().eye[0].motion_rect.z, gpu::WRS_LANDED_ON | gpu::WRS_LANDED_WEIGHTED);
+        ASSERT_EQ(plain->lastParams().eye[0].motion_rect.z, gpu::WRS_LANDED_ON);
+        Agreement a;
+        stepAndCompare(*weighted, ref, composed(*weighted, f), a, "frame " + std::to_string(i + 1));
+        EXPECT_EQ(a.differing, 0u) << "frame " << i + 1;
+        EXPECT_LE(a.maxOutputDiff, 1) << "frame " << i + 1;
+    }
+    auto mse = [&](Compositor& c) {
+        auto out = c.readOutput(0);
+        EXPECT_TRUE(out.ok());
+        double se = 0;
+        int n = 0;
+        for (uint32_t y = 0; y < H; ++y)
+            for (uint32_t x = 0; x < W; ++x) {
+                if (!wideOnly(x, y)) continue;
+                const glm::u8vec4 r = encodeOutput(glm::vec3(f.reference.fetch(x, y)));
+                for (int k = 0; k < 3; ++k) {
+                    const double d = (int(uint8_t(out->data[(y * W + x) * 4 + k])) - int(r[k])) / 255.0;
+                    se += d * d;
+                }
+                n += 3;
+            }
+        return se / n;
+    };
+    const double mPlain = mse(*plain), mWeighted = mse(*weighted);
+    std::printf("[landed weights] after 16 phases: wide-only MSE %.5f equal, %.5f weighted by overlap\n", mPlain,
+                mWeighted);
+    EXPECT_LT(mWeighted, mPlain);
 }
 
 // Every phase merged (CompositorConfig::phaseMerge): on jittered frames `wrs` has no floor rule and

@@ -675,6 +675,7 @@ RetainInput retainInput(vec3 c, float q, float fp, float range = 0.0f, bool move
     in.moved = moved;
     in.jittered = false;
     in.flags = 0u;
+    in.weight = 1.0f;
     in.z = 0.0f;
     in.q_floor = 0.0f;  // no floor rule unless a test asks for it
     return in;
@@ -1287,15 +1288,21 @@ TEST(Landed, PackedSamplesRoundTripAndNoneReadsAsNone) {
 // follow it while it is kept.
 TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
     RetainInput c = retainInput(vec3(0.3f), 0.16f, 50.0f);
-    RetainInput same = c;
-    wrs_offer_landed(same, vec4(0.9f, 0.1f, 0.2f, 0.16f));
-    EXPECT_EQ(same.color, c.color);
-    EXPECT_EQ(same.flags, 0u);
+    // Not offered: none landed (weight 0), or a composed candidate as sharp as a landed sample or more
+    // (the inset's).
+    RetainInput none = c, inset = retainInput(vec3(0.3f), 1.0f, 50.0f);
+    wrs_offer_landed(none, vec4(0.9f, 0.1f, 0.2f, 0.0f));
+    wrs_offer_landed(inset, vec4(0.9f, 0.1f, 0.2f, 1.0f));
+    EXPECT_EQ(none.color, c.color);
+    EXPECT_EQ(none.flags, 0u);
+    EXPECT_EQ(inset.color, vec3(0.3f));
+    EXPECT_EQ(inset.q, 1.0f);
     const vec3 lo = c.lo, hi = c.hi;  // the composed candidate's box (its taps, or the wide box)
     ASSERT_LT(lo.x, 0.3f);
-    wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 0.64f));
+    wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 1.0f));
     EXPECT_EQ(c.color, vec3(0.9f, 0.1f, 0.2f));
-    EXPECT_EQ(c.q, 0.64f);
+    EXPECT_EQ(c.q, WRS_LANDED_Q);
+    EXPECT_EQ(c.weight, 1.0f);
     EXPECT_EQ(c.lo, vec3(lo.x, 0.1f, 0.2f)) << "the box spans the landed sample and the composed candidate's box";
     EXPECT_EQ(c.hi, vec3(0.9f, hi.y, hi.z));
     EXPECT_EQ(c.flags, WRS_FLAG_LANDED);
@@ -1312,6 +1319,40 @@ TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
                    outcome, margin);
     EXPECT_EQ(outcome, WRS_OUT_KEPT);
     EXPECT_EQ(r.flags, WRS_FLAG_LANDED);
+}
+
+// Landed weights: a sample's weight is its footprint's overlap (1/4 to 1) where weighted, else 1, and 0
+// where it is not offered; in the running mean of the class a sample on the centre then outweighs one next
+// door (0.8 of the way to it after one at overlap 1/4, where equal weights go halfway), and the weight cap
+// stays WRS_MERGE_CAP candidates of the class's quality.
+TEST(Landed, WeightsFavourTheSamplesNearestThePixelsCentre) {
+    EXPECT_EQ(wrs_landed_weight(vec2(0.0f), true), 1.0f);
+    EXPECT_EQ(wrs_landed_weight(vec2(0.5f, 0.5f), true), 0.25f);
+    EXPECT_FLOAT_EQ(wrs_landed_weight(vec2(-0.3f, 0.2f), true), 0.7f * 0.8f);
+    EXPECT_EQ(wrs_landed_weight(vec2(-0.3f, 0.2f), false), 1.0f);
+    EXPECT_EQ(wrs_landed_weight(vec2(0.8f, -0.1f), true), 0.0f);  // under a quarter: not offered
+    EXPECT_EQ(wrs_landed_weight(vec2(0.8f, -0.1f), false), 0.0f);
+    EXPECT_EQ(wrs_landed_weight(vec2(std::nanf(""), 0.0f), true), 0.0f);
+    auto offered = [](vec3 colour, float weight) {
+        RetainInput c = retainInput(vec3(0.3f), 0.16f, 50.0f);
+        c.jittered = true;
+        wrs_offer_landed(c, vec4(colour, weight));
+        return c;
+    };
+    uint outcome;
+    float margin;
+    for (bool weighted : {false, true}) {
+        const RetainInput far = offered(vec3(0.28f), weighted ? 0.25f : 1.0f);
+        const RetainInput near = offered(vec3(0.6f), 1.0f);
+        Tracked r = wrs_retain(WRS_RULE_MERGE, false, Tracked{}, vec2(0.0f), far, vec3(0.0f), 0.5f, outcome, margin);
+        EXPECT_FLOAT_EQ(r.w_sum, WRS_LANDED_Q * (weighted ? 0.25f : 1.0f));
+        r = wrs_retain(WRS_RULE_MERGE, true, r, vec2(0.0f), near, vec3(0.0f), 0.5f, outcome, margin);
+        EXPECT_EQ(outcome, WRS_OUT_MERGED);
+        EXPECT_NEAR(r.color.x, weighted ? 0.28f + 0.32f * 0.8f : 0.44f, 1e-6f) << (weighted ? "weighted" : "equal");
+        for (int i = 0; i < 40; ++i)
+            r = wrs_retain(WRS_RULE_MERGE, true, r, vec2(0.0f), near, vec3(0.0f), 0.5f, outcome, margin);
+        EXPECT_FLOAT_EQ(r.w_sum, WRS_MERGE_CAP * WRS_LANDED_Q);
+    }
 }
 
 // A new phase of a jittered view moves the composed fingerprint as sub-pixel motion does: the change
