@@ -280,7 +280,7 @@ TEST_F(Saving, ThinSceneOnTheLookAroundPathFollowsItsGaze) {
                                            return Status{};
                                        });
     ASSERT_TRUE(s.ok()) << s.message();
-    EXPECT_GT(valid, 100);
+    EXPECT_GT(valid, 60);  // of 80 eye-frames (two eyes, 40 frames), a blink allowed
     EXPECT_GT(hi - lo, 25.0);  // the eye led the 30° shift before the head caught up
 }
 
@@ -358,7 +358,7 @@ TEST_F(Saving, BadOptionsAreRefusedWithAMessage) {
     so.bench.warmup = 1;
     auto seq = eval::runSaving(context(), eval::SceneKind::Sequence, so);
     ASSERT_FALSE(seq.ok());
-    EXPECT_NE(seq.error().message.find("the atrium, dynamic, the text page or the photo"), std::string::npos);
+    EXPECT_NE(seq.error().message.find("the atrium, dynamic, thin, the text page or the photo"), std::string::npos);
     so.split = "validation";
     auto split = eval::runSaving(context(), eval::SceneKind::Atrium, so);
     ASSERT_FALSE(split.ok());
