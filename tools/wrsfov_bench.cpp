@@ -304,6 +304,28 @@ int runScaling(vk::Context& ctx, eval::BenchOptions o, const std::vector<cli::Si
     return rc != 0 ? rc : cost.exitCode;
 }
 
+// The rows of saving.csv files (eval::readSavingCsv) appended to `rows`; false, with the message on
+// stderr, at the first file that cannot be read.
+bool readSavingRows(const std::vector<std::string>& files, std::vector<eval::SavingRow>& rows) {
+    for (const std::string& f : files) {
+        auto r = eval::readSavingCsv(f);
+        if (!r) {
+            std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
+            return false;
+        }
+        rows.insert(rows.end(), r->begin(), r->end());
+    }
+    return true;
+}
+
+// Creates a report's directory; false, with the message on stderr, where it cannot.
+bool makeOutDir(const std::string& out) {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
+    return !ec;
+}
+
 // --saving-plot: the rows of saving.csv files as JOD against pixels (eval::writeJodAgainstPixels).
 int runSavingPlot(const std::vector<std::string>& files, const std::string& targetText, const std::string& out) {
     std::optional<eval::SavingTarget> target;
@@ -316,20 +338,7 @@ int runSavingPlot(const std::vector<std::string>& files, const std::string& targ
         target = *t;
     }
     std::vector<eval::SavingRow> rows;
-    for (const std::string& f : files) {
-        auto r = eval::readSavingCsv(f);
-        if (!r) {
-            std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
-            return 1;
-        }
-        rows.insert(rows.end(), r->begin(), r->end());
-    }
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    if (ec) {
-        std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
-        return 1;
-    }
+    if (!readSavingRows(files, rows) || !makeOutDir(out)) return 1;
     return printReport(eval::writeJodAgainstPixels(rows, target, out), out + "/jod_vs_pixels.md",
                        "JOD against pixels in " + out + " (jod_vs_pixels.md, jod_vs_pixels.png)");
 }
@@ -337,25 +346,13 @@ int runSavingPlot(const std::vector<std::string>& files, const std::string& targ
 // --study: the rows of every run of the moving-content study, grouped and paired (eval::writeStudyReport).
 int runStudy(const std::vector<std::string>& files, const std::string& out) {
     std::vector<eval::SavingRow> rows;
-    for (const std::string& f : files) {
-        auto r = eval::readSavingCsv(f);
-        if (!r) {
-            std::fprintf(stderr, "wrsfov-bench: %s\n", r.error().message.c_str());
-            return 1;
-        }
-        rows.insert(rows.end(), r->begin(), r->end());
-    }
+    if (!readSavingRows(files, rows)) return 1;
     auto study = eval::summarizeStudy(rows);
     if (!study) {
         std::fprintf(stderr, "wrsfov-bench: %s\n", study.error().message.c_str());
         return 1;
     }
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    if (ec) {
-        std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
-        return 1;
-    }
+    if (!makeOutDir(out)) return 1;
     return printReport(eval::writeStudyReport(*study, out), out + "/study.md",
                        "study in " + out + " (study.md, study.csv, study.png) from " + std::to_string(files.size()) +
                            " runs");
@@ -767,12 +764,7 @@ int main(int argc, char** argv) {
     } else {
         costTargets.clear();
     }
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    if (ec) {
-        std::fprintf(stderr, "wrsfov-bench: cannot create %s: %s\n", out.c_str(), ec.message().c_str());
-        return 1;
-    }
+    if (!makeOutDir(out)) return 1;
     if (costModel && scaling.empty()) {
         // Nothing runs on this machine's device: the pipelines compile on the targets'.
         std::vector<std::pair<uint32_t, uint32_t>> sizes;

@@ -88,6 +88,26 @@ struct WideOnly {
     }
 };
 
+// The MSE (8-bit sRGB, 0..1) of eye 0's output against `reference` over the wide-only pixels.
+double wideOnlyMse(Compositor& c, const WideOnly& wideOnly, const HostImage& reference) {
+    auto out = c.readOutput(0);
+    EXPECT_TRUE(out.ok());
+    if (!out.ok()) return std::numeric_limits<double>::quiet_NaN();
+    double se = 0;
+    int n = 0;
+    for (uint32_t y = 0; y < H; ++y)
+        for (uint32_t x = 0; x < W; ++x) {
+            if (!wideOnly(x, y)) continue;
+            const glm::u8vec4 r = encodeOutput(glm::vec3(reference.fetch(x, y)));
+            for (int k = 0; k < 3; ++k) {
+                const double d = (int(uint8_t(out->data[(y * W + x) * 4 + k])) - int(r[k])) / 255.0;
+                se += d * d;
+            }
+            n += 3;
+        }
+    return se / n;
+}
+
 // The wide-only pixels' mean frame-to-frame change (8-bit sRGB, 0..1) over the frames counted, and the
 // MSE against full resolution of the last frame. Under a pan of `pan` output pixels a frame to the right,
 // each pixel is compared with the last frame's pixel it came from (its right neighbour for 1).
@@ -586,23 +606,7 @@ TEST_F(Submitted, LandedWideSamplesRebuildTheDetailOfAJitteredStillView) {
                 changed += tr.outcome == gpu::WRS_OUT_CHANGED;
             }
     }
-    auto mse = [&](Compositor& c) {
-        auto out = c.readOutput(0);
-        EXPECT_TRUE(out.ok());
-        double se = 0;
-        int n = 0;
-        for (uint32_t y = 0; y < H; ++y)
-            for (uint32_t x = 0; x < W; ++x) {
-                if (!wideOnly(x, y)) continue;
-                const glm::u8vec4 r = encodeOutput(glm::vec3(f.reference.fetch(x, y)));
-                for (int k = 0; k < 3; ++k) {
-                    const double d = (int(uint8_t(out->data[(y * W + x) * 4 + k])) - int(r[k])) / 255.0;
-                    se += d * d;
-                }
-                n += 3;
-            }
-        return se / n;
-    };
+    auto mse = [&](Compositor& c) { return wideOnlyMse(c, wideOnly, f.reference); };
     auto res = wrs->readReservoirs(0);
     ASSERT_TRUE(res.ok());
     int wide = 0, sharp = 0;
@@ -652,23 +656,7 @@ TEST_F(Submitted, LandedWeightsFavourTheNearestSamplesOfAJitteredStillView) {
         EXPECT_EQ(a.differing, 0u) << "frame " << i + 1;
         EXPECT_LE(a.maxOutputDiff, 1) << "frame " << i + 1;
     }
-    auto mse = [&](Compositor& c) {
-        auto out = c.readOutput(0);
-        EXPECT_TRUE(out.ok());
-        double se = 0;
-        int n = 0;
-        for (uint32_t y = 0; y < H; ++y)
-            for (uint32_t x = 0; x < W; ++x) {
-                if (!wideOnly(x, y)) continue;
-                const glm::u8vec4 r = encodeOutput(glm::vec3(f.reference.fetch(x, y)));
-                for (int k = 0; k < 3; ++k) {
-                    const double d = (int(uint8_t(out->data[(y * W + x) * 4 + k])) - int(r[k])) / 255.0;
-                    se += d * d;
-                }
-                n += 3;
-            }
-        return se / n;
-    };
+    auto mse = [&](Compositor& c) { return wideOnlyMse(c, wideOnly, f.reference); };
     const double mPlain = mse(*plain), mWeighted = mse(*weighted);
     std::printf("[landed weights] after 16 phases: wide-only MSE %.5f equal, %.5f weighted by overlap\n", mPlain,
                 mWeighted);
