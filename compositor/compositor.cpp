@@ -66,6 +66,8 @@ Status checkConfig(const CompositorConfig& c) {
                       "views or a rate map)");
     if (!std::isfinite(c.insetBlendPx) || c.insetBlendPx < 0.0f || c.insetBlendPx > 1024.0f)
         return refuse("inset blend width must be in [0, 1024] inset pixels");
+    if (!std::isfinite(c.landedFootprint) || c.landedFootprint < 0.0f || c.landedFootprint > 1.0f)
+        return refuse("landed footprint must be in [0, 1] wide pixels (0: one output pixel)");
     if (!std::isfinite(c.steadyDisplay) || c.steadyDisplay < 0.0f || c.steadyDisplay > 1.0f)
         return refuse("steady display weight must be in [0, 1] (0: off)");
     if (uint8_t(c.change) > uint8_t(ChangeMetric::DeltaE94)) return refuse("change metric must be off, lstar or de94");

@@ -145,6 +145,12 @@ struct CompositorConfig {
     /// place of the plain mean of everything within 3/4 of a pixel. Off by default until the
     /// moving-content study has run with it (`wrsfov-bench --landed-weights`).
     bool landedWeights = false;
+    /// Quad views, `wrs`: the half-width of a landed wide sample's footprint in wide pixels, at least one
+    /// output pixel (wrs_landed_scale; docs/retention.md "Landed footprint"): a sample is offered to the
+    /// pixels whose tent of that half-width it overlaps by a quarter or more. In [0, 1]; 0: one output
+    /// pixel at every density. 0.3 was chosen on the moving-content study's training cell: one output
+    /// pixel at 0.3 of the density, 1.5 at 0.2.
+    float landedFootprint = 0.3f;
     /// Quad views, `wrs`, on frames that offer landed samples (landedSamples on): the steady display
     /// (wrs_display_fold_step, in the retain pass; docs/retention.md "Steady display"). What retention shows
     /// at a pixel of the wide views is filtered over time as TAA filters a frame, the display's previous
@@ -152,7 +158,7 @@ struct CompositorConfig {
     /// of the current frame, in [0, 1] (0: off; the default is shaders/wrs_submitted.h's WRS_DISPLAY_ALPHA,
     /// which a test checks). Display only: the reservoirs do not change. Its history is 32 B/px of memory
     /// (two slots), 16 B/px of traffic; with it no tile skips retention on quad views.
-    float steadyDisplay = 0.15f;
+    float steadyDisplay = 0.3f;
     /// Method taau-simple's parameters (docs/retention.md "The first baseline: taau-simple", chosen for its
     /// best JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
     /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas

@@ -174,12 +174,14 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
         // Landed wide samples: only `wrs`'s retention reads them (the oracles do not: wrs_offer_landed).
         // Methods taau-simple and taau: the compose pass gathers the wide samples in their place (landed.z 2
         // and 3; landed.w the kernel's 1 / r^2 in output pixels, or 1 / scale^2 in wide pixels).
+        // `wrs` (landed.z 1): landed.w is CompositorConfig::landedFootprint.
         const bool quad = work.kind == layers::SubmittedFoveation::Quad;
         const uint32_t mode = quad ? composeLanded(work.next) : 0u;
         for (gpu::ComposeEye& e : composeParams_.eye) {
             e.landed.z = mode >= 2 ? float(mode) : mode == 1 && e.wide_motion.w < 1.0f ? 1.0f : 0.0f;
             const double r = mode == 3 ? double(work.next.taau.kernel) : double(work.next.taauSimple.radius);
-            e.landed.w = float(1.0 / (r * r));
+            // `wrs` (landed.z 1): the landed footprint's half-width in wide pixels (wrs_landed_scale).
+            e.landed.w = mode == 1 ? work.next.landedFootprint : float(1.0 / (r * r));
         }
         for (int eye = 0; eye < 2; ++eye) {
             const layers::ProjectionView& v = layer.views[eye];

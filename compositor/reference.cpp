@@ -130,7 +130,7 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
             } else if (ce.landed.z != 0.0f) {
                 // As compose.comp: the wide sample nearest the centre, not read where the inset alone shows.
                 const uvec2 k = nearestTexel(wpos, wsize);
-                const vec2 d = wrs_landed_offset(wpos, k, vec2(ce.landed));
+                const vec2 d = wrs_landed_offset(wpos, k, wrs_landed_scale(ce.landed));
                 float ql = insetOnly ? 0.0f : wrs_landed_quality(d);
                 const vec4 s = ql > 0.0f ? sourceTexel(src.wideColor, k, ce.wide_color.z) : vec4(0.0f);
                 if (s.w == 0.0f) ql = 0.0f;

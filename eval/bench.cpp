@@ -41,6 +41,7 @@ CompositorConfig compositorConfig(const BenchOptions& o) {
     c.landedSamples = o.landedSamples;
     c.phaseMerge = o.phaseMerge;
     c.landedWeights = o.landedWeights;
+    c.landedFootprint = o.landedFootprint;
     c.floorMerge = o.floorMerge;
     c.steadyFloor = o.steadyFloor;
     c.steadyDisplay = o.steadyDisplay;

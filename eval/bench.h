@@ -60,6 +60,8 @@ struct BenchOptions {
     bool phaseMerge = true;
     /// CompositorConfig::landedWeights (--landed-weights: landed samples weighed by their overlap).
     bool landedWeights = CompositorConfig{}.landedWeights;
+    /// CompositorConfig::landedFootprint (--landed-footprint K, wide pixels; 0: one output pixel).
+    float landedFootprint = CompositorConfig{}.landedFootprint;
     /// CompositorConfig::steadyDisplay (--steady-display A; 0: off).
     float steadyDisplay = CompositorConfig{}.steadyDisplay;
     /// CompositorConfig::taau (--taau K,W,B,V,L,T,S) and CompositorConfig::taauSimple (--taau-simple R,W,G).

@@ -170,7 +170,7 @@ float compose_pixel(uint eye, uvec2 p, uvec2 size) {
         // largest quality counts what retention may take. The retain pass reads the sample itself from the
         // wide view (retain.comp landed_sample).
         uvec2 k = nearest(wpos, wsize);
-        float ql = inset_only ? 0.0 : wrs_landed_quality(wrs_landed_offset(wpos, k, ce.landed.xy));
+        float ql = inset_only ? 0.0 : wrs_landed_quality(wrs_landed_offset(wpos, k, wrs_landed_scale(ce.landed)));
         if (ql > 0.0 && source_texel(eye, k, ce.wide_color).w == 0.0) ql = 0.0;
         q = max(q, ql);
     }

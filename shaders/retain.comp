@@ -48,7 +48,7 @@ vec4 landed_sample(uint eye, uvec2 p) {
     vec2 wpos = wrs_source_pos(p, ce.wide_map);
     uvec2 k = uvec2(clamp(ivec2(floor(wpos)), ivec2(0), ivec2(ce.sizes.xy) - ivec2(1)));
     bool weighted = (frame.eye[eye].motion_rect.z & WRS_LANDED_WEIGHTED) != 0u;
-    float ql = wrs_landed_weight(wrs_landed_offset(wpos, k, ce.landed.xy), weighted);
+    float ql = wrs_landed_weight(wrs_landed_offset(wpos, k, wrs_landed_scale(ce.landed)), weighted);
     if (!(ql > 0.0)) return vec4(0.0);
     uint encoding = WIDE_ENCODING == WRS_INPUT_ANY ? ce.wide_color.z : WIDE_ENCODING;
     vec4 s = wrs_decode_input(vec4(texelFetch(wideIn[eye], ivec2(k + ce.wide_color.xy), 0).rgb, 1.0), encoding);

@@ -126,6 +126,17 @@ WRS_FN vec2 wrs_landed_offset(vec2 pos, uvec2 k, vec2 inv_scale) {
     WRS_PRECISE vec2 d = ds * inv_scale;
     return d;
 }
+// The footprint grows with the wide pixel (docs/retention.md "Landed footprint"): its half-width is
+// max(1, k s) output pixels per axis, s the output pixels per wide pixel (ComposeEye::landed.xy) and k
+// the half-width in wide pixels (landed.w for `wrs`: CompositorConfig::landedFootprint; 0: one output
+// pixel at every density). Over P jitter phases the landed samples of a wide pixel lie about s / sqrt(P)
+// output pixels apart, so a footprint of one output pixel reaches fewer of its pixels the sparser the
+// wide views: at 0.2 of the density (s = 5) and 8 phases, about 40 %, the rest showing the wide view's
+// bilinear colour. This returns the offset's scale for wrs_landed_offset, s over the half-width.
+WRS_FN vec2 wrs_landed_scale(vec4 landed) {
+    vec2 s = vec2(landed.x, landed.y);
+    return s / max(vec2(1.0f, 1.0f), s * landed.w);
+}
 // How much of an output pixel a sample that landed at offset d from its centre tells: the overlap of
 // its footprint (one output pixel wide) with the pixel, 0 a pixel or more away on either axis.
 WRS_FN float wrs_landed_overlap(vec2 d) {
@@ -534,10 +545,12 @@ WRS_FN vec3 wrs_taau_step(vec3 nb[9], vec4 g, bool inset, TaauHistory h, bool ha
 // neighbours, and the filter would then pull it towards their mean on every frame, a blur that never
 // settles). It replaced the 3x3 neighbourhood of what retention shows (a pass of its own, 40 B a pixel);
 // docs/retention.md has the measurements of both.
-// The default weight of the current frame. Headset cell, 8 phases, 10-degree inset, an experiment
-// filtering the shown frames (docs/retention.md "Steady display"): 0.1 blurs the 0.4 row (JOD 8.31
-// against 8.38 at 0.3), 0.2 leaves the 0.2 row 3.4 % above taau's instability, 0.3 and 0.5 steady less.
-const float WRS_DISPLAY_ALPHA = 0.15f;
+// The default weight of the current frame, chosen on the moving-content study's training cell (dynamic,
+// the head turning; 3 seeds, 0.3 and 0.2 density; docs/retention.md "Steady display"): the best JOD whose
+// temporal instability stays within 3 % of taau's at both densities. 0.15 (the weight chosen first, on
+// the headset cell with a translating head) lags where content moves: JOD 7.675 / 7.306 against 7.756 /
+// 7.362 at 0.3; 0.4 is 13 % less steady than taau at 0.3 for +0.009 JOD.
+const float WRS_DISPLAY_ALPHA = 0.3f;
 // The box's half-width in standard deviations of the wide neighbourhood. Headset cell (0.3 and 0.2
 // density, 10-degree inset, 8 phases): temporal instability 0.00967 and 0.00927 at 1, 0.00878 and 0.00869
 // at 2, 0.00816 and 0.00857 at 4 (JOD 8.46 / 8.05, 8.47 / 8.07, 8.49 / 8.08); the wide taps lie a wide

@@ -1274,6 +1274,30 @@ TEST(Landed, OffsetIsTheSamplesCentreLessThePositionInOutputPixels) {
     EXPECT_EQ(wrs_landed_offset(vec2(0.5f, 7.5f), uvec2(0u, 7u), vec2(2.5f)), vec2(0.0f));
 }
 
+// The landed footprint (wrs_landed_scale): half-width max(1, k s) output pixels per axis, so the offset's
+// scale is s where the wide pixel is small and 1 / k (the half-width in wide pixels) where it is large.
+TEST(Landed, FootprintGrowsWithTheWidePixelFromOneOutputPixel) {
+    // 0.2 of the density (5 output pixels a wide pixel), k 0.3: a half-width of 1.5 output pixels.
+    vec2 s = wrs_landed_scale(vec4(5.0f, 5.0f, 1.0f, 0.3f));
+    EXPECT_NEAR(s.x, 5.0f / 1.5f, 1e-5f);
+    EXPECT_NEAR(s.y, 5.0f / 1.5f, 1e-5f);
+    // 0.3 and 0.4 of it (10/3 and 2.5): one output pixel, the offset in output pixels as before.
+    EXPECT_EQ(wrs_landed_scale(vec4(2.5f, 2.5f, 1.0f, 0.3f)), vec2(2.5f));
+    EXPECT_NEAR(wrs_landed_scale(vec4(10.0f / 3.0f, 10.0f / 3.0f, 1.0f, 0.3f)).x, 10.0f / 3.0f, 1e-5f);
+    // Per axis; k = 0 is one output pixel at every density.
+    s = wrs_landed_scale(vec4(8.0f, 2.0f, 1.0f, 0.25f));
+    EXPECT_NEAR(s.x, 4.0f, 1e-6f);
+    EXPECT_EQ(s.y, 2.0f);
+    EXPECT_EQ(wrs_landed_scale(vec4(8.0f, 5.0f, 1.0f, 0.0f)), vec2(8.0f, 5.0f));
+    // A sample 0.9 output pixels from the centre at 0.2: offered with the grown footprint (an overlap of
+    // 0.4), not with one output pixel (0.1).
+    const vec2 pos(3.5f + 0.9f / 5.0f, 7.5f);
+    EXPECT_EQ(wrs_landed_quality(wrs_landed_offset(pos, uvec2(3u, 7u), wrs_landed_scale(vec4(5.0f, 5.0f, 1.0f, 0.3f)))),
+              WRS_LANDED_Q);
+    EXPECT_EQ(wrs_landed_quality(wrs_landed_offset(pos, uvec2(3u, 7u), wrs_landed_scale(vec4(5.0f, 5.0f, 1.0f, 0.0f)))),
+              0.0f);
+}
+
 // Packed as the compose pass stores it: the colour and quality to fp16, and no sample as zeros.
 TEST(Landed, PackedSamplesRoundTripAndNoneReadsAsNone) {
     const vec3 c(0.123456f, 2.5f, 0.0f);

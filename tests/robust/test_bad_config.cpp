@@ -93,6 +93,10 @@ std::vector<ConfigRow> refusedRows() {
     for (float v : {kNaN, kInf, -0.5f, 1.5f})
         r.push_back({"steady_display_" + std::to_string(int(r.size())), [v](CompositorConfig& c) { c.steadyDisplay = v; },
                      "steady display weight must be in [0, 1]"});
+    // The landed footprint: [0, 1] wide pixels (0: one output pixel).
+    for (float v : {kNaN, kInf, -0.1f, 1.5f})
+        r.push_back({"landed_footprint_" + std::to_string(int(r.size())),
+                     [v](CompositorConfig& c) { c.landedFootprint = v; }, "landed footprint must be in [0, 1]"});
     for (uint8_t v : {uint8_t(uint8_t(Method::TaauSimple) + 1), uint8_t(255)})
         r.push_back({"method_" + std::to_string(v), [v](CompositorConfig& c) { c.method = Method(v); }, "method must be"});
     for (uint8_t v : {uint8_t(5), uint8_t(255)}) {
