@@ -146,7 +146,7 @@ struct CompositorConfig {
     /// moving-content study has run with it (`wrsfov-bench --landed-weights`).
     bool landedWeights = false;
     /// Quad views, `wrs`: the half-width of a landed wide sample's footprint in wide pixels, at least one
-    /// output pixel (wrs_landed_scale; docs/retention.md "Landed footprint"): a sample is offered to the
+    /// output pixel (wrs_landed_scale; docs/retention.md "`wrs`'s parameters, searched on the training cell"): a sample is offered to the
     /// pixels whose tent of that half-width it overlaps by a quarter or more. In [0, 1]; 0: one output
     /// pixel at every density. 0.3 was chosen on the moving-content study's training cell: one output
     /// pixel at 0.3 of the density, 1.5 at 0.2.

@@ -174,7 +174,6 @@ Status Compositor::allocateFrame(const layers::FrameEndInfo& frame, FrameWork& w
         // Landed wide samples: only `wrs`'s retention reads them (the oracles do not: wrs_offer_landed).
         // Methods taau-simple and taau: the compose pass gathers the wide samples in their place (landed.z 2
         // and 3; landed.w the kernel's 1 / r^2 in output pixels, or 1 / scale^2 in wide pixels).
-        // `wrs` (landed.z 1): landed.w is CompositorConfig::landedFootprint.
         const bool quad = work.kind == layers::SubmittedFoveation::Quad;
         const uint32_t mode = quad ? composeLanded(work.next) : 0u;
         for (gpu::ComposeEye& e : composeParams_.eye) {

@@ -126,7 +126,7 @@ WRS_FN vec2 wrs_landed_offset(vec2 pos, uvec2 k, vec2 inv_scale) {
     WRS_PRECISE vec2 d = ds * inv_scale;
     return d;
 }
-// The footprint grows with the wide pixel (docs/retention.md "Landed footprint"): its half-width is
+// The footprint grows with the wide pixel (docs/retention.md "`wrs`'s parameters, searched on the training cell"): its half-width is
 // max(1, k s) output pixels per axis, s the output pixels per wide pixel (ComposeEye::landed.xy) and k
 // the half-width in wide pixels (landed.w for `wrs`: CompositorConfig::landedFootprint; 0: one output
 // pixel at every density). Over P jitter phases the landed samples of a wide pixel lie about s / sqrt(P)

@@ -504,7 +504,8 @@ int main(int argc, char** argv) {
     app.add_option("--landed-footprint", o.landedFootprint,
                    "Quad views, wrs: the half-width in wide pixels, at least one output pixel, of the footprint "
                    "within which a landed wide sample is offered to a pixel (CompositorConfig::landedFootprint, "
-                   "docs/retention.md \"Landed footprint\"), 0 to 1; 0: one output pixel at every density.")
+                   "docs/retention.md \"`wrs`'s parameters, searched on the training cell\"), 0 to 1; 0: one output "
+                   "pixel at every density.")
         ->capture_default_str();
     app.add_flag("--steady-floor", steadyFloor,
                  "Filter the floor level (level 4, the far periphery's candidate under wrs's floor rule) over time at "
