@@ -70,6 +70,8 @@ Status checkConfig(const CompositorConfig& c) {
         return refuse("landed footprint must be in [0, 1] wide pixels (0: one output pixel)");
     if (!std::isfinite(c.steadyDisplay) || c.steadyDisplay < 0.0f || c.steadyDisplay > 1.0f)
         return refuse("steady display weight must be in [0, 1] (0: off)");
+    if (!std::isfinite(c.steadyDisplaySpeed) || c.steadyDisplaySpeed < 0.0f || c.steadyDisplaySpeed > 1024.0f)
+        return refuse("steady display full speed must be in [0, 1024] output pixels a frame (0: one weight at every speed)");
     if (uint8_t(c.change) > uint8_t(ChangeMetric::DeltaE94)) return refuse("change metric must be off, lstar or de94");
     return {};
 }

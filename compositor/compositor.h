@@ -159,6 +159,12 @@ struct CompositorConfig {
     /// which a test checks). Display only: the reservoirs do not change. Its history is 32 B/px of memory
     /// (two slots), 16 B/px of traffic; with it no tile skips retention on quad views.
     float steadyDisplay = 0.3f;
+    /// The steady display's full speed, in output pixels a frame (wrs_display_weight): up to it the current
+    /// frame weighs steadyDisplay; a pixel that moves faster weighs steadyDisplay * speed / |motion|, so the
+    /// display averages a fast turn over as many frames as the pixels it crossed. 0: the weight is
+    /// steadyDisplay at every speed. In [0, 1024]; the default is shaders/wrs_submitted.h's
+    /// WRS_DISPLAY_FULL_SPEED, which a test checks.
+    float steadyDisplaySpeed = 1.0f;
     /// Method taau-simple's parameters (docs/retention.md "The first baseline: taau-simple", chosen for its
     /// best JOD on the headset cell): the gather kernel's radius in output pixels, the cap of the history's
     /// accumulated weight (a sample at a pixel's centre weighs 1), and the history's clip box in sigmas

@@ -284,8 +284,10 @@ void Compositor::planFrame(const layers::FrameEndInfo& frame, FrameWork& work) {
     if (work.passes.display) {
         params_.tuning.z = frame_.steadyDisplay;
         // Its neighbourhood's taps one wide pixel apart (the merge's wide box has the same spacing).
-        for (int eye = 0; eye < 2; ++eye)
+        for (int eye = 0; eye < 2; ++eye) {
             params_.eye[eye].display.x = gpu::wrs_wide_box_steps(glm::vec2(composeParams_.eye[eye].landed));
+            params_.eye[eye].display.y = glm::floatBitsToUint(frame_.steadyDisplaySpeed);
+        }
     }
     stats_.steadyDisplay = work.passes.display;
     // Every phase merged (wrs_submitted.h): on a frame of `wrs` whose wide views were jittered, no floor

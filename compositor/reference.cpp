@@ -578,7 +578,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                                          displayAt(uvec2(i0.x, i1.y)), displayAt(i1), f));
                             vec3 mu, sigma;
                             wrs_moments_of_nine(m1, m2, mu, sigma);
-                            shown = wrs_display_fold_step(mu, sigma, shown, hist, has, params.tuning.z);
+                            const float alpha = wrs_display_weight(params.tuning.z, mv, uintBitsToFloat(ep.display.y));
+                            shown = wrs_display_fold_step(mu, sigma, shown, hist, has, alpha);
                         }
                         display_[eye][idx] = vec4(wrs_unpack_shown(wrs_pack_shown(shown)), 1.0f);
                     }

@@ -45,6 +45,7 @@ CompositorConfig compositorConfig(const BenchOptions& o) {
     c.floorMerge = o.floorMerge;
     c.steadyFloor = o.steadyFloor;
     c.steadyDisplay = o.steadyDisplay;
+    c.steadyDisplaySpeed = o.steadyDisplaySpeed;
     c.taau = o.taau;
     c.taauSimple = o.taauSimple;
     c.motionReachDeg = o.motionReachDeg;

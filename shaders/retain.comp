@@ -76,7 +76,9 @@ vec3 display(uint eye, uvec2 p, vec3 shown, vec3 mv, bool filters, vec3 m1, vec3
                                 display_rgb(eye, uvec2(i0.x, i1.y)), display_rgb(eye, i1), f).rgb;
         vec3 mu, sigma;
         wrs_moments_of_nine(m1, m2, mu, sigma);
-        c = wrs_display_fold_step(mu, sigma, shown, hist, has, frame.tuning.z);
+        // The weight falls where the pixel moves fast (wrs_display_weight; display.y: the full speed's bits).
+        float alpha = wrs_display_weight(frame.tuning.z, mv, uintBitsToFloat(frame.eye[eye].display.y));
+        c = wrs_display_fold_step(mu, sigma, shown, hist, has, alpha);
     }
     display_history[display_index(push.pad0, eye, p)] = wrs_pack_shown(c);
     return c;

@@ -28,7 +28,8 @@ struct EyeParams {
     uvec4 ref_rect;     // evaluation only (the oracles with submitted foveation): x, y offset of the
                         // full-resolution reference in its image; z: its encoding (WRS_INPUT_*); w: layer
     uvec4 display;      // the steady display (frame.tuning.z > 0), and method taau's box: x, the spacing of
-                        // the neighbourhood's taps (wrs_wide_box_steps: one wide pixel); yzw: pad
+                        // the neighbourhood's taps (wrs_wide_box_steps: one wide pixel); y, the steady
+                        // display's full speed (wrs_display_weight; a float's bits); zw: pad
     vec4 taau;          // method taau (wrs_taau_step): x, the still box in sigmas; y, the velocity (output pixels
                         // a frame) at which it is one sigma; z, the lock's frames; w, the lock's threshold
 };

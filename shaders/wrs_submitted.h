@@ -551,6 +551,28 @@ WRS_FN vec3 wrs_taau_step(vec3 nb[9], vec4 g, bool inset, TaauHistory h, bool ha
 // the headset cell with a translating head) lags where content moves: JOD 7.675 / 7.306 against 7.756 /
 // 7.362 at 0.3; 0.4 is 13 % less steady than taau at 0.3 for +0.009 JOD.
 const float WRS_DISPLAY_ALPHA = 0.3f;
+// The weight where the pixel moves (CompositorConfig::steadyDisplaySpeed): `alpha` up to `full_speed`
+// output pixels a frame, alpha * full_speed / |motion| beyond, down to alpha * WRS_DISPLAY_FAST_SHARE. Where
+// the head turns fast each pixel's estimate changes as landed samples of other wide pixels arrive, and at
+// one weight for every speed that change shows as flicker on content the turn leaves unchanged
+// (docs/retention.md "`wrs`'s parameters, searched on the training cell"); the history is clipped to the
+// wide box either way. `full_speed` 0 (or a motion that is not finite): `alpha` as it is.
+// The full speed, chosen on the study's two training cells (dynamic turning at up to 26 degrees a second,
+// under one output pixel a frame at 320 px, and the atrium yawing at 60 degrees a second, 1-2 pixels): the
+// best JOD whose instability stays within 3 % of taau's at both densities. 1: +2.1 % and -4.7 % at the
+// atrium's 0.3 and 0.2 (+10.9 % and +9.0 % at one weight), -0.11 and -0.08 JOD; 1.5: +6.7 % and +2.0 %;
+// 2: +9.2 % and +5.9 %; 0.5 loses 0.33 JOD there. Turning dynamic, no pixel reaches 1.
+const float WRS_DISPLAY_FULL_SPEED = 1.0f;
+// The least share of the weight a fast pixel keeps: half, the weight the display had before the study
+// (0.15). Neither training cell moves a pixel more than about 2 output pixels a frame, where the share is
+// half already; the floor keeps the falling weight from lagging without bound where the head turns faster,
+// a bound set without a cell to choose it on (a head at 120 degrees a second moves 4 pixels a frame).
+const float WRS_DISPLAY_FAST_SHARE = 0.5f;
+WRS_FN float wrs_display_weight(float alpha, vec3 mv, float full_speed) {
+    if (!(full_speed > 0.0f) || !wrs_finite(mv.x) || !wrs_finite(mv.y)) return alpha;
+    float speed = sqrt(mv.x * mv.x + mv.y * mv.y);
+    return speed > full_speed ? alpha * max(full_speed / speed, WRS_DISPLAY_FAST_SHARE) : alpha;
+}
 // The box's half-width in standard deviations of the wide neighbourhood. Headset cell (0.3 and 0.2
 // density, 10-degree inset, 8 phases): temporal instability 0.00967 and 0.00927 at 1, 0.00878 and 0.00869
 // at 2, 0.00816 and 0.00857 at 4 (JOD 8.46 / 8.05, 8.47 / 8.07, 8.49 / 8.08); the wide taps lie a wide

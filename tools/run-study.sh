@@ -6,8 +6,9 @@
 # intervals), finds the pixels each needs to reach its cell's target and judges the goals on the test
 # cells. Writes out/study/ (study.md, study.csv, study.png; each run's saving.csv and saving.md under
 # runs/).
-#   a train cell (a head turning, where parameters are chosen: wrs's steady display weight and landed
-#   footprint were searched there; taau's on the atrium's lateral cell, docs/retention.md): dynamic turn
+#   train cells (where parameters are chosen: wrs's steady display weight and landed footprint were
+#   searched on dynamic turn, its full speed on both; taau's on the atrium's lateral cell,
+#   docs/retention.md): dynamic turn, atrium yaw60
 #   test cells: atrium yaw120, dynamic yaw60, dynamic look-around, thin look-around, photo turn
 # Usage: tools/run-study.sh [OUT]   (default out/study)
 #   STUDY_SIZE (320: 3.2 px/deg at the centre, for this machine's time; the main job's headset cells run
@@ -16,8 +17,8 @@
 #   STUDY_METHODS (fov,taau,wrs; add taau-simple or oracle), STUDY_ARGS (more wrsfov-bench options for
 #   every run, e.g. --landed-weights), STUDY_TARGET (1; 0: no target runs, for a variant of a method
 #   compared with an earlier study's rows), STUDY_JOBS (2: runs side by side, one lavapipe thread each).
-# On this 2-core machine without a GPU the default study takes 25-50 minutes (24 min beside the test
-# suite on one day's machine, 52 on a slower day's).
+# On this 2-core machine without a GPU the default study takes 30-60 minutes (24 min for six cells
+# beside the test suite on one day's machine, 52 on a slower day's; seven cells since).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 WRSFOV_BUILD_TARGETS=wrsfov-bench bash tools/setup.sh build
@@ -32,7 +33,7 @@ jobs_max=${STUDY_JOBS:-2}
 methods=${STUDY_METHODS:-fov,taau,wrs}
 read -r -a extra <<< "${STUDY_ARGS:-}"
 targets=${STUDY_TARGET:-1}
-cells=${STUDY_CELLS:-"train:dynamic:turn test:atrium:yaw120 test:dynamic:yaw60 test:dynamic:look-around test:thin:look-around test:photo:turn"}
+cells=${STUDY_CELLS:-"train:dynamic:turn train:atrium:yaw60 test:atrium:yaw120 test:dynamic:yaw60 test:dynamic:look-around test:thin:look-around test:photo:turn"}
 rm -rf "$out"
 mkdir -p "$out/runs"
 start=$(date +%s)

@@ -501,6 +501,12 @@ int main(int argc, char** argv) {
                    "shows in the wide views over time (CompositorConfig::steadyDisplay, docs/retention.md \"Steady "
                    "display\"); 0 turns it off.")
         ->capture_default_str();
+    app.add_option("--steady-display-speed", o.steadyDisplaySpeed,
+                   "Quad views, wrs: the steady display's full speed in output pixels a frame; a pixel moving faster "
+                   "weighs the current frame by the weight times this speed over its own "
+                   "(CompositorConfig::steadyDisplaySpeed, docs/retention.md \"Steady display\"); 0: one weight at "
+                   "every speed.")
+        ->capture_default_str();
     app.add_option("--landed-footprint", o.landedFootprint,
                    "Quad views, wrs: the half-width in wide pixels, at least one output pixel, of the footprint "
                    "within which a landed wide sample is offered to a pixel (CompositorConfig::landedFootprint, "

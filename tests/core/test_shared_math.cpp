@@ -1575,6 +1575,36 @@ TEST(SteadyDisplay, AStillPixelConvergesToWhatRetentionShowsEvenOutsideTheBox) {
     }
 }
 
+// The weight where the pixel moves (wrs_display_weight): the weight as it is up to the full speed, in either
+// direction; beyond it, falling as the speed's inverse (a pixel crossing k times the full speed a frame
+// weighs the current frame 1/k as much) down to WRS_DISPLAY_FAST_SHARE of it; a motion that is not finite,
+// or a full speed of 0, leaves it as it is.
+TEST(SteadyDisplay, TheWeightFallsAsTheSpeedBeyondTheFullSpeed) {
+    ASSERT_EQ(WRS_DISPLAY_FAST_SHARE, 0.5f) << "the figures below are for a floor at half the weight";
+    const float a = 0.3f, v0 = 1.5f;
+    for (vec3 m : {vec3(0.0f), vec3(1.5f, 0.0f, 0.0f), vec3(0.0f, -1.5f, 0.2f), vec3(0.9f, -1.2f, 0.0f),
+                   vec3(-0.6f, 0.8f, 5.0f)})
+        EXPECT_EQ(wrs_display_weight(a, m, v0), a) << m.x << "," << m.y;
+    EXPECT_FLOAT_EQ(wrs_display_weight(a, vec3(3.0f, 0.0f, 0.0f), v0), a / 2.0f);
+    EXPECT_FLOAT_EQ(wrs_display_weight(a, vec3(0.0f, -2.25f, 0.0f), v0), a * 1.5f / 2.25f);
+    EXPECT_FLOAT_EQ(wrs_display_weight(a, vec3(-1.2f, 1.6f, 1.0f), v0), a * 1.5f / 2.0f) << "the speed is |(x, y)|";
+    EXPECT_EQ(wrs_display_weight(a, vec3(0.0f, -6.0f, 0.0f), v0), a * WRS_DISPLAY_FAST_SHARE) << "the floor";
+    EXPECT_EQ(wrs_display_weight(a, vec3(1e30f, 0.0f, 0.0f), v0), a * WRS_DISPLAY_FAST_SHARE);
+    // Monotone in the speed, and never above the weight.
+    float last = a;
+    for (float s = 0.0f; s < 40.0f; s += 0.25f) {
+        const float w = wrs_display_weight(a, vec3(s, 0.0f, 0.0f), v0);
+        EXPECT_LE(w, last);
+        EXPECT_GT(w, 0.0f);
+        last = w;
+    }
+    const float inf = std::numeric_limits<float>::infinity();
+    for (vec3 m : {vec3(std::nanf(""), 0.0f, 0.0f), vec3(0.0f, inf, 0.0f), vec3(-inf, 1.0f, 0.0f)})
+        EXPECT_EQ(wrs_display_weight(a, m, v0), a);
+    EXPECT_EQ(wrs_display_weight(a, vec3(50.0f, 0.0f, 0.0f), 0.0f), a) << "0: one weight at every speed";
+    EXPECT_EQ(wrs_display_weight(a, vec3(std::nanf("")), std::nanf("")), a);
+}
+
 TEST(SteadyDisplay, AHistoryFarOutsideIsClippedBeforeTheBlend) {
     const vec3 shown(0.2f);
     DisplayNeighbourhood n(shown, vec3(0.2f));  // a flat neighbourhood: the box is one 8-bit step wide

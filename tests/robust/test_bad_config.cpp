@@ -93,6 +93,10 @@ std::vector<ConfigRow> refusedRows() {
     for (float v : {kNaN, kInf, -0.5f, 1.5f})
         r.push_back({"steady_display_" + std::to_string(int(r.size())), [v](CompositorConfig& c) { c.steadyDisplay = v; },
                      "steady display weight must be in [0, 1]"});
+    // The steady display's full speed: [0, 1024] output pixels a frame (0: one weight at every speed).
+    for (float v : {kNaN, kInf, -1.0f, 2048.0f})
+        r.push_back({"steady_display_speed_" + std::to_string(int(r.size())),
+                     [v](CompositorConfig& c) { c.steadyDisplaySpeed = v; }, "steady display full speed must be in [0, 1024]"});
     // The landed footprint: [0, 1] wide pixels (0: one output pixel).
     for (float v : {kNaN, kInf, -0.1f, 1.5f})
         r.push_back({"landed_footprint_" + std::to_string(int(r.size())),
