@@ -503,9 +503,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--steady-display-speed", o.steadyDisplaySpeed,
                    "Quad views, wrs: the steady display's full speed in output pixels a frame; a pixel moving faster "
-                   "weighs the current frame by the weight times this speed over its own "
-                   "(CompositorConfig::steadyDisplaySpeed, docs/retention.md \"Steady display\"); 0: one weight at "
-                   "every speed.")
+                   "weighs the current frame by the weight times this speed over its own, down to half the weight "
+                   "(CompositorConfig::steadyDisplaySpeed, docs/retention.md \"`wrs`'s parameters, searched on the training "
+                   "cell\"); 0: one weight at every speed.")
         ->capture_default_str();
     app.add_option("--landed-footprint", o.landedFootprint,
                    "Quad views, wrs: the half-width in wide pixels, at least one output pixel, of the footprint "
