@@ -160,8 +160,9 @@ struct CompositorConfig {
     /// (two slots), 16 B/px of traffic; with it no tile skips retention on quad views.
     float steadyDisplay = 0.3f;
     /// The steady display's full speed, in output pixels a frame (wrs_display_weight): up to it the current
-    /// frame weighs steadyDisplay; a pixel that moves faster weighs steadyDisplay * speed / |motion|, so the
-    /// display averages a fast turn over as many frames as the pixels it crossed. 0: the weight is
+    /// frame weighs steadyDisplay; a pixel that moves faster weighs steadyDisplay * speed / |motion|, down to
+    /// half of steadyDisplay (WRS_DISPLAY_FAST_SHARE), so the display averages a fast turn over more frames
+    /// than a slow one. 0: the weight is
     /// steadyDisplay at every speed. In [0, 1024]; the default is shaders/wrs_submitted.h's
     /// WRS_DISPLAY_FULL_SPEED, which a test checks.
     float steadyDisplaySpeed = 1.0f;

@@ -64,7 +64,7 @@ struct BenchOptions {
     float landedFootprint = CompositorConfig{}.landedFootprint;
     /// CompositorConfig::steadyDisplay (--steady-display A; 0: off).
     float steadyDisplay = CompositorConfig{}.steadyDisplay;
-    /// CompositorConfig::steadyDisplaySpeed (--steady-display-speed V, output pixels a frame; 0: off).
+    /// CompositorConfig::steadyDisplaySpeed (--steady-display-speed V, output pixels a frame; 0: one weight at every speed).
     float steadyDisplaySpeed = CompositorConfig{}.steadyDisplaySpeed;
     /// CompositorConfig::taau (--taau K,W,B,V,L,T,S) and CompositorConfig::taauSimple (--taau-simple R,W,G).
     CompositorConfig::Taau taau;

@@ -561,7 +561,8 @@ const float WRS_DISPLAY_ALPHA = 0.3f;
 // under one output pixel a frame at 320 px, and the atrium yawing at 60 degrees a second, 1-2 pixels): the
 // best JOD whose instability stays within 3 % of taau's at both densities. 1: +2.1 % and -4.7 % at the
 // atrium's 0.3 and 0.2 (+10.9 % and +9.0 % at one weight), -0.11 and -0.08 JOD; 1.5: +6.7 % and +2.0 %;
-// 2: +9.2 % and +5.9 %; 0.5 loses 0.33 JOD there. Turning dynamic, no pixel reaches 1.
+// 2: +9.2 % and +5.9 %; 0.5 loses 0.33 JOD there (those without the floor below; with it, the default is
+// +3.0 % and -3.1 %, at the rule's edge, for +0.026 JOD). Turning dynamic, no pixel reaches 1.
 const float WRS_DISPLAY_FULL_SPEED = 1.0f;
 // The least share of the weight a fast pixel keeps: half, the weight the display had before the study
 // (0.15). Neither training cell moves a pixel more than about 2 output pixels a frame, where the share is
