@@ -328,6 +328,10 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                             auto at = [&](uvec2 q) { return wrs_taau_unpack(prev_[eye][std::size_t(q.y) * W + q.x]); };
                             const TaauHistory a = at(i0), b = at(uvec2(i1.x, i0.y)), c = at(uvec2(i0.x, i1.y)), d = at(i1);
                             has = wrs_taau_reproject(a, b, c, d, f, depth, params.tuning.y, h);
+                            TaauGather hg = wrs_taau_gather_start();  // as taa.comp: the colour resampled
+                            for (uint j = 0; j < 16u; ++j) wrs_history_add(hg, at(wrs_history_tap(i0, size0, j)).color, f, j);
+                            h.color = wrs_history_result(hg);
+                            has = has && wrs_finite3(h.color);
                         }
                         const bool gathered = ep.motion_rect.z != 0u && !in.landed.empty();
                         const vec4 g = gathered ? in.landed[idx] : vec4(vec3(cand_[eye][idx]), 1.0f);
@@ -573,9 +577,11 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                             const bool has = displayHistory && wrs_taa_reproject(p, size0, mv, i0, i1, f) &&
                                              prevDisplay[idx].w != 0.0f;
                             vec3 hist(0.0f);
-                            if (has)
-                                hist = vec3(wrs_bilinear(displayAt(i0), displayAt(uvec2(i1.x, i0.y)),
-                                                         displayAt(uvec2(i0.x, i1.y)), displayAt(i1), f));
+                            if (has) {  // resampled with Lanczos-2, as retain.comp
+                                TaauGather hg = wrs_taau_gather_start();
+                                for (uint j = 0; j < 16u; ++j) wrs_history_add(hg, vec3(displayAt(wrs_history_tap(i0, size0, j))), f, j);
+                                hist = wrs_history_result(hg);
+                            }
                             vec3 mu, sigma;
                             wrs_moments_of_nine(m1, m2, mu, sigma);
                             const float alpha = wrs_display_weight(params.tuning.z, mv, uintBitsToFloat(ep.display.y));

@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <cstdio>
 
 #include "compositor/host_app.h"
@@ -414,6 +415,30 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
         return {};
     };
 
+    // --write-outputs (BenchOptions::outputsDir): what the metrics score, every run's output of each scored
+    // frame as PNG, DIR/SCENE/RUN/{L,R}/NNNNNN.png (RUN: full_fov, the reference, or INPUT_METHOD[_INSET]),
+    // numbered from the first scored frame, and the left eye's gaze in pixels (gaze.csv).
+    const std::string outDir = o.outputsDir.empty() ? std::string() : o.outputsDir + "/" + std::string(toString(scene));
+    std::ofstream gazeCsv;
+    auto runName = [&](const Run& r) {
+        std::ostringstream n;
+        n << toString(r.input) << "_" << toString(r.method);
+        if (r.input != SavingInput::Full) n << "_" << r.insetDeg;
+        return n.str();
+    };
+    auto writeOutput = [&](const Run& r, int e, int k, const cv::Mat& rgb) -> Status {
+        const std::string dir = outDir + "/" + runName(r) + (e == 0 ? "/L" : "/R");
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec) return savingError("cannot create " + dir + ": " + ec.message());
+        cv::Mat bgr8;
+        rgb.convertTo(bgr8, CV_8UC3, 255.0);
+        cv::cvtColor(bgr8, bgr8, cv::COLOR_RGB2BGR);
+        char file[32];
+        std::snprintf(file, sizeof file, "/%06d.png", k);
+        if (!cv::imwrite(dir + file, bgr8)) return savingError("cannot write " + dir + file);
+        return {};
+    };
     auto visit = [&](const SceneFrameInfo& info, int f, double t, std::array<EyeSubmission, 2>& eyes) -> Status {
         if (runs.empty())
             if (Status s = setUp(info, eyes); !s) return s;
@@ -579,6 +604,19 @@ Result<std::vector<SavingRow>> runSaving(vk::Context& ctx, SceneKind scene, cons
                 r.mseSum += meanSquaredError(reference[e], test);
                 r.nearMseSum += mseFromPsnr(nearGazePsnr(reference[e], test, eccentricityMap(W, H, ep)));
                 r.instability[e].addFrame(reference[e], test);
+                if (!outDir.empty()) {
+                    const int k = f - firstScored;
+                    if (Status ws = writeOutput(r, e, k, test); !ws) return ws;
+                    if (r.input == SavingInput::Full && e == 0) {
+                        if (!gazeCsv.is_open()) {
+                            gazeCsv.open(outDir + "/gaze.csv");
+                            if (!gazeCsv) return savingError("cannot write " + outDir + "/gaze.csv");
+                            gazeCsv << "frame,left_x,left_y\n";
+                        }
+                        const glm::vec2 g = gazePixelF(ep, W, H);
+                        gazeCsv << k << ',' << g.x << ',' << g.y << '\n';
+                    }
+                }
                 if (!r.jod[e]) continue;
                 if (Status js = r.jod[e]->push(test, reference[e], gazePixelF(ep, W, H)); !js) return js;
             }

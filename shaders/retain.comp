@@ -71,9 +71,11 @@ vec3 display(uint eye, uvec2 p, vec3 shown, vec3 mv, bool filters, vec3 m1, vec3
         bool has = push.pad2 != 0u && wrs_taa_reproject(p, frame.size.xy, mv, i0, i1, f) &&
                    wrs_shown_written(display_history[display_index(push.pad1, eye, p)]);
         vec3 hist = vec3(0.0);
-        if (has)
-            hist = wrs_bilinear(display_rgb(eye, i0), display_rgb(eye, uvec2(i1.x, i0.y)),
-                                display_rgb(eye, uvec2(i0.x, i1.y)), display_rgb(eye, i1), f).rgb;
+        if (has) {  // resampled with Lanczos-2 (wrs_history_add)
+            TaauGather hg = wrs_taau_gather_start();
+            for (uint j = 0u; j < 16u; ++j) wrs_history_add(hg, display_rgb(eye, wrs_history_tap(i0, frame.size.xy, j)).rgb, f, j);
+            hist = wrs_history_result(hg);
+        }
         vec3 mu, sigma;
         wrs_moments_of_nine(m1, m2, mu, sigma);
         // The weight falls where the pixel moves fast (wrs_display_weight; display.y: the full speed's bits).

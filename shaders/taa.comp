@@ -46,6 +46,12 @@ void taau_pixel(uint eye, uvec2 p, uvec2 size, EyeParams ep) {
         TaauHistory c = wrs_taau_unpack(res_prev[pixel_index(eye, uvec2(i0.x, i1.y))]);
         TaauHistory d = wrs_taau_unpack(res_prev[pixel_index(eye, i1)]);
         has = wrs_taau_reproject(a, b, c, d, f, depth, frame.tuning.y, h);
+        // The colour resampled with Lanczos-2 (wrs_history_add); the other fields stay bilinear.
+        TaauGather hg = wrs_taau_gather_start();
+        for (uint j = 0u; j < 16u; ++j)
+            wrs_history_add(hg, wrs_taau_unpack(res_prev[pixel_index(eye, wrs_history_tap(i0, size, j))]).color, f, j);
+        h.color = wrs_history_result(hg);
+        has = has && wrs_finite3(h.color);
     }
     bool gathered = ep.motion_rect.z != 0u;
     vec4 g = gathered ? submitted_landed(idx) : vec4(candidate_at(eye, p), 1.0);

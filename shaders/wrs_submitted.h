@@ -397,6 +397,43 @@ WRS_FN vec4 wrs_taau_gather_result(TaauGather g) {
     return vec4(d.x, d.y, d.z, c.w);
 }
 
+// History resampling, as FSR 2 reads its history: a history reprojected to a fractional position is read
+// with Lanczos-2 (wrs_lanczos2_sq) over the 4x4 pixels around its bilinear cell, the weighted sum deringed
+// to the range of the cell's own four pixels (the accumulation of a TaauGather). A bilinear read blurs a
+// history that is reprojected every frame a little on each frame, by an amount that follows the fraction,
+// so that under fast motion the edges it keeps are soft and their softness changes from frame to frame:
+// the steady display on the atrium's 120 degree-a-second turn (3 to 7 output pixels a frame) brought
+// retention's flat checker squares a bright fringe every few frames (docs/retention.md, "History resampling").
+// Tap j (0..15) of the 4x4 pixels around the bilinear cell at i0 (wrs_taa_reproject), clamped to the view.
+WRS_FN uvec2 wrs_history_tap(uvec2 i0, uvec2 size, uint j) {
+    ivec2 t = ivec2(i0) + ivec2(int(j & 3u) - 1, int(j >> 2u) - 1);
+    return uvec2(clamp(t, ivec2(0, 0), ivec2(size) - ivec2(1, 1)));
+}
+// Adds tap j's colour at bilinear fraction f (wrs_taa_reproject) to the resampling `g` (from
+// wrs_taau_gather_start): its Lanczos-2 weight, separable in x and y, and the cell's range.
+WRS_FN void wrs_history_add(WRS_INOUT(TaauGather) g, vec3 c, vec2 f, uint j) {
+    WRS_PRECISE float dx = float(int(j & 3u) - 1) - f.x;
+    WRS_PRECISE float dy = float(int(j >> 2u) - 1) - f.y;
+    WRS_PRECISE float dx2 = dx * dx;
+    WRS_PRECISE float dy2 = dy * dy;
+    float wx = wrs_lanczos2_sq(dx2);
+    float wy = wrs_lanczos2_sq(dy2);
+    WRS_PRECISE float w = wx * wy;
+    WRS_PRECISE vec3 sc = c * w;
+    g.acc = vec4(g.acc.x + sc.x, g.acc.y + sc.y, g.acc.z + sc.z, g.acc.w + w);
+    uint i = j & 3u, k = j >> 2u;
+    if (i >= 1u && i <= 2u && k >= 1u && k <= 2u) {
+        g.lo = min(g.lo, c);
+        g.hi = max(g.hi, c);
+    }
+}
+// The resampled history: the weighted mean clamped to the cell's range (the weights sum to about 1 and
+// above 0: the cell's four are positive and outweigh the negative lobe's twelve).
+WRS_FN vec3 wrs_history_result(TaauGather g) {
+    vec4 c = wrs_taau_gathered(g.acc);
+    return clamp(vec3(c), g.lo, g.hi);
+}
+
 // A pixel's history (unpacked).
 struct TaauHistory {
     vec3 color;    // linear RGB

@@ -556,7 +556,9 @@ int main(int argc, char** argv) {
     cli::option(app, "--write-outputs", o.outputsDir, cli::text("a directory name", "DIR"),
                 "Write what the metrics score: every method's output and the reference as PNG over the counted "
                 "frames, DIR/SCENE_MODE_FOVEA/{reference,METHOD}/L/NNNNNN.png (and R/ in HMD stereo), with gaze.csv "
-                "(the gaze in pixels per frame) and view.csv (fov tangents, display, fps); docs/metrics.md.");
+                "(the gaze in pixels per frame) and view.csv (fov tangents, display, fps); docs/metrics.md. With --saving: "
+                "every composition's output over the JOD frames, DIR/SCENE/RUN/{L,R}/NNNNNN.png (RUN: full_fov, the "
+                "reference, or INPUT_METHOD_INSET, e.g. quad_wrs_10), and the left eye's gaze.csv.");
     app.add_flag("--quick", quick,
                  "A CI-sized sweep: text and atrium, 160x144, 24 frames with 4 warm-up, fovea 5 and 10, mip "
                  "(options given as well win).");

@@ -1605,6 +1605,88 @@ TEST(SteadyDisplay, TheWeightFallsAsTheSpeedBeyondTheFullSpeed) {
     EXPECT_EQ(wrs_display_weight(a, vec3(std::nanf("")), std::nanf("")), a);
 }
 
+// The history resampling of the steady display and `taau` (wrs_history_add): Lanczos-2 over the 4x4
+// pixels, deringed to the bilinear cell's four.
+namespace {
+// A 1-D history (one row, `img[x]` its pixels) read at x0 + f as the shaders read it (the 4x4 taps of rows
+// that are all this row).
+vec3 resampledRow(const std::vector<vec3>& img, uint x0, float f) {
+    TaauGather g = wrs_taau_gather_start();
+    const uvec2 size(uint(img.size()), 4u);
+    for (uint j = 0; j < 16u; ++j) wrs_history_add(g, img[wrs_history_tap(uvec2(x0, 1u), size, j).x], vec2(f, 0.0f), j);
+    return wrs_history_result(g);
+}
+vec3 bilinearRow(const std::vector<vec3>& img, uint x0, float f) {
+    return img[x0] + (img[std::min<std::size_t>(x0 + 1, img.size() - 1)] - img[x0]) * f;
+}
+// 10-90 % width in pixels of a rising edge from 0 to 1 (channel x).
+float edgeWidth(const std::vector<vec3>& img) {
+    auto cross = [&](float level) {
+        for (std::size_t x = 1; x < img.size(); ++x)
+            if (img[x].x >= level) return float(x - 1) + (level - img[x - 1].x) / (img[x].x - img[x - 1].x);
+        return float(img.size());
+    };
+    return cross(0.9f) - cross(0.1f);
+}
+}  // namespace
+
+TEST(HistoryResampling, AWholePixelReadsThePixelAndAFlatHistoryStaysFlat) {
+    std::vector<vec3> row(16);
+    for (std::size_t x = 0; x < row.size(); ++x) row[x] = vec3(0.05f * float(x), 0.3f, float(x % 3) * 0.4f);
+    // (the polynomial's zeros at 1 and 2 are zeros to within a float's rounding: 1e-7 of a neighbour leaks in)
+    for (uint x = 0; x < 16u; ++x)
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(resampledRow(row, x, 0.0f)[k], row[x][k], 1e-6f) << "f = 0 is the pixel itself, x " << x;
+    // The 4x4 weights at any fraction: the cell's four positive, the sum near 1.
+    for (float fx : {0.0f, 0.1f, 0.25f, 0.5f, 0.8f, 0.999f})
+        for (float fy : {0.0f, 0.3f, 0.5f, 0.9f}) {
+            TaauGather g = wrs_taau_gather_start();
+            for (uint j = 0; j < 16u; ++j) wrs_history_add(g, vec3(0.6f), vec2(fx, fy), j);
+            EXPECT_GT(g.acc.w, 0.9f) << fx << "," << fy;
+            EXPECT_LT(g.acc.w, 1.1f) << fx << "," << fy;
+            for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(wrs_history_result(g)[k], 0.6f) << "a flat history";
+        }
+    // Taps beyond the view's edge read its edge pixel.
+    EXPECT_EQ(wrs_history_tap(uvec2(0u, 0u), uvec2(8u, 8u), 0u), uvec2(0u, 0u));
+    EXPECT_EQ(wrs_history_tap(uvec2(7u, 7u), uvec2(8u, 8u), 15u), uvec2(7u, 7u));
+    EXPECT_EQ(wrs_history_tap(uvec2(3u, 4u), uvec2(8u, 8u), 6u), uvec2(4u, 4u));
+}
+
+TEST(HistoryResampling, ANoRingingEdgeStaysSharperThanBilinearUnderMotion) {
+    // A step edge carried 0.5 px a frame for 24 frames, the history resampled each frame (what a display
+    // whose current frame weighs nothing would show): bilinear blurs it frame after frame, Lanczos-2 keeps it.
+    const std::size_t n = 64;
+    std::vector<vec3> lz(n), bl(n);
+    for (std::size_t x = 0; x < n; ++x) lz[x] = bl[x] = vec3(x < 20 ? 0.0f : 1.0f);
+    for (int t = 0; t < 24; ++t) {
+        std::vector<vec3> l2(n), b2(n);
+        const float shift = t % 2 ? 0.5f : 0.25f;  // the edge moves right: pixel x reads x - shift
+        for (std::size_t x = 1; x < n; ++x) {
+            l2[x] = resampledRow(lz, uint(x - 1), 1.0f - shift);
+            b2[x] = bilinearRow(bl, uint(x - 1), 1.0f - shift);
+        }
+        l2[0] = lz[0], b2[0] = bl[0];
+        lz = l2, bl = b2;
+        for (std::size_t x = 0; x < n; ++x) {
+            EXPECT_GE(lz[x].x, 0.0f) << "deringed: no undershoot, frame " << t;
+            EXPECT_LE(lz[x].x, 1.0f) << "deringed: no overshoot, frame " << t;
+        }
+    }
+    const float wl = edgeWidth(lz), wb = edgeWidth(bl);
+    EXPECT_LT(wl, 0.5f * wb) << "Lanczos-2 " << wl << " px against bilinear " << wb << " px";
+    EXPECT_GT(wb, 3.0f) << "bilinear reprojection blurs";
+}
+
+TEST(HistoryResampling, ANonFiniteTapMakesTheHistoryNonFiniteSoThatItIsNotUsed) {
+    std::vector<vec3> row(8, vec3(0.4f));
+    row[3] = vec3(std::nanf(""), 0.4f, 0.4f);
+    EXPECT_FALSE(wrs_finite3(resampledRow(row, 3u, 0.5f)));
+    row[3] = vec3(0.4f, std::numeric_limits<float>::infinity(), 0.4f);
+    EXPECT_FALSE(wrs_finite3(resampledRow(row, 2u, 0.25f)));
+    // The display then shows retention's colour (wrs_display_fold_step's guard).
+    const vec3 shown(0.25f, 0.5f, 0.75f);
+    EXPECT_EQ(wrs_display_fold_step(vec3(0.3f), vec3(0.1f), shown, resampledRow(row, 2u, 0.25f), true, 0.3f), shown);
+}
+
 TEST(SteadyDisplay, AHistoryFarOutsideIsClippedBeforeTheBlend) {
     const vec3 shown(0.2f);
     DisplayNeighbourhood n(shown, vec3(0.2f));  // a flat neighbourhood: the box is one 8-bit step wide
