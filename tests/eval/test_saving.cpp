@@ -8,8 +8,11 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "../core/gpu_rig.h"
+#include "eval/metrics.h"
 #include "eval/saving.h"
 
 namespace wrsfov::test {
@@ -240,6 +243,79 @@ TEST_F(Saving, DynamicSceneUnderFastYawNamesItsCell) {
 // The thin scene on the look-around path: the study names the cell, and the sweep's gaze is the path's:
 // each valid eye's azimuth in the head within the local exploration's 6° (and its small saccades'
 // overshoot) of scenes::lookAroundGaze, so the inset follows the big gaze shifts the head follows.
+// --write-outputs with --saving: every composition's scored frames as PNG, from which the row's temporal
+// instability comes back, and the gaze of each scored frame; a directory that cannot be made is an error.
+TEST_F(Saving, WriteOutputsWritesWhatTheInstabilityScored) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "wrsfov_saving_outputs";
+    std::filesystem::remove_all(dir);
+    eval::SavingOptions so;
+    eval::BenchOptions& o = so.bench;
+    o.width = 96;
+    o.height = 96;
+    o.hmdFovDeg = 100.0f;
+    o.frames = 8;
+    o.warmup = 3;
+    o.jodFrames = 4;
+    o.path = scenes::CameraPath::Yaw60;
+    o.outputsDir = dir.string();
+    so.insetDegs = {10.0f};
+    so.rate = false;
+    so.jod = false;
+    so.jitterPhases = 4;
+    so.methods = {Method::Fov, Method::Taau, Method::Wrs};
+    auto rows = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_TRUE(rows.ok()) << rows.error().message;
+    ASSERT_EQ(rows->size(), 4u);
+    const std::filesystem::path scene = dir / "atrium";
+    const char* names[] = {"full_fov", "quad_fov_10", "quad_taau_10", "quad_wrs_10"};
+    auto frame = [&](const std::string& run, const char* eye, int k) {
+        char file[16];
+        std::snprintf(file, sizeof file, "%06d.png", k);
+        cv::Mat bgr = cv::imread((scene / run / eye / file).string(), cv::IMREAD_COLOR);
+        EXPECT_FALSE(bgr.empty()) << run << "/" << eye << "/" << file;
+        cv::Mat rgb, f;
+        if (bgr.empty()) return f;
+        cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+        f.create(rgb.rows, rgb.cols, CV_32FC3);  // code / 255 in float, as eval::toMat reads the output
+        for (int y = 0; y < rgb.rows; ++y)
+            for (int x = 0; x < rgb.cols; ++x)
+                for (int c = 0; c < 3; ++c) f.at<cv::Vec3f>(y, x)[c] = float(rgb.at<cv::Vec3b>(y, x)[c]) / 255.0f;
+        return f;
+    };
+    for (std::size_t r = 0; r < 4; ++r) {
+        double ti = 0;
+        for (const char* eye : {"L", "R"}) {
+            eval::TemporalInstability m;
+            for (int k = 0; k < 4; ++k) {
+                const cv::Mat ref = frame("full_fov", eye, k), out = frame(names[r], eye, k);
+                if (ref.empty() || out.empty()) return;
+                m.addFrame(ref, out);
+            }
+            EXPECT_FALSE(std::filesystem::exists(scene / names[r] / eye / "000004.png")) << "the scored frames only";
+            ti += m.mean() / 2.0;
+        }
+        EXPECT_NEAR(ti, (*rows)[r].temporalInstability, 1e-9) << names[r];
+    }
+    EXPECT_GT((*rows)[3].temporalInstability, 0.0) << "the jittered turn changes the output";
+    std::ifstream gaze(scene / "gaze.csv");
+    std::string line;
+    int lines = 0;
+    std::getline(gaze, line);
+    EXPECT_EQ(line, "frame,left_x,left_y");
+    while (std::getline(gaze, line)) {
+        EXPECT_EQ(line.rfind(std::to_string(lines) + ",", 0), 0u) << line;
+        ++lines;
+    }
+    EXPECT_EQ(lines, 4);
+    // A path that cannot be a directory: a clear error, not a crash.
+    std::filesystem::remove_all(dir);
+    std::ofstream(dir.string()) << "a file";
+    auto bad = eval::runSaving(context(), eval::SceneKind::Atrium, so);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("cannot create"), std::string::npos) << bad.error().message;
+    std::filesystem::remove_all(dir);
+}
+
 TEST_F(Saving, ThinSceneOnTheLookAroundPathFollowsItsGaze) {
     eval::SavingOptions so;
     eval::BenchOptions& o = so.bench;
