@@ -329,7 +329,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                             const TaauHistory a = at(i0), b = at(uvec2(i1.x, i0.y)), c = at(uvec2(i0.x, i1.y)), d = at(i1);
                             has = wrs_taau_reproject(a, b, c, d, f, depth, params.tuning.y, h);
                             TaauGather hg = wrs_taau_gather_start();  // as taa.comp: the colour resampled
-                            for (uint j = 0; j < 16u; ++j) wrs_history_add(hg, at(wrs_history_tap(i0, size0, j)).color, f, j);
+                            const vec4 wx = wrs_history_weights(f.x), wy = wrs_history_weights(f.y);
+                            for (uint j = 0; j < 16u; ++j) wrs_history_add(hg, at(wrs_history_tap(i0, size0, j)).color, wx, wy, j);
                             h.color = wrs_history_result(hg);
                             has = has && wrs_finite3(h.color);
                         }
@@ -579,7 +580,8 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                             vec3 hist(0.0f);
                             if (has) {  // resampled with Lanczos-2, as retain.comp
                                 TaauGather hg = wrs_taau_gather_start();
-                                for (uint j = 0; j < 16u; ++j) wrs_history_add(hg, vec3(displayAt(wrs_history_tap(i0, size0, j))), f, j);
+                                const vec4 wx = wrs_history_weights(f.x), wy = wrs_history_weights(f.y);
+                                for (uint j = 0; j < 16u; ++j) wrs_history_add(hg, vec3(displayAt(wrs_history_tap(i0, size0, j))), wx, wy, j);
                                 hist = wrs_history_result(hg);
                             }
                             vec3 mu, sigma;

@@ -73,7 +73,8 @@ vec3 display(uint eye, uvec2 p, vec3 shown, vec3 mv, bool filters, vec3 m1, vec3
         vec3 hist = vec3(0.0);
         if (has) {  // resampled with Lanczos-2 (wrs_history_add)
             TaauGather hg = wrs_taau_gather_start();
-            for (uint j = 0u; j < 16u; ++j) wrs_history_add(hg, display_rgb(eye, wrs_history_tap(i0, frame.size.xy, j)).rgb, f, j);
+            vec4 wx = wrs_history_weights(f.x), wy = wrs_history_weights(f.y);
+            for (uint j = 0u; j < 16u; ++j) wrs_history_add(hg, display_rgb(eye, wrs_history_tap(i0, frame.size.xy, j)).rgb, wx, wy, j);
             hist = wrs_history_result(hg);
         }
         vec3 mu, sigma;

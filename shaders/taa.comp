@@ -48,8 +48,9 @@ void taau_pixel(uint eye, uvec2 p, uvec2 size, EyeParams ep) {
         has = wrs_taau_reproject(a, b, c, d, f, depth, frame.tuning.y, h);
         // The colour resampled with Lanczos-2 (wrs_history_add); the other fields stay bilinear.
         TaauGather hg = wrs_taau_gather_start();
+        vec4 wx = wrs_history_weights(f.x), wy = wrs_history_weights(f.y);
         for (uint j = 0u; j < 16u; ++j)
-            wrs_history_add(hg, wrs_taau_unpack(res_prev[pixel_index(eye, wrs_history_tap(i0, size, j))]).color, f, j);
+            wrs_history_add(hg, wrs_taau_unpack(res_prev[pixel_index(eye, wrs_history_tap(i0, size, j))]).color, wx, wy, j);
         h.color = wrs_history_result(hg);
         has = has && wrs_finite3(h.color);
     }

@@ -409,19 +409,25 @@ WRS_FN uvec2 wrs_history_tap(uvec2 i0, uvec2 size, uint j) {
     ivec2 t = ivec2(i0) + ivec2(int(j & 3u) - 1, int(j >> 2u) - 1);
     return uvec2(clamp(t, ivec2(0, 0), ivec2(size) - ivec2(1, 1)));
 }
-// Adds tap j's colour at bilinear fraction f (wrs_taa_reproject) to the resampling `g` (from
-// wrs_taau_gather_start): its Lanczos-2 weight, separable in x and y, and the cell's range.
-WRS_FN void wrs_history_add(WRS_INOUT(TaauGather) g, vec3 c, vec2 f, uint j) {
-    WRS_PRECISE float dx = float(int(j & 3u) - 1) - f.x;
-    WRS_PRECISE float dy = float(int(j >> 2u) - 1) - f.y;
-    WRS_PRECISE float dx2 = dx * dx;
-    WRS_PRECISE float dy2 = dy * dy;
-    float wx = wrs_lanczos2_sq(dx2);
-    float wy = wrs_lanczos2_sq(dy2);
-    WRS_PRECISE float w = wx * wy;
+// The Lanczos-2 weights of the four taps along one axis (offsets -1, 0, 1, 2 from the cell's first pixel)
+// at the bilinear fraction f (wrs_taa_reproject): worked out once per axis, 8 weights for the 16 taps.
+WRS_FN vec4 wrs_history_weights(float f) {
+    WRS_PRECISE float d0 = -1.0f - f;
+    WRS_PRECISE float d2 = 1.0f - f;
+    WRS_PRECISE float d3 = 2.0f - f;
+    WRS_PRECISE float s0 = d0 * d0;
+    WRS_PRECISE float s1 = f * f;
+    WRS_PRECISE float s2 = d2 * d2;
+    WRS_PRECISE float s3 = d3 * d3;
+    return vec4(wrs_lanczos2_sq(s0), wrs_lanczos2_sq(s1), wrs_lanczos2_sq(s2), wrs_lanczos2_sq(s3));
+}
+// Adds tap j's colour to the resampling `g` (from wrs_taau_gather_start): its weight wx[j & 3] * wy[j >> 2]
+// (wrs_history_weights of the fraction's x and y), and the cell's range.
+WRS_FN void wrs_history_add(WRS_INOUT(TaauGather) g, vec3 c, vec4 wx, vec4 wy, uint j) {
+    uint i = j & 3u, k = j >> 2u;
+    WRS_PRECISE float w = wx[int(i)] * wy[int(k)];
     WRS_PRECISE vec3 sc = c * w;
     g.acc = vec4(g.acc.x + sc.x, g.acc.y + sc.y, g.acc.z + sc.z, g.acc.w + w);
-    uint i = j & 3u, k = j >> 2u;
     if (i >= 1u && i <= 2u && k >= 1u && k <= 2u) {
         g.lo = min(g.lo, c);
         g.hi = max(g.hi, c);

@@ -1613,7 +1613,8 @@ namespace {
 vec3 resampledRow(const std::vector<vec3>& img, uint x0, float f) {
     TaauGather g = wrs_taau_gather_start();
     const uvec2 size(uint(img.size()), 4u);
-    for (uint j = 0; j < 16u; ++j) wrs_history_add(g, img[wrs_history_tap(uvec2(x0, 1u), size, j).x], vec2(f, 0.0f), j);
+    const vec4 wx = wrs_history_weights(f), wy = wrs_history_weights(0.0f);
+    for (uint j = 0; j < 16u; ++j) wrs_history_add(g, img[wrs_history_tap(uvec2(x0, 1u), size, j).x], wx, wy, j);
     return wrs_history_result(g);
 }
 vec3 bilinearRow(const std::vector<vec3>& img, uint x0, float f) {
@@ -1640,7 +1641,7 @@ TEST(HistoryResampling, AWholePixelReadsThePixelAndAFlatHistoryStaysFlat) {
     for (float fx : {0.0f, 0.1f, 0.25f, 0.5f, 0.8f, 0.999f})
         for (float fy : {0.0f, 0.3f, 0.5f, 0.9f}) {
             TaauGather g = wrs_taau_gather_start();
-            for (uint j = 0; j < 16u; ++j) wrs_history_add(g, vec3(0.6f), vec2(fx, fy), j);
+            for (uint j = 0; j < 16u; ++j) wrs_history_add(g, vec3(0.6f), wrs_history_weights(fx), wrs_history_weights(fy), j);
             EXPECT_GT(g.acc.w, 0.9f) << fx << "," << fy;
             EXPECT_LT(g.acc.w, 1.1f) << fx << "," << fy;
             for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(wrs_history_result(g)[k], 0.6f) << "a flat history";
