@@ -243,11 +243,9 @@ TEST_F(Saving, DynamicSceneUnderFastYawNamesItsCell) {
 // The thin scene on the look-around path: the study names the cell, and the sweep's gaze is the path's:
 // each valid eye's azimuth in the head within the local exploration's 6° (and its small saccades'
 // overshoot) of scenes::lookAroundGaze, so the inset follows the big gaze shifts the head follows.
-// --write-outputs with --saving: every composition's scored frames as PNG, from which the row's temporal
-// instability comes back, and the gaze of each scored frame; a directory that cannot be made is an error.
-TEST_F(Saving, WriteOutputsWritesWhatTheInstabilityScored) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "wrsfov_saving_outputs";
-    std::filesystem::remove_all(dir);
+// A headset's 100° per eye at 96², 8 frames with the last 4 scored, a 10° inset over wide views jittered
+// over 4 phases, fov, taau and wrs, no JOD and no rate rows: the smallest study run of a head path.
+eval::SavingOptions smallJitteredHeadset(scenes::CameraPath path) {
     eval::SavingOptions so;
     eval::BenchOptions& o = so.bench;
     o.width = 96;
@@ -256,13 +254,22 @@ TEST_F(Saving, WriteOutputsWritesWhatTheInstabilityScored) {
     o.frames = 8;
     o.warmup = 3;
     o.jodFrames = 4;
-    o.path = scenes::CameraPath::Yaw60;
-    o.outputsDir = dir.string();
+    o.path = path;
     so.insetDegs = {10.0f};
     so.rate = false;
     so.jod = false;
     so.jitterPhases = 4;
     so.methods = {Method::Fov, Method::Taau, Method::Wrs};
+    return so;
+}
+
+// --write-outputs with --saving: every composition's scored frames as PNG, from which the row's temporal
+// instability comes back, and the gaze of each scored frame; a directory that cannot be made is an error.
+TEST_F(Saving, WriteOutputsWritesWhatTheInstabilityScored) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "wrsfov_saving_outputs";
+    std::filesystem::remove_all(dir);
+    eval::SavingOptions so = smallJitteredHeadset(scenes::CameraPath::Yaw60);
+    so.bench.outputsDir = dir.string();
     auto rows = eval::runSaving(context(), eval::SceneKind::Atrium, so);
     ASSERT_TRUE(rows.ok()) << rows.error().message;
     ASSERT_EQ(rows->size(), 4u);
@@ -317,20 +324,8 @@ TEST_F(Saving, WriteOutputsWritesWhatTheInstabilityScored) {
 }
 
 TEST_F(Saving, ThinSceneOnTheLookAroundPathFollowsItsGaze) {
-    eval::SavingOptions so;
+    eval::SavingOptions so = smallJitteredHeadset(scenes::CameraPath::LookAround);
     eval::BenchOptions& o = so.bench;
-    o.width = 96;
-    o.height = 96;
-    o.hmdFovDeg = 100.0f;
-    o.frames = 8;
-    o.warmup = 3;
-    o.jodFrames = 4;
-    o.path = scenes::CameraPath::LookAround;
-    so.insetDegs = {10.0f};
-    so.rate = false;
-    so.jod = false;
-    so.jitterPhases = 4;
-    so.methods = {Method::Fov, Method::Taau, Method::Wrs};
     auto rows = eval::runSaving(context(), eval::SceneKind::Thin, so);
     ASSERT_TRUE(rows.ok()) << rows.error().message;
     ASSERT_EQ(rows->size(), 4u);
