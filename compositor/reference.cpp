@@ -136,8 +136,10 @@ Reference::EyeInput composeQuadViews(const ComposeParams& params, uint32_t eye, 
                 if (s.w == 0.0f) ql = 0.0f;
                 if (out.landed.empty()) out.landed.resize(std::size_t(size.x) * size.y);
                 if (out.landedOverlap.empty()) out.landedOverlap.resize(std::size_t(size.x) * size.y);
+                if (out.landedPosition.empty()) out.landedPosition.resize(std::size_t(size.x) * size.y);
                 out.landed[std::size_t(y) * size.x + x] = wrs_unpack_landed(wrs_pack_landed(vec3(s), ql));
                 out.landedOverlap[std::size_t(y) * size.x + x] = ql > 0.0f ? wrs_landed_weight(d, true) : 0.0f;
+                out.landedPosition[std::size_t(y) * size.x + x] = wrs_landed_position(wpos, k, ce.landed);
             }
             const bool fromInset = t >= 0.5f;
             const uvec2 q = fromInset ? nearestTexel(ipos, isize) : nearestTexel(wpos, wsize);
@@ -495,7 +497,7 @@ void Reference::step(const FrameParams& params, const std::array<EyeInput, 2>& e
                                 l.w = (ep.motion_rect.z & WRS_LANDED_WEIGHTED) != 0u && !in.landedOverlap.empty()
                                           ? wrs_round_f16(in.landedOverlap[idx])
                                           : 1.0f;
-                            wrs_offer_landed(c, l);
+                            wrs_offer_landed(c, l, in.landedPosition.empty() ? vec2(0.0f) : in.landedPosition[idx]);
                         }
                     }
                     vec3 mv = hasMotion ? vec3(in.motion->fetch(x, y)) * vec3(ep.motion_scale) : vec3(0.0f);

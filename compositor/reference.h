@@ -32,6 +32,9 @@ public:
         /// With `landed`, of method wrs: the footprint overlap of each pixel's landed sample (its weight
         /// under landed weights, wrs_landed_weight; 0 where none landed).
         std::vector<float> landedOverlap;
+        /// With `landed`, of method wrs: where each pixel's landed sample lies from its centre, where
+        /// retention stores it (wrs_landed_position, output pixels).
+        std::vector<glm::vec2> landedPosition;
         /// Submitted foveation, the oracles: the full-resolution reference (ProjectionView::reference).
         std::optional<HostImage> reference;
     };

@@ -42,11 +42,13 @@ uvec4 history_tap(uint eye, uvec2 q) {
 // finds it (wrs_landed_quality of the wide texel nearest the pixel's centre) and as it would store it
 // (wrs_pack_landed), read from the wide view here rather than through memory. Where the inset alone shows
 // the compose pass offers none; here the sample may be found, but a candidate of the inset's quality (1)
-// is above any landed sample's, so wrs_offer_landed never takes it there: the same outcome.
-vec4 landed_sample(uint eye, uvec2 p) {
+// is above any landed sample's, so wrs_offer_landed never takes it there: the same outcome. `d`: where it
+// lies from the pixel's centre (wrs_landed_position).
+vec4 landed_sample(uint eye, uvec2 p, out vec2 d) {
     ComposeEye ce = compose.eye[eye];
     vec2 wpos = wrs_source_pos(p, ce.wide_map);
     uvec2 k = uvec2(clamp(ivec2(floor(wpos)), ivec2(0), ivec2(ce.sizes.xy) - ivec2(1)));
+    d = wrs_landed_position(wpos, k, ce.landed);
     bool weighted = (frame.eye[eye].motion_rect.z & WRS_LANDED_WEIGHTED) != 0u;
     float ql = wrs_landed_weight(wrs_landed_offset(wpos, k, wrs_landed_scale(ce.landed)), weighted);
     if (!(ql > 0.0)) return vec4(0.0);
@@ -117,7 +119,11 @@ float retain_pixel(uint eye, uvec2 p) {
                 if (filters) wrs_moments_add(m1, m2, wrs_rgb_to_ycocg(wrs_display_tap(t, ref)));
             }
         }
-        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) wrs_offer_landed(c, landed_sample(eye, p));
+        if (ep.motion_rect.z != 0u && !wrs_rule_is_oracle(RULE)) {
+            vec2 dl;
+            vec4 l = landed_sample(eye, p, dl);
+            wrs_offer_landed(c, l, dl);
+        }
     }
 
     // Tracked reprojection of the kept sample.

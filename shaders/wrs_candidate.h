@@ -74,6 +74,7 @@ WRS_FN WrsCandidate wrs_candidate_at(WrsPyramid s, uint mode, uvec2 p, vec4 leve
     c.moved = false;
     c.jittered = false;
     c.weight = 1.0f;
+    c.d = vec2(0.0f, 0.0f);
     c.flags = 0u;
     c.z = 0.0f;
     c.q_floor = 0.0f;

@@ -419,6 +419,9 @@ struct RetainInput {
     // Its weight in a merge of its class, as a share of its quality (1; a landed sample's footprint
     // overlap under landed weights, wrs_landed_weight).
     float weight;
+    // Where the sample lies from the pixel's centre, in output pixels, inside the footprint: 0 for a
+    // composed candidate (taken at the centre), a landed sample's own position (wrs_landed_position).
+    vec2 d;
 };
 
 // Whether a gap's sample (wrs_track_gap) is shown: where the retention rule would keep it as sharper
@@ -502,7 +505,7 @@ WRS_FN Tracked wrs_tracked_from(RetainInput c, float w_sum) {
     r.fp = wrs_fp_value(wrs_fp_code(c.fp));
     r.flags = c.flags;
     r.z = c.z;
-    r.d = vec2(0.0f, 0.0f);
+    r.d = c.d;
     return r;
 }
 
@@ -611,7 +614,10 @@ WRS_FN Tracked wrs_retain(uint rule, bool has_history, Tracked h, vec2 d_new, Re
     float t = wrs_merge_weight(h.w_sum, c.q * c.weight);
     Tracked r = kept;
     r.color = hist + (c.color - hist) * t;
-    r.d = d_new * (1.0f - t);
+    // The mean sits where its samples do, weighted as they are (a composed candidate's at the centre).
+    WRS_PRECISE vec2 d_kept = d_new * (1.0f - t);
+    WRS_PRECISE vec2 d_cand = c.d * t;
+    r.d = d_kept + d_cand;
     r.w_sum = min(h.w_sum + c.q * c.weight, WRS_MERGE_CAP * c.q);
     return r;
 }

@@ -126,6 +126,15 @@ WRS_FN vec2 wrs_landed_offset(vec2 pos, uvec2 k, vec2 inv_scale) {
     WRS_PRECISE vec2 d = ds * inv_scale;
     return d;
 }
+// Where a landed sample is stored (RetainInput::d): its offset in output pixels (wrs_landed_offset with
+// ComposeEye::landed.xy, the output's pixels per wide pixel) moved onto the pixel's footprint, as the
+// tracked lookup snaps a sample it takes from next door (wrs_track_snap). A sample stored at the
+// centre instead was carried from there by the motion, up to the footprint's half-width (a pixel and
+// more) from where it was seen; at an edge under a fast turn the pixels beside it then showed its
+// colour a frame before the edge came (docs/retention.md "Where a landed sample is stored").
+WRS_FN vec2 wrs_landed_position(vec2 pos, uvec2 k, vec4 landed) {
+    return wrs_track_snap(wrs_landed_offset(pos, k, vec2(landed.x, landed.y)));
+}
 // The footprint grows with the wide pixel (docs/retention.md "`wrs`'s parameters, searched on the training cell"): its half-width is
 // max(1, k s) output pixels per axis, s the output pixels per wide pixel (ComposeEye::landed.xy) and k
 // the half-width in wide pixels (landed.w for `wrs`: CompositorConfig::landedFootprint; 0: one output
@@ -190,12 +199,14 @@ WRS_FN vec4 wrs_unpack_landed(uvec2 w) {
 // it), so that an equal-quality history within the local variation merges and one outside is clipped
 // to it first; the composed candidate otherwise. The fingerprint stays the composed frame's. The
 // oracles are not offered it (they bound what any retention of the composed candidates can reach).
-// `landed`: colour and weight (wrs_landed_weight; 0: none landed); its quality is WRS_LANDED_Q.
-WRS_FN void wrs_offer_landed(WRS_INOUT(RetainInput) c, vec4 landed) {
+// `landed`: colour and weight (wrs_landed_weight; 0: none landed); its quality is WRS_LANDED_Q; `d` where
+// it lies from the pixel's centre (wrs_landed_position), where it is stored.
+WRS_FN void wrs_offer_landed(WRS_INOUT(RetainInput) c, vec4 landed, vec2 d) {
     if (!(landed.w > 0.0f) || !(WRS_LANDED_Q > c.q)) return;
     c.color = vec3(landed);
     c.q = WRS_LANDED_Q;
     c.weight = landed.w;
+    c.d = d;
     c.lo = min(c.lo, c.color);  // the composed candidate's box: its colour, or the wide box around it
     c.hi = max(c.hi, c.color);
     c.flags = WRS_FLAG_LANDED;

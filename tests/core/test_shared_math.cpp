@@ -676,6 +676,7 @@ RetainInput retainInput(vec3 c, float q, float fp, float range = 0.0f, bool move
     in.jittered = false;
     in.flags = 0u;
     in.weight = 1.0f;
+    in.d = vec2(0.0f);
     in.z = 0.0f;
     in.q_floor = 0.0f;  // no floor rule unless a test asks for it
     return in;
@@ -1315,15 +1316,15 @@ TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
     // Not offered: none landed (weight 0), or a composed candidate as sharp as a landed sample or more
     // (the inset's).
     RetainInput none = c, inset = retainInput(vec3(0.3f), 1.0f, 50.0f);
-    wrs_offer_landed(none, vec4(0.9f, 0.1f, 0.2f, 0.0f));
-    wrs_offer_landed(inset, vec4(0.9f, 0.1f, 0.2f, 1.0f));
+    wrs_offer_landed(none, vec4(0.9f, 0.1f, 0.2f, 0.0f), vec2(0.0f));
+    wrs_offer_landed(inset, vec4(0.9f, 0.1f, 0.2f, 1.0f), vec2(0.0f));
     EXPECT_EQ(none.color, c.color);
     EXPECT_EQ(none.flags, 0u);
     EXPECT_EQ(inset.color, vec3(0.3f));
     EXPECT_EQ(inset.q, 1.0f);
     const vec3 lo = c.lo, hi = c.hi;  // the composed candidate's box (its taps, or the wide box)
     ASSERT_LT(lo.x, 0.3f);
-    wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 1.0f));
+    wrs_offer_landed(c, vec4(0.9f, 0.1f, 0.2f, 1.0f), vec2(0.0f));
     EXPECT_EQ(c.color, vec3(0.9f, 0.1f, 0.2f));
     EXPECT_EQ(c.q, WRS_LANDED_Q);
     EXPECT_EQ(c.weight, 1.0f);
@@ -1345,6 +1346,54 @@ TEST(Landed, OfferedWhereSharperAndStoredWithItsFlag) {
     EXPECT_EQ(r.flags, WRS_FLAG_LANDED);
 }
 
+// Where a landed sample is stored (wrs_landed_position): its offset in output pixels where it lies within
+// the pixel's footprint, moved onto the footprint's edge where it landed next door, so that the tracked
+// lookup carries it from where it was seen; a merge of the class sits at its samples' weighted position,
+// and a composed candidate is stored at the centre as before.
+TEST(Landed, StoredWhereItLandedAndAMergeWhereItsSamplesLie) {
+    const vec4 landed(10.0f / 3.0f, 10.0f / 3.0f, 1.0f, 0.3f);  // 0.3 of the density
+    // 0.06 wide pixels left of and 0.03 below the centre: 0.2 and 0.1 output pixels.
+    const vec2 inside = wrs_landed_position(vec2(3.56f, 7.47f), uvec2(3u, 7u), landed);
+    EXPECT_NEAR(inside.x, -0.2f, 1e-5f);
+    EXPECT_NEAR(inside.y, 0.1f, 1e-5f);
+    // 0.7 output pixels away on x (next door, offered by the footprint): onto the edge, inside the footprint.
+    const vec2 next = wrs_landed_position(vec2(3.5f - 0.21f, 7.5f), uvec2(3u, 7u), landed);
+    EXPECT_EQ(next, vec2(126.0f / WRS_OFFSET_SCALE, 0.0f));
+    EXPECT_EQ(wrs_landed_position(vec2(3.5f + 0.21f, 7.5f), uvec2(3u, 7u), landed), vec2(-0.5f, 0.0f));
+
+    uint outcome;
+    float margin;
+    // Fresh: stored where it landed (to the offset code's step), not at the centre.
+    RetainInput c = retainInput(vec3(0.3f), 0.16f, 50.0f);
+    wrs_offer_landed(c, vec4(0.4f, 0.4f, 0.4f, 1.0f), inside);
+    Tracked r = wrs_retain(WRS_RULE_MERGE, false, Tracked{}, vec2(0.0f), c, vec3(0.0f), 0.5f, outcome, margin);
+    EXPECT_EQ(outcome, WRS_OUT_FRESH);
+    EXPECT_EQ(r.d, inside);
+    const vec2 stored = wrs_unpack_tracked(wrs_pack_tracked(r, vec2(0.5f))).d;
+    EXPECT_NEAR(stored.x, inside.x, 1.0f / WRS_OFFSET_SCALE);
+    EXPECT_NEAR(stored.y, inside.y, 1.0f / WRS_OFFSET_SCALE);
+    // Merged with the next landed sample (tracked to d_new): the mean's position moves towards the new
+    // sample's by the merge weight, as its colour does.
+    Tracked h = r;
+    const vec2 d_new(0.3f, -0.2f);
+    RetainInput c2 = retainInput(vec3(0.38f), 0.16f, 50.0f);
+    wrs_offer_landed(c2, vec4(0.38f, 0.38f, 0.38f, 1.0f), next);
+    r = wrs_retain(WRS_RULE_MERGE, true, h, d_new, c2, vec3(0.0f), 0.5f, outcome, margin);
+    ASSERT_EQ(outcome, WRS_OUT_MERGED);
+    const float t = wrs_merge_weight(h.w_sum, WRS_LANDED_Q);
+    EXPECT_GT(t, 0.0f);
+    EXPECT_LT(t, 1.0f);
+    EXPECT_NEAR(r.d.x, d_new.x + (next.x - d_new.x) * t, 1e-6f);
+    EXPECT_NEAR(r.d.y, d_new.y + (next.y - d_new.y) * t, 1e-6f);
+    EXPECT_NEAR(r.color.x, 0.4f + (0.38f - 0.4f) * t, 1e-6f);
+    EXPECT_LT(std::max(std::abs(r.d.x), std::abs(r.d.y)), 0.5f) << "a mean of positions inside the footprint stays inside";
+    // A composed candidate (no landed sample) merges as a sample at the centre.
+    Tracked hc = tracked(vec3(0.3f), 0.16f, 50.0f);
+    r = wrs_retain(WRS_RULE_MERGE, true, hc, d_new, retainInput(vec3(0.32f), 0.16f, 50.0f), vec3(0.0f), 0.5f, outcome, margin);
+    ASSERT_EQ(outcome, WRS_OUT_MERGED);
+    EXPECT_EQ(r.d, d_new * (1.0f - wrs_merge_weight(hc.w_sum, 0.16f)));
+}
+
 // Landed weights: a sample's weight is its footprint's overlap (1/4 to 1) where weighted, else 1, and 0
 // where it is not offered; in the running mean of the class a sample on the centre then outweighs one next
 // door (0.8 of the way to it after one at overlap 1/4, where equal weights go halfway), and the weight cap
@@ -1360,7 +1409,7 @@ TEST(Landed, WeightsFavourTheSamplesNearestThePixelsCentre) {
     auto offered = [](vec3 colour, float weight) {
         RetainInput c = retainInput(vec3(0.3f), 0.16f, 50.0f);
         c.jittered = true;
-        wrs_offer_landed(c, vec4(colour, weight));
+        wrs_offer_landed(c, vec4(colour, weight), vec2(0.0f));
         return c;
     };
     uint outcome;
